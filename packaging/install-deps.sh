@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Installs everything wavecam needs to build, test and run on Debian bookworm.
+# Idempotent: when every package is present it only checks (dpkg-query) and exits.
+set -euo pipefail
+
+PACKAGES=(
+  # toolchain
+  g++ cmake ninja-build pkg-config git
+  # image I/O and colour (the user's fixed stack)
+  libopenimageio-dev openimageio-tools python3-openimageio
+  libopencolorio-dev opencolorio-tools libopenexr-dev
+  # test-scene tracer
+  libembree-dev libosd-dev
+  # chosen dependencies (see README, "Dependencies")
+  libkissfft-dev libcli11-dev libtomlplusplus-dev
+  # tests and benchmarks
+  libgtest-dev libbenchmark-dev
+  # POV-Ray comparison renders
+  povray povray-includes
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps: done"

@@ -1,0 +1,10 @@
+// The `wavecam` subcommands. Each registers its flags on the app and, when chosen, runs and
+// leaves its exit status in `status`.
+#pragma once
+#include <CLI/CLI.hpp>
+
+namespace wavecam::cli {
+
+void add_psf_command(CLI::App& app, int& status);
+
+}  // namespace wavecam::cli

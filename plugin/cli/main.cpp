@@ -1,0 +1,19 @@
+// wavecam: the command line front over core.
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+#include "terminal_progress.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"wavecam: a wave-optics pinhole camera"};
+    app.require_subcommand(1);
+    int status = 0;
+    wavecam::cli::add_psf_command(app, status);
+    wavecam::cli::install_interrupt_handlers();
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+    return status;
+}

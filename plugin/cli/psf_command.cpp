@@ -1,0 +1,152 @@
+// `wavecam psf`: the image of one point source, as a float EXR of relative irradiance.
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <cstdio>
+#include <memory>
+#include <sstream>
+
+#include "commands.h"
+#include "terminal_progress.h"
+#include "wavecam/atomic_write.h"
+#include "wavecam/psf.h"
+#include "wavecam/units.h"
+
+namespace wavecam::cli {
+namespace {
+
+struct PsfFlags {
+    std::string pinhole = "0.3mm", aperture = "circle", film_distance = "65mm", source_distance = "inf",
+                source_angle = "0deg", wavelength = "550nm", film_size = "0.6mm", resolution = "255",
+                max_angle = "90deg", output = "psf.exr", png;
+    double max_terms = 5e12;
+    int threads = 0;
+};
+
+std::string with_unit(double v, double scale, const char* unit) {
+    std::ostringstream s;
+    s << v / scale << unit;
+    return s.str();
+}
+
+// Turns the flags into parameters; the first error names its flag.
+Result<PsfParams> parse_flags(const PsfFlags& f) {
+    PsfParams p;
+    std::string error;
+    auto take = [&error](const auto& r, auto& dst) {
+        if (!error.empty()) return;
+        if (!r.ok()) error = "--" + r.error;
+        else dst = r.value;
+    };
+    take(parse_length(f.pinhole, "pinhole"), p.aperture.diameter);
+    take(parse_aperture_shape(f.aperture, "aperture"), p.aperture.shape);
+    take(parse_length(f.film_distance, "film-distance"), p.film_distance);
+    take(parse_length_or_inf(f.source_distance, "source-distance"), p.source_distance);
+    take(parse_angle(f.source_angle, "source-angle"), p.source_angle);
+    take(parse_length(f.wavelength, "wavelength"), p.wavelength);
+    take(parse_length(f.film_size, "film-size"), p.film_size);
+    long res = 0;
+    take(parse_count(f.resolution, "resolution"), res);
+    double max_angle = 0;
+    take(parse_angle(f.max_angle, "max-angle"), max_angle);
+    if (!error.empty()) return Result<PsfParams>::failure(error);
+    p.resolution = static_cast<int>(std::min(res, 1L << 20));
+    p.sin_theta_max = std::sin(max_angle);
+    p.max_terms = f.max_terms;
+    p.nthreads = f.threads;
+    if (auto v = validate(p); !v.ok()) return Result<PsfParams>::failure("--" + v.error);
+    return Result<PsfParams>::success(p);
+}
+
+OIIO::ImageBuf to_imagebuf(const PsfImage& img, const PsfParams& p) {
+    const int n = img.resolution;
+    OIIO::ImageSpec spec(n, n, 1, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"Y"};
+    spec.attribute("wavecam:quantity", "relative irradiance (1 = unobstructed irradiance at the film centre)");
+    spec.attribute("wavecam:aperture", p.aperture.shape == ApertureShape::Circle ? "circle" : "square");
+    spec.attribute("wavecam:pinhole", with_unit(p.aperture.diameter, 1e-3, "mm"));
+    spec.attribute("wavecam:film_distance", with_unit(p.film_distance, 1e-3, "mm"));
+    spec.attribute("wavecam:source_distance",
+                   std::isinf(p.source_distance) ? std::string("inf") : with_unit(p.source_distance, 1.0, "m"));
+    spec.attribute("wavecam:source_angle", with_unit(p.source_angle, M_PI / 180, "deg"));
+    spec.attribute("wavecam:wavelength", with_unit(p.wavelength, 1e-9, "nm"));
+    spec.attribute("wavecam:film_size", with_unit(p.film_size, 1e-3, "mm"));
+    spec.attribute("wavecam:pixel_pitch", with_unit(img.pixel_pitch, 1e-6, "um"));
+    spec.attribute("wavecam:film_centre",
+                   with_unit(img.centre_x, 1e-3, "mm") + " " + with_unit(img.centre_y, 1e-3, "mm"));
+    spec.attribute("wavecam:sample_pitch", with_unit(img.sample_pitch, 1e-9, "nm"));
+    spec.attribute("wavecam:sample_count", static_cast<int>(img.sample_count));
+    spec.attribute("wavecam:fresnel_number", static_cast<float>(img.fresnel_number));
+    spec.attribute("wavecam:orientation", "upright: column grows with scene +x, row 0 at the top");
+    OIIO::ImageBuf buf(spec);
+    buf.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, img.irradiance.data());
+    return buf;
+}
+
+// A picture for people: irradiance / peak, sRGB-encoded so the rings show.
+Result<bool> write_png(const OIIO::ImageBuf& psf, double peak, const std::string& path) {
+    OIIO::ImageBuf scaled = OIIO::ImageBufAlgo::mul(psf, float(peak > 0 ? 1.0 / peak : 1.0));
+    OIIO::ImageBuf display = OIIO::ImageBufAlgo::colorconvert(scaled, "linear", "sRGB");
+    if (display.has_error()) return Result<bool>::failure(path + ": " + display.geterror());
+    return write_image_atomically(display, path, OIIO::TypeDesc::UINT8);
+}
+
+int run(const PsfFlags& flags) {
+    auto params = parse_flags(flags);
+    if (!params.ok()) {
+        std::fprintf(stderr, "wavecam psf: %s\n", params.error.c_str());
+        return 2;
+    }
+    const PsfParams& p = params.value;
+    auto img = compute_psf(p, terminal_progress("psf"));
+    finish_progress();
+    if (!img.ok()) {
+        std::fprintf(stderr, "wavecam psf: %s\n", img.error.c_str());
+        return interrupted() ? 130 : 1;
+    }
+    const OIIO::ImageBuf buf = to_imagebuf(img.value, p);
+    if (auto w = write_image_atomically(buf, flags.output, OIIO::TypeDesc::FLOAT); !w.ok()) {
+        std::fprintf(stderr, "wavecam psf: %s\n", w.error.c_str());
+        return 1;
+    }
+    if (!flags.png.empty())
+        if (auto w = write_png(buf, img.value.peak, flags.png); !w.ok()) {
+            std::fprintf(stderr, "wavecam psf: %s\n", w.error.c_str());
+            return 1;
+        }
+    std::printf("Fresnel number  %.4g\n", img.value.fresnel_number);
+    std::printf("pinhole samples %zu (pitch %.4g nm)\n", img.value.sample_count, img.value.sample_pitch * 1e9);
+    std::printf("peak            %.6g (relative irradiance)\n", img.value.peak);
+    std::printf("time            %.3f s\n", img.value.seconds);
+    std::printf("wrote           %s%s%s\n", flags.output.c_str(), flags.png.empty() ? "" : ", ", flags.png.c_str());
+    return 0;
+}
+
+}  // namespace
+
+void add_psf_command(CLI::App& app, int& status) {
+    auto flags = std::make_shared<PsfFlags>();
+    CLI::App* cmd = app.add_subcommand("psf", "Image one point source through the pinhole (exact propagation)");
+    cmd->add_option("--pinhole", flags->pinhole, "Pinhole diameter, e.g. 0.3mm")->capture_default_str();
+    cmd->add_option("--aperture", flags->aperture, "Aperture shape: circle or square")->capture_default_str();
+    cmd->add_option("--film-distance", flags->film_distance, "Pinhole to film, e.g. 65mm")->capture_default_str();
+    cmd->add_option("--source-distance", flags->source_distance, "Source distance along its ray, or inf")
+        ->capture_default_str();
+    cmd->add_option("--source-angle", flags->source_angle, "Field angle of the source, e.g. 20deg")
+        ->capture_default_str();
+    cmd->add_option("--wavelength", flags->wavelength, "Wavelength, e.g. 550nm")->capture_default_str();
+    cmd->add_option("--film-size", flags->film_size, "Width of the square film window, e.g. 0.6mm")
+        ->capture_default_str();
+    cmd->add_option("--resolution", flags->resolution, "Pixels across the window (odd: one on the image point)")
+        ->capture_default_str();
+    cmd->add_option("--max-angle", flags->max_angle,
+                    "Largest source/film angle: samples the pinhole at lambda/(2 sin angle)")
+        ->capture_default_str();
+    cmd->add_option("--max-terms", flags->max_terms, "Refuse work beyond this many terms")->capture_default_str();
+    cmd->add_option("--threads", flags->threads, "Threads (0 = every core)")->capture_default_str();
+    cmd->add_option("-o,--output", flags->output, "Output EXR")->capture_default_str();
+    cmd->add_option("--png", flags->png, "Also write a PNG for people (peak-normalised, sRGB)");
+    cmd->callback([flags, &status] { status = run(*flags); });
+}
+
+}  // namespace wavecam::cli
