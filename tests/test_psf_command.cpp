@@ -1,0 +1,81 @@
+// `wavecam psf` as a user runs it: the EXR it writes, its header, and its errors.
+#include <gtest/gtest.h>
+#include <OpenImageIO/imagebuf.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+struct CommandRun {
+    int status;
+    std::string output;
+};
+
+CommandRun run(const std::string& args) {
+    const std::string cmd = std::string(WAVECAM_BINARY) + " " + args + " 2>&1";
+    CommandRun r{0, {}};
+    FILE* p = popen(cmd.c_str(), "r");
+    char buf[512];
+    while (fgets(buf, sizeof buf, p)) r.output += buf;
+    r.status = pclose(p);
+    return r;
+}
+
+fs::path temp_dir() {
+    fs::path d = fs::temp_directory_path() / ("wavecam_psf_cmd_" + std::to_string(::getpid()));
+    fs::create_directories(d);
+    return d;
+}
+}  // namespace
+
+TEST(PsfCommand, WritesRelativeIrradianceWithParametersInTheHeader) {
+    const fs::path dir = temp_dir();
+    const fs::path exr = dir / "psf.exr", png = dir / "psf.png";
+    const CommandRun r = run("psf --pinhole 40um --film-distance 10mm --wavelength 500nm --film-size 0.1mm "
+                      "--resolution 21 -o " + exr.string() + " --png " + png.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("Fresnel number"), std::string::npos);
+    EXPECT_NE(r.output.find("pinhole samples"), std::string::npos);
+    OIIO::ImageBuf buf(exr.string());
+    ASSERT_TRUE(buf.read()) << buf.geterror();
+    const auto& spec = buf.spec();
+    EXPECT_EQ(spec.width, 21);
+    EXPECT_EQ(spec.nchannels, 1);
+    EXPECT_EQ(spec.format, OIIO::TypeDesc::FLOAT);
+    EXPECT_EQ(spec.get_string_attribute("wavecam:pinhole"), "0.04mm");
+    EXPECT_EQ(spec.get_string_attribute("wavecam:wavelength"), "500nm");
+    EXPECT_EQ(spec.get_string_attribute("wavecam:source_distance"), "inf");
+    // centre pixel: 4 sin^2(pi N / 2), N = a^2 / (lambda f) = 0.08 (independent of the command)
+    const double n = std::pow(20e-6, 2) / (500e-9 * 10e-3);
+    float centre = 0;
+    buf.getpixel(10, 10, &centre, 1);
+    EXPECT_NEAR(centre, 4 * std::pow(std::sin(M_PI * n / 2), 2), 0.01);
+    EXPECT_TRUE(fs::exists(png));
+    fs::remove_all(dir);
+}
+
+TEST(PsfCommand, BadFlagsGetOneLineNamingTheFlag) {
+    const fs::path dir = temp_dir();
+    const fs::path exr = dir / "bad.exr";
+    struct Case {
+        const char* args;
+        const char* flag;
+    } cases[] = {{"--pinhole 0.3", "--pinhole"},
+                 {"--pinhole -0.3mm", "--pinhole"},
+                 {"--wavelength 550", "--wavelength"},
+                 {"--source-angle 10", "--source-angle"},
+                 {"--film-size 0mm", "--film-size"},
+                 {"--pinhole 20mm", "--max-terms"}};
+    for (const Case& c : cases) {
+        const CommandRun r = run(std::string("psf ") + c.args + " -o " + exr.string());
+        EXPECT_NE(r.status, 0) << c.args;
+        EXPECT_NE(r.output.find(c.flag), std::string::npos) << c.args << ": " << r.output;
+        EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+        EXPECT_FALSE(fs::exists(exr)) << c.args;
+    }
+    fs::remove_all(dir);
+}
