@@ -1,0 +1,68 @@
+// The ideal pinhole camera a render was made with, and the physical camera it becomes:
+// pixel rays, pixel solid angles, and the film position of each output pixel.
+#pragma once
+#include <cmath>
+
+namespace wavecam {
+
+// How a render's depth channel measures distance: along the view axis (Blender's Z,
+// POV-Ray depth passes) or along the pixel's ray.
+enum class DepthMeaning { Planar, Ray };
+
+// Depths at or beyond this (Blender writes 1e10 for "nothing hit") are sky: a plane wave.
+constexpr double kInfiniteDepth = 1e9;
+
+struct PinholeCamera {
+    int width = 0, height = 0;
+    double fov_h = 0;          // horizontal field of view, radians
+    double film_distance = 0;  // f, metres
+
+    // Pixel pitch in the tangent plane z = 1: 2 tan(fov/2) / width (square pixels).
+    double tan_pitch() const { return 2.0 * std::tan(0.5 * fov_h) / width; }
+
+    // Tangent-plane coordinates (u right, v up) of image position (x, y) in pixels, measured
+    // from the top-left corner (pixel (i, j)'s centre is (i + 0.5, j + 0.5)).
+    void tangent(double x, double y, double& u, double& v) const {
+        const double t = tan_pitch();
+        u = (x - 0.5 * width) * t;
+        v = (0.5 * height - y) * t;
+    }
+
+    // Solid angle of pixel (i, j) seen from the pinhole: t^2 / (1 + u^2 + v^2)^(3/2)
+    // (projection of a small tangent-plane patch onto the unit sphere).
+    double solid_angle(int i, int j) const {
+        double u, v;
+        tangent(i + 0.5, j + 0.5, u, v);
+        const double t = tan_pitch();
+        return t * t / std::pow(1.0 + u * u + v * v, 1.5);
+    }
+
+    // Film point of output pixel (i, j): the geometric image -f (u, v) of the pixel centre's
+    // direction, so the output is upright like the render.
+    void film_point(int i, int j, double& x, double& y) const {
+        double u, v;
+        tangent(i + 0.5, j + 0.5, u, v);
+        x = -film_distance * u;
+        y = -film_distance * v;
+    }
+
+    // cos^4 of the field angle of pixel (i, j): the pinhole camera's natural fall-off.
+    double cos4(int i, int j) const {
+        double u, v;
+        tangent(i + 0.5, j + 0.5, u, v);
+        const double c2 = 1.0 / (1.0 + u * u + v * v);
+        return c2 * c2;
+    }
+
+    // Sine of the largest field angle in the frame (the corner ray).
+    double sin_max_field_angle() const {
+        double u, v;
+        tangent(0, 0, u, v);
+        const double r2 = u * u + v * v;
+        return std::sqrt(r2 / (1.0 + r2));
+    }
+
+    double film_width() const { return 2.0 * film_distance * std::tan(0.5 * fov_h); }
+};
+
+}  // namespace wavecam

@@ -1,0 +1,58 @@
+// Diffracting a rendered scene at one wavelength: every pixel is a point source on its ray at
+// its depth, the seed paper's random-phase method (or the exact incoherent sum) carries the
+// light through the sampled pinhole to every film pixel.
+#pragma once
+#include <cstdint>
+#include "wavecam/aperture.h"
+#include "wavecam/pinhole_camera.h"
+#include "wavecam/progress.h"
+#include "wavecam/result.h"
+
+namespace wavecam {
+
+enum class CoherenceMethod {
+    RandomPhase,  // the seed paper: random phase per source, coherent sum, K runs averaged
+    Incoherent,   // exact: every source propagated alone, irradiances summed (small images)
+};
+
+struct DiffractionSettings {
+    Aperture aperture{ApertureShape::Circle, 0.0};
+    CoherenceMethod method = CoherenceMethod::RandomPhase;
+    int runs = 4;              // K, random-phase runs averaged
+    bool jitter = true;        // move each source within its pixel, anew every run
+    uint64_t seed = 1;         // random phases and jitter; same seed, same image
+    double sin_theta_max = 0;  // aperture sampling lambda/(2 sin theta_max); 0 = from the frame
+    int film_subsamples = 1;   // n: each film pixel averages n x n points over its area
+    int nthreads = 0;
+};
+
+// Per-pixel inputs at one wavelength, row-major width x height.
+struct MonochromeScene {
+    PinholeCamera camera;
+    const float* power = nullptr;  // spectral radiance (any consistent unit), >= 0
+    const float* depth = nullptr;  // metres; >= kInfiniteDepth or inf = sky
+    DepthMeaning depth_meaning = DepthMeaning::Planar;
+};
+
+// The aperture sampling pitch used for this camera at this wavelength: lambda/2, or wider when
+// every ray between a pinhole sample and a source or film point stays within theta_max of the
+// axis: tan theta_max = tan(corner field angle) + a / min(f, nearest depth), plus the
+// aperture's own diffraction spread lambda/d as margin; never coarser than d / kMinSamplesAcross.
+constexpr double kMinSamplesAcross = 128;
+double scene_sample_pitch(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength,
+                          double nearest_depth);
+
+// Work estimate: terms (pinhole samples x (sources + film points)) over all runs.
+double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength,
+                   double nearest_depth);
+
+// Nearest planar depth in the scene (for the sampling pitch); inf if all sky.
+double nearest_depth(const MonochromeScene& scene);
+
+// Adds the film irradiance |U|^2 of the scene at `wavelength` to irradiance[width * height]
+// (output pixel (i, j) averages n x n points over the film area of pixel (i, j), the geometric
+// image of render pixel (i, j)), in units of power x steradian.
+Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s,
+                                 float* irradiance, const ProgressFn& progress = {});
+
+}  // namespace wavecam

@@ -1,0 +1,240 @@
+// Diffracting a rendered scene at one wavelength, against the point-source image, analytic
+// zone counts, ray optics (an independent shadow-casting sum written here) and the exact
+// incoherent sum that the random-phase method must approach.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "wavecam/psf.h"
+#include "wavecam/scene_diffraction.h"
+
+using namespace wavecam;
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct TestScene {
+    PinholeCamera camera;
+    std::vector<float> power, depth;
+    TestScene(int w, int h, double fov, double f) : power(size_t(w) * h, 0.0f), depth(size_t(w) * h, 1.0f) {
+        camera.width = w;
+        camera.height = h;
+        camera.fov_h = fov;
+        camera.film_distance = f;
+    }
+    MonochromeScene view() const { return {camera, power.data(), depth.data(), DepthMeaning::Planar}; }
+    std::vector<float> diffract(double lambda, const DiffractionSettings& s) const {
+        std::vector<float> out(power.size(), 0.0f);
+        auto r = diffract_monochrome(view(), lambda, s, out.data());
+        EXPECT_TRUE(r.ok()) << r.error;
+        return out;
+    }
+};
+
+double rms_difference(const std::vector<float>& a, const std::vector<float>& b) {
+    double s = 0;
+    for (size_t i = 0; i < a.size(); ++i) s += std::pow(double(a[i]) - b[i], 2);
+    return std::sqrt(s / a.size());
+}
+
+double rms(const std::vector<float>& a) { return rms_difference(a, std::vector<float>(a.size(), 0.0f)); }
+
+// 3x3 box average (clamped at the border): compares light at the scale of a few pixels, where
+// Fresnel ringing at the shadow's rim averages out.
+std::vector<float> box3(const std::vector<float>& a, int w) {
+    const int h = int(a.size()) / w;
+    std::vector<float> out(a.size());
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            double s = 0;
+            int n = 0;
+            for (int dj = -1; dj <= 1; ++dj)
+                for (int di = -1; di <= 1; ++di)
+                    if (i + di >= 0 && i + di < w && j + dj >= 0 && j + dj < h) {
+                        s += a[(j + dj) * w + i + di];
+                        ++n;
+                    }
+            out[j * w + i] = float(s / n);
+        }
+    return out;
+}
+}  // namespace
+
+// One lit pixel on black is the point-source image of a source on that pixel's ray.
+TEST(SceneDiffraction, OneBrightPixelIsThePointSourceImage) {
+    const double f = 20e-3, lambda = 550e-9, z = 0.5;
+    TestScene scene(15, 15, 2 * std::atan(15 * 4e-6 / (2 * f)), f);  // 4 um film pixels
+    DiffractionSettings s;
+    s.aperture = {ApertureShape::Circle, 0.2e-3};
+    s.jitter = false;
+    s.runs = 1;
+    for (int i0 : {7, 10}) {
+        std::fill(scene.power.begin(), scene.power.end(), 0.0f);
+        const int j0 = 7;
+        scene.power[j0 * 15 + i0] = 3.0f;
+        std::fill(scene.depth.begin(), scene.depth.end(), float(z));
+        const auto img = scene.diffract(lambda, s);
+
+        double u, v;
+        scene.camera.tangent(i0 + 0.5, j0 + 0.5, u, v);
+        PsfParams p;
+        p.aperture = s.aperture;
+        p.film_distance = f;
+        p.source_distance = z * std::sqrt(1 + u * u);
+        p.source_angle = std::atan(u);
+        p.wavelength = lambda;
+        p.resolution = 15;
+        p.film_size = 15 * f * scene.camera.tan_pitch();
+        p.sin_theta_max = lambda / (2 * scene_sample_pitch(s, scene.camera, lambda, z));
+        const PsfImage psf = compute_psf(p).value;
+        // relative irradiance -> |U|^2: times the free irradiance L Omega |P|^2 / |P - C|^2
+        const double px = z * u, r2 = px * px + (z + f) * (z + f);
+        const double unit = 3.0 * scene.camera.solid_angle(i0, j0) * (z * z * (1 + u * u)) / r2;
+        double worst = 0, peak = 0;
+        for (int j = 0; j < 15; ++j)
+            for (int i = 0; i < 15; ++i) {
+                const int pi = i - i0 + 7;
+                if (pi < 0 || pi >= 15) continue;
+                const double expected = unit * psf.irradiance[j * 15 + pi];
+                peak = std::max(peak, expected);
+                worst = std::max(worst, std::fabs(img[j * 15 + i] - expected));
+            }
+        EXPECT_LT(worst / peak, 1e-3) << "pixel " << i0;
+    }
+}
+
+// Depth enters through the zone count N = 2(sagitta_f + sagitta_z)/lambda: a source at 5 cm
+// in front of a 50 mm camera spans twice the zones of one at infinity.
+TEST(SceneDiffraction, DepthChangesTheZoneCountAsTheoryPredicts) {
+    const double f = 50e-3, lambda = 550e-9, d = 0.315e-3, a = d / 2;
+    for (double z : {kInf, 0.05}) {
+        TestScene scene(5, 5, 2 * std::atan(5 * 10e-6 / (2 * f)), f);
+        scene.power[12] = 1.0f;
+        scene.depth[12] = std::isinf(z) ? 1e10f : float(z);
+        DiffractionSettings s;
+        s.aperture = {ApertureShape::Circle, d};
+        s.jitter = false;
+        s.runs = 1;
+        const auto img = scene.diffract(lambda, s);
+        const double n = 2 * (std::sqrt(f * f + a * a) - f + (std::isinf(z) ? 0 : std::sqrt(z * z + a * a) - z)) / lambda;
+        const double free = scene.camera.solid_angle(2, 2) * (std::isinf(z) ? 1.0 : z * z / ((z + f) * (z + f)));
+        const double expected = free * 4 * std::pow(std::sin(M_PI * n / 2), 2);
+        EXPECT_NEAR(img[12] / free, expected / free, std::max(0.01 * expected / free, 0.01)) << "z = " << z;
+    }
+}
+
+// With N >> 1 every pixel is blurred into the pinhole's shadow. The reference here is ray
+// optics: film point x is lit by source P when the segment P -> x crosses the pinhole disc,
+// with the spherical wave's irradiance L Omega |P|^2 / |x - P|^2.
+TEST(SceneDiffraction, LargePinholeApproachesRayOptics) {
+    const double f = 2e-3, lambda = 500e-9, d = 0.28e-3;  // N ~ 20
+    const int w = 14;
+    TestScene scene(w, w, 2 * std::atan(w * (d / 4) / (2 * f)), f);  // film pixel = d / 4
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> uni(0.2f, 1.0f);
+    for (int j = 4; j < 10; ++j)
+        for (int i = 4; i < 10; ++i) {
+            scene.power[j * w + i] = uni(rng);
+            scene.depth[j * w + i] = (i + j) % 3 == 0 ? 1e10f : 0.02f;  // sky and near points
+        }
+    DiffractionSettings s;
+    s.aperture = {ApertureShape::Circle, d};
+    s.method = CoherenceMethod::Incoherent;
+    s.film_subsamples = 3;
+    const auto wave = scene.diffract(lambda, s);
+
+    std::vector<float> rays(wave.size(), 0.0f);
+    const auto& cam = scene.camera;
+    for (int sj = 0; sj < w; ++sj)
+        for (int si = 0; si < w; ++si) {
+            const float L = scene.power[sj * w + si];
+            if (L <= 0) continue;
+            double u, v;
+            cam.tangent(si + 0.5, sj + 0.5, u, v);
+            const double z = scene.depth[sj * w + si];
+            const double omega = cam.solid_angle(si, sj);
+            for (int j = 0; j < w; ++j)
+                for (int i = 0; i < w; ++i) {
+                  for (int b = 0; b < 3; ++b)
+                   for (int a = 0; a < 3; ++a) {  // the same 3 x 3 points per film pixel
+                    double fu, fv;
+                    cam.tangent(i + (a + 0.5) / 3, j + (b + 0.5) / 3, fu, fv);
+                    const double x = -f * fu, y = -f * fv;
+                    double hx, hy, irr;
+                    if (z >= kInfiniteDepth) {  // parallel rays along -(u, v, 1)
+                        hx = x + f * u;
+                        hy = y + f * v;
+                        irr = L * omega;
+                    } else {  // segment from P = z (u, v, 1) to (x, y, -f) crosses z = 0 at t = z / (z + f)
+                        const double t = z / (z + f);
+                        hx = z * u + t * (x - z * u);
+                        hy = z * v + t * (y - z * v);
+                        const double dx = x - z * u, dy = y - z * v, dz = -f - z;
+                        irr = L * omega * z * z * (1 + u * u + v * v) / (dx * dx + dy * dy + dz * dz);
+                    }
+                    if (hx * hx + hy * hy <= d * d / 4) rays[j * w + i] += float(irr / 9);
+                   }
+                }
+        }
+    const auto rays_box = box3(rays, w);
+    const double rel = rms_difference(box3(wave, w), rays_box) / rms(rays_box);
+    EXPECT_LT(rel, 0.06);
+    EXPECT_LT(rms_difference(wave, rays) / rms(rays), 0.12);  // pixel by pixel, rim ringing included
+
+    // The same comparison for a diffraction-limited pinhole fails: the test can tell them apart.
+    DiffractionSettings small = s;
+    small.aperture.diameter = d / 6;
+    auto narrow = scene.diffract(lambda, small);
+    const double scale = std::pow(6.0, 2);  // area ratio, so both have the same total energy
+    for (auto& x : narrow) x *= float(scale);
+    EXPECT_GT(rms_difference(box3(narrow, w), rays_box) / rms(rays_box), 2 * rel);
+}
+
+// The seed paper's method: the random-phase average approaches the exact incoherent image and
+// its error falls as 1/sqrt(K).
+TEST(SceneDiffraction, RandomPhaseAverageConvergesAsOneOverRootK) {
+    const double f = 5e-3, lambda = 500e-9;
+    TestScene scene(8, 8, 2 * std::atan(8 * 40e-6 / (2 * f)), f);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+    for (size_t p = 0; p < scene.power.size(); ++p) {
+        scene.power[p] = uni(rng);
+        scene.depth[p] = p % 5 == 0 ? 1e10f : 0.1f + uni(rng);
+    }
+    DiffractionSettings s;
+    s.aperture = {ApertureShape::Circle, 40e-6};
+    s.jitter = false;  // jitter would change the expectation itself
+    s.method = CoherenceMethod::Incoherent;
+    const auto exact = scene.diffract(lambda, s);
+    s.method = CoherenceMethod::RandomPhase;
+    auto mean_square_error = [&](int runs) {
+        double e = 0;
+        for (uint64_t seed = 1; seed <= 12; ++seed) {
+            s.runs = runs;
+            s.seed = seed;
+            e += std::pow(rms_difference(scene.diffract(lambda, s), exact), 2);
+        }
+        return std::sqrt(e / 12);
+    };
+    const double e8 = mean_square_error(8), e32 = mean_square_error(32);
+    EXPECT_NEAR(e8 / e32, 2.0, 0.4);
+    EXPECT_LT(e32 / rms(exact), 0.25);
+}
+
+TEST(SceneDiffraction, BadPixelsAreErrorsNamingTheField) {
+    TestScene scene(4, 4, 0.1, 10e-3);
+    DiffractionSettings s;
+    s.aperture = {ApertureShape::Circle, 50e-6};
+    std::vector<float> out(16);
+    scene.power[5] = std::numeric_limits<float>::quiet_NaN();
+    auto r = diffract_monochrome(scene.view(), 500e-9, s, out.data());
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error.rfind("radiance: pixel (1, 1)", 0), 0u) << r.error;
+    scene.power[5] = 1;
+    scene.depth[6] = -2;
+    r = diffract_monochrome(scene.view(), 500e-9, s, out.data());
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error.rfind("depth: pixel (2, 1)", 0), 0u) << r.error;
+}
