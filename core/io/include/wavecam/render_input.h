@@ -1,0 +1,41 @@
+// Reading what a renderer made: an OpenEXR (or any OIIO-readable image) with linear RGB
+// radiance and a depth channel, rendered with an ideal pinhole.
+#pragma once
+#include <OpenImageIO/imagebuf.h>
+#include <string>
+#include <vector>
+#include "wavecam/pinhole_camera.h"
+#include "wavecam/result.h"
+
+namespace wavecam {
+
+struct RenderReadOptions {
+    std::string depth_channel = "Z";  // also matches a layer prefix: "ViewLayer.Depth.Z"
+    double fov_h = 0;                 // radians; 0 = from the file's metadata
+};
+
+// Radiance and depth as plain arrays, plus what the file says about itself.
+struct RenderInput {
+    int width = 0, height = 0;
+    std::vector<float> rgb;    // interleaved R, G, B
+    std::vector<float> depth;  // metres
+    double fov_h = 0;          // radians
+    std::string fov_from;      // "--fov" or the attribute it came from
+    std::string colorspace;    // the radiance's colour space as the file names it ("" = unknown)
+    std::string depth_channel; // the channel actually used
+    OIIO::ImageSpec spec;      // the source's header, for carrying metadata through
+};
+
+// The attribute our tracer (and any renderer that wants to) writes: horizontal field of view
+// in degrees. Without it, the field of view must be given.
+constexpr const char* kFovAttribute = "wavecam:fov";
+
+// Finds R, G, B and the depth channel in `image` (exact names first, then a layer prefix such
+// as "ViewLayer.Combined.R", "ViewLayer.Depth.Z") and checks every value. Errors name the
+// file, the channel or field, and what was expected.
+Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& name, const RenderReadOptions& opt);
+
+// Reads `path` through OpenImageIO, then load_render.
+Result<RenderInput> read_render(const std::string& path, const RenderReadOptions& opt);
+
+}  // namespace wavecam

@@ -1,0 +1,108 @@
+#include "wavecam/render_input.h"
+
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace wavecam {
+namespace {
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// Index of channel `want`: the exact name, else the only/first "<layer>.want" (preferring a
+// "Combined" layer for colour, as Blender names its beauty pass).
+int find_channel(const OIIO::ImageSpec& spec, const std::string& want) {
+    int suffixed = -1;
+    for (int c = 0; c < spec.nchannels; ++c) {
+        const std::string& n = spec.channelnames[c];
+        if (n == want) return c;
+        if (ends_with(n, "." + want) && (suffixed < 0 || n.find("Combined") != std::string::npos)) suffixed = c;
+    }
+    return suffixed;
+}
+
+std::string channel_list(const OIIO::ImageSpec& spec) {
+    std::string s;
+    for (int c = 0; c < spec.nchannels; ++c) s += (c ? ", " : "") + spec.channelnames[c];
+    return s;
+}
+
+}  // namespace
+
+Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& name, const RenderReadOptions& opt) {
+    auto fail = [&name](const std::string& m) { return Result<RenderInput>::failure(name + ": " + m); };
+    const OIIO::ImageSpec& spec = image.spec();
+    if (spec.width < 2 || spec.height < 2)
+        return fail("image is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                    ", expected at least 2x2 pixels");
+    if (spec.depth > 1) return fail("volume images are not supported, expected a 2D image");
+    const int r = find_channel(spec, "R"), g = find_channel(spec, "G"), b = find_channel(spec, "B");
+    if (r < 0 || g < 0 || b < 0)
+        return fail("channels R, G, B: not found (channels: " + channel_list(spec) +
+                    "), expected linear RGB radiance");
+    const int z = find_channel(spec, opt.depth_channel);
+    if (z < 0)
+        return fail("channel '" + opt.depth_channel + "': not found (channels: " + channel_list(spec) +
+                    "), expected a depth channel; name it with --depth-channel");
+
+    RenderInput in;
+    in.width = spec.width;
+    in.height = spec.height;
+    in.spec = spec;
+    in.depth_channel = spec.channelnames[z];
+    in.colorspace = spec.get_string_attribute("oiio:ColorSpace");
+    const size_t n = size_t(in.width) * in.height;
+    in.rgb.resize(3 * n);
+    in.depth.resize(n);
+    const int order[3] = {r, g, b};
+    const OIIO::ImageBuf rgb = OIIO::ImageBufAlgo::channels(image, 3, OIIO::cspan<int>(order, 3));
+    const OIIO::ImageBuf depth = OIIO::ImageBufAlgo::channels(image, 1, OIIO::cspan<int>(&z, 1));
+    if (!rgb.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, in.rgb.data()) ||
+        !depth.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, in.depth.data()))
+        return fail("cannot read pixels: " + rgb.geterror() + depth.geterror());
+
+    for (size_t p = 0; p < n; ++p) {
+        auto where = [&](const std::string& channel) {
+            std::ostringstream m;
+            m << "channel '" << channel << "' at pixel (" << p % in.width << ", " << p / in.width << ")";
+            return m.str();
+        };
+        for (int c = 0; c < 3; ++c)
+            if (!std::isfinite(in.rgb[3 * p + c]))
+                return fail(where(spec.channelnames[order[c]]) + " is " + std::to_string(in.rgb[3 * p + c]) +
+                            ", expected finite radiance");
+        const float d = in.depth[p];
+        if (std::isnan(d) || d <= 0)
+            return fail(where(in.depth_channel) + " is " + std::to_string(d) +
+                        ", expected a distance > 0 (inf or >= 1e9 for sky)");
+    }
+
+    if (opt.fov_h > 0) {
+        in.fov_h = opt.fov_h;
+        in.fov_from = "--fov";
+    } else if (const float deg = spec.get_float_attribute(kFovAttribute, 0.0f); deg > 0) {
+        if (!(deg < 180)) return fail(std::string(kFovAttribute) + " is " + std::to_string(deg) +
+                                      ", expected a field of view in degrees below 180");
+        in.fov_h = deg * M_PI / 180.0;
+        in.fov_from = kFovAttribute;
+    } else {
+        return fail(std::string("no field of view: the file has no '") + kFovAttribute +
+                    "' attribute; give the render's horizontal field of view with --fov (e.g. --fov 50deg)");
+    }
+    return Result<RenderInput>::success(std::move(in));
+}
+
+Result<RenderInput> read_render(const std::string& path, const RenderReadOptions& opt) {
+    OIIO::ImageBuf image(path);
+    if (!image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
+        std::string e = image.geterror();
+        if (e.empty()) e = "cannot be read as an image";
+        return Result<RenderInput>::failure(path + ": " + e);
+    }
+    return load_render(image, path, opt);
+}
+
+}  // namespace wavecam
