@@ -9,6 +9,11 @@ double Aperture::area() const {
     return shape == ApertureShape::Circle ? M_PI * diameter * diameter / 4.0 : diameter * diameter;
 }
 
+bool Aperture::contains(double x, double y) const {
+    const double r = diameter / 2.0;
+    return shape == ApertureShape::Circle ? x * x + y * y < r * r : std::fabs(x) < r && std::fabs(y) < r;
+}
+
 double Aperture::coverage(double x0, double x1, double y0, double y1, double& cx, double& cy) const {
     const double r = diameter / 2.0;
     cx = 0.5 * (x0 + x1);

@@ -16,6 +16,7 @@ struct Aperture {
     // Fraction of the axis-aligned cell [x0,x1]x[y0,y1] that is open, and the open part's centroid.
     double coverage(double x0, double x1, double y0, double y1, double& cx, double& cy) const;
     double area() const;
+    bool contains(double x, double y) const;
 };
 
 Result<ApertureShape> parse_aperture_shape(const std::string& name, const std::string& field);

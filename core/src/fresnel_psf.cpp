@@ -1,0 +1,128 @@
+#include "wavecam/fresnel_psf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+
+namespace wavecam {
+namespace {
+
+using cfloat = std::complex<float>;
+
+// One axis of the matrix Fourier transform: E[o][p] = exp(-2 pi i xi_p mu_o).
+std::vector<cfloat> transform_matrix(const std::vector<double>& xi, const std::vector<double>& mu) {
+    std::vector<cfloat> e(mu.size() * xi.size());
+    for (size_t o = 0; o < mu.size(); ++o)
+        for (size_t p = 0; p < xi.size(); ++p) {
+            const double phase = -2 * M_PI * std::remainder(xi[p] * mu[o], 1.0);
+            e[o * xi.size() + p] = cfloat(float(std::cos(phase)), float(std::sin(phase)));
+        }
+    return e;
+}
+
+}  // namespace
+
+PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
+    const double f = q.film_distance, lambda = q.wavelength;
+    const double tan2 = q.u * q.u + q.v * q.v;
+    const double c = 1.0 / std::sqrt(1.0 + tan2);  // cos theta
+    const double alpha = (std::isinf(q.depth) ? 0.0 : 1.0 / q.depth) + 1.0 / f;
+    const double ar = c * c * c * alpha, at = c * alpha;
+    // Radial unit vector in image (column, row) coordinates; any axis on axis.
+    const double rn = std::sqrt(tan2);
+    const double er_x = rn > 0 ? q.u / rn : 1.0, er_y = rn > 0 ? -q.v / rn : 0.0;
+
+    // Pupil on an n x n grid in (r, t) axes; cell weights from the aperture's coverage (the
+    // aperture's own x, y axes rotated by the field azimuth).
+    const int n = q.pupil_samples;
+    const double span = q.aperture.diameter * (q.aperture.shape == ApertureShape::Square ? std::sqrt(2.0) : 1.0);
+    const double h = span / n;
+    std::vector<double> xi(n);
+    for (int k = 0; k < n; ++k) xi[k] = (k - 0.5 * (n - 1)) * h;
+    std::vector<cfloat> pupil(size_t(n) * n);
+    for (int ir = 0; ir < n; ++ir)
+        for (int it = 0; it < n; ++it) {
+            // sub-sampled coverage of the rotated cell
+            constexpr int kSub = 4;
+            double open = 0;
+            for (int s = 0; s < kSub * kSub; ++s) {
+                const double r = xi[ir] + ((s % kSub) + 0.5 - 0.5 * kSub) * h / kSub;
+                const double t = xi[it] + ((s / kSub) + 0.5 - 0.5 * kSub) * h / kSub;
+                const double x = r * er_x - t * er_y, y = r * er_y + t * er_x;
+                open += q.aperture.contains(x, y) ? 1.0 : 0.0;
+            }
+            open /= kSub * kSub;
+            const double phase = M_PI / lambda * (ar * xi[ir] * xi[ir] + at * xi[it] * xi[it]);
+            pupil[size_t(ir) * n + it] = cfloat(float(open * std::cos(phase)), float(open * std::sin(phase)));
+        }
+
+    // Output grid in (r, t) film offsets: spacing pitch / (2 subsamples), covering the kernel
+    // square rotated by any angle.
+    const double step = q.pixel_pitch / (2.0 * q.subsamples);
+    const int half = int(std::ceil((q.radius + 1) * std::sqrt(2.0) * q.pixel_pitch / step));
+    const int m = 2 * half + 1;
+    std::vector<double> mu_r(m), mu_t(m);
+    for (int o = 0; o < m; ++o) {
+        const double d = (o - half) * step;
+        mu_r[o] = d * c * c * c / (lambda * f);
+        mu_t[o] = d * c / (lambda * f);
+    }
+    const auto er = transform_matrix(xi, mu_r), et = transform_matrix(xi, mu_t);
+    // tmp = pupil * et^T  (n x m), then field = er * tmp (m x m)
+    std::vector<cfloat> tmp(size_t(n) * m, 0.0f);
+    for (int ir = 0; ir < n; ++ir)
+        for (int o = 0; o < m; ++o) {
+            cfloat s = 0;
+            for (int it = 0; it < n; ++it) s += pupil[size_t(ir) * n + it] * et[size_t(o) * n + it];
+            tmp[size_t(ir) * m + o] = s;
+        }
+    std::vector<float> intensity(size_t(m) * m);
+    for (int orr = 0; orr < m; ++orr)
+        for (int ot = 0; ot < m; ++ot) {
+            cfloat s = 0;
+            for (int ir = 0; ir < n; ++ir) s += er[size_t(orr) * n + ir] * tmp[size_t(ir) * m + ot];
+            intensity[size_t(orr) * m + ot] = std::norm(s);
+        }
+
+    // Area-average each kernel pixel from the (r, t) grid by bilinear interpolation.
+    PsfKernel k;
+    k.radius = q.radius;
+    const int w = 2 * q.radius + 1, sub = q.subsamples;
+    k.weight.assign(size_t(w) * w, 0.0f);
+    auto sample = [&](double r, double t) {
+        const double fr = r / step + half, ft = t / step + half;
+        const int i0 = int(std::floor(fr)), j0 = int(std::floor(ft));
+        if (i0 < 0 || j0 < 0 || i0 + 1 >= m || j0 + 1 >= m) return 0.0;
+        const double a = fr - i0, b = ft - j0;
+        auto I = [&](int i, int j) { return double(intensity[size_t(i) * m + j]); };
+        return (1 - a) * ((1 - b) * I(i0, j0) + b * I(i0, j0 + 1)) + a * ((1 - b) * I(i0 + 1, j0) + b * I(i0 + 1, j0 + 1));
+    };
+    double total = 0;
+    for (int b = -q.radius; b <= q.radius; ++b)
+        for (int a = -q.radius; a <= q.radius; ++a) {
+            double s = 0;
+            for (int sb = 0; sb < sub; ++sb)
+                for (int sa = 0; sa < sub; ++sa) {
+                    // image offset (column, row) in metres on the film
+                    const double x = (a + (sa + 0.5) / sub - 0.5) * q.pixel_pitch;
+                    const double y = (b + (sb + 0.5) / sub - 0.5) * q.pixel_pitch;
+                    s += sample(x * er_x + y * er_y, -x * er_y + y * er_x);
+                }
+            k.weight[size_t(b + q.radius) * w + (a + q.radius)] = float(s);
+            total += s;
+        }
+    if (total > 0)
+        for (float& x : k.weight) x = float(x / total);
+    return k;
+}
+
+int psf_kernel_radius(const Aperture& aperture, double film_distance, double nearest_depth, double wavelength,
+                      double cos_theta_max, double pixel_pitch, int max_radius) {
+    const double shadow = 0.5 * aperture.diameter * (1.0 + film_distance / nearest_depth);
+    const double airy = 1.22 * wavelength * film_distance / aperture.diameter;
+    const double c3 = std::pow(cos_theta_max, 3);
+    const double r = (shadow + 5.0 * airy) / c3 / pixel_pitch;
+    return std::clamp(int(std::ceil(r)), 1, max_radius);
+}
+
+}  // namespace wavecam
