@@ -15,6 +15,8 @@ PACKAGES=(
   libkissfft-dev libcli11-dev libtomlplusplus-dev
   # tests and benchmarks
   libgtest-dev libbenchmark-dev
+  # labels on contact sheets (OIIO render_text)
+  fonts-dejavu-core
   # POV-Ray comparison renders
   povray povray-includes
 )

@@ -70,6 +70,7 @@ TEST(SceneDiffraction, OneBrightPixelIsThePointSourceImage) {
     s.aperture = {ApertureShape::Circle, 0.2e-3};
     s.jitter = false;
     s.runs = 1;
+    s.film_subsamples = 1;  // point samples at pixel centres, like the PSF image
     for (int i0 : {7, 10}) {
         std::fill(scene.power.begin(), scene.power.end(), 0.0f);
         const int j0 = 7;
@@ -117,6 +118,7 @@ TEST(SceneDiffraction, DepthChangesTheZoneCountAsTheoryPredicts) {
         s.aperture = {ApertureShape::Circle, d};
         s.jitter = false;
         s.runs = 1;
+        s.film_subsamples = 1;
         const auto img = scene.diffract(lambda, s);
         const double n = 2 * (std::sqrt(f * f + a * a) - f + (std::isinf(z) ? 0 : std::sqrt(z * z + a * a) - z)) / lambda;
         const double free = scene.camera.solid_angle(2, 2) * (std::isinf(z) ? 1.0 : z * z / ((z + f) * (z + f)));
@@ -206,6 +208,7 @@ TEST(SceneDiffraction, RandomPhaseAverageConvergesAsOneOverRootK) {
     DiffractionSettings s;
     s.aperture = {ApertureShape::Circle, 40e-6};
     s.jitter = false;  // jitter would change the expectation itself
+    s.film_subsamples = 1;
     s.method = CoherenceMethod::Incoherent;
     const auto exact = scene.diffract(lambda, s);
     s.method = CoherenceMethod::RandomPhase;

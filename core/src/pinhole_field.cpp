@@ -48,23 +48,33 @@ void sum_sources(const SourceArrays& a, float x, float y, float inv_lambda, doub
     const float q = x * x + y * y;
     double acc_re = 0, acc_im = 0;
     constexpr size_t kBlock = 1024;  // float partial sums, double across blocks
+    const float* __restrict px = a.px.data();
+    const float* __restrict py = a.py.data();
+    const float* __restrict p2 = a.p2.data();
+    const float* __restrict pn = a.pn.data();
+    const float* __restrict cr = a.cr.data();
+    const float* __restrict ci = a.ci.data();
     const size_t nf = a.px.size();
     for (size_t b = 0; b < nf; b += kBlock) {
         const size_t e = std::min(nf, b + kBlock);
         float sr = 0, si = 0;
 #pragma omp simd reduction(+ : sr, si)
         for (size_t s = b; s < e; ++s) {
-            const float num = q - 2.0f * (x * a.px[s] + y * a.py[s]);
-            const float r = std::sqrt(a.p2[s] + num);
+            const float num = q - 2.0f * (x * px[s] + y * py[s]);
+            const float r = std::sqrt(p2[s] + num);
             float sn, cs;
-            detail::sincos_turns(num * inv_lambda / (r + a.pn[s]), sn, cs);
+            detail::sincos_turns(num * inv_lambda / (r + pn[s]), sn, cs);
             const float amp = 1.0f / r;
-            sr += amp * (a.cr[s] * cs - a.ci[s] * sn);
-            si += amp * (a.cr[s] * sn + a.ci[s] * cs);
+            sr += amp * (cr[s] * cs - ci[s] * sn);
+            si += amp * (cr[s] * sn + ci[s] * cs);
         }
         acc_re += sr;
         acc_im += si;
     }
+    const float* __restrict ux = a.ux.data();
+    const float* __restrict uy = a.uy.data();
+    const float* __restrict wr = a.wr.data();
+    const float* __restrict wi = a.wi.data();
     const size_t np = a.ux.size();
     for (size_t b = 0; b < np; b += kBlock) {
         const size_t e = std::min(np, b + kBlock);
@@ -72,9 +82,9 @@ void sum_sources(const SourceArrays& a, float x, float y, float inv_lambda, doub
 #pragma omp simd reduction(+ : sr, si)
         for (size_t s = b; s < e; ++s) {
             float sn, cs;
-            detail::sincos_turns(-(x * a.ux[s] + y * a.uy[s]) * inv_lambda, sn, cs);
-            sr += a.wr[s] * cs - a.wi[s] * sn;
-            si += a.wr[s] * sn + a.wi[s] * cs;
+            detail::sincos_turns(-(x * ux[s] + y * uy[s]) * inv_lambda, sn, cs);
+            sr += wr[s] * cs - wi[s] * sn;
+            si += wr[s] * sn + wi[s] * cs;
         }
         acc_re += sr;
         acc_im += si;

@@ -1,5 +1,6 @@
 #include "wavecam/scene_diffraction.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -104,6 +105,12 @@ double scene_sample_pitch(const DiffractionSettings& s, const PinholeCamera& cam
     return std::min(sample_pitch(wavelength, std::min(1.0, sin_max)), s.aperture.diameter / kMinSamplesAcross);
 }
 
+int auto_film_subsamples(const Aperture& aperture, const PinholeCamera& camera, double wavelength) {
+    const double psf = std::max(1.22 * wavelength * camera.film_distance / aperture.diameter, 0.5 * aperture.diameter);
+    const double pixel = camera.film_distance * camera.tan_pitch();
+    return std::clamp(int(std::ceil(2.0 * pixel / psf)), 1, 4);
+}
+
 double nearest_depth(const MonochromeScene& scene) {
     const long n = long(scene.camera.width) * scene.camera.height;
     double z = INFINITY;
@@ -121,7 +128,8 @@ double nearest_depth(const MonochromeScene& scene) {
 double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength, double nearest) {
     const double samples = estimate_sample_count(s.aperture, scene_sample_pitch(s, camera, wavelength, nearest));
     const double pixels = double(camera.width) * camera.height;
-    const double film = pixels * std::pow(std::max(1, s.film_subsamples), 2);
+    const int sub = s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, camera, wavelength);
+    const double film = pixels * sub * sub;
     return s.method == CoherenceMethod::Incoherent ? samples * pixels * (film + 1)
                                                    : samples * (pixels + film) * s.runs;
 }
@@ -132,7 +140,7 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
     const PinholeCamera& c = scene.camera;
     const ApertureSamples samples =
         sample_aperture(s.aperture, scene_sample_pitch(s, c, wavelength, nearest_depth(scene)));
-    const int sub = std::max(1, s.film_subsamples);
+    const int sub = s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, c, wavelength);
     const FilmPoints film = camera_film(c, sub);
     // Irradiance at every film point; averaged into the output pixels at the end.
     std::vector<float> points(film.size(), 0.0f);

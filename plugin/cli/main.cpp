@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     int status = 0;
     wavecam::cli::add_psf_command(app, status);
+    wavecam::cli::add_apply_command(app, status);
     wavecam::cli::install_interrupt_handlers();
     try {
         app.parse(argc, argv);

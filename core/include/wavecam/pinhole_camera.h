@@ -46,6 +46,14 @@ struct PinholeCamera {
         y = -film_distance * v;
     }
 
+    // Cosine of the angle at which light from the pinhole meets film pixel (i, j): the film
+    // records flux through its plane, |U|^2 cos(incidence).
+    double cos_incidence(int i, int j) const {
+        double u, v;
+        tangent(i + 0.5, j + 0.5, u, v);
+        return 1.0 / std::sqrt(1.0 + u * u + v * v);
+    }
+
     // cos^4 of the field angle of pixel (i, j): the pinhole camera's natural fall-off.
     double cos4(int i, int j) const {
         double u, v;

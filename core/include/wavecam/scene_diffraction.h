@@ -22,7 +22,7 @@ struct DiffractionSettings {
     bool jitter = true;        // move each source within its pixel, anew every run
     uint64_t seed = 1;         // random phases and jitter; same seed, same image
     double sin_theta_max = 0;  // aperture sampling lambda/(2 sin theta_max); 0 = from the frame
-    int film_subsamples = 1;   // n: each film pixel averages n x n points over its area
+    int film_subsamples = 0;   // n: each film pixel averages n x n points; 0 = auto_film_subsamples
     int nthreads = 0;
 };
 
@@ -45,6 +45,12 @@ double scene_sample_pitch(const DiffractionSettings& s, const PinholeCamera& cam
 // Work estimate: terms (pinhole samples x (sources + film points)) over all runs.
 double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength,
                    double nearest_depth);
+
+// Film points per pixel side so that the points resolve the PSF: 2 x pixel / PSF scale, the
+// scale being the larger of the Airy radius 1.22 lambda f / d and the shadow radius d / 2,
+// between 1 and 4. (A PSF far smaller than a pixel is sampled by the jitter of random-phase
+// runs; for the incoherent method give film_subsamples explicitly.)
+int auto_film_subsamples(const Aperture& aperture, const PinholeCamera& camera, double wavelength);
 
 // Nearest planar depth in the scene (for the sampling pitch); inf if all sky.
 double nearest_depth(const MonochromeScene& scene);

@@ -32,6 +32,11 @@ std::string channel_list(const OIIO::ImageSpec& spec) {
 
 }  // namespace
 
+RenderChannels find_render_channels(const OIIO::ImageSpec& spec, const std::string& depth_channel) {
+    return {find_channel(spec, "R"), find_channel(spec, "G"), find_channel(spec, "B"),
+            find_channel(spec, depth_channel)};
+}
+
 Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& name, const RenderReadOptions& opt) {
     auto fail = [&name](const std::string& m) { return Result<RenderInput>::failure(name + ": " + m); };
     const OIIO::ImageSpec& spec = image.spec();
@@ -39,11 +44,11 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
         return fail("image is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                     ", expected at least 2x2 pixels");
     if (spec.depth > 1) return fail("volume images are not supported, expected a 2D image");
-    const int r = find_channel(spec, "R"), g = find_channel(spec, "G"), b = find_channel(spec, "B");
+    const RenderChannels ch = find_render_channels(spec, opt.depth_channel);
+    const int r = ch.r, g = ch.g, b = ch.b, z = ch.depth;
     if (r < 0 || g < 0 || b < 0)
         return fail("channels R, G, B: not found (channels: " + channel_list(spec) +
                     "), expected linear RGB radiance");
-    const int z = find_channel(spec, opt.depth_channel);
     if (z < 0)
         return fail("channel '" + opt.depth_channel + "': not found (channels: " + channel_list(spec) +
                     "), expected a depth channel; name it with --depth-channel");

@@ -30,6 +30,13 @@ struct RenderInput {
 // in degrees. Without it, the field of view must be given.
 constexpr const char* kFovAttribute = "wavecam:fov";
 
+// Channel indices of R, G, B and depth (-1 where missing): the exact name first, then a layer
+// prefix such as "ViewLayer.Combined.R" (a "Combined" layer preferred) or "ViewLayer.Depth.Z".
+struct RenderChannels {
+    int r = -1, g = -1, b = -1, depth = -1;
+};
+RenderChannels find_render_channels(const OIIO::ImageSpec& spec, const std::string& depth_channel);
+
 // Finds R, G, B and the depth channel in `image` (exact names first, then a layer prefix such
 // as "ViewLayer.Combined.R", "ViewLayer.Depth.Z") and checks every value. Errors name the
 // file, the channel or field, and what was expected.

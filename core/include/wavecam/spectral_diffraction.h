@@ -1,0 +1,39 @@
+// Diffracting a rendered scene in colour: RGB radiance -> spectra (a linear basis per primary)
+// -> one monochrome diffraction per wavelength -> CIE XYZ on the film, exposed so that a
+// uniform scene gives back its own radiance at the image centre.
+#pragma once
+#include <functional>
+#include "wavecam/scene_diffraction.h"
+#include "wavecam/spectrum.h"
+
+namespace wavecam {
+
+struct SpectralScene {
+    PinholeCamera camera;
+    const float* rgb = nullptr;    // interleaved linear RGB in the basis's working space
+    const float* depth = nullptr;  // metres
+    DepthMeaning depth_meaning = DepthMeaning::Planar;
+};
+
+// One wavelength's propagation: adds film irradiance for `scene` to `irradiance`.
+// diffract_monochrome is the physical one; tests substitute an ideal (delta) propagator.
+using MonochromePropagator = std::function<Result<bool>(const MonochromeScene& scene, double wavelength,
+                                                        float* irradiance, const ProgressFn& progress)>;
+
+MonochromePropagator wave_propagator(const DiffractionSettings& settings);
+
+// Exposure: a uniform radiance L through a pinhole of area A at film distance f gives film
+// irradiance L A / f^2 at the centre (the cos^4 law at angle 0), so the film is scaled by
+// f^2 / A. Off axis the film records flux through its plane, |U|^2 cos(incidence).
+double exposure_scale(const Aperture& aperture, double film_distance);
+
+// Writes XYZ (interleaved, width x height) of the film image. `vignetting` keeps the natural
+// cos^4 fall-off; false divides it out so the result compares with an ideal render.
+// Spectral power can be negative for saturated colours (the basis is calibrated, not
+// physical); each wavelength then propagates its positive and negative parts separately,
+// which keeps the method linear in RGB.
+Result<bool> diffract_spectral(const SpectralScene& scene, const SpectralBasis& basis, const Aperture& aperture,
+                               const MonochromePropagator& propagate, bool vignetting, float* xyz,
+                               const ProgressFn& progress = {});
+
+}  // namespace wavecam

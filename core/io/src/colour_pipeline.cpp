@@ -1,0 +1,70 @@
+#include "wavecam/colour_pipeline.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+namespace OCIO = OCIO_NAMESPACE;
+
+namespace wavecam {
+namespace {
+
+std::string default_config_path() {
+    if (const char* env = std::getenv("WAVECAM_OCIO_CONFIG"); env && *env) return env;
+    std::error_code ec;
+    for (const char* candidate : {WAVECAM_INSTALLED_OCIO_CONFIG, WAVECAM_SOURCE_OCIO_CONFIG})
+        if (std::filesystem::is_regular_file(candidate, ec)) return candidate;
+    return WAVECAM_INSTALLED_OCIO_CONFIG;
+}
+
+}  // namespace
+
+Result<ColourConfig> load_colour_config(const std::string& path) {
+    ColourConfig c;
+    c.path_ = path.empty() ? default_config_path() : path;
+    try {
+        c.config_ = OCIO::Config::CreateFromFile(c.path_.c_str());
+    } catch (const std::exception& e) {
+        return Result<ColourConfig>::failure(c.path_ + ": not a usable OpenColorIO config: " + e.what());
+    }
+    if (!c.has_colorspace(kXyzColorspace))
+        return Result<ColourConfig>::failure(c.path_ + ": colour space '" + kXyzColorspace +
+                                             "' not found; wavecam needs it to turn spectra into colour");
+    return Result<ColourConfig>::success(std::move(c));
+}
+
+bool ColourConfig::has_colorspace(const std::string& name) const {
+    return config_ && config_->getColorSpace(name.c_str()) != nullptr;
+}
+
+Result<bool> ColourConfig::convert_from_xyz(float* rgb, size_t count, const std::string& space) const {
+    if (!has_colorspace(space))
+        return Result<bool>::failure(path_ + ": colour space '" + space + "' not found");
+    try {
+        auto processor = config_->getProcessor(kXyzColorspace, space.c_str())->getDefaultCPUProcessor();
+        OCIO::PackedImageDesc desc(rgb, static_cast<long>(count), 1, 3);
+        processor->apply(desc);
+    } catch (const std::exception& e) {
+        return Result<bool>::failure(path_ + ": cannot convert XYZ to '" + space + "': " + e.what());
+    }
+    return Result<bool>::success(true);
+}
+
+Result<Matrix3> ColourConfig::xyz_to_rgb_matrix(const std::string& space) const {
+    // Columns from the unit vectors; linearity checked on a scaled mixture.
+    float probe[5][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.25f, 0.5f, 0.125f}, {2.5f, 5.0f, 1.25f}};
+    if (auto r = convert_from_xyz(&probe[0][0], 5, space); !r.ok()) return Result<Matrix3>::failure(r.error);
+    Matrix3 m;
+    for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col) m[row][col] = probe[col][row];
+    for (int k = 0; k < 3; ++k) {
+        const double expect_small = m[k][0] * 0.25 + m[k][1] * 0.5 + m[k][2] * 0.125;
+        if (std::fabs(probe[3][k] - expect_small) > 1e-4 * (1 + std::fabs(expect_small)) ||
+            std::fabs(probe[4][k] - 10 * probe[3][k]) > 1e-4 * (1 + std::fabs(probe[4][k])))
+            return Result<Matrix3>::failure(path_ + ": colour space '" + space +
+                                            "' is not linear; expected a scene-linear space for the radiance");
+    }
+    return Result<Matrix3>::success(m);
+}
+
+}  // namespace wavecam

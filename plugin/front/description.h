@@ -1,0 +1,25 @@
+// `shot.wavecam` description files: a small TOML document naming the source render and the
+// settings (the keys of settings.h). Parsed with toml++, never by hand.
+//
+//   source = "renders/shot.exr"   # relative to this file; must stay inside its folder
+//   pinhole = "0.25mm"
+//   film-distance = "50mm"
+//   wavelengths = "8"             # or ["450nm", "550nm", "650nm"]
+//   runs = 4
+//   method = "random-phase"
+//   output-colorspace = "ACEScg"
+#pragma once
+#include <string>
+#include "settings.h"
+
+namespace wavecam::front {
+
+struct Description {
+    std::string source;  // resolved path of the source render
+    Settings settings;
+};
+
+// Reads and checks a description file. Errors name the file and the key.
+Result<Description> read_description(const std::string& path);
+
+}  // namespace wavecam::front

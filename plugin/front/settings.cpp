@@ -1,0 +1,142 @@
+#include "settings.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "wavecam/units.h"
+
+namespace wavecam::front {
+
+const std::vector<std::pair<std::string, std::string>>& setting_keys() {
+    static const std::vector<std::pair<std::string, std::string>> keys = {
+        {"pinhole", "pinhole diameter, e.g. 0.25mm (default: the optimum 1.9 sqrt(f lambda) at 550nm)"},
+        {"aperture", "aperture shape: circle or square"},
+        {"film-distance", "pinhole to film, e.g. 50mm"},
+        {"fov", "the render's horizontal field of view, e.g. 50deg (default: from the file)"},
+        {"depth-channel", "depth channel name (default Z; Blender: ViewLayer.Depth.Z)"},
+        {"depth", "depth meaning: planar (along the view axis) or ray"},
+        {"wavelengths", "a count over 400-700nm (e.g. 16) or a list: 450nm,550nm,650nm"},
+        {"runs", "random-phase runs averaged; noise falls as 1/sqrt(runs)"},
+        {"method", "random-phase (the seed paper) or incoherent (exact, small images)"},
+        {"seed", "random seed: the same seed gives the same image"},
+        {"film-subsamples", "n: each film pixel averages n x n points over its area (0 = enough to resolve the PSF)"},
+        {"jitter", "true: move each source within its pixel every run"},
+        {"vignetting", "true: keep the natural cos^4 fall-off; false divides it out"},
+        {"colorconfig", "OpenColorIO config (default: wavecam's own)"},
+        {"input-colorspace", "colour space of the input (default: from the file, else lin_rec709)"},
+        {"output-colorspace", "colour space of the output (default: the input's)"},
+        {"max-terms", "refuse jobs beyond this many terms"},
+    };
+    return keys;
+}
+
+namespace {
+
+Result<long> parse_integer(const std::string& key, const std::string& v, long lo, long hi) {
+    char* end = nullptr;
+    const long n = v.empty() ? 0 : std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || *end != '\0' || n < lo || n > hi) {
+        std::ostringstream m;
+        m << key << ": expected a whole number from " << lo << " to " << hi << ", got '" << v << "'";
+        return Result<long>::failure(m.str());
+    }
+    return Result<long>::success(n);
+}
+
+Result<bool> parse_bool(const std::string& key, const std::string& v) {
+    if (v == "true" || v == "1" || v == "yes" || v == "on") return Result<bool>::success(true);
+    if (v == "false" || v == "0" || v == "no" || v == "off") return Result<bool>::success(false);
+    return Result<bool>::failure(key + ": expected true or false, got '" + v + "'");
+}
+
+Result<bool> parse_choice(const std::string& key, const std::string& v, std::initializer_list<const char*> choices) {
+    std::string list;
+    for (const char* c : choices) {
+        if (v == c) return Result<bool>::success(true);
+        list += (list.empty() ? "'" : ", '") + std::string(c) + "'";
+    }
+    return Result<bool>::failure(key + ": expected one of " + list + ", got '" + v + "'");
+}
+
+// "16" = that many wavelengths over the visible range; "450nm,550nm,650nm" = a list.
+Result<bool> parse_wavelengths(const std::string& text, DiffractOptions& o) {
+    if (!text.empty() && text.find_first_not_of("0123456789") == std::string::npos) {
+        auto n = parse_integer("wavelengths", text, 1, 1000);
+        if (!n.ok()) return Result<bool>::failure(n.error);
+        o.wavelength_count = static_cast<int>(n.value);
+        return Result<bool>::success(true);
+    }
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        item.erase(0, item.find_first_not_of(' '));
+        auto l = parse_length(item, "wavelengths");
+        if (!l.ok()) return Result<bool>::failure(l.error);
+        o.wavelengths.push_back(l.value);
+    }
+    if (o.wavelengths.empty()) return Result<bool>::failure("wavelengths: expected a count or a list, got ''");
+    return Result<bool>::success(true);
+}
+
+}  // namespace
+
+Result<DiffractOptions> options_from_settings(const Settings& settings) {
+    DiffractOptions o;
+    auto fail = [](const std::string& m) { return Result<DiffractOptions>::failure(m); };
+    for (const auto& [key, value] : settings) {
+        const auto& keys = setting_keys();
+        if (std::none_of(keys.begin(), keys.end(), [&](const auto& k) { return k.first == key; })) {
+            std::string known;
+            for (const auto& k : keys) known += (known.empty() ? "" : ", ") + k.first;
+            return fail(key + ": unknown key (known: " + known + ")");
+        }
+        std::string error;
+        auto take = [&error](const auto& r, auto& dst) {
+            if (!r.ok()) error = r.error;
+            else dst = r.value;
+        };
+        if (key == "pinhole") take(parse_length(value, key), o.pinhole);
+        else if (key == "aperture") take(parse_aperture_shape(value, key), o.aperture_shape);
+        else if (key == "film-distance") take(parse_length(value, key), o.film_distance);
+        else if (key == "fov") take(parse_angle(value, key), o.read.fov_h);
+        else if (key == "depth-channel") o.read.depth_channel = value;
+        else if (key == "depth") {
+            auto c = parse_choice(key, value, {"planar", "ray"});
+            if (!c.ok()) error = c.error;
+            o.depth_meaning = value == "ray" ? DepthMeaning::Ray : DepthMeaning::Planar;
+        } else if (key == "wavelengths") {
+            auto w = parse_wavelengths(value, o);
+            if (!w.ok()) error = w.error;
+        } else if (key == "runs") {
+            long n = 0;
+            take(parse_integer(key, value, 1, 100000), n);
+            o.diffraction.runs = static_cast<int>(n);
+        } else if (key == "method") {
+            auto c = parse_choice(key, value, {"random-phase", "incoherent"});
+            if (!c.ok()) error = c.error;
+            o.diffraction.method = value == "incoherent" ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
+        } else if (key == "seed") {
+            long n = 0;
+            take(parse_integer(key, value, 0, 1L << 62), n);
+            o.diffraction.seed = static_cast<uint64_t>(n);
+        } else if (key == "film-subsamples") {
+            long n = 0;
+            take(parse_integer(key, value, 0, 16), n);
+            o.diffraction.film_subsamples = static_cast<int>(n);
+        } else if (key == "jitter") take(parse_bool(key, value), o.diffraction.jitter);
+        else if (key == "vignetting") take(parse_bool(key, value), o.vignetting);
+        else if (key == "colorconfig") o.colorconfig = value;
+        else if (key == "input-colorspace") o.input_colorspace = value;
+        else if (key == "output-colorspace") o.output_colorspace = value;
+        else if (key == "max-terms") {
+            char* end = nullptr;
+            o.max_terms = std::strtod(value.c_str(), &end);
+            if (value.empty() || *end != '\0' || !(o.max_terms > 0))
+                error = "max-terms: expected a positive number, got '" + value + "'";
+        }
+        if (!error.empty()) return fail(error);
+    }
+    return Result<DiffractOptions>::success(o);
+}
+
+}  // namespace wavecam::front

@@ -1,0 +1,186 @@
+// wavecam.imageio.so: an OpenImageIO input plugin, so oiiotool and any OIIO application can
+// run wavecam as a post-process step. A thin front: all physics is in core.
+//
+//   shot.exr.wavecam         (no such file needed) shot.exr diffracted; settings from
+//                            `--iconfig wavecam:KEY VALUE` hints, else the source's own
+//                            `wavecam:KEY` metadata, else defaults
+//   shot.exr.wavecam?runs=8  settings in the name, too
+//   shot.wavecam             a description file (front/description.h)
+//
+// No exception leaves this file; errors go through OIIO's error reporting.
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+
+#include "../front/description.h"
+#include "wavecam/diffract_image.h"
+
+OIIO_PLUGIN_NAMESPACE_BEGIN
+
+namespace {
+
+constexpr const char* kExtension = ".wavecam";
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// "a.exr.wavecam?runs=8&pinhole=0.2mm" -> path "a.exr.wavecam", settings {runs: 8, pinhole: 0.2mm}
+std::string split_query(const std::string& name, wavecam::front::Settings& settings) {
+    const size_t q = name.find('?');
+    if (q == std::string::npos) return name;
+    std::string rest = name.substr(q + 1);
+    size_t start = 0;
+    while (start <= rest.size()) {
+        const size_t amp = std::min(rest.find('&', start), rest.size());
+        const std::string item = rest.substr(start, amp - start);
+        const size_t eq = item.find('=');
+        if (!item.empty()) settings[item.substr(0, eq)] = eq == std::string::npos ? "" : item.substr(eq + 1);
+        start = amp + 1;
+    }
+    return name.substr(0, q);
+}
+
+bool is_file(const std::string& path) {
+    std::error_code ec;
+    return std::filesystem::is_regular_file(path, ec);
+}
+
+// Computed images, by request: oiiotool opens one input several times per command.
+std::mutex g_cache_mutex;
+std::map<std::string, std::shared_ptr<const ImageBuf>> g_cache;
+// Names being opened on this thread: the source must not re-enter the plugin for itself.
+thread_local std::set<std::string> t_opening;
+
+}  // namespace
+
+class WavecamInput final : public ImageInput {
+public:
+    const char* format_name() const override { return "wavecam"; }
+    int supports(string_view feature) const override { return feature == "arbitrary_metadata"; }
+
+    // A plain filesystem check: OIIO calls this holding its plugin mutex, so it must not
+    // open anything through OIIO (that would deadlock).
+    bool valid_file(const std::string& filename) const override {
+        wavecam::front::Settings ignored;
+        const std::string path = split_query(filename, ignored);
+        if (!ends_with(path, kExtension)) return false;
+        return is_file(path) || is_file(path.substr(0, path.size() - std::strlen(kExtension)));
+    }
+
+    bool open(const std::string& name, ImageSpec& newspec) override { return open(name, newspec, ImageSpec()); }
+
+    bool open(const std::string& name, ImageSpec& newspec, const ImageSpec& config) override {
+        try {
+            return open_checked(name, newspec, config);
+        } catch (const std::exception& e) {
+            errorfmt("{}: {}", name, e.what());
+        } catch (...) {
+            errorfmt("{}: unexpected failure", name);
+        }
+        return false;
+    }
+
+    bool close() override {
+        m_image.reset();
+        return true;
+    }
+
+    bool read_native_scanline(int subimage, int miplevel, int y, int /*z*/, void* data) override {
+        if (!m_image || subimage != 0 || miplevel != 0 || y < m_spec.y || y >= m_spec.y + m_spec.height) return false;
+        const ROI row(m_spec.x, m_spec.x + m_spec.width, y, y + 1, 0, 1, 0, m_spec.nchannels);
+        return m_image->get_pixels(row, m_spec.format, data);
+    }
+
+private:
+    std::shared_ptr<const ImageBuf> m_image;
+
+    bool open_checked(const std::string& name, ImageSpec& newspec, const ImageSpec& config) {
+        namespace front = wavecam::front;
+        front::Settings settings;
+        const std::string path = split_query(name, settings);
+        // hints: --iconfig wavecam:KEY VALUE
+        for (const ParamValue& p : config.extra_attribs) {
+            const std::string n = p.name().string();
+            if (n.rfind("wavecam:", 0) == 0 && !settings.count(n.substr(8))) settings[n.substr(8)] = p.get_string();
+        }
+        std::string source;
+        if (is_file(path)) {  // a description file
+            auto d = front::read_description(path);
+            if (!d.ok()) return fail(d.error);
+            source = d.value.source;
+            for (const auto& [k, v] : d.value.settings) settings.emplace(k, v);  // hints win
+        } else {
+            source = path.substr(0, path.size() - std::strlen(kExtension));
+        }
+
+        std::string key = source;
+        for (const auto& [k, v] : settings) key += "\n" + k + "=" + v;
+        {
+            std::lock_guard<std::mutex> lock(g_cache_mutex);
+            if (auto it = g_cache.find(key); it != g_cache.end()) return publish(it->second, newspec);
+        }
+        if (t_opening.count(source)) return fail(source + ": refers to itself through the wavecam plugin");
+        t_opening.insert(source);
+        auto image = compute(source, settings);
+        t_opening.erase(source);
+        if (!image) return false;
+        {
+            std::lock_guard<std::mutex> lock(g_cache_mutex);
+            g_cache[key] = image;
+        }
+        return publish(image, newspec);
+    }
+
+    std::shared_ptr<const ImageBuf> compute(const std::string& source, wavecam::front::Settings settings) {
+        ImageBuf src(source);
+        if (!src.read(0, 0, true, TypeDesc::FLOAT)) {
+            const std::string e = src.geterror();
+            fail(source + ": " + (e.empty() ? "cannot be read as an image" : e));
+            return nullptr;
+        }
+        // the source's own wavecam:KEY metadata, where no hint gave the key
+        for (const auto& [key, help] : wavecam::front::setting_keys())
+            if (const ParamValue* p = src.spec().find_attribute("wavecam:" + key, TypeDesc::STRING))
+                settings.emplace(key, p->get_string());
+        auto options = wavecam::front::options_from_settings(settings);
+        if (!options.ok()) {
+            fail(source + ": " + options.error);
+            return nullptr;
+        }
+        auto dst = std::make_shared<ImageBuf>();
+        if (!wavecam::diffract(*dst, src, source, options.value)) {
+            fail(dst->geterror());
+            return nullptr;
+        }
+        return dst;
+    }
+
+    bool publish(const std::shared_ptr<const ImageBuf>& image, ImageSpec& newspec) {
+        m_image = image;
+        m_spec = image->spec();
+        newspec = m_spec;
+        return true;
+    }
+
+    bool fail(const std::string& message) {
+        errorfmt("{}", message);
+        return false;
+    }
+};
+
+OIIO_PLUGIN_EXPORTS_BEGIN
+
+OIIO_EXPORT int wavecam_imageio_version = OIIO_PLUGIN_VERSION;
+OIIO_EXPORT const char* wavecam_imageio_library_version() { return "wavecam 0.1"; }
+OIIO_EXPORT ImageInput* wavecam_input_imageio_create() { return new WavecamInput; }
+OIIO_EXPORT const char* wavecam_input_extensions[] = {"wavecam", nullptr};
+
+OIIO_PLUGIN_EXPORTS_END
+
+OIIO_PLUGIN_NAMESPACE_END
