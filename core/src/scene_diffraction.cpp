@@ -108,7 +108,7 @@ double scene_sample_pitch(const DiffractionSettings& s, const PinholeCamera& cam
 int auto_film_subsamples(const Aperture& aperture, const PinholeCamera& camera, double wavelength) {
     const double psf = std::max(1.22 * wavelength * camera.film_distance / aperture.diameter, 0.5 * aperture.diameter);
     const double pixel = camera.film_distance * camera.tan_pitch();
-    return std::clamp(int(std::ceil(2.0 * pixel / psf)), 1, 4);
+    return std::clamp(int(std::ceil(pixel / psf)), 1, 3);
 }
 
 double nearest_depth(const MonochromeScene& scene) {

@@ -71,7 +71,8 @@ void add_apply_command(CLI::App& app, int& status) {
     for (const auto& [key, help] : front::setting_keys()) {
         if (key == "jitter" || key == "vignetting") continue;  // flags below
         cmd->add_option_function<std::string>("--" + key, [f, key = key](const std::string& v) { f->given[key] = v; },
-                                              help);
+                                              help)
+            ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     }
     cmd->add_flag("--no-jitter", f->no_jitter, "Keep each source at its pixel centre");
     cmd->add_flag("--no-vignetting", f->no_vignetting, "Divide out the natural cos^4 fall-off");

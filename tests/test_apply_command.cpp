@@ -1,0 +1,116 @@
+// `wavecam apply` as a user runs it: outputs, header, and every bad input of issue 3.
+#include <gtest/gtest.h>
+#include <OpenImageIO/imagebuf.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+#include "command_runner.h"
+
+namespace fs = std::filesystem;
+using namespace wavecam::test;
+
+namespace {
+const std::string kWavecam = WAVECAM_BINARY;
+// small and quick: 3 wavelengths, 1 run
+const std::string kQuick = " --film-distance 20mm --pinhole 0.2mm --wavelengths 3 --runs 1 ";
+
+std::string file_bytes(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), {}};
+}
+}  // namespace
+
+TEST(ApplyCommand, WritesRgbAndKeepsTheDepthChannel) {
+    const fs::path dir = scratch("apply_ok");
+    write_render((dir / "in.exr").string(), 12, 10, 2.0f, 30.0f);
+    const auto r = run_command(kWavecam + " apply " + (dir / "in.exr").string() + " -o " + (dir / "out.exr").string() +
+                               kQuick + "--compare " + (dir / "sheet.png").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    OIIO::ImageBuf out((dir / "out.exr").string());
+    ASSERT_TRUE(out.read());
+    const auto& spec = out.spec();
+    ASSERT_EQ(spec.nchannels, 4);
+    EXPECT_EQ(spec.channelnames[3], "Z");
+    EXPECT_EQ(spec.format, OIIO::TypeDesc::FLOAT);
+    EXPECT_EQ(spec.get_string_attribute("wavecam:pinhole"), "0.2mm");
+    EXPECT_EQ(spec.get_string_attribute("wavecam:film-distance"), "20mm");
+    EXPECT_EQ(spec.get_string_attribute("wavecam:wavelengths"), "450nm,550nm,650nm");
+    for (int j = 0; j < 10; ++j)
+        for (int i = 0; i < 12; ++i) EXPECT_EQ(out.getchannel(i, j, 0, 3), 2.0f);
+    EXPECT_TRUE(fs::exists(dir / "sheet.png"));
+    fs::remove_all(dir);
+}
+
+TEST(ApplyCommand, RunsWithNoFlagsWhenTheFileHasItsFieldOfView) {
+    const fs::path dir = scratch("apply_defaults");
+    write_render((dir / "in.exr").string(), 8, 8, 5.0f, 40.0f);
+    const auto r = run_command(kWavecam + " apply " + (dir / "in.exr").string() + " -o " + (dir / "out.exr").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    OIIO::ImageBuf out((dir / "out.exr").string());
+    ASSERT_TRUE(out.read());
+    // the default pinhole is Rayleigh's optimum 1.9 sqrt(f lambda), f = 50 mm, 550 nm
+    EXPECT_EQ(out.spec().get_string_attribute("wavecam:pinhole").substr(0, 5), "0.315");
+    fs::remove_all(dir);
+}
+
+TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
+    const fs::path dir = scratch("apply_bad");
+    const std::string good = (dir / "good.exr").string();
+    write_render(good, 8, 8, 2.0f, 30.0f);
+    write_render((dir / "nodepth.exr").string(), 8, 8, 2.0f, 30.0f, {"R", "G", "B", "A"});
+    write_render((dir / "nofov.exr").string(), 8, 8, 2.0f, 0.0f);
+    write_render((dir / "negative.exr").string(), 8, 8, -1.0f, 30.0f);
+    write_render((dir / "tiny.exr").string(), 1, 1, 2.0f, 30.0f);
+    {
+        OIIO::ImageBuf nan(good);
+        nan.read(0, 0, true);
+        const float bad = std::numeric_limits<float>::quiet_NaN();
+        nan.setpixel(3, 2, std::vector<float>{bad, 0, 0, 2}.data());
+        nan.write((dir / "nan.exr").string());
+    }
+    std::ofstream((dir / "text.exr").string()) << "not an image";
+    {
+        const std::string bytes = file_bytes(good);
+        std::ofstream((dir / "truncated.exr").string(), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    }
+    struct Case {
+        std::string input, extra, expect;
+    } cases[] = {
+        {"nodepth.exr", "", "channel 'Z'"},
+        {"nofov.exr", "", "--fov"},
+        {"negative.exr", "", "expected a distance > 0"},
+        {"nan.exr", "", "pixel (3, 2)"},
+        {"tiny.exr", "", "at least 2x2"},
+        {"text.exr", "", "text.exr"},
+        {"truncated.exr", "", "truncated.exr"},
+        {"missing.exr", "", "missing.exr"},
+        {"good.exr", "--pinhole 0.2", "--pinhole"},
+        {"good.exr", "--wavelengths 2", "--wavelengths"},
+        {"good.exr", "--depth sideways", "--depth"},
+        {"good.exr", "--output-colorspace NoSuchSpace", "NoSuchSpace"},
+        {"good.exr", "--runs 100000 --wavelengths 64 --max-terms 1e9", "--max-terms"},
+    };
+    for (const Case& c : cases) {
+        const fs::path out = dir / "out.exr";
+        const auto r = run_command(kWavecam + " apply " + (dir / c.input).string() + " -o " + out.string() + kQuick +
+                                   c.extra);
+        EXPECT_NE(r.status, 0) << c.input << " " << c.extra;
+        EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.input << " " << c.extra << ": " << r.output;
+        EXPECT_FALSE(fs::exists(out)) << c.input << " " << c.extra;
+    }
+    // the output would overwrite the input: refused, input untouched
+    const std::string before = file_bytes(good);
+    const auto r = run_command(kWavecam + " apply " + good + " -o " + good + kQuick);
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("overwrite the input"), std::string::npos) << r.output;
+    EXPECT_EQ(file_bytes(good), before);
+    // an unwritable output: error names it, nothing left behind
+    const auto w = run_command(kWavecam + " apply " + good + " -o /nonexistent-dir/out.exr" + kQuick);
+    EXPECT_NE(w.status, 0);
+    EXPECT_NE(w.output.find("/nonexistent-dir/out.exr"), std::string::npos) << w.output;
+    for (const auto& e : fs::directory_iterator(dir))
+        EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+    fs::remove_all(dir);
+}
