@@ -9,6 +9,7 @@
 
 #include "wavecam/psf.h"
 #include "wavecam/scene_diffraction.h"
+#include "wavecam/spectral_diffraction.h"
 
 using namespace wavecam;
 
@@ -240,4 +241,66 @@ TEST(SceneDiffraction, BadPixelsAreErrorsNamingTheField) {
     r = diffract_monochrome(scene.view(), 500e-9, s, out.data());
     ASSERT_FALSE(r.ok());
     EXPECT_EQ(r.error.rfind("depth: pixel (2, 1)", 0), 0u) << r.error;
+}
+
+// In colour: one lit pixel gives, in XYZ, the sum over wavelengths of the point-source images
+// weighted by the pixel's spectral power and the colour-matching functions.
+TEST(SceneDiffraction, OneBrightPixelInColourIsTheWavelengthMixOfPsfs) {
+    const double f = 20e-3, z = 0.3;
+    const int w = 9, i0 = 5, j0 = 4;
+    PinholeCamera cam;
+    cam.width = cam.height = w;
+    cam.fov_h = 2 * std::atan(w * 5e-6 / (2 * f));
+    cam.film_distance = f;
+    std::vector<float> rgb(3 * w * w, 0.0f), depth(w * w, float(z));
+    const float colour[3] = {0.8f, 0.3f, 0.1f};
+    for (int k = 0; k < 3; ++k) rgb[3 * (j0 * w + i0) + k] = colour[k];
+    // XYZ -> linear Rec.709 (IEC 61966-2-1); any invertible matrix serves the basis
+    const Matrix3 m{{{3.2406, -1.5372, -0.4986}, {-0.9689, 1.8758, 0.0415}, {0.0557, -0.2040, 1.0570}}};
+    const auto basis = make_spectral_basis(visible_sampling(3).value, m).value;
+    DiffractionSettings s;
+    s.aperture = {ApertureShape::Circle, 0.2e-3};
+    s.jitter = false;
+    s.runs = 1;
+    s.film_subsamples = 1;
+    std::vector<float> xyz(3 * w * w);
+    ASSERT_TRUE(diffract_spectral({cam, rgb.data(), depth.data(), DepthMeaning::Planar}, basis, s.aperture,
+                                  wave_propagator(s), true, xyz.data())
+                    .ok());
+
+    double u, v;
+    cam.tangent(i0 + 0.5, j0 + 0.5, u, v);
+    std::vector<double> expected(3 * w * w, 0.0);
+    for (int sidx = 0; sidx < 3; ++sidx) {
+        PsfParams p;
+        p.aperture = s.aperture;
+        p.film_distance = f;
+        p.source_distance = z * std::sqrt(1 + u * u + v * v);
+        p.source_angle = std::atan(u);  // v = 0: the lit pixel sits on the middle row
+        p.wavelength = basis.wavelength(sidx);
+        p.resolution = w;
+        p.film_size = w * f * cam.tan_pitch();
+        p.sin_theta_max = p.wavelength / (2 * scene_sample_pitch(s, cam, p.wavelength, z));
+        const PsfImage psf = compute_psf(p).value;
+        const double power = basis.power(sidx, colour[0], colour[1], colour[2]);
+        const double px = z * u, r2 = px * px + (z + f) * (z + f);
+        const double unit = power * cam.solid_angle(i0, j0) * z * z * (1 + u * u) / r2;
+        for (int j = 0; j < w; ++j)
+            for (int i = 0; i < w; ++i) {
+                const int pi = i - i0 + w / 2;
+                if (pi < 0 || pi >= w) continue;
+                const double e = unit * psf.irradiance[j * w + pi] * exposure_scale(s.aperture, f) *
+                                 cam.cos_incidence(i, j);
+                for (int k = 0; k < 3; ++k) expected[3 * (j * w + i) + k] += e * basis.xyz_per_power(sidx)[k];
+            }
+    }
+    double peak = 0, worst = 0;
+    for (size_t k = 0; k < expected.size(); ++k) peak = std::max(peak, std::fabs(expected[k]));
+    for (int j = 0; j < w; ++j)
+        for (int i = 0; i < w; ++i) {
+            if (i - i0 + w / 2 < 0 || i - i0 + w / 2 >= w) continue;
+            for (int k = 0; k < 3; ++k)
+                worst = std::max(worst, std::fabs(xyz[3 * (j * w + i) + k] - expected[3 * (j * w + i) + k]));
+        }
+    EXPECT_LT(worst / peak, 1e-3);
 }
