@@ -126,6 +126,7 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
     spec.attribute("wavecam:jitter", s.jitter ? "true" : "false");
     spec.attribute("wavecam:vignetting", opt.vignetting ? "true" : "false");
     spec.attribute("wavecam:input-colorspace", in_space);
+    spec.attribute("wavecam:output-colorspace", out_space);
     spec.attribute("wavecam:colorconfig", config.value.path());
     spec.attribute("wavecam:fresnel-number",
                    static_cast<float>(fresnel_number(s.aperture.diameter / 2, opt.film_distance, INFINITY,
