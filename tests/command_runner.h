@@ -35,7 +35,7 @@ inline void write_render(const std::string& path, int w, int h, float z, float f
                          const std::vector<std::string>& names = {"R", "G", "B", "Z"}) {
     OIIO::ImageSpec spec(w, h, int(names.size()), OIIO::TypeDesc::FLOAT);
     spec.channelnames = names;
-    if (fov_deg > 0) spec.attribute("wavecam:fov", fov_deg);
+    if (fov_deg > 0) spec.attribute("wavecam.fov", fov_deg);
     OIIO::ImageBuf buf(spec);
     for (int j = 0; j < h; ++j)
         for (int i = 0; i < w; ++i) {

@@ -34,9 +34,9 @@ TEST(ApplyCommand, WritesRgbAndKeepsTheDepthChannel) {
     ASSERT_EQ(spec.nchannels, 4);
     EXPECT_EQ(spec.channelnames[3], "Z");
     EXPECT_EQ(spec.format, OIIO::TypeDesc::FLOAT);
-    EXPECT_EQ(spec.get_string_attribute("wavecam:pinhole"), "0.2mm");
-    EXPECT_EQ(spec.get_string_attribute("wavecam:film-distance"), "20mm");
-    EXPECT_EQ(spec.get_string_attribute("wavecam:wavelengths"), "450nm,550nm,650nm");
+    EXPECT_EQ(spec.get_string_attribute("wavecam.pinhole"), "0.2mm");
+    EXPECT_EQ(spec.get_string_attribute("wavecam.film-distance"), "20mm");
+    EXPECT_EQ(spec.get_string_attribute("wavecam.wavelengths"), "450nm,550nm,650nm");
     for (int j = 0; j < 10; ++j)
         for (int i = 0; i < 12; ++i) EXPECT_EQ(out.getchannel(i, j, 0, 3), 2.0f);
     EXPECT_TRUE(fs::exists(dir / "sheet.png"));
@@ -51,7 +51,7 @@ TEST(ApplyCommand, RunsWithNoFlagsWhenTheFileHasItsFieldOfView) {
     OIIO::ImageBuf out((dir / "out.exr").string());
     ASSERT_TRUE(out.read());
     // the default pinhole is Rayleigh's optimum 1.9 sqrt(f lambda), f = 50 mm, 550 nm
-    EXPECT_EQ(out.spec().get_string_attribute("wavecam:pinhole").substr(0, 5), "0.315");
+    EXPECT_EQ(out.spec().get_string_attribute("wavecam.pinhole").substr(0, 5), "0.315");
     fs::remove_all(dir);
 }
 

@@ -51,8 +51,8 @@ TEST(Plugin, DescriptionFileRuns) {
     ASSERT_EQ(r.status, 0) << r.output;
     OIIO::ImageBuf out((dir / "o.exr").string());
     ASSERT_TRUE(out.read());
-    EXPECT_EQ(out.spec().get_string_attribute("wavecam:output-colorspace"), "ACEScg");
-    EXPECT_EQ(out.spec().get_string_attribute("wavecam:wavelengths"), "450nm,550nm,650nm");
+    EXPECT_EQ(out.spec().get_string_attribute("wavecam.output-colorspace"), "ACEScg");
+    EXPECT_EQ(out.spec().get_string_attribute("wavecam.wavelengths"), "450nm,550nm,650nm");
     fs::remove_all(dir);
 }
 

@@ -46,9 +46,9 @@ TEST(PsfCommand, WritesRelativeIrradianceWithParametersInTheHeader) {
     EXPECT_EQ(spec.width, 21);
     EXPECT_EQ(spec.nchannels, 1);
     EXPECT_EQ(spec.format, OIIO::TypeDesc::FLOAT);
-    EXPECT_EQ(spec.get_string_attribute("wavecam:pinhole"), "0.04mm");
-    EXPECT_EQ(spec.get_string_attribute("wavecam:wavelength"), "500nm");
-    EXPECT_EQ(spec.get_string_attribute("wavecam:source_distance"), "inf");
+    EXPECT_EQ(spec.get_string_attribute("wavecam.pinhole"), "0.04mm");
+    EXPECT_EQ(spec.get_string_attribute("wavecam.wavelength"), "500nm");
+    EXPECT_EQ(spec.get_string_attribute("wavecam.source_distance"), "inf");
     // centre pixel: 4 sin^2(pi N / 2), N = a^2 / (lambda f) = 0.08 (independent of the command)
     const double n = std::pow(20e-6, 2) / (500e-9 * 10e-3);
     float centre = 0;

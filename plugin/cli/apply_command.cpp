@@ -55,8 +55,8 @@ int run(const ApplyFlags& flags) {
         if (auto w = write_compare_sheet(src, dst, opt, flags.compare); !w.ok()) return fail(w.error);
     if (!flags.png.empty())
         if (auto w = write_display_png(dst, opt, flags.png); !w.ok()) return fail(w.error);
-    std::printf("pinhole %s, %s\n", dst.spec().get_string_attribute("wavecam:pinhole").c_str(),
-                dst.spec().get_string_attribute("wavecam:summary").c_str());
+    std::printf("pinhole %s, %s\n", dst.spec().get_string_attribute("wavecam.pinhole").c_str(),
+                dst.spec().get_string_attribute("wavecam.summary").c_str());
     std::printf("wrote %s\n", flags.output.c_str());
     return 0;
 }

@@ -49,7 +49,7 @@ Result<bool> write_compare_sheet(const OIIO::ImageBuf& input, const OIIO::ImageB
     OIIO::ColorConfig cc(config.value.path());
     const RenderChannels ch = find_render_channels(input.spec(), opt.read.depth_channel);
     const int in_order[3] = {ch.r, ch.g, ch.b}, out_order[3] = {0, 1, 2};
-    const std::string in_space = output.spec().get_string_attribute("wavecam:input-colorspace");
+    const std::string in_space = output.spec().get_string_attribute("wavecam.input-colorspace");
     const std::string out_space = output.spec().get_string_attribute("oiio:ColorSpace");
     const OIIO::ImageBuf in_rgb = first_three(input, in_order);
     // the output in the input's space, so the difference compares like with like

@@ -3,7 +3,7 @@
 //
 //   shot.exr.wavecam         (no such file needed) shot.exr diffracted; settings from
 //                            `--iconfig wavecam:KEY VALUE` hints, else the source's own
-//                            `wavecam:KEY` metadata, else defaults
+//                            `wavecam.KEY` metadata, else defaults
 //   shot.exr.wavecam?runs=8  settings in the name, too
 //   shot.wavecam             a description file (front/description.h)
 //
@@ -144,9 +144,9 @@ private:
             fail(source + ": " + (e.empty() ? "cannot be read as an image" : e));
             return nullptr;
         }
-        // the source's own wavecam:KEY metadata, where no hint gave the key
+        // the source's own wavecam.KEY metadata, where no hint gave the key
         for (const auto& [key, help] : wavecam::front::setting_keys())
-            if (const ParamValue* p = src.spec().find_attribute("wavecam:" + key, TypeDesc::STRING))
+            if (const ParamValue* p = src.spec().find_attribute("wavecam." + key, TypeDesc::STRING))
                 settings.emplace(key, p->get_string());
         auto options = wavecam::front::options_from_settings(settings);
         if (!options.ok()) {

@@ -107,33 +107,33 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
     spec.set_format(OIIO::TypeDesc::FLOAT);
     spec.channelformats.clear();
     spec.attribute("oiio:ColorSpace", out_space);
-    spec.attribute("wavecam:pinhole", with_unit(s.aperture.diameter, 1e-3, "mm"));
-    spec.attribute("wavecam:aperture", s.aperture.shape == ApertureShape::Circle ? "circle" : "square");
-    spec.attribute("wavecam:film-distance", with_unit(opt.film_distance, 1e-3, "mm"));
-    spec.attribute("wavecam:film-width", with_unit(camera.film_width(), 1e-3, "mm"));
-    spec.attribute("wavecam:fov", static_cast<float>(in.fov_h * 180 / M_PI));
-    spec.attribute("wavecam:fov-from", in.fov_from);
-    spec.attribute("wavecam:depth", opt.depth_meaning == DepthMeaning::Planar ? "planar" : "ray");
+    spec.attribute("wavecam.pinhole", with_unit(s.aperture.diameter, 1e-3, "mm"));
+    spec.attribute("wavecam.aperture", s.aperture.shape == ApertureShape::Circle ? "circle" : "square");
+    spec.attribute("wavecam.film-distance", with_unit(opt.film_distance, 1e-3, "mm"));
+    spec.attribute("wavecam.film-width", with_unit(camera.film_width(), 1e-3, "mm"));
+    spec.attribute("wavecam.fov", static_cast<float>(in.fov_h * 180 / M_PI));
+    spec.attribute("wavecam.fov-from", in.fov_from);
+    spec.attribute("wavecam.depth", opt.depth_meaning == DepthMeaning::Planar ? "planar" : "ray");
     std::string wl;
     for (double l : sampling.value.wavelength) wl += (wl.empty() ? "" : ",") + with_unit(l, 1e-9, "nm");
-    spec.attribute("wavecam:wavelengths", wl);
-    spec.attribute("wavecam:method", s.method == CoherenceMethod::Incoherent ? "incoherent" : "random-phase");
-    spec.attribute("wavecam:runs", s.runs);
-    spec.attribute("wavecam:seed", std::to_string(s.seed));
-    spec.attribute("wavecam:film-subsamples",
+    spec.attribute("wavecam.wavelengths", wl);
+    spec.attribute("wavecam.method", s.method == CoherenceMethod::Incoherent ? "incoherent" : "random-phase");
+    spec.attribute("wavecam.runs", s.runs);
+    spec.attribute("wavecam.seed", std::to_string(s.seed));
+    spec.attribute("wavecam.film-subsamples",
                    s.film_subsamples > 0 ? s.film_subsamples
                                          : auto_film_subsamples(s.aperture, camera, sampling.value.wavelength[0]));
-    spec.attribute("wavecam:jitter", s.jitter ? "true" : "false");
-    spec.attribute("wavecam:vignetting", opt.vignetting ? "true" : "false");
-    spec.attribute("wavecam:input-colorspace", in_space);
-    spec.attribute("wavecam:output-colorspace", out_space);
-    spec.attribute("wavecam:colorconfig", config.value.path());
-    spec.attribute("wavecam:fresnel-number",
+    spec.attribute("wavecam.jitter", s.jitter ? "true" : "false");
+    spec.attribute("wavecam.vignetting", opt.vignetting ? "true" : "false");
+    spec.attribute("wavecam.input-colorspace", in_space);
+    spec.attribute("wavecam.output-colorspace", out_space);
+    spec.attribute("wavecam.colorconfig", config.value.path());
+    spec.attribute("wavecam.fresnel-number",
                    static_cast<float>(fresnel_number(s.aperture.diameter / 2, opt.film_distance, INFINITY,
                                                      kDesignWavelength)));
     std::ostringstream summary;
     summary << sampling.value.wavelength.size() << " wavelengths, " << s.runs << " runs, " << terms << " terms";
-    spec.attribute("wavecam:summary", summary.str());
+    spec.attribute("wavecam.summary", summary.str());
 
     dst.reset(spec);
     std::vector<float> out(4 * size_t(in.width) * in.height);

@@ -28,7 +28,7 @@ struct RenderInput {
 
 // The attribute our tracer (and any renderer that wants to) writes: horizontal field of view
 // in degrees. Without it, the field of view must be given.
-constexpr const char* kFovAttribute = "wavecam:fov";
+constexpr const char* kFovAttribute = "wavecam.fov";
 
 // Channel indices of R, G, B and depth (-1 where missing): the exact name first, then a layer
 // prefix such as "ViewLayer.Combined.R" (a "Combined" layer preferred) or "ViewLayer.Depth.Z".
