@@ -13,6 +13,8 @@ PACKAGES=(
   libembree-dev libosd-dev
   # chosen dependencies (see README, "Dependencies")
   libkissfft-dev libcli11-dev libtomlplusplus-dev
+  # packaging (.deb with shared-library dependencies)
+  dpkg-dev file
   # tests and benchmarks
   libgtest-dev libbenchmark-dev
   # labels on contact sheets (OIIO render_text)

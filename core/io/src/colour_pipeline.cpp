@@ -1,5 +1,7 @@
 #include "wavecam/colour_pipeline.h"
 
+#include <dlfcn.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -9,8 +11,24 @@ namespace OCIO = OCIO_NAMESPACE;
 namespace wavecam {
 namespace {
 
+// The installed config relative to the binary holding this code (the wavecam command in bin/,
+// or the plugin in lib/[arch/]wavecam/), so a relocated install or .deb finds its own.
+std::string config_beside_this_binary() {
+    Dl_info info;
+    if (!dladdr(reinterpret_cast<void*>(&config_beside_this_binary), &info) || !info.dli_fname) return {};
+    std::error_code ec;
+    std::filesystem::path dir = std::filesystem::canonical(info.dli_fname, ec).parent_path();
+    for (int up = 0; up < 3 && !dir.empty(); ++up) {
+        dir = dir.parent_path();
+        const auto candidate = dir / "share" / "wavecam" / "ocio" / "wavecam.ocio";
+        if (std::filesystem::is_regular_file(candidate, ec)) return candidate.string();
+    }
+    return {};
+}
+
 std::string default_config_path() {
     if (const char* env = std::getenv("WAVECAM_OCIO_CONFIG"); env && *env) return env;
+    if (std::string beside = config_beside_this_binary(); !beside.empty()) return beside;
     std::error_code ec;
     for (const char* candidate : {WAVECAM_INSTALLED_OCIO_CONFIG, WAVECAM_SOURCE_OCIO_CONFIG})
         if (std::filesystem::is_regular_file(candidate, ec)) return candidate;

@@ -28,8 +28,9 @@ private:
     OCIO_NAMESPACE::ConstConfigRcPtr config_;
 };
 
-// Loads `path`, or when empty the first of: $WAVECAM_OCIO_CONFIG, the installed
-// share/wavecam/ocio/wavecam.ocio, the source tree's ocio_configs/wavecam.ocio.
+// Loads `path`, or when empty the first of: $WAVECAM_OCIO_CONFIG, share/wavecam/ocio/wavecam.ocio
+// of the prefix holding the running binary (the wavecam command or the plugin), the configured
+// install prefix's, the source tree's ocio_configs/wavecam.ocio.
 Result<ColourConfig> load_colour_config(const std::string& path);
 
 }  // namespace wavecam
