@@ -39,6 +39,6 @@ set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Wave-optics pinhole camera: diffraction f
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "libopenimageio-dev, libopencolorio-dev")
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "libopenimageio-dev, libopencolorio-dev, libkissfft-dev")
 set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
 include(CPack)

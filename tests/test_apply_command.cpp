@@ -90,7 +90,8 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
         {"good.exr", "--wavelengths 2", "--wavelengths"},
         {"good.exr", "--depth sideways", "--depth"},
         {"good.exr", "--output-colorspace NoSuchSpace", "NoSuchSpace"},
-        {"good.exr", "--runs 100000 --wavelengths 64 --max-terms 1e9", "--max-terms"},
+        {"good.exr", "--method exact --runs 100000 --wavelengths 64 --max-terms 1e9", "--max-terms"},
+        {"good.exr", "--method sideways", "--method"},
     };
     for (const Case& c : cases) {
         const fs::path out = dir / "out.exr";

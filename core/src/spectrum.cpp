@@ -1,17 +1,23 @@
 #include <cmath>
-#include <sstream>
+#include <string>
 
 #include "wavecam/spectrum.h"
 
 namespace wavecam {
 
+namespace {
+// The visible range sampled by default (m).
+constexpr double kVisibleLow = 400e-9, kVisibleHigh = 700e-9;
+}  // namespace
+
 Result<SpectralSampling> visible_sampling(int count) {
-    if (count < 1) return Result<SpectralSampling>::failure("wavelengths: expected at least 1 wavelength");
-    constexpr double lo = 400e-9, hi = 700e-9;
+    if (count < 1)
+        return Result<SpectralSampling>::failure("wavelengths: expected at least 1 wavelength, got " +
+                                                 std::to_string(count));
     SpectralSampling s;
-    const double w = (hi - lo) / count;
+    const double w = (kVisibleHigh - kVisibleLow) / count;
     for (int k = 0; k < count; ++k) {
-        s.wavelength.push_back(lo + (k + 0.5) * w);
+        s.wavelength.push_back(kVisibleLow + (k + 0.5) * w);
         s.weight.push_back(w);
     }
     return Result<SpectralSampling>::success(s);
@@ -21,14 +27,18 @@ Result<SpectralSampling> explicit_sampling(const std::vector<double>& wavelength
     const size_t n = wavelengths.size();
     if (n == 0) return Result<SpectralSampling>::failure("wavelengths: expected at least 1 wavelength");
     for (size_t k = 0; k < n; ++k) {
-        if (!(wavelengths[k] > 0)) return Result<SpectralSampling>::failure("wavelengths: expected positive wavelengths");
+        if (!(wavelengths[k] > 0) || !std::isfinite(wavelengths[k]))
+            return Result<SpectralSampling>::failure("wavelengths: expected positive finite wavelengths");
         if (k > 0 && !(wavelengths[k] > wavelengths[k - 1]))
             return Result<SpectralSampling>::failure("wavelengths: expected an increasing list");
     }
     SpectralSampling s;
     s.wavelength = wavelengths;
     for (size_t k = 0; k < n; ++k) {
-        const double left = k > 0 ? wavelengths[k] - wavelengths[k - 1] : (n > 1 ? wavelengths[1] - wavelengths[0] : 300e-9);
+        // The end samples mirror their one neighbour; a lone wavelength stands for the visible range.
+        const double left = k > 0     ? wavelengths[k] - wavelengths[k - 1]
+                            : n > 1   ? wavelengths[1] - wavelengths[0]
+                                      : kVisibleHigh - kVisibleLow;
         const double right = k + 1 < n ? wavelengths[k + 1] - wavelengths[k] : left;
         s.weight.push_back(0.5 * (left + right));
     }
@@ -37,9 +47,14 @@ Result<SpectralSampling> explicit_sampling(const std::vector<double>& wavelength
 
 Result<SpectralBasis> make_spectral_basis(const SpectralSampling& sampling, const Matrix3& xyz_to_rgb) {
     const int n = int(sampling.wavelength.size());
+    if (sampling.weight.size() != sampling.wavelength.size())
+        return Result<SpectralBasis>::failure("wavelengths: expected one weight per wavelength, got " +
+                                              std::to_string(sampling.weight.size()) + " weights for " +
+                                              std::to_string(n) + " wavelengths");
     if (n < 3)
         return Result<SpectralBasis>::failure("wavelengths: expected at least 3 wavelengths to carry RGB colour, got " +
                                               std::to_string(n));
+    // Raw band p: exp(-(lambda - centre_p)^2 / (2 width^2)), one per primary R, G, B.
     constexpr double kCentre[3] = {610e-9, 545e-9, 465e-9}, kWidth = 40e-9;
     SpectralBasis b;
     b.wavelength_ = sampling.wavelength;
@@ -53,18 +68,21 @@ Result<SpectralBasis> make_spectral_basis(const SpectralSampling& sampling, cons
             raw[s][p] = std::exp(-0.5 * t * t);
         }
     }
-    for (int p = 0; p < 3; ++p) {
+    for (int p = 0; p < 3; ++p) {  // XYZ = sum_s raw_p(s) cmf(s) weight(s)
         Vector3 xyz{0, 0, 0};
         for (int s = 0; s < n; ++s)
             for (int k = 0; k < 3; ++k) xyz[k] += raw[s][p] * b.xyz_[s][k];
         const Vector3 rgb = multiply(xyz_to_rgb, xyz);
         for (int k = 0; k < 3; ++k) m[k][p] = rgb[k];
     }
-    if (std::fabs(determinant(m)) < 1e-12 * std::pow(m[0][0] + m[1][1] + m[2][2], 3)) {
-        std::ostringstream e;
-        e << "wavelengths: these " << n << " wavelengths cannot carry RGB colour (their spectra are not independent)";
-        return Result<SpectralBasis>::failure(e.str());
-    }
+    // Independence, scale-free: |det M| against its bound, the product of the column lengths.
+    double column_lengths = 1;
+    for (int p = 0; p < 3; ++p) column_lengths *= std::hypot(m[0][p], m[1][p], m[2][p]);
+    if (!(std::fabs(determinant(m)) > 1e-9 * column_lengths))
+        return Result<SpectralBasis>::failure("wavelengths: these " + std::to_string(n) +
+                                              " wavelengths cannot carry RGB colour (the three bands' colours "
+                                              "are not independent)");
+    // Calibrated basis: b(s) = raw(s) . M^-1, so the RGB of the spectrum of (r, g, b) is M M^-1 (r, g, b).
     const Matrix3 mi = inverse(m);
     for (int s = 0; s < n; ++s) {
         Vector3 row{0, 0, 0};

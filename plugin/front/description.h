@@ -6,7 +6,7 @@
 //   film-distance = "50mm"
 //   wavelengths = "8"             # or ["450nm", "550nm", "650nm"]
 //   runs = 4
-//   method = "random-phase"
+//   method = "fast"              # or "exact" (the seed paper), "incoherent"
 //   output-colorspace = "ACEScg"
 #pragma once
 #include <string>

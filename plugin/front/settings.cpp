@@ -17,7 +17,7 @@ const std::vector<std::pair<std::string, std::string>>& setting_keys() {
         {"depth", "depth meaning: planar (along the view axis) or ray"},
         {"wavelengths", "a count over 400-700nm (e.g. 16) or a list: 450nm,550nm,650nm"},
         {"runs", "random-phase runs averaged; noise falls as 1/sqrt(runs)"},
-        {"method", "random-phase (the seed paper) or incoherent (exact, small images)"},
+        {"method", "fast (PSF-grid convolution, default), exact (the seed paper's random-phase sum) or incoherent"},
         {"seed", "random seed: the same seed gives the same image"},
         {"film-subsamples", "n: each film pixel averages n x n points over its area (0 = enough to resolve the PSF)"},
         {"jitter", "true: move each source within its pixel every run"},
@@ -112,9 +112,11 @@ Result<DiffractOptions> options_from_settings(const Settings& settings) {
             take(parse_integer(key, value, 1, 100000), n);
             o.diffraction.runs = static_cast<int>(n);
         } else if (key == "method") {
-            auto c = parse_choice(key, value, {"random-phase", "incoherent"});
+            auto c = parse_choice(key, value, {"fast", "exact", "incoherent"});
             if (!c.ok()) error = c.error;
-            o.diffraction.method = value == "incoherent" ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
+            o.method = value == "fast"    ? DiffractMethod::Fast
+                       : value == "exact" ? DiffractMethod::Exact
+                                          : DiffractMethod::Incoherent;
         } else if (key == "seed") {
             long n = 0;
             take(parse_integer(key, value, 0, 1L << 62), n);

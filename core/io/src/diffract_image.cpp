@@ -33,8 +33,10 @@ double resolved_pinhole(const DiffractOptions& opt) {
 
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
                       DepthMeaning meaning) {
+    if (opt.method == DiffractMethod::Fast) return 0;  // PSF grid + FFTs: minutes at most
     DiffractionSettings s = opt.diffraction;
     s.aperture = {opt.aperture_shape, resolved_pinhole(opt)};
+    s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     auto sampling = sampling_for(opt);
     if (!sampling.ok()) return 0;
     // Nearest depth needs a MonochromeScene; the power is irrelevant to it.
@@ -80,6 +82,7 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
 
     DiffractionSettings s = opt.diffraction;
     s.aperture = {opt.aperture_shape, resolved_pinhole(opt)};
+    s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     s.nthreads = nthreads;
     const double terms = estimate_terms(opt, camera, in.depth, opt.depth_meaning);
     if (terms > opt.max_terms) {
@@ -92,8 +95,12 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
 
     const SpectralScene scene{camera, in.rgb.data(), in.depth.data(), opt.depth_meaning};
     std::vector<float> pixels(3 * size_t(in.width) * in.height);
-    auto r = diffract_spectral(scene, basis.value, s.aperture, wave_propagator(s), opt.vignetting, pixels.data(),
-                               opt.progress);
+    FastSettings fast = opt.fast;
+    fast.nthreads = nthreads;
+    auto r = opt.method == DiffractMethod::Fast
+                 ? diffract_fast(scene, basis.value, s.aperture, opt.vignetting, pixels.data(), fast, opt.progress)
+                 : diffract_spectral(scene, basis.value, s.aperture, wave_propagator(s), opt.vignetting,
+                                     pixels.data(), opt.progress);
     if (!r.ok()) return fail(r.error == "cancelled" ? name + ": interrupted" : name + ": " + r.error);
     if (auto c = config.value.convert_from_xyz(pixels.data(), pixels.size() / 3, out_space); !c.ok())
         return fail(c.error);
@@ -117,7 +124,9 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
     std::string wl;
     for (double l : sampling.value.wavelength) wl += (wl.empty() ? "" : ",") + with_unit(l, 1e-9, "nm");
     spec.attribute("wavecam.wavelengths", wl);
-    spec.attribute("wavecam.method", s.method == CoherenceMethod::Incoherent ? "incoherent" : "random-phase");
+    spec.attribute("wavecam.method", opt.method == DiffractMethod::Fast    ? "fast"
+                                     : opt.method == DiffractMethod::Exact ? "exact"
+                                                                           : "incoherent");
     spec.attribute("wavecam.runs", s.runs);
     spec.attribute("wavecam.seed", std::to_string(s.seed));
     spec.attribute("wavecam.film-subsamples",
@@ -132,7 +141,9 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
                    static_cast<float>(fresnel_number(s.aperture.diameter / 2, opt.film_distance, INFINITY,
                                                      kDesignWavelength)));
     std::ostringstream summary;
-    summary << sampling.value.wavelength.size() << " wavelengths, " << s.runs << " runs, " << terms << " terms";
+    summary << sampling.value.wavelength.size() << " wavelengths, ";
+    if (opt.method == DiffractMethod::Fast) summary << "fast method";
+    else summary << s.runs << " runs, " << terms << " terms";
     spec.attribute("wavecam.summary", summary.str());
 
     dst.reset(spec);

@@ -6,17 +6,24 @@
 #include <string>
 #include <vector>
 #include "wavecam/render_input.h"
+#include "wavecam/fast_diffraction.h"
 #include "wavecam/scene_diffraction.h"
 
 namespace wavecam {
 
+// fast: PSF-grid convolution (the default); exact: the seed paper's random-phase sum over
+// pinhole samples; incoherent: the exact sum with every source alone (small images).
+enum class DiffractMethod { Fast, Exact, Incoherent };
+
 struct DiffractOptions {
+    DiffractMethod method = DiffractMethod::Fast;
     RenderReadOptions read;                        // depth channel, --fov
     DepthMeaning depth_meaning = DepthMeaning::Planar;
     double film_distance = 50e-3;                  // f, metres
     double pinhole = 0;                            // diameter (m); 0 = Rayleigh's optimum for f at 550 nm
     ApertureShape aperture_shape = ApertureShape::Circle;
-    DiffractionSettings diffraction;               // method, runs, seed, jitter, film subsamples
+    DiffractionSettings diffraction;               // exact methods: runs, seed, jitter, film subsamples
+    FastSettings fast;                             // fast method: tiles, kernel size
     std::vector<double> wavelengths;               // explicit list (m); empty = wavelength_count in 400-700 nm
     int wavelength_count = 8;
     bool vignetting = true;                        // keep the natural cos^4 fall-off

@@ -1,0 +1,76 @@
+// Square real 2D FFTs of one size through kissfft (BSD-3-Clause; see README on why not FFTW):
+// real 1D transforms along rows, complex 1D transforms along the n/2 + 1 columns.
+// (Debian's kissfft 131 returns no configuration from kiss_fftndr_alloc, so the 2D transform
+// is composed here from the 1D ones.) Internal to core; one object per thread.
+#pragma once
+#include <kiss_fft.h>
+#include <kiss_fftr.h>
+
+#include <complex>
+#include <vector>
+
+namespace wavecam::detail {
+
+class RealFft2D {
+public:
+    explicit RealFft2D(int n)
+        : n_(n),
+          half_(n / 2 + 1),
+          row_forward_(kiss_fftr_alloc(n, 0, nullptr, nullptr)),
+          row_inverse_(kiss_fftr_alloc(n, 1, nullptr, nullptr)),
+          column_forward_(kiss_fft_alloc(n, 0, nullptr, nullptr)),
+          column_inverse_(kiss_fft_alloc(n, 1, nullptr, nullptr)),
+          column_(n),
+          column_out_(n) {}
+    ~RealFft2D() {
+        kiss_fftr_free(row_forward_);
+        kiss_fftr_free(row_inverse_);
+        kiss_fft_free(column_forward_);
+        kiss_fft_free(column_inverse_);
+    }
+    RealFft2D(const RealFft2D&) = delete;
+    RealFft2D& operator=(const RealFft2D&) = delete;
+
+    bool ok() const { return row_forward_ && row_inverse_ && column_forward_ && column_inverse_; }
+    int size() const { return n_; }
+    size_t spectrum_size() const { return size_t(n_) * half_; }
+
+    // n x n real (row-major) -> n x (n/2 + 1) spectrum (row-major)
+    void forward(const float* image, std::complex<float>* spectrum) {
+        for (int r = 0; r < n_; ++r) kiss_fftr(row_forward_, image + size_t(r) * n_, cpx(spectrum + size_t(r) * half_));
+        columns(spectrum, column_forward_);
+    }
+    // spectrum -> n x n real, scaled by n^2 (kissfft does not normalise); the spectrum is overwritten
+    void inverse(std::complex<float>* spectrum, float* image) {
+        columns(spectrum, column_inverse_);
+        for (int r = 0; r < n_; ++r) kiss_fftri(row_inverse_, cpx(spectrum + size_t(r) * half_), image + size_t(r) * n_);
+    }
+
+private:
+    static kiss_fft_cpx* cpx(std::complex<float>* p) { return reinterpret_cast<kiss_fft_cpx*>(p); }
+
+    void columns(std::complex<float>* spectrum, kiss_fft_cfg cfg) {
+        for (int k = 0; k < half_; ++k) {
+            for (int r = 0; r < n_; ++r) column_[r] = spectrum[size_t(r) * half_ + k];
+            kiss_fft(cfg, cpx(column_.data()), cpx(column_out_.data()));
+            for (int r = 0; r < n_; ++r) spectrum[size_t(r) * half_ + k] = column_out_[r];
+        }
+    }
+
+    int n_, half_;
+    kiss_fftr_cfg row_forward_, row_inverse_;
+    kiss_fft_cfg column_forward_, column_inverse_;
+    std::vector<std::complex<float>> column_, column_out_;
+};
+
+// Smallest size >= n with no prime factor above 5 (fast for kissfft), and even.
+inline int fft_friendly_size(int n) {
+    for (int m = n + (n & 1);; m += 2) {
+        int r = m;
+        for (int p : {2, 3, 5})
+            while (r % p == 0) r /= p;
+        if (r == 1) return m;
+    }
+}
+
+}  // namespace wavecam::detail
