@@ -15,7 +15,7 @@
 namespace wavecam {
 namespace {
 
-constexpr double kMaxDefocusStep = 0.1;  // radians of defocus phase over the pinhole between layers
+constexpr double kMaxDefocusStep = 0.3;  // radians of defocus phase over the pinhole between layers
 constexpr int kMaxLayers = 16;
 
 using KernelSet = std::vector<float>;  // 9 kernels (primary p -> XYZ q at index 3p + q), each (2R+1)^2
@@ -77,8 +77,18 @@ Result<bool> diffract_fast(const SpectralScene& scene, const SpectralBasis& basi
     const double dw = kMaxDefocusStep * lambda_min / (M_PI * radius * radius);
     const int layers = w_max > 0 ? std::min(kMaxLayers, int(std::ceil(w_max / dw)) + 1) : 1;
     const double layer_step = layers > 1 ? w_max / (layers - 1) : 1.0;
+    // Each pixel's light is shared between the two layers around its 1/z, linearly: the PSF is
+    // interpolated in depth as it is over the field.
     std::vector<int> layer_of(inv.size());
-    for (size_t p = 0; p < inv.size(); ++p) layer_of[p] = layers > 1 ? int(std::lround(inv[p] / layer_step)) : 0;
+    std::vector<float> upper_share(inv.size(), 0.0f);
+    for (size_t p = 0; p < inv.size(); ++p) {
+        const double x = layers > 1 ? inv[p] / layer_step : 0.0;
+        layer_of[p] = std::min(layers - 1, int(std::floor(x)));
+        upper_share[p] = float(x - layer_of[p]);
+    }
+    auto layer_weight = [&](size_t p, int l) {
+        return l == layer_of[p] ? 1.0f - upper_share[p] : l == layer_of[p] + 1 ? upper_share[p] : 0.0f;
+    };
 
     // Field anchors at the image's corners, edges and inside, about 5 across the long side.
     const int longest = std::max(W, H);
@@ -153,7 +163,7 @@ Result<bool> diffract_fast(const SpectralScene& scene, const SpectralBasis& basi
             for (int l = 0; l < layers; ++l) {
                 bool present = false;
                 for (int j = y0; j < y1 && !present; ++j)
-                    for (int i = x0; i < x1 && !present; ++i) present = layer_of[size_t(j) * W + i] == l;
+                    for (int i = x0; i < x1 && !present; ++i) present = layer_weight(size_t(j) * W + i, l) > 0;
                 if (!present) continue;
                 // the tile's kernels, interpolated over the anchors
                 const size_t base = size_t(l) * ax * ay;
@@ -177,8 +187,9 @@ Result<bool> diffract_fast(const SpectralScene& scene, const SpectralBasis& basi
                     for (int j = y0; j < y1; ++j)
                         for (int i = x0; i < x1; ++i) {
                             const size_t px = size_t(j) * W + i;
-                            if (layer_of[px] == l)
-                                image[size_t(j - y0) * N + (i - x0)] = float(scene.rgb[3 * px + p] * c.cos4(i, j));
+                            if (const float share = layer_weight(px, l); share > 0)
+                                image[size_t(j - y0) * N + (i - x0)] =
+                                    float(share * scene.rgb[3 * px + p] * c.cos4(i, j));
                         }
                     fft->forward(image.data(), &in[p * spec]);
                 }

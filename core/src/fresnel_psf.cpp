@@ -2,22 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 
 namespace wavecam {
 namespace {
 
-using cfloat = std::complex<float>;
-
-// One axis of the matrix Fourier transform: E[o][p] = exp(-2 pi i xi_p mu_o).
-std::vector<cfloat> transform_matrix(const std::vector<double>& xi, const std::vector<double>& mu) {
-    std::vector<cfloat> e(mu.size() * xi.size());
+// One axis of the matrix Fourier transform, split into real and imaginary parts:
+// E[o][p] = exp(-2 pi i xi_p mu_o).
+void transform_matrix(const std::vector<double>& xi, const std::vector<double>& mu, std::vector<float>& re,
+                      std::vector<float>& im) {
+    re.resize(mu.size() * xi.size());
+    im.resize(mu.size() * xi.size());
     for (size_t o = 0; o < mu.size(); ++o)
         for (size_t p = 0; p < xi.size(); ++p) {
             const double phase = -2 * M_PI * std::remainder(xi[p] * mu[o], 1.0);
-            e[o * xi.size() + p] = cfloat(float(std::cos(phase)), float(std::sin(phase)));
+            re[o * xi.size() + p] = float(std::cos(phase));
+            im[o * xi.size() + p] = float(std::sin(phase));
         }
-    return e;
 }
 
 }  // namespace
@@ -39,7 +39,7 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
     const double h = span / n;
     std::vector<double> xi(n);
     for (int k = 0; k < n; ++k) xi[k] = (k - 0.5 * (n - 1)) * h;
-    std::vector<cfloat> pupil(size_t(n) * n);
+    std::vector<float> pupil_re(size_t(n) * n), pupil_im(size_t(n) * n);
     for (int ir = 0; ir < n; ++ir)
         for (int it = 0; it < n; ++it) {
             // sub-sampled coverage of the rotated cell
@@ -53,12 +53,13 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
             }
             open /= kSub * kSub;
             const double phase = M_PI / lambda * (ar * xi[ir] * xi[ir] + at * xi[it] * xi[it]);
-            pupil[size_t(ir) * n + it] = cfloat(float(open * std::cos(phase)), float(open * std::sin(phase)));
+            pupil_re[size_t(ir) * n + it] = float(open * std::cos(phase));
+            pupil_im[size_t(ir) * n + it] = float(open * std::sin(phase));
         }
 
-    // Output grid in (r, t) film offsets: spacing pitch / (2 subsamples), covering the kernel
-    // square rotated by any angle.
-    const double step = q.pixel_pitch / (2.0 * q.subsamples);
+    // Output grid in (r, t) film offsets: spacing pitch / subsamples, covering the kernel square
+    // rotated by any angle.
+    const double step = q.pixel_pitch / q.subsamples;
     const int half = int(std::ceil((q.radius + 1) * std::sqrt(2.0) * q.pixel_pitch / step));
     const int m = 2 * half + 1;
     std::vector<double> mu_r(m), mu_t(m);
@@ -67,22 +68,43 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
         mu_r[o] = d * c * c * c / (lambda * f);
         mu_t[o] = d * c / (lambda * f);
     }
-    const auto er = transform_matrix(xi, mu_r), et = transform_matrix(xi, mu_t);
-    // tmp = pupil * et^T  (n x m), then field = er * tmp (m x m)
-    std::vector<cfloat> tmp(size_t(n) * m, 0.0f);
+    std::vector<float> er_re, er_im, et_re, et_im;
+    transform_matrix(xi, mu_r, er_re, er_im);
+    transform_matrix(xi, mu_t, et_re, et_im);
+    // tmp[ir][o] = sum_it pupil[ir][it] et[o][it]
+    std::vector<float> tmp_re(size_t(n) * m), tmp_im(size_t(n) * m);
     for (int ir = 0; ir < n; ++ir)
         for (int o = 0; o < m; ++o) {
-            cfloat s = 0;
-            for (int it = 0; it < n; ++it) s += pupil[size_t(ir) * n + it] * et[size_t(o) * n + it];
-            tmp[size_t(ir) * m + o] = s;
+            const float* pr = &pupil_re[size_t(ir) * n];
+            const float* pi = &pupil_im[size_t(ir) * n];
+            const float* qr = &et_re[size_t(o) * n];
+            const float* qi = &et_im[size_t(o) * n];
+            float sr = 0, si = 0;
+#pragma omp simd reduction(+ : sr, si)
+            for (int it = 0; it < n; ++it) {
+                sr += pr[it] * qr[it] - pi[it] * qi[it];
+                si += pr[it] * qi[it] + pi[it] * qr[it];
+            }
+            tmp_re[size_t(ir) * m + o] = sr;
+            tmp_im[size_t(ir) * m + o] = si;
         }
-    std::vector<float> intensity(size_t(m) * m);
-    for (int orr = 0; orr < m; ++orr)
-        for (int ot = 0; ot < m; ++ot) {
-            cfloat s = 0;
-            for (int ir = 0; ir < n; ++ir) s += er[size_t(orr) * n + ir] * tmp[size_t(ir) * m + ot];
-            intensity[size_t(orr) * m + ot] = std::norm(s);
+    // field[or][ot] = sum_ir er[or][ir] tmp[ir][ot]; intensity = |field|^2
+    std::vector<float> intensity(size_t(m) * m), row_re(m), row_im(m);
+    for (int orr = 0; orr < m; ++orr) {
+        std::fill(row_re.begin(), row_re.end(), 0.0f);
+        std::fill(row_im.begin(), row_im.end(), 0.0f);
+        for (int ir = 0; ir < n; ++ir) {
+            const float ar = er_re[size_t(orr) * n + ir], ai = er_im[size_t(orr) * n + ir];
+            const float* br = &tmp_re[size_t(ir) * m];
+            const float* bi = &tmp_im[size_t(ir) * m];
+#pragma omp simd
+            for (int ot = 0; ot < m; ++ot) {
+                row_re[ot] += ar * br[ot] - ai * bi[ot];
+                row_im[ot] += ar * bi[ot] + ai * br[ot];
+            }
         }
+        for (int ot = 0; ot < m; ++ot) intensity[size_t(orr) * m + ot] = row_re[ot] * row_re[ot] + row_im[ot] * row_im[ot];
+    }
 
     // Area-average each kernel pixel from the (r, t) grid by bilinear interpolation.
     PsfKernel k;

@@ -3,14 +3,15 @@
 // varying convolution instead of a sum over pinhole samples.
 //
 // PSFs come from fresnel_psf.h on a grid of depth layers (even in 1/z, spaced so the defocus
-// phase over the pinhole changes by at most 0.1 rad between layers) x field anchors x
+// phase over the pinhole changes by at most 0.3 rad between layers) x field anchors x
 // wavelengths, and are folded over wavelength into nine RGB -> XYZ kernels per grid point
 // (the basis is linear). The image is cut into tiles; the sources of one tile and one layer
 // are convolved, by FFT, with the kernel interpolated (bilinearly over the anchors) at the
 // tile centre, and the results overlap-add: each source is spread by (nearly) its own PSF.
+// A source's light is shared linearly (in 1/z) between the two layers around its depth.
 //
-// Approximations, and where they break: a source takes the PSF of its tile centre and of its
-// nearest layer (errors grow with tile size on very wide fields and with layer spacing); the
+// Approximations, and where they break: a source takes the PSF of its tile centre and a blend
+// of its two layers' (errors grow with tile size on very wide fields and with layer spacing); the
 // kernel is cut at max_radius pixels (the energy beyond is renormalised into the kernel:
 // large geometric blurs - pinholes many times the optimum - lose their tails). Layers are
 // added, not composited: the render already holds only what the pinhole's centre sees, and
