@@ -1,11 +1,33 @@
 #!/usr/bin/env bash
-# The main job: installs dependencies, builds wavecam, and images a point source through the
-# default (near-optimal) pinhole, writing out/psf.exr and out/psf.png.
+# The main job: installs dependencies, builds wavecam, renders the default scene with the test
+# tracer (an ideal pinhole), diffracts it through three pinholes at f = 50 mm - too small,
+# Rayleigh's optimum 1.9 sqrt(f lambda), too large - and writes out/contact_sheet.png, which
+# shows at a glance that the optimum is the sharpest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash packaging/install-deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j2
 mkdir -p out
-./build/plugin/wavecam psf --pinhole 0.3mm --film-distance 65mm --source-distance inf --source-angle 0deg \
-  --wavelength 550nm --film-size 0.6mm --resolution 255 -o out/psf.exr --png out/psf.png
+wavecam=build/plugin/wavecam
+./build/test_scenes/wavecam-trace test_scenes/scenes/default.toml out/scene.exr --width 512 --height 512
+
+for pinhole in 0.08mm 0.315mm 1.26mm; do
+  "$wavecam" apply out/scene.exr -o "out/pinhole_${pinhole}.exr" --pinhole "$pinhole" --film-distance 50mm \
+    --wavelengths 16
+done
+
+# Contact sheet through the shipped config's sRGB display view: full frames on top, the
+# centre 128 x 128 enlarged 4x below, each labelled.
+font=/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf
+oiiotool --colorconfig ocio_configs/wavecam.ocio \
+  out/scene.exr --ch R,G,B --ociodisplay sRGB Standard --text:x=10:y=30:size=24:color=1,1,0.2:font=$font "ideal pinhole (render)" \
+  out/pinhole_0.08mm.exr --ch R,G,B --ociodisplay sRGB Standard --text:x=10:y=30:size=24:color=1,1,0.2:font=$font "0.08 mm: too small (diffraction)" \
+  out/pinhole_0.315mm.exr --ch R,G,B --ociodisplay sRGB Standard --text:x=10:y=30:size=24:color=1,1,0.2:font=$font "0.315 mm: optimum 1.9 sqrt(f lambda)" \
+  out/pinhole_1.26mm.exr --ch R,G,B --ociodisplay sRGB Standard --text:x=10:y=30:size=24:color=1,1,0.2:font=$font "1.26 mm: too large (geometric)" \
+  out/scene.exr --ch R,G,B --ociodisplay sRGB Standard --cut 128x128+192+192 --resize:filter=box 512x512 \
+  out/pinhole_0.08mm.exr --ch R,G,B --ociodisplay sRGB Standard --cut 128x128+192+192 --resize:filter=box 512x512 \
+  out/pinhole_0.315mm.exr --ch R,G,B --ociodisplay sRGB Standard --cut 128x128+192+192 --resize:filter=box 512x512 \
+  out/pinhole_1.26mm.exr --ch R,G,B --ociodisplay sRGB Standard --cut 128x128+192+192 --resize:filter=box 512x512 \
+  --mosaic:pad=4 4x2 -d uint8 -o out/contact_sheet.png
+echo "wrote out/scene.exr, out/pinhole_*.exr, out/contact_sheet.png"

@@ -85,3 +85,36 @@ TEST(FresnelPsf, KernelRadiusCoversShadowAndRings) {
     EXPECT_EQ(psf_kernel_radius(ap, 20e-3, 0.1, 550e-9, 1.0, 15e-6, 64), 31);
     EXPECT_EQ(psf_kernel_radius(ap, 20e-3, 0.1, 550e-9, 1.0, 15e-6, 16), 16);
 }
+
+// Four times the optimum: 14 Fresnel zones across the pinhole, the geometric regime. The pupil
+// grid must follow the quadratic phase or aliased copies of the PSF appear.
+TEST(FresnelPsf, LargePinholeMatchesTheExactImage) {
+    FieldPsfRequest q;
+    q.aperture = {ApertureShape::Circle, 0.8e-3};
+    q.film_distance = 20e-3;
+    q.wavelength = 550e-9;
+    q.pixel_pitch = 40e-6;
+    q.radius = 12;
+    const PsfKernel fast = field_psf_kernel(q);
+    std::vector<double> f(fast.weight.begin(), fast.weight.end());
+    PsfParams p;
+    p.aperture = q.aperture;
+    p.film_distance = q.film_distance;
+    p.wavelength = q.wavelength;
+    p.resolution = 25 * 3;
+    p.film_size = 25 * q.pixel_pitch;
+    p.sin_theta_max = 0.06;  // film within 0.5 mm of the axis at 20 mm, pinhole radius 0.4 mm
+    const PsfImage img = compute_psf(p).value;
+    std::vector<double> exact(25 * 25, 0.0);
+    double total = 0;
+    for (int j = 0; j < 75; ++j)
+        for (int i = 0; i < 75; ++i) {
+            exact[size_t(j / 3) * 25 + i / 3] += img.irradiance[size_t(j) * 75 + i];
+            total += img.irradiance[size_t(j) * 75 + i];
+        }
+    for (double& x : exact) x /= total;
+    for (double r : {3.0, 6.0, 9.0, 11.0})
+        EXPECT_NEAR(encircled(f, 12, r), encircled(exact, 12, r), 0.02 * encircled(exact, 12, r)) << "r = " << r;
+    // outside the shadow (radius 10 px) almost nothing: no aliased copies
+    EXPECT_LT(1.0 - encircled(f, 12, 11.5), 0.03);
+}

@@ -34,8 +34,12 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
 
     // Pupil on an n x n grid in (r, t) axes; cell weights from the aperture's coverage (the
     // aperture's own x, y axes rotated by the field azimuth).
-    const int n = q.pupil_samples;
     const double span = q.aperture.diameter * (q.aperture.shape == ApertureShape::Square ? std::sqrt(2.0) : 1.0);
+    // The quadratic phase spans N = (span/2)^2 alpha / lambda half-period zones; its slope at the
+    // rim is 2 pi N / (span/2) per metre, so 8 N samples across keep the phase step below pi/2
+    // (no aliased copies of the PSF), and never fewer than 64.
+    const double zones = 0.25 * span * span * alpha / lambda;
+    const int n = q.pupil_samples > 0 ? q.pupil_samples : std::clamp(2 * int(std::ceil(4 * zones)), 64, 1024);
     const double h = span / n;
     std::vector<double> xi(n);
     for (int k = 0; k < n; ++k) xi[k] = (k - 0.5 * (n - 1)) * h;

@@ -30,7 +30,7 @@ struct FieldPsfRequest {
     double pixel_pitch = 0;        // film pixel pitch (m)
     int radius = 8;                // kernel half-width in pixels
     int subsamples = 3;            // each kernel pixel averages n x n points over its area
-    int pupil_samples = 64;        // pupil grid across the aperture
+    int pupil_samples = 0;         // pupil grid across the aperture; 0 = enough for its Fresnel zones
 };
 
 // (2 radius + 1)^2 weights, row-major, upright image orientation (column a grows toward the
