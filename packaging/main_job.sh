@@ -30,4 +30,6 @@ oiiotool --colorconfig ocio_configs/wavecam.ocio \
   out/pinhole_0.315mm.exr --ch R,G,B --ociodisplay sRGB Standard --cut 128x128+192+192 --resize:filter=box 512x512 \
   out/pinhole_1.26mm.exr --ch R,G,B --ociodisplay sRGB Standard --cut 128x128+192+192 --resize:filter=box 512x512 \
   --mosaic:pad=4 4x2 -d uint8 -o out/contact_sheet.png
-echo "wrote out/scene.exr, out/pinhole_*.exr, out/contact_sheet.png"
+# The paper's figure: PSFs over pinhole diameters, spot size against diameter, the optimum.
+"$wavecam" sweep --film-distance 50mm --wavelength 550nm -o out/sweep
+echo "wrote out/scene.exr, out/pinhole_*.exr, out/contact_sheet.png, out/sweep*"

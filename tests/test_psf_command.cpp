@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace fs = std::filesystem;
@@ -77,5 +78,21 @@ TEST(PsfCommand, BadFlagsGetOneLineNamingTheFlag) {
         EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
         EXPECT_FALSE(fs::exists(exr)) << c.args;
     }
+    fs::remove_all(dir);
+}
+
+TEST(SweepCommand, WritesCsvPlotAndSheetAndReportsTheOptimum) {
+    const fs::path dir = temp_dir();
+    const CommandRun r = run("sweep --film-distance 20mm --count 7 --resolution 41 -o " + (dir / "s").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("measured optimum"), std::string::npos);
+    for (const char* f : {"s.csv", "s_psfs.png", "s_spot_size.png"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
+    std::ifstream csv(dir / "s.csv");
+    std::string header;
+    std::getline(csv, header);
+    EXPECT_EQ(header, "diameter_mm,diameter_over_sqrt_f_lambda,fresnel_number,r50_um,r80_um");
+    int rows = 0;
+    for (std::string line; std::getline(csv, line);) ++rows;
+    EXPECT_EQ(rows, 7);
     fs::remove_all(dir);
 }

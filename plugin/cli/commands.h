@@ -7,5 +7,6 @@ namespace wavecam::cli {
 
 void add_psf_command(CLI::App& app, int& status);
 void add_apply_command(CLI::App& app, int& status);
+void add_sweep_command(CLI::App& app, int& status);
 
 }  // namespace wavecam::cli

@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
     int status = 0;
     wavecam::cli::add_psf_command(app, status);
     wavecam::cli::add_apply_command(app, status);
+    wavecam::cli::add_sweep_command(app, status);
     wavecam::cli::install_interrupt_handlers();
     try {
         app.parse(argc, argv);
