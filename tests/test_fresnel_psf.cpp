@@ -117,4 +117,12 @@ TEST(FresnelPsf, LargePinholeMatchesTheExactImage) {
         EXPECT_NEAR(encircled(f, 12, r), encircled(exact, 12, r), 0.02 * encircled(exact, 12, r)) << "r = " << r;
     // outside the shadow (radius 10 px) almost nothing: no aliased copies
     EXPECT_LT(1.0 - encircled(f, 12, 11.5), 0.03);
+
+    // Coarse pixels (the shadow 2 px across) and a wide kernel: the transform's periodic copies
+    // must stay outside the kernel too.
+    q.pixel_pitch = 0.4e-3;
+    q.radius = 14;
+    const PsfKernel coarse = field_psf_kernel(q);
+    std::vector<double> k(coarse.weight.begin(), coarse.weight.end());
+    EXPECT_GT(encircled(k, 14, 2.5), 0.97);
 }

@@ -39,7 +39,16 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
     // rim is 2 pi N / (span/2) per metre, so 8 N samples across keep the phase step below pi/2
     // (no aliased copies of the PSF), and never fewer than 64.
     const double zones = 0.25 * span * span * alpha / lambda;
-    const int n = q.pupil_samples > 0 ? q.pupil_samples : std::clamp(2 * int(std::ceil(4 * zones)), 64, 1024);
+    // The sampled pupil's transform repeats every 1 / h in frequency, that is every
+    // lambda f / (h cos) on the film: the output grid (half-width `extent`) must fit in one
+    // period or shifted copies of the PSF appear, so n >= 2 span extent cos / (lambda f).
+    const double step = q.pixel_pitch / q.subsamples;
+    const int half = int(std::ceil((q.radius + 1) * std::sqrt(2.0) * q.pixel_pitch / step));
+    const double extent = half * step;
+    const int n = q.pupil_samples > 0
+                      ? q.pupil_samples
+                      : std::clamp(2 * int(std::ceil(std::max(4 * zones, 1.1 * span * extent * c / (lambda * f)))),
+                                   64, 2048);
     const double h = span / n;
     std::vector<double> xi(n);
     for (int k = 0; k < n; ++k) xi[k] = (k - 0.5 * (n - 1)) * h;
@@ -61,10 +70,8 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
             pupil_im[size_t(ir) * n + it] = float(open * std::sin(phase));
         }
 
-    // Output grid in (r, t) film offsets: spacing pitch / subsamples, covering the kernel square
-    // rotated by any angle.
-    const double step = q.pixel_pitch / q.subsamples;
-    const int half = int(std::ceil((q.radius + 1) * std::sqrt(2.0) * q.pixel_pitch / step));
+    // Output grid in (r, t) film offsets: spacing pitch / subsamples (`step`), covering the
+    // kernel square rotated by any angle (`half` steps each side).
     const int m = 2 * half + 1;
     std::vector<double> mu_r(m), mu_t(m);
     for (int o = 0; o < m; ++o) {
