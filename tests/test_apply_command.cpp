@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <OpenImageIO/imagebuf.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -63,12 +64,18 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
     write_render((dir / "nofov.exr").string(), 8, 8, 2.0f, 0.0f);
     write_render((dir / "negative.exr").string(), 8, 8, -1.0f, 30.0f);
     write_render((dir / "tiny.exr").string(), 1, 1, 2.0f, 30.0f);
+    write_render((dir / "zero.exr").string(), 8, 8, 0.0f, 30.0f);
+    write_render((dir / "widefov.exr").string(), 8, 8, 2.0f, 200.0f);
     {
         OIIO::ImageBuf nan(good);
         nan.read(0, 0, true);
         const float bad = std::numeric_limits<float>::quiet_NaN();
         nan.setpixel(3, 2, std::vector<float>{bad, 0, 0, 2}.data());
         nan.write((dir / "nan.exr").string());
+        nan.setpixel(3, 2, std::vector<float>{0.5f, std::numeric_limits<float>::infinity(), 0, 2}.data());
+        nan.write((dir / "inf.exr").string());
+        nan.setpixel(3, 2, std::vector<float>{0.5f, 0.5f, 0.5f, bad}.data());
+        nan.write((dir / "nandepth.exr").string());
     }
     std::ofstream((dir / "text.exr").string()) << "not an image";
     {
@@ -82,6 +89,10 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
         {"nofov.exr", "", "--fov"},
         {"negative.exr", "", "expected a distance > 0"},
         {"nan.exr", "", "pixel (3, 2)"},
+        {"inf.exr", "", "expected finite radiance"},
+        {"nandepth.exr", "", "channel 'Z' at pixel (3, 2)"},
+        {"zero.exr", "", "expected a distance > 0"},
+        {"widefov.exr", "", "below 180"},
         {"tiny.exr", "", "at least 2x2"},
         {"text.exr", "", "text.exr"},
         {"truncated.exr", "", "truncated.exr"},
@@ -113,5 +124,26 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
     EXPECT_NE(w.output.find("/nonexistent-dir/out.exr"), std::string::npos) << w.output;
     for (const auto& e : fs::directory_iterator(dir))
         EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+    fs::remove_all(dir);
+}
+
+// SIGINT or SIGTERM during a long run: prompt stop, non-zero status, no output file.
+TEST(ApplyCommand, InterruptStopsPromptlyAndLeavesNothing) {
+    const fs::path dir = scratch("apply_interrupt");
+    write_render((dir / "in.exr").string(), 64, 64, 2.0f, 30.0f);
+    const fs::path out = dir / "out.exr";
+    for (const char* signal : {"INT", "TERM"}) {
+        // the exact method on this image takes minutes; it is stopped after one second
+        const auto start = std::chrono::steady_clock::now();
+        const auto r = run_command("timeout -s " + std::string(signal) + " 1 " + kWavecam + " apply " +
+                                   (dir / "in.exr").string() + " -o " + out.string() +
+                                   " --method exact --runs 20 --wavelengths 16");
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        EXPECT_NE(r.status, 0) << signal;
+        EXPECT_NE(r.output.find("interrupted"), std::string::npos) << signal << ": " << r.output;
+        EXPECT_LT(seconds, 5.0) << signal;
+        EXPECT_FALSE(fs::exists(out)) << signal;
+    }
+    for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename(), "in.exr");
     fs::remove_all(dir);
 }

@@ -1,6 +1,8 @@
 #include "description.h"
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <toml++/toml.h>
 
 namespace wavecam::front {
@@ -37,11 +39,18 @@ bool inside(const std::filesystem::path& folder, const std::filesystem::path& in
 }  // namespace
 
 Result<Description> read_description(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return Result<Description>::failure(path + ": cannot be read");
+    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    return parse_description(text, path);
+}
+
+Result<Description> parse_description(std::string_view text, const std::string& path) {
     namespace fs = std::filesystem;
     auto fail = [&path](const std::string& m) { return Result<Description>::failure(path + ": " + m); };
     toml::table doc;
     try {
-        doc = toml::parse_file(path);
+        doc = toml::parse(text, path);
     } catch (const toml::parse_error& e) {
         const auto& where = e.source().begin;
         return fail("line " + std::to_string(where.line) + ": not a wavecam description (TOML): " +

@@ -22,4 +22,7 @@ struct Description {
 // Reads and checks a description file. Errors name the file and the key.
 Result<Description> read_description(const std::string& path);
 
+// The same for a description already in memory; `path` places the source and names errors.
+Result<Description> parse_description(std::string_view text, const std::string& path);
+
 }  // namespace wavecam::front

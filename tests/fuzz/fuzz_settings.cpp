@@ -1,0 +1,20 @@
+// Fuzzes the settings vocabulary (the flags, hints and description keys): input lines
+// "key=value" become settings; the result is options or an error, never a crash.
+#include <cstdlib>
+#include <sstream>
+#include <string>
+
+#include "front/settings.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
+    wavecam::front::Settings settings;
+    for (std::string line; std::getline(in, line);) {
+        const size_t eq = line.find('=');
+        settings[line.substr(0, eq)] = eq == std::string::npos ? "" : line.substr(eq + 1);
+    }
+    auto r = wavecam::front::options_from_settings(settings);
+    if (!r.ok() && r.error.empty()) std::abort();
+    if (r.ok() && (r.value.diffraction.runs < 1 || r.value.wavelength_count < 1)) std::abort();
+    return 0;
+}
