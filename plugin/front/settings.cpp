@@ -83,7 +83,9 @@ Result<bool> parse_wavelengths(const std::string& text, DiffractOptions& o) {
 Result<DiffractOptions> options_from_settings(const Settings& settings) {
     DiffractOptions o;
     auto fail = [](const std::string& m) { return Result<DiffractOptions>::failure(m); };
-    for (const auto& [key, value] : settings) {
+    for (const auto& entry : settings) {
+        const std::string& key = entry.first;  // named, not bound: lambdas below capture it
+        const std::string& value = entry.second;
         const auto& keys = setting_keys();
         if (std::none_of(keys.begin(), keys.end(), [&](const auto& k) { return k.first == key; })) {
             std::string known;
