@@ -103,6 +103,8 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
         {"good.exr", "--output-colorspace NoSuchSpace", "NoSuchSpace"},
         {"good.exr", "--method exact --runs 100000 --wavelengths 64 --max-terms 1e9", "--max-terms"},
         {"good.exr", "--method sideways", "--method"},
+        {"good.exr", "--max-memory 1KiB", "beyond --max-memory"},
+        {"good.exr", "--max-memory 12", "--max-memory: expected a size"},
     };
     for (const Case& c : cases) {
         const fs::path out = dir / "out.exr";

@@ -1,6 +1,7 @@
 #include "settings.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "wavecam/units.h"
@@ -25,7 +26,8 @@ const std::vector<std::pair<std::string, std::string>>& setting_keys() {
         {"colorconfig", "OpenColorIO config (default: wavecam's own)"},
         {"input-colorspace", "colour space of the input (default: from the file, else lin_rec709)"},
         {"output-colorspace", "colour space of the output (default: the input's)"},
-        {"max-terms", "refuse jobs beyond this many terms"},
+        {"max-terms", "refuse exact-method jobs beyond this many terms (default 4e12, about an hour here)"},
+        {"max-memory", "refuse jobs estimated to need more memory, e.g. 16GiB (the default), 512MiB"},
     };
     return keys;
 }
@@ -56,6 +58,20 @@ Result<bool> parse_choice(const std::string& key, const std::string& v, std::ini
         list += (list.empty() ? "'" : ", '") + std::string(c) + "'";
     }
     return Result<bool>::failure(key + ": expected one of " + list + ", got '" + v + "'");
+}
+
+// "16GiB", "512MiB", "2GB": bytes.
+Result<double> parse_bytes(const std::string& key, const std::string& v) {
+    static const std::pair<const char*, double> units[] = {{"GiB", 1073741824.0}, {"MiB", 1048576.0},
+                                                           {"KiB", 1024.0},       {"GB", 1e9},
+                                                           {"MB", 1e6},           {"KB", 1e3}};
+    char* end = nullptr;
+    const double n = v.empty() ? 0 : std::strtod(v.c_str(), &end);
+    if (end && end != v.c_str() && std::isfinite(n) && n > 0)
+        for (const auto& [unit, scale] : units)
+            if (std::string(end) == unit) return Result<double>::success(n * scale);
+    return Result<double>::failure(key + ": expected a size with a unit (KiB, MiB, GiB, KB, MB, GB), e.g. 16GiB, got '" +
+                                   v + "'");
 }
 
 // "16" = that many wavelengths over the visible range; "450nm,550nm,650nm" = a list.
@@ -138,6 +154,7 @@ Result<DiffractOptions> options_from_settings(const Settings& settings) {
             if (value.empty() || *end != '\0' || !(o.max_terms > 0))
                 error = "max-terms: expected a positive number, got '" + value + "'";
         }
+        else if (key == "max-memory") take(parse_bytes(key, value), o.max_memory);
         if (!error.empty()) return fail(error);
     }
     return Result<DiffractOptions>::success(o);

@@ -7,6 +7,7 @@
 
 #include "wavecam/colour_pipeline.h"
 #include "wavecam/pinhole_design.h"
+#include "wavecam/source.h"
 #include "wavecam/spectral_diffraction.h"
 
 namespace wavecam {
@@ -45,6 +46,21 @@ double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, c
     double terms = 0;
     for (double lambda : sampling.value.wavelength) terms += scene_terms(s, camera, lambda, nearest);
     return terms;
+}
+
+double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) {
+    const double pixels = double(camera.width) * camera.height;
+    const double images = pixels * 4 * sizeof(float) * 6;  // source, input arrays, XYZ, output, written copy
+    if (opt.method == DiffractMethod::Fast) {
+        // worst case: 16 depth layers x the field anchors x 9 kernels of 65 x 65, plus tiles
+        const double anchors = 25, side = 2.0 * std::max(1, opt.fast.max_radius) + 1;
+        return images + 16 * anchors * 9 * side * side * sizeof(float) + 2 * 64.0 * (1 << 20);
+    }
+    const double lambda = 400e-9;  // the shortest wavelength sampled: the densest pinhole grid
+    const Aperture ap{opt.aperture_shape, resolved_pinhole(opt)};
+    const double samples = estimate_sample_count(ap, sample_pitch(lambda, 1.0));
+    const double film = pixels * 9;  // up to 3 x 3 film points per pixel
+    return images + samples * 5 * sizeof(float) + film * 3 * sizeof(float) + pixels * sizeof(PointSource);
 }
 
 bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, const DiffractOptions& opt,
@@ -93,6 +109,13 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
         return fail(m.str());
     }
 
+    if (const double bytes = estimate_memory(opt, camera); bytes > opt.max_memory) {
+        std::ostringstream m;
+        m << name << ": " << in.width << "x" << in.height << " pixels need about " << bytes / (1 << 20)
+          << " MiB, beyond --max-memory " << opt.max_memory / (1 << 20)
+          << " MiB; use a smaller image or pinhole, or raise --max-memory (e.g. 32GiB)";
+        return fail(m.str());
+    }
     const SpectralScene scene{camera, in.rgb.data(), in.depth.data(), opt.depth_meaning};
     std::vector<float> pixels(3 * size_t(in.width) * in.height);
     FastSettings fast = opt.fast;

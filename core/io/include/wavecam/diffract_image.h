@@ -31,6 +31,7 @@ struct DiffractOptions {
     std::string input_colorspace;                  // "" = the file's oiio:ColorSpace, else lin_rec709
     std::string output_colorspace;                 // "" = the input's
     double max_terms = 4e12;                       // refuse larger jobs (about an hour here)
+    double max_memory = 16.0 * (1ull << 30);       // bytes; refuse jobs estimated to need more
     ProgressFn progress;
 };
 
@@ -40,6 +41,9 @@ double resolved_pinhole(const DiffractOptions& opt);
 // Terms the job costs for an image of this size and field of view (for refusing and reporting).
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
                       DepthMeaning meaning);
+
+// Bytes the job needs at its peak (images, pinhole samples or PSF kernels), an upper estimate.
+double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera);
 
 // Diffracts `src`; `name` is used in error messages (the file name). dst gets float R, G, B in
 // the output colour space, the source's depth channel, and every parameter in its header.
