@@ -149,3 +149,25 @@ TEST(ApplyCommand, InterruptStopsPromptlyAndLeavesNothing) {
     for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename(), "in.exr");
     fs::remove_all(dir);
 }
+
+TEST(ApplyCommand, FrameRangesWithHashAndPrintfPatterns) {
+    const fs::path dir = scratch("apply_frames");
+    for (int f = 1; f <= 3; ++f) {
+        char name[32];
+        std::snprintf(name, sizeof name, "shot.%04d.exr", f);
+        write_render((dir / name).string(), 6, 6, 2.0f, 30.0f);
+    }
+    auto r = run_command(kWavecam + " apply " + (dir / "shot.#.exr").string() + " -o " + (dir / "out.%04d.exr").string() +
+                         " --frames 1-3" + kQuick);
+    ASSERT_EQ(r.status, 0) << r.output;
+    for (int f = 1; f <= 3; ++f) EXPECT_TRUE(fs::exists(dir / ("out.000" + std::to_string(f) + ".exr")));
+    r = run_command(kWavecam + " apply " + (dir / "shot.#.exr").string() + " -o " + (dir / "same.exr").string() +
+                    " --frames 1-3" + kQuick);
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("--frames"), std::string::npos) << r.output;
+    r = run_command(kWavecam + " apply " + (dir / "shot.#.exr").string() + " -o " + (dir / "o.#.exr").string() +
+                    " --frames 4-5" + kQuick);  // a missing frame: stops, names the file
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("shot.0004.exr"), std::string::npos) << r.output;
+    fs::remove_all(dir);
+}
