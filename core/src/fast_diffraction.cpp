@@ -44,13 +44,7 @@ std::vector<double> inverse_depths(const SpectralScene& scene) {
         for (int i = 0; i < c.width; ++i) {
             const size_t p = size_t(j) * c.width + i;
             const double d = scene.depth[p];
-            if (d >= kInfiniteDepth) {
-                w[p] = 0;
-                continue;
-            }
-            double u, v;
-            c.tangent(i + 0.5, j + 0.5, u, v);
-            w[p] = scene.depth_meaning == DepthMeaning::Planar ? 1.0 / d : std::sqrt(1 + u * u + v * v) / d;
+            w[p] = d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(i, j, d, scene.depth_meaning);
         }
     return w;
 }

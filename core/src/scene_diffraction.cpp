@@ -111,17 +111,13 @@ int auto_film_subsamples(const Aperture& aperture, const PinholeCamera& camera, 
     return std::clamp(int(std::ceil(pixel / psf)), 1, 3);
 }
 
-double nearest_depth(const MonochromeScene& scene) {
-    const long n = long(scene.camera.width) * scene.camera.height;
+double nearest_depth(const PinholeCamera& camera, const float* depth, DepthMeaning meaning) {
     double z = INFINITY;
-    for (long p = 0; p < n; ++p) {
-        if (scene.depth[p] >= kInfiniteDepth) continue;
-        double u, v;
-        scene.camera.tangent(p % scene.camera.width + 0.5, p / scene.camera.width + 0.5, u, v);
-        const double planar = scene.depth_meaning == DepthMeaning::Planar ? scene.depth[p]
-                                                                          : scene.depth[p] / std::sqrt(1 + u * u + v * v);
-        z = std::min(z, planar);
-    }
+    for (int j = 0; j < camera.height; ++j)
+        for (int i = 0; i < camera.width; ++i) {
+            const double d = depth[size_t(j) * camera.width + i];
+            if (d < kInfiniteDepth) z = std::min(z, camera.planar_depth(i, j, d, meaning));
+        }
     return z;
 }
 
@@ -139,7 +135,7 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
     if (auto v = validate(scene, wavelength, s); !v.ok()) return v;
     const PinholeCamera& c = scene.camera;
     const ApertureSamples samples =
-        sample_aperture(s.aperture, scene_sample_pitch(s, c, wavelength, nearest_depth(scene)));
+        sample_aperture(s.aperture, scene_sample_pitch(s, c, wavelength, nearest_depth(c, scene.depth, scene.depth_meaning)));
     const int sub = s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, c, wavelength);
     const FilmPoints film = camera_film(c, sub);
     // Irradiance at every film point; averaged into the output pixels at the end.

@@ -54,6 +54,14 @@ struct PinholeCamera {
         return 1.0 / std::sqrt(1.0 + u * u + v * v);
     }
 
+    // Distance along the view axis of a point `depth` away on pixel (i, j)'s central ray.
+    double planar_depth(int i, int j, double depth, DepthMeaning meaning) const {
+        if (meaning == DepthMeaning::Planar) return depth;
+        double u, v;
+        tangent(i + 0.5, j + 0.5, u, v);
+        return depth / std::sqrt(1.0 + u * u + v * v);
+    }
+
     // cos^4 of the field angle of pixel (i, j): the pinhole camera's natural fall-off.
     double cos4(int i, int j) const {
         double u, v;

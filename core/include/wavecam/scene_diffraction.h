@@ -53,7 +53,7 @@ double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, do
 int auto_film_subsamples(const Aperture& aperture, const PinholeCamera& camera, double wavelength);
 
 // Nearest planar depth in the scene (for the sampling pitch); inf if all sky.
-double nearest_depth(const MonochromeScene& scene);
+double nearest_depth(const PinholeCamera& camera, const float* depth, DepthMeaning meaning);
 
 // Adds the film irradiance |U|^2 of the scene at `wavelength` to irradiance[width * height]
 // (output pixel (i, j) averages n x n points over the film area of pixel (i, j), the geometric

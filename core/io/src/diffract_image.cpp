@@ -40,9 +40,7 @@ double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, c
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     auto sampling = sampling_for(opt);
     if (!sampling.ok()) return 0;
-    // Nearest depth needs a MonochromeScene; the power is irrelevant to it.
-    const MonochromeScene probe{camera, depth.data(), depth.data(), meaning};
-    const double nearest = nearest_depth(probe);
+    const double nearest = nearest_depth(camera, depth.data(), meaning);
     double terms = 0;
     for (double lambda : sampling.value.wavelength) terms += scene_terms(s, camera, lambda, nearest);
     return terms;
