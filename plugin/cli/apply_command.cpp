@@ -30,7 +30,7 @@ int fail(const std::string& message, int status = 1) {
 }
 
 // One frame: read, diffract, write (and the pictures for people).
-int run_frame(const ApplyFlags& flags, const DiffractOptions& opt, const std::string& input,
+int run_frame(const ApplyFlags& flags, DiffractPlan& plan, const std::string& input,
               const std::string& output, const std::string& compare, const std::string& png) {
     namespace fs = std::filesystem;
     std::error_code ec;
@@ -42,7 +42,8 @@ int run_frame(const ApplyFlags& flags, const DiffractOptions& opt, const std::st
         return fail(input + ": " + (e.empty() ? "cannot be read as an image" : e));
     }
     OIIO::ImageBuf dst;
-    if (!diffract(dst, src, input, opt, flags.threads)) return fail(dst.geterror(), interrupted() ? 130 : 1);
+    if (!plan.diffract(dst, src, input, flags.threads)) return fail(dst.geterror(), interrupted() ? 130 : 1);
+    const DiffractOptions& opt = plan.options();
     finish_progress();
     if (auto w = write_image_atomically(dst, output, OIIO::TypeDesc::FLOAT); !w.ok()) return fail(w.error);
     if (!compare.empty())
@@ -75,8 +76,11 @@ int run(const ApplyFlags& flags) {
     auto options = front::options_from_settings(settings);
     if (!options.ok()) return fail("--" + options.error, 2);
     DiffractOptions opt = options.value;
-    opt.progress = terminal_progress("apply");
-    if (flags.frames.empty()) return run_frame(flags, opt, flags.input, flags.output, flags.compare, flags.png);
+    if (flags.frames.empty()) {
+        opt.progress = terminal_progress("apply");
+        DiffractPlan plan(opt);
+        return run_frame(flags, plan, flags.input, flags.output, flags.compare, flags.png);
+    }
 
     std::vector<int> frames;
     if (!OIIO::Filesystem::enumerate_sequence(flags.frames, frames) || frames.empty())
@@ -93,9 +97,13 @@ int run(const ApplyFlags& flags) {
         if (!files.ok()) return fail(files.error, 2);
         lists[k] = files.value;
     }
+    // one plan for the sequence: the PSF table is built for the first frame and reused
+    auto bar = std::make_shared<ProgressFn>();
+    opt.progress = [bar](double f) { return (*bar)(f); };
+    DiffractPlan plan(opt);
     for (size_t f = 0; f < frames.size(); ++f) {
-        opt.progress = terminal_progress("apply frame " + std::to_string(frames[f]));
-        if (const int status = run_frame(flags, opt, lists[0][f], lists[1][f], lists[2][f], lists[3][f]); status != 0)
+        *bar = terminal_progress("apply frame " + std::to_string(frames[f]));
+        if (const int status = run_frame(flags, plan, lists[0][f], lists[1][f], lists[2][f], lists[3][f]); status != 0)
             return status;
     }
     return 0;

@@ -28,6 +28,8 @@ const std::vector<std::pair<std::string, std::string>>& setting_keys() {
         {"output-colorspace", "colour space of the output (default: the input's)"},
         {"max-terms", "refuse exact-method jobs beyond this many terms (default 4e12, about an hour here)"},
         {"max-memory", "refuse jobs estimated to need more memory, e.g. 16GiB (the default), 512MiB"},
+        {"overscan", "pixels of margin the render has on every side: light sources, cropped from the output "
+                     "(the fov describes the whole input)"},
     };
     return keys;
 }
@@ -155,6 +157,11 @@ Result<DiffractOptions> options_from_settings(const Settings& settings) {
                 error = "max-terms: expected a positive number, got '" + value + "'";
         }
         else if (key == "max-memory") take(parse_bytes(key, value), o.max_memory);
+        else if (key == "overscan") {
+            long n = 0;
+            take(parse_integer(key, value, 0, 100000), n);
+            o.overscan = static_cast<int>(n);
+        }
         if (!error.empty()) return fail(error);
     }
     return Result<DiffractOptions>::success(o);

@@ -54,6 +54,10 @@ bool is_file(const std::string& path) {
 // Computed images, by request: oiiotool opens one input several times per command.
 std::mutex g_cache_mutex;
 std::map<std::string, std::shared_ptr<const ImageBuf>> g_cache;
+// Plans by settings: frames of a sequence (oiiotool --frames) share one PSF table. A handful
+// is kept; a host that cycles through more settings rebuilds.
+std::map<std::string, std::shared_ptr<wavecam::DiffractPlan>> g_plans;
+constexpr size_t kMaxPlans = 4;
 // Names being opened on this thread: the source must not re-enter the plugin for itself.
 thread_local std::set<std::string> t_opening;
 
@@ -153,8 +157,23 @@ private:
             fail(source + ": " + options.error);
             return nullptr;
         }
+        std::string plan_key;
+        for (const auto& [k, v] : settings) plan_key += k + "=" + v + "\n";
+        std::shared_ptr<wavecam::DiffractPlan> plan;
+        {
+            std::lock_guard<std::mutex> lock(g_cache_mutex);
+            if (g_plans.size() >= kMaxPlans && !g_plans.count(plan_key)) g_plans.clear();
+            auto& slot = g_plans[plan_key];
+            if (!slot) slot = std::make_shared<wavecam::DiffractPlan>(options.value);
+            plan = slot;
+        }
+        return compute_with(plan, src, source);
+    }
+
+    std::shared_ptr<const ImageBuf> compute_with(const std::shared_ptr<wavecam::DiffractPlan>& plan,
+                                                 const ImageBuf& src, const std::string& source) {
         auto dst = std::make_shared<ImageBuf>();
-        if (!wavecam::diffract(*dst, src, source, options.value)) {
+        if (!plan->diffract(*dst, src, source)) {
             fail(dst->geterror());
             return nullptr;
         }

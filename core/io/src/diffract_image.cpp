@@ -49,11 +49,7 @@ double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, c
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) {
     const double pixels = double(camera.width) * camera.height;
     const double images = pixels * 4 * sizeof(float) * 6;  // source, input arrays, XYZ, output, written copy
-    if (opt.method == DiffractMethod::Fast) {
-        // worst case: 16 depth layers x the field anchors x 9 kernels of 65 x 65, plus tiles
-        const double anchors = 25, side = 2.0 * std::max(1, opt.fast.max_radius) + 1;
-        return images + 16 * anchors * 9 * side * side * sizeof(float) + 2 * 64.0 * (1 << 20);
-    }
+    if (opt.method == DiffractMethod::Fast) return images;  // + FastPlan::estimate_bytes, once the frame is known
     const double lambda = 400e-9;  // the shortest wavelength sampled: the densest pinhole grid
     const Aperture ap{opt.aperture_shape, resolved_pinhole(opt)};
     const double samples = estimate_sample_count(ap, sample_pitch(lambda, 1.0));
@@ -61,8 +57,35 @@ double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) 
     return images + samples * 5 * sizeof(float) + film * 3 * sizeof(float) + pixels * sizeof(PointSource);
 }
 
+DiffractPlan::DiffractPlan(DiffractOptions options) : opt_(std::move(options)) {}
+
+std::shared_ptr<const FastPlan> DiffractPlan::fast_plan_for(FastPlanSpec spec, const ProgressFn& progress,
+                                                            bool& reused, std::string& error) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        reused = fast_ && fast_->serves(spec);
+        if (reused) return fast_;
+        // a sequence whose nearest depth comes closer: the new plan also serves the frames before
+        if (fast_) spec.max_inverse_depth = std::max(spec.max_inverse_depth, fast_->spec().max_inverse_depth);
+    }
+    auto plan = FastPlan::create(spec, progress);
+    if (!plan.ok()) {
+        error = plan.error;
+        return nullptr;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    fast_ = plan.value;
+    return fast_;
+}
+
 bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, const DiffractOptions& opt,
               int nthreads) {
+    DiffractPlan plan(opt);
+    return plan.diffract(dst, src, name, nthreads);
+}
+
+bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, int nthreads) {
+    const DiffractOptions& opt = opt_;
     auto fail = [&dst](const std::string& m) {
         dst.errorfmt("{}", m);
         return false;
@@ -78,6 +101,13 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
     camera.film_distance = opt.film_distance;
     if (!(opt.film_distance > 0)) return fail("--film-distance: expected a distance > 0");
     if (opt.pinhole < 0) return fail("--pinhole: expected a diameter > 0");
+    const int o = opt.overscan, out_w = in.width - 2 * o, out_h = in.height - 2 * o;
+    if (o < 0 || out_w < 1 || out_h < 1) {
+        std::ostringstream m;
+        m << name << ": --overscan " << o << " leaves no image of " << in.width << "x" << in.height
+          << "; expected 0 to " << (std::min(in.width, in.height) - 1) / 2 << " pixels";
+        return fail(m.str());
+    }
 
     // Colour: the basis is calibrated against the input's working space as the config defines it.
     auto config = load_colour_config(opt.colorconfig);
@@ -107,27 +137,53 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
         return fail(m.str());
     }
 
-    if (const double bytes = estimate_memory(opt, camera); bytes > opt.max_memory) {
+    const SpectralScene scene{camera, in.rgb.data(), in.depth.data(), opt.depth_meaning};
+    FastPlanSpec fs{camera, o, s.aperture, basis.value, 0.0, opt.fast};
+    fs.settings.nthreads = nthreads;
+    if (opt.method == DiffractMethod::Fast) {
+        auto w = max_inverse_depth(scene);
+        if (!w.ok()) return fail(name + ": " + w.error);
+        fs.max_inverse_depth = w.value;
+    }
+    const double bytes =
+        estimate_memory(opt, camera) + (opt.method == DiffractMethod::Fast ? FastPlan::estimate_bytes(fs) : 0.0);
+    if (bytes > opt.max_memory) {
         std::ostringstream m;
         m << name << ": " << in.width << "x" << in.height << " pixels need about " << bytes / (1 << 20)
           << " MiB, beyond --max-memory " << opt.max_memory / (1 << 20)
           << " MiB; use a smaller image or pinhole, or raise --max-memory (e.g. 32GiB)";
         return fail(m.str());
     }
-    const SpectralScene scene{camera, in.rgb.data(), in.depth.data(), opt.depth_meaning};
-    std::vector<float> pixels(3 * size_t(in.width) * in.height);
-    FastSettings fast = opt.fast;
-    fast.nthreads = nthreads;
-    auto r = opt.method == DiffractMethod::Fast
-                 ? diffract_fast(scene, basis.value, s.aperture, opt.vignetting, pixels.data(), fast, opt.progress)
-                 : diffract_spectral(scene, basis.value, s.aperture, wave_propagator(s), opt.vignetting,
-                                     pixels.data(), opt.progress);
+    std::vector<float> pixels(3 * size_t(out_w) * out_h);
+    Result<bool> r = Result<bool>::success(true);
+    if (opt.method == DiffractMethod::Fast) {
+        std::string error;
+        // the table costs about as much as applying it: the first 60% of the bar when built
+        bool reused = false;
+        auto part = [&opt](double from, double to) -> ProgressFn {
+            if (!opt.progress) return {};
+            return [&opt, from, to](double f) { return opt.progress(from + (to - from) * f); };
+        };
+        auto plan = fast_plan_for(fs, part(0.0, 0.6), reused, error);
+        r = plan ? plan->apply(scene, opt.vignetting, pixels.data(), part(reused ? 0.0 : 0.6, 1.0))
+                 : Result<bool>::failure(error);
+    } else {
+        // the exact methods diffract the whole input, overscan included, then crop
+        std::vector<float> full(3 * size_t(in.width) * in.height);
+        r = diffract_spectral(scene, basis.value, s.aperture, wave_propagator(s), opt.vignetting, full.data(),
+                              opt.progress);
+        for (int j = 0; j < out_h; ++j)
+            std::copy_n(&full[3 * (size_t(j + o) * in.width + o)], 3 * size_t(out_w), &pixels[3 * size_t(j) * out_w]);
+    }
     if (!r.ok()) return fail(r.error == "cancelled" ? name + ": interrupted" : name + ": " + r.error);
     if (auto c = config.value.convert_from_xyz(pixels.data(), pixels.size() / 3, out_space); !c.ok())
         return fail(c.error);
 
     // Output: float R, G, B in the output space, then the source's depth channel unchanged.
     OIIO::ImageSpec spec = in.spec;
+    spec.width = spec.full_width = out_w;
+    spec.height = spec.full_height = out_h;
+    spec.x = spec.y = spec.full_x = spec.full_y = 0;
     spec.nchannels = 4;
     spec.channelnames = {"R", "G", "B", in.depth_channel};
     spec.alpha_channel = -1;
@@ -138,8 +194,10 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
     spec.attribute("wavecam.pinhole", with_unit(s.aperture.diameter, 1e-3, "mm"));
     spec.attribute("wavecam.aperture", s.aperture.shape == ApertureShape::Circle ? "circle" : "square");
     spec.attribute("wavecam.film-distance", with_unit(opt.film_distance, 1e-3, "mm"));
-    spec.attribute("wavecam.film-width", with_unit(camera.film_width(), 1e-3, "mm"));
-    spec.attribute("wavecam.fov", static_cast<float>(in.fov_h * 180 / M_PI));
+    spec.attribute("wavecam.film-width", with_unit(camera.film_width() * out_w / in.width, 1e-3, "mm"));
+    // the output's own field of view: the cropped frame's when the input had an overscan
+    spec.attribute("wavecam.fov", static_cast<float>(2 * std::atan(std::tan(0.5 * in.fov_h) * out_w / in.width) * 180 / M_PI));
+    if (o > 0) spec.attribute("wavecam.overscan", o);
     spec.attribute("wavecam.fov-from", in.fov_from);
     spec.attribute("wavecam.depth", opt.depth_meaning == DepthMeaning::Planar ? "planar" : "ray");
     std::string wl;
@@ -168,11 +226,13 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
     spec.attribute("wavecam.summary", summary.str());
 
     dst.reset(spec);
-    std::vector<float> out(4 * size_t(in.width) * in.height);
-    for (size_t p = 0; p < size_t(in.width) * in.height; ++p) {
-        for (int k = 0; k < 3; ++k) out[4 * p + k] = pixels[3 * p + k];
-        out[4 * p + 3] = in.depth[p];
-    }
+    std::vector<float> out(4 * size_t(out_w) * out_h);
+    for (int j = 0; j < out_h; ++j)
+        for (int i = 0; i < out_w; ++i) {
+            const size_t p = size_t(j) * out_w + i;
+            for (int k = 0; k < 3; ++k) out[4 * p + k] = pixels[3 * p + k];
+            out[4 * p + 3] = in.depth[size_t(j + o) * in.width + i + o];
+        }
     if (!dst.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, out.data()))
         return fail(name + ": cannot fill the output image: " + dst.geterror());
     return true;

@@ -3,6 +3,8 @@
 // in dst (dst.geterror()), never thrown.
 #pragma once
 #include <OpenImageIO/imagebuf.h>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 #include "wavecam/render_input.h"
@@ -24,6 +26,8 @@ struct DiffractOptions {
     ApertureShape aperture_shape = ApertureShape::Circle;
     DiffractionSettings diffraction;               // exact methods: runs, seed, jitter, film subsamples
     FastSettings fast;                             // fast method: tiles, kernel size
+    int overscan = 0;                              // pixels of margin on every side: light sources, cropped
+                                                   // from the output (the fov is the full input's)
     std::vector<double> wavelengths;               // explicit list (m); empty = wavelength_count in 400-700 nm
     int wavelength_count = 8;
     bool vignetting = true;                        // keep the natural cos^4 fall-off
@@ -45,8 +49,27 @@ double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, c
 // Bytes the job needs at its peak (images, pinhole samples or PSF kernels), an upper estimate.
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera);
 
-// Diffracts `src`; `name` is used in error messages (the file name). dst gets float R, G, B in
-// the output colour space, the source's depth channel, and every parameter in its header.
+// Options resolved once and the fast path's plan (PSF table, kernel spectra) kept for the next
+// frame that shares its camera, pinhole, colours and depth range: a sequence, or an OIIO host
+// opening the same shot again, pays for the table once. Safe to share between threads.
+class DiffractPlan {
+public:
+    explicit DiffractPlan(DiffractOptions options);
+    const DiffractOptions& options() const { return opt_; }
+
+    // Diffracts `src`; `name` is used in error messages (the file name). dst gets float R, G, B
+    // in the output colour space, the source's depth channel, and every parameter in its header.
+    bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, int nthreads = 0);
+
+private:
+    std::shared_ptr<const FastPlan> fast_plan_for(FastPlanSpec spec, const ProgressFn& progress, bool& reused,
+                                                  std::string& error);
+    DiffractOptions opt_;
+    std::mutex mutex_;
+    std::shared_ptr<const FastPlan> fast_;
+};
+
+// One frame through a plan of its own.
 bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, const DiffractOptions& opt,
               int nthreads = 0);
 

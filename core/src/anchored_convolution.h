@@ -1,0 +1,57 @@
+// A spatially varying convolution that is continuous over the field: each source is spread by
+// the kernel interpolated at its own position (bilinearly over the PSF table's anchors,
+// linearly in 1/z over its two depth layers). Internal to core.
+//
+// Why interpolate per source. Cutting the image into tiles that each take one kernel makes a
+// source's image jump when it crosses a tile boundary: a grid of seams. Here the weight of a
+// source for anchor a is the bilinear hat function phi_a at its position (the hats sum to 1),
+// the weighted image phi_a s is convolved with anchor a's kernel, and the results add:
+//   out = sum_a K_a * (phi_a s),   so source s is spread by sum_a phi_a(s) K_a,
+// which varies smoothly with the source's position, keeps its energy and centroid, and does
+// not depend on the tiling (tiles only bound the FFT size; overlap-add makes them exact).
+// The anchors' knots lie on tile boundaries, so each tile meets exactly four anchors.
+// Interpolating the kernel at the output pixel instead (out = sum_a phi_a (K_a * s)) would
+// cost fewer transforms but spreads one source's light by a blend that changes across its
+// own image; the per-source form is the physical one (each source has one PSF).
+#pragma once
+#include <complex>
+#include <cstdint>
+#include <vector>
+#include "psf_table.h"
+
+namespace wavecam::detail {
+
+// The sources on the convolution's domain: radiance per primary (already carrying each
+// source's cos^4 fall-off) and each pixel's depth layers.
+struct DomainSources {
+    int width = 0, height = 0;
+    std::vector<float> rgb;           // 3 per pixel
+    std::vector<uint8_t> lower;       // layer at or below the pixel's 1/z
+    std::vector<float> upper_share;   // share of its light in the layer above
+};
+
+class AnchoredConvolution {
+public:
+    // Transforms every kernel of `table` once, for tiles of side `tile` (>= 2 x the radius).
+    static Result<AnchoredConvolution> create(PsfTable table, int tile, int nthreads, const ProgressFn& progress);
+
+    // Adds to `xyz` (interleaved, out_width x out_height) the image of `sources` on the output
+    // window whose top-left is domain pixel (out_x0, out_y0).
+    Result<bool> apply(const DomainSources& sources, int out_x0, int out_y0, int out_width, int out_height,
+                       float* xyz, const ProgressFn& progress) const;
+
+    const PsfTable& table() const { return table_; }
+    int tile() const { return tile_; }
+    double bytes() const;
+
+private:
+    PsfTable table_;
+    int tile_ = 0, fft_size_ = 0, nthreads_ = 1;
+    size_t spectrum_size_ = 0;
+    std::vector<std::complex<float>> kernel_spectra_;  // [layer][anchor][m][spectrum]
+    const std::complex<float>* spectrum(int layer, int anchor, int m) const {
+        return &kernel_spectra_[((size_t(layer) * table_.anchors() + anchor) * 9 + m) * spectrum_size_];
+    }
+};
+
+}  // namespace wavecam::detail

@@ -1,0 +1,96 @@
+#include "psf_table.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "progress_ticker.h"
+#include "wavecam/fresnel_psf.h"
+
+namespace wavecam::detail {
+
+namespace {
+constexpr double kMaxDefocusStep = 0.3;  // radians of defocus phase over the pinhole between layers
+constexpr int kMaxLayers = 16;
+}  // namespace
+
+DepthLayers DepthLayers::spanning(double max_inverse_depth, double aperture_radius, double shortest_wavelength) {
+    DepthLayers d;
+    if (!(max_inverse_depth > 0)) return d;
+    // defocus phase pi a^2 dw / lambda <= kMaxDefocusStep
+    const double dw = kMaxDefocusStep * shortest_wavelength / (M_PI * aperture_radius * aperture_radius);
+    d.count = std::min(kMaxLayers, int(std::ceil(max_inverse_depth / dw)) + 1);
+    d.step = max_inverse_depth / (d.count - 1);
+    return d;
+}
+
+void DepthLayers::locate(double w, int& lower, float& upper_share) const {
+    const double x = count > 1 ? w / step : 0.0;
+    lower = std::clamp(int(std::floor(x)), 0, count - 1);
+    upper_share = lower + 1 < count ? float(std::min(1.0, x - lower)) : 0.0f;
+}
+
+AnchorAxis AnchorAxis::across(int length, int tile, int cells) {
+    const int tiles = (length + tile - 1) / tile;
+    const int per_cell = std::max(1, int(std::lround(double(tiles) / std::max(1, cells))));
+    AnchorAxis a;
+    for (int k = 0; k * per_cell * tile < length; ++k) a.knots.push_back(k * per_cell * tile);
+    // a last cell under half the others joins its neighbour
+    if (a.knots.size() > 1 && length - a.knots.back() < per_cell * tile / 2) a.knots.pop_back();
+    a.knots.push_back(length);
+    return a;
+}
+
+int AnchorAxis::cell_of(int pixel) const {
+    const auto it = std::upper_bound(knots.begin(), knots.end(), pixel);
+    return std::clamp(int(it - knots.begin()) - 1, 0, cells() - 1);
+}
+
+Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& progress) {
+    PsfTable t;
+    t.radius = spec.radius;
+    t.layers = spec.layers;
+    t.ax = AnchorAxis::across(spec.domain_width, spec.tile, spec.anchor_cells);
+    t.ay = AnchorAxis::across(spec.domain_height, spec.tile,
+                              std::max(1, int(std::lround(double(spec.anchor_cells) * spec.domain_height /
+                                                          std::max(spec.domain_width, spec.domain_height)))));
+    const int anchors = t.anchors(), S = spec.basis->size();
+    const size_t ksize = t.kernel_size();
+    t.weights.assign(size_t(t.layers.count) * anchors * 9 * ksize, 0.0f);
+    const PinholeCamera& c = spec.camera;
+    const long grid = long(t.layers.count) * anchors;
+    ProgressTicker ticker(progress, double(grid) * S);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(spec.nthreads)
+    for (long g = 0; g < grid; ++g) {
+        if (ticker.cancelled()) continue;
+        const int l = int(g / anchors), a = int(g % anchors);
+        const int kx = a % int(t.ax.knots.size()), ky = a / int(t.ax.knots.size());
+        FieldPsfRequest q;
+        q.aperture = spec.aperture;
+        q.film_distance = c.film_distance;
+        q.depth = t.layers.inverse_depth(l) > 0 ? 1.0 / t.layers.inverse_depth(l) : INFINITY;
+        // the anchor's field position: its knot, in the camera's pixel coordinates
+        c.tangent(t.ax.knots[kx] - spec.origin, t.ay.knots[ky] - spec.origin, q.u, q.v);
+        q.pixel_pitch = c.film_distance * c.tan_pitch();
+        q.radius = t.radius;
+        for (int s = 0; s < S; ++s) {
+            q.wavelength = spec.basis->wavelength(s);
+            const PsfKernel psf = field_psf_kernel(q);
+            const Vector3& xyz_s = spec.basis->xyz_per_power(s);
+            for (int p = 0; p < 3; ++p) {
+                const double bp = spec.basis->power(s, p == 0, p == 1, p == 2);
+                for (int qq = 0; qq < 3; ++qq) {
+                    const float w = float(bp * xyz_s[qq]);
+                    float* dst = &t.weights[((size_t(l) * anchors + a) * 9 + 3 * p + qq) * ksize];
+                    for (size_t e = 0; e < ksize; ++e) dst[e] += w * psf.weight[e];
+                }
+            }
+            ticker.advance(1, omp_get_thread_num() == 0);
+        }
+    }
+    if (ticker.cancelled()) return Result<PsfTable>::failure("cancelled");
+    return Result<PsfTable>::success(std::move(t));
+}
+
+}  // namespace wavecam::detail

@@ -1,0 +1,75 @@
+// The fast path's PSF table: point-source images on a grid of depth layers x field anchors,
+// each folded over wavelength into nine RGB -> XYZ kernels (the spectral basis is linear, so
+// the wavelength sum need not be carried through the convolution). Internal to core.
+#pragma once
+#include <vector>
+#include "wavecam/pinhole_camera.h"
+#include "wavecam/progress.h"
+#include "wavecam/result.h"
+#include "wavecam/spectrum.h"
+#include "wavecam/aperture.h"
+
+namespace wavecam::detail {
+
+// Depth layers spaced evenly in inverse depth w = 1/z from 0 (sky) to the nearest source:
+// the pupil's quadratic phase goes as (1/z + 1/f) a^2 pi / lambda, so even steps in w are even
+// steps of defocus phase. Steps of at most 0.3 rad at the shortest wavelength keep linear
+// interpolation between neighbouring layers' PSFs within the fast path's 2% (at most 16 layers:
+// beyond, the pinhole is in the geometric regime where the blur disc d (1 + f/z) is itself
+// linear in w).
+struct DepthLayers {
+    int count = 1;
+    double step = 1.0;  // in 1/m
+
+    static DepthLayers spanning(double max_inverse_depth, double aperture_radius, double shortest_wavelength);
+    double inverse_depth(int layer) const { return layer * step; }
+    // The layer at or below inverse depth w and the share of w's light that goes to the layer
+    // above (linear in w).
+    void locate(double w, int& lower, float& upper_share) const;
+};
+
+// Knots of the field-anchor grid along one axis of the source domain, in pixels. Knots lie on
+// tile boundaries, so every tile sits inside one cell and meets exactly two knots per axis.
+struct AnchorAxis {
+    std::vector<int> knots;
+
+    static AnchorAxis across(int length, int tile, int cells);
+    int cells() const { return int(knots.size()) - 1; }
+    int cell_of(int pixel) const;
+    // Weight of the cell's upper knot for pixel `pixel` (its centre), 0..1.
+    double upper_weight(int cell, int pixel) const {
+        return (pixel + 0.5 - knots[cell]) / double(knots[cell + 1] - knots[cell]);
+    }
+};
+
+// The geometry the table is built for: the source domain's pixel (0, 0) is the camera's pixel
+// (origin, origin); the domain may reach beyond the camera's frame on every side.
+struct PsfTableSpec {
+    PinholeCamera camera;
+    int origin = 0;
+    int domain_width = 0, domain_height = 0;
+    int tile = 0, anchor_cells = 4, radius = 0;
+    Aperture aperture;
+    const SpectralBasis* basis = nullptr;
+    DepthLayers layers;
+    int nthreads = 1;
+};
+
+// kernel(layer, anchor, m): (2 radius + 1)^2 weights, m = 3 p + q (primary p -> XYZ q).
+struct PsfTable {
+    int radius = 0;
+    DepthLayers layers;
+    AnchorAxis ax, ay;
+    std::vector<float> weights;
+
+    int anchors() const { return int(ax.knots.size() * ay.knots.size()); }
+    size_t kernel_size() const { return size_t(2 * radius + 1) * (2 * radius + 1); }
+    const float* kernel(int layer, int anchor, int m) const {
+        return &weights[((size_t(layer) * anchors() + anchor) * 9 + m) * kernel_size()];
+    }
+};
+
+// Fails only when cancelled through `progress`.
+Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& progress);
+
+}  // namespace wavecam::detail
