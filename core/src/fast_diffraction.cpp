@@ -109,7 +109,8 @@ Result<detail::PsfTableSpec> plan_geometry(const FastPlanSpec& spec) {
     t.radius = radius;
     t.aperture = spec.aperture;
     t.basis = &spec.basis;
-    t.layers = detail::DepthLayers::spanning(spec.max_inverse_depth, circumscribed_radius(spec.aperture), lambda_min);
+    t.layers = detail::DepthLayers::spanning(spec.max_inverse_depth, circumscribed_radius(spec.aperture), lambda_min,
+                                             c.film_distance, pitch);
     t.nthreads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
     return R::success(t);
 }

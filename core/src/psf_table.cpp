@@ -12,14 +12,18 @@ namespace wavecam::detail {
 
 namespace {
 constexpr double kMaxDefocusStep = 0.3;  // radians of defocus phase over the pinhole between layers
+constexpr double kMaxBlurStep = 0.5;     // pixels of blur-disc radius between layers
 constexpr int kMaxLayers = 16;
 }  // namespace
 
-DepthLayers DepthLayers::spanning(double max_inverse_depth, double aperture_radius, double shortest_wavelength) {
+DepthLayers DepthLayers::spanning(double max_inverse_depth, double aperture_radius, double shortest_wavelength,
+                                  double film_distance, double pixel_pitch) {
     DepthLayers d;
     if (!(max_inverse_depth > 0)) return d;
-    // defocus phase pi a^2 dw / lambda <= kMaxDefocusStep
-    const double dw = kMaxDefocusStep * shortest_wavelength / (M_PI * aperture_radius * aperture_radius);
+    // defocus phase pi a^2 dw / lambda <= kMaxDefocusStep; or, for pinholes in the geometric
+    // regime, the blur disc's radius a (1 + f w) changing by at most kMaxBlurStep pixels
+    const double dw = std::max(kMaxDefocusStep * shortest_wavelength / (M_PI * aperture_radius * aperture_radius),
+                               kMaxBlurStep * pixel_pitch / (aperture_radius * film_distance));
     d.count = std::min(kMaxLayers, int(std::ceil(max_inverse_depth / dw)) + 1);
     d.step = max_inverse_depth / (d.count - 1);
     return d;
@@ -73,17 +77,24 @@ Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& pro
         // the anchor's field position: its knot, in the camera's pixel coordinates
         c.tangent(t.ax.knots[kx] - spec.origin, t.ay.knots[ky] - spec.origin, q.u, q.v);
         q.pixel_pitch = c.film_distance * c.tan_pitch();
-        q.radius = t.radius;
+        const double cos_anchor = 1.0 / std::sqrt(1.0 + q.u * q.u + q.v * q.v);
         for (int s = 0; s < S; ++s) {
             q.wavelength = spec.basis->wavelength(s);
+            // each PSF only as large as its own depth, field angle and wavelength need (the cost
+            // grows as its area), centred in the table's common size
+            q.radius = psf_kernel_radius(q.aperture, q.film_distance, q.depth, q.wavelength, cos_anchor,
+                                         q.pixel_pitch, t.radius);
             const PsfKernel psf = field_psf_kernel(q);
+            const int inset = t.radius - q.radius, pw = 2 * q.radius + 1, tw = 2 * t.radius + 1;
             const Vector3& xyz_s = spec.basis->xyz_per_power(s);
             for (int p = 0; p < 3; ++p) {
                 const double bp = spec.basis->power(s, p == 0, p == 1, p == 2);
                 for (int qq = 0; qq < 3; ++qq) {
                     const float w = float(bp * xyz_s[qq]);
                     float* dst = &t.weights[((size_t(l) * anchors + a) * 9 + 3 * p + qq) * ksize];
-                    for (size_t e = 0; e < ksize; ++e) dst[e] += w * psf.weight[e];
+                    for (int b = 0; b < pw; ++b)
+                        for (int e = 0; e < pw; ++e)
+                            dst[size_t(b + inset) * tw + (e + inset)] += w * psf.weight[size_t(b) * pw + e];
                 }
             }
             ticker.advance(1, omp_get_thread_num() == 0);

@@ -14,14 +14,16 @@ namespace wavecam::detail {
 // Depth layers spaced evenly in inverse depth w = 1/z from 0 (sky) to the nearest source:
 // the pupil's quadratic phase goes as (1/z + 1/f) a^2 pi / lambda, so even steps in w are even
 // steps of defocus phase. Steps of at most 0.3 rad at the shortest wavelength keep linear
-// interpolation between neighbouring layers' PSFs within the fast path's 2% (at most 16 layers:
-// beyond, the pinhole is in the geometric regime where the blur disc d (1 + f/z) is itself
-// linear in w).
+// interpolation between neighbouring layers' PSFs within the fast path's 2%. Large pinholes are
+// in the geometric regime, where the PSF is the blur disc of radius a (1 + f w), itself linear
+// in w: there steps that change the disc by at most half a pixel suffice (the larger step of
+// the two is taken; at most 16 layers).
 struct DepthLayers {
     int count = 1;
     double step = 1.0;  // in 1/m
 
-    static DepthLayers spanning(double max_inverse_depth, double aperture_radius, double shortest_wavelength);
+    static DepthLayers spanning(double max_inverse_depth, double aperture_radius, double shortest_wavelength,
+                                double film_distance, double pixel_pitch);
     double inverse_depth(int layer) const { return layer * step; }
     // The layer at or below inverse depth w and the share of w's light that goes to the layer
     // above (linear in w).

@@ -1,19 +1,27 @@
 #!/usr/bin/env bash
-# The fast path against the practical alternative, in one run: `wavecam apply` (fast method,
-# 16 wavelengths) on a 1920x1080 RGB+Z EXR with depth from 0.3 m to 20 m and a wide field,
-# against `oiiotool --convolve` of the same RGB with one 65x65 kernel. Prints wall time and
-# peak memory of each, and the ratio last.
-# Usage: tests/bench/run_fast_bench.sh [build-dir]
+# The fast path (the default) measured as issue 12 asks, each figure a ratio within this run:
+#   1. pinholes 0.02 ... 5 mm on a 512x512 frame: time against the optimum's (goal <= 3x);
+#   2. 1920x1080, default pinhole: time against `oiiotool --convolve` with one 65x65 kernel
+#      on the same RGB (goal <= 0.12x);
+#   3. 12 frames of 960x540 through `--frames` against 12 single runs (goal <= 0.6x);
+#   4. 3840x2160: peak resident memory (goal <= 4 GiB).
+# Frames: uniform noise x a checker (radiance), depth from 0.3 m to 20 m, fov 40deg (100deg
+# for the 1080p frame: the widest PSFs). Usage: tests/bench/run_fast_bench.sh [build-dir] [part...]
 set -euo pipefail
 build=$(cd "${1:-build}" && pwd)
+shift || true
+parts=${*:-1 2 3 4}
+wavecam="$build/plugin/wavecam"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
-oiiotool --pattern noise:type=uniform:min=0:max=1 1920x1080 3 --chnames R,G,B \
-         --pattern checker:width=64:height=64:color1=0.2,0.2,0.2:color2=1,1,1 1920x1080 3 --mul \
-         --pattern fill:top=0.3:bottom=20 1920x1080 1 --chnames Z --chappend \
-         --attrib wavecam.fov 100.0 -d float -o frame.exr
-oiiotool frame.exr --ch R,G,B -o rgb.exr
+
+frame() {  # frame W H FOV OUT
+  oiiotool --pattern noise:type=uniform:min=0:max=1 "$1x$2" 3 --chnames R,G,B \
+           --pattern checker:width=64:height=64:color1=0.2,0.2,0.2:color2=1,1,1 "$1x$2" 3 --mul \
+           --pattern fill:top=0.3:bottom=20 "$1x$2" 1 --chnames Z --chappend \
+           --attrib wavecam.fov "$3" -d float -o "$4"
+}
 
 # seconds and peak resident memory (MiB) of a command
 measure() {
@@ -25,8 +33,37 @@ dt = time.monotonic() - t
 print(f"{dt:.2f} {resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024:.0f}")
 PY
 }
-read -r t_oiio m_oiio < <(measure oiiotool rgb.exr --kernel gaussian 65x65 --convolve -o conv.exr)
-echo "oiiotool --convolve 65x65      : ${t_oiio} s, peak ${m_oiio} MiB"
-read -r t_wave m_wave < <(measure "$build/plugin/wavecam" apply frame.exr -o wave.exr --wavelengths 16)
-echo "wavecam apply (fast, 16 lambda): ${t_wave} s, peak ${m_wave} MiB"
-python3 -c "print(f'ratio wavecam / oiiotool: {$t_wave / $t_oiio:.2f} (goal <= 0.5)')"
+ratio() { python3 -c "print(f'{$1 / $2:.2f}')"; }
+
+for part in $parts; do
+case $part in
+1)
+  frame 512 512 40.0 f512.exr
+  echo "1. pinhole sweep, 512x512, 16 wavelengths (time / time at the optimum 0.315 mm; goal <= 3)"
+  read -r t_opt m_opt < <(measure "$wavecam" apply f512.exr -o o.exr --wavelengths 16 --pinhole 0.315mm)
+  for d in 0.02 0.08 0.315 1.26 2.5 5; do
+    read -r t m < <(measure "$wavecam" apply f512.exr -o o.exr --wavelengths 16 --pinhole ${d}mm)
+    printf "   %6s mm: %7.2f s, peak %5s MiB, ratio %s\n" "$d" "$t" "$m" "$(ratio "$t" "$t_opt")"
+  done ;;
+2)
+  frame 1920 1080 100.0 f1080.exr
+  oiiotool f1080.exr --ch R,G,B -o rgb.exr
+  read -r t_oiio m_oiio < <(measure oiiotool rgb.exr --kernel gaussian 65x65 --convolve -o conv.exr)
+  read -r t_wave m_wave < <(measure "$wavecam" apply f1080.exr -o wave.exr --wavelengths 16)
+  echo "2. 1920x1080: oiiotool --convolve 65x65 ${t_oiio} s (peak ${m_oiio} MiB); wavecam apply ${t_wave} s (peak ${m_wave} MiB); ratio $(ratio "$t_wave" "$t_oiio") (goal <= 0.12)" ;;
+3)
+  frame 960 540 40.0 seq.0001.exr
+  for k in $(seq 2 12); do cp seq.0001.exr "$(printf 'seq.%04d.exr' "$k")"; done
+  start=$(date +%s.%N)
+  for k in $(seq 1 12); do
+    "$wavecam" apply "$(printf 'seq.%04d.exr' "$k")" -o "$(printf 'single.%04d.exr' "$k")" --wavelengths 16 >/dev/null
+  done
+  t_single=$(python3 -c "import time; print(f'{time.time() - $start:.2f}')")
+  read -r t_seq m_seq < <(measure "$wavecam" apply seq.#.exr -o out.#.exr --frames 1-12 --wavelengths 16)
+  echo "3. 12 frames 960x540: 12 single runs ${t_single} s; --frames ${t_seq} s; ratio $(ratio "$t_seq" "$t_single") (goal <= 0.6)" ;;
+4)
+  frame 3840 2160 40.0 f4k.exr
+  read -r t_4k m_4k < <(measure "$wavecam" apply f4k.exr -o o4k.exr --wavelengths 16)
+  echo "4. 3840x2160: ${t_4k} s, peak ${m_4k} MiB (goal <= 4096 MiB)" ;;
+esac
+done
