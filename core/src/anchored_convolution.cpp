@@ -123,13 +123,19 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, int out_x0, in
                                         weight[size_t(j - y0) * T + (i - x0)] * src.rgb[3 * (size_t(j) * W + i) + p];
                             fft.forward(image.data(), &in[p * spec]);
                         }
+                        // acc_q += sum_p in_p K_{3p+q}, written on floats so that it vectorises
+                        // (std::complex's operator* keeps a NaN-recovery branch)
                         for (int q = 0; q < 3; ++q) {
-                            const std::complex<float>* k0 = spectrum(l, anchor, q);
-                            const std::complex<float>* k1 = spectrum(l, anchor, 3 + q);
-                            const std::complex<float>* k2 = spectrum(l, anchor, 6 + q);
-                            std::complex<float>* a = &acc[q * spec];
-                            for (size_t e = 0; e < spec; ++e)
-                                a[e] += in[e] * k0[e] + in[spec + e] * k1[e] + in[2 * spec + e] * k2[e];
+                            float* a = reinterpret_cast<float*>(&acc[q * spec]);
+                            for (int p = 0; p < 3; ++p) {
+                                const float* x = reinterpret_cast<const float*>(&in[p * spec]);
+                                const float* k = reinterpret_cast<const float*>(spectrum(l, anchor, 3 * p + q));
+#pragma omp simd
+                                for (size_t e = 0; e < spec; ++e) {
+                                    a[2 * e] += x[2 * e] * k[2 * e] - x[2 * e + 1] * k[2 * e + 1];
+                                    a[2 * e + 1] += x[2 * e] * k[2 * e + 1] + x[2 * e + 1] * k[2 * e];
+                                }
+                            }
                         }
                     }
                 if (hi >= lo)
