@@ -146,6 +146,13 @@ private:
             source = path.substr(0, path.size() - std::strlen(kExtension));
         }
 
+        // OIIO's words for a missing file name its ImageCache ("Invalid image file"); say it
+        // plainly. A source that is itself a wavecam name need not exist on disk.
+        wavecam::front::Settings ignored;
+        std::error_code ec;
+        if (!std::filesystem::exists(source, ec) && !ends_with(split_query(source, ignored), kExtension))
+            return fail(source + ": no such file, expected the render to diffract");
+
         std::string key = source;
         for (const auto& [k, v] : settings) key += "\n" + k + "=" + v;
         {
@@ -165,14 +172,6 @@ private:
     }
 
     std::shared_ptr<const ImageBuf> compute(const std::string& source, wavecam::front::Settings settings) {
-        // OIIO's own words for a missing file name its ImageCache ("Invalid image file"); say
-        // it plainly. A source that is itself a wavecam name need not exist on disk.
-        wavecam::front::Settings ignored;
-        std::error_code ec;
-        if (!std::filesystem::exists(source, ec) && !ends_with(split_query(source, ignored), kExtension)) {
-            fail(source + ": no such file, expected the render to diffract");
-            return nullptr;
-        }
         ImageBuf src(source);
         if (!src.read(0, 0, true, TypeDesc::FLOAT)) {
             const std::string e = src.geterror();
