@@ -15,7 +15,4 @@ double rayleigh_optimal_diameter(double film_distance, double wavelength);
 // The seed paper's Nyquist argument: d = sqrt(D lambda / 2) for a film of width D.
 double nyquist_optimal_diameter(double film_width, double wavelength);
 
-// Geometric shadow of the pinhole for a point source at distance z: diameter d (1 + f/z).
-double geometric_spot_diameter(double diameter, double film_distance, double source_distance);
-
 }  // namespace wavecam
