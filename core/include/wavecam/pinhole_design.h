@@ -1,4 +1,4 @@
-// Pinhole design formulas (PHYSICS.md, result 5, and the seed paper section 3).
+// Pinhole design formulas (docs/physics.md, result 5, and the seed paper section 3).
 #pragma once
 
 namespace wavecam {
