@@ -5,6 +5,7 @@
 #   lib[/<arch>]/wavecam/wavecam.imageio.so     the OIIO plugin: put this folder on OIIO_LIBRARY_PATH
 #   share/wavecam/ocio/wavecam.ocio           the OCIO config (found by the libraries by default)
 #   lib[/<arch>]/cmake/wavecam/                 find_package(wavecam) -> wavecam::core, wavecam::io
+#   share/doc/wavecam/copyright               the licences (Apache-2.0; CLI11, toml++ compiled in)
 include(CMakePackageConfigHelpers)
 
 set(WAVECAM_PLUGIN_INSTALL_DIR "${CMAKE_INSTALL_LIBDIR}/wavecam")
@@ -20,6 +21,8 @@ install(DIRECTORY core/include/wavecam core/io/include/wavecam DESTINATION ${CMA
 install(TARGETS wavecam RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS wavecam_imageio LIBRARY DESTINATION ${WAVECAM_PLUGIN_INSTALL_DIR})
 install(FILES ocio_configs/wavecam.ocio DESTINATION ${WAVECAM_OCIO_INSTALL_DIR})
+# Debian's place for the licence: /usr/share/doc/wavecam/copyright (machine-readable format).
+install(FILES packaging/copyright DESTINATION ${CMAKE_INSTALL_DOCDIR})
 
 install(EXPORT wavecamTargets NAMESPACE wavecam:: DESTINATION ${WAVECAM_CMAKE_INSTALL_DIR})
 configure_package_config_file(packaging/wavecamConfig.cmake.in
@@ -41,4 +44,5 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "libopenimageio-dev, libopencolorio-dev, libkissfft-dev")
 set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
+set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
 include(CPack)

@@ -23,12 +23,20 @@ deb)
   contents=$(dpkg-deb -c "$deb")
   for f in './usr/bin/wavecam' './usr/lib(/[a-z0-9_-]+)?/wavecam/wavecam.imageio.so' \
            './usr/share/wavecam/ocio/wavecam.ocio' './usr/include/wavecam/psf.h' './usr/include/wavecam/diffract_image.h' \
-           './usr/lib(/[a-z0-9_-]+)?/cmake/wavecam/wavecamConfig.cmake' './usr/lib(/[a-z0-9_-]+)?/libwavecam.a'; do
+           './usr/lib(/[a-z0-9_-]+)?/cmake/wavecam/wavecamConfig.cmake' './usr/lib(/[a-z0-9_-]+)?/libwavecam.a' \
+           './usr/share/doc/wavecam/copyright'; do
     grep -Eq " $f\$" <<< "$contents" || { echo "missing from the .deb: $f"; exit 1; }
   done
   # installed as a user would: the command and the plugin find their own config
   mkdir "$work/root"
   dpkg-deb -x "$deb" "$work/root"
+  # the licence: Apache-2.0 for wavecam, and the header-only libraries compiled into it
+  copyright="$work/root/usr/share/doc/wavecam/copyright"
+  for line in 'Format: https://www.debian.org/doc/packaging-manuals/copyright-format/1.0/' \
+              'Files: \*' 'License: Apache-2.0' 'License: BSD-3-clause' 'License: Expat'; do
+    grep -Eq "^$line\$" "$copyright" || { echo "the .deb's copyright lacks '$line'"; exit 1; }
+  done
+  cmp -s "$copyright" "$src/packaging/copyright" || { echo "the .deb's copyright is not packaging/copyright"; exit 1; }
   oiiotool --pattern constant:color=0.5,0.5,0.5,2 4x4 4 --chnames R,G,B,Z --attrib wavecam.fov 20.0 -d float \
     -o "$work/in.exr"
   "$work/root/usr/bin/wavecam" apply "$work/in.exr" -o "$work/out.exr" --wavelengths 3 --runs 1 > /dev/null

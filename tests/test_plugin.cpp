@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include "command_runner.h"
 
@@ -121,5 +122,96 @@ TEST(Plugin, FrameSequencesThroughOiiotool) {
                                " -o " + (dir / "out.#.exr").string());
     ASSERT_EQ(r.status, 0) << r.output;
     for (int f = 1; f <= 3; ++f) EXPECT_TRUE(fs::exists(dir / ("out.000" + std::to_string(f) + ".exr")));
+    fs::remove_all(dir);
+}
+
+// Every failure reaches the user with the plugin's own message, through oiiotool and Python,
+// with and without hints. oiiotool without --iconfig reports only "File does not exist" for
+// a name not on disk, so the plugin also writes its message to stderr there (and only there).
+namespace {
+struct FailingInput {
+    std::string what;
+    std::string name;     // relative to the scratch folder; may carry ?key=value
+    std::string hint_key;  // the same failure through a hint: --iconfig wavecam:KEY VALUE
+    std::string hint_value;
+    std::string hinted_name;
+    std::string expect;
+};
+
+std::vector<FailingInput> failing_inputs(const fs::path& dir) {
+    write_render((dir / "nofov.exr").string(), 6, 6, 3.0f, 0.0f);
+    write_render((dir / "shot.exr").string(), 6, 6, 3.0f, 35.0f);
+    OIIO::ImageBuf tagged((dir / "shot.exr").string());
+    tagged.read(0, 0, true, OIIO::TypeDesc::FLOAT);
+    tagged.specmod().attribute("wavecam.pinhole", "0.2");  // a bad unit in the source's own metadata
+    tagged.write((dir / "tagged.exr").string());
+    return {
+        {"missing fov", "nofov.exr.wavecam", "wavelengths", "3", "nofov.exr.wavecam", "nofov.exr: no field of view"},
+        {"bad unit in the name", "shot.exr.wavecam?pinhole=0.2", "pinhole", "0.2", "shot.exr.wavecam",
+         "shot.exr: pinhole: expected a length"},
+        {"bad unit in the source's metadata", "tagged.exr.wavecam", "wavelengths", "3", "tagged.exr.wavecam",
+         "tagged.exr: pinhole: expected a length"},
+        {"missing source", "missing.exr.wavecam", "wavelengths", "3", "missing.exr.wavecam",
+         "missing.exr: no such file"},
+    };
+}
+}  // namespace
+
+TEST(Plugin, EveryFailureReachesOiiotoolWithThePluginsMessage) {
+    const fs::path dir = scratch("plugin_errors_oiiotool");
+    for (const FailingInput& c : failing_inputs(dir)) {
+        for (const bool hinted : {false, true}) {
+            const std::string name = (dir / (hinted ? c.hinted_name : c.name)).string();
+            const std::string hints = hinted ? " --iconfig wavecam:" + c.hint_key + " " + c.hint_value + " " : " ";
+            const auto r = run_command(kEnv + "oiiotool" + hints + "'" + name + "' -o " + (dir / "o.exr").string());
+            EXPECT_NE(r.status, 0) << c.what;
+            EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.what << (hinted ? " (hinted)" : "") << ": " << r.output;
+            EXPECT_FALSE(fs::exists(dir / "o.exr")) << c.what;
+            // said once: oiiotool's own line, or ours where oiiotool drops it, never both
+            const size_t first = r.output.find(c.expect);
+            EXPECT_EQ(r.output.find(c.expect, first + 1), std::string::npos) << r.output;
+        }
+    }
+    fs::remove_all(dir);
+}
+
+TEST(Plugin, EveryFailureReachesPythonWithThePluginsMessage) {
+    const fs::path dir = scratch("plugin_errors_py");
+    const auto cases = failing_inputs(dir);
+    // One line per (case, way of opening): ImageBuf and ImageInput.open, plain and with a hint.
+    std::ofstream script(dir / "open_all.py");
+    script << "import sys, OpenImageIO as oiio\n"
+              "def report(label, ok, err):\n"
+              "    print(label, 'OPENED' if ok else 'FAILED', err.replace(chr(10), ' '))\n"
+              "for name, key, value, hinted_name in zip(*[iter(sys.argv[1:])] * 4):\n"
+              "    b = oiio.ImageBuf(name)\n"
+              "    report(name + ' ImageBuf', b.read(0, 0, True, 'float'), b.geterror())\n"
+              "    i = oiio.ImageInput.open(name)\n"
+              "    report(name + ' ImageInput', i is not None, oiio.geterror())\n"
+              "    config = oiio.ImageSpec()\n"
+              "    config.attribute('wavecam:' + key, value)\n"
+              "    b = oiio.ImageBuf(hinted_name, 0, 0, config)\n"
+              "    report(hinted_name + ' hinted ImageBuf', b.read(0, 0, True, 'float'), b.geterror())\n"
+              "    i = oiio.ImageInput.open(hinted_name, config)\n"
+              "    report(hinted_name + ' hinted ImageInput', i is not None, oiio.geterror())\n";
+    script.close();
+    std::string args;
+    for (const FailingInput& c : cases)
+        args += " '" + (dir / c.name).string() + "' " + c.hint_key + " " + c.hint_value + " '" +
+                (dir / c.hinted_name).string() + "'";
+    const auto r = run_command(kEnv + "/usr/bin/python3 " + (dir / "open_all.py").string() + args);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(r.output.find("OPENED"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("wavecam ERROR"), std::string::npos) << "stderr is for oiiotool only: " << r.output;
+    std::istringstream lines(r.output);
+    std::string line;
+    size_t k = 0;
+    while (std::getline(lines, line)) {
+        ASSERT_LT(k / 4, cases.size()) << r.output;
+        EXPECT_NE(line.find(" FAILED "), std::string::npos) << line;
+        EXPECT_NE(line.find(cases[k / 4].expect), std::string::npos) << cases[k / 4].what << ": " << line;
+        ++k;
+    }
+    EXPECT_EQ(k, 4 * cases.size()) << r.output;
     fs::remove_all(dir);
 }

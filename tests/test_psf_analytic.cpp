@@ -1,4 +1,4 @@
-// The exact propagator against the analytic results of shared/PHYSICS.md.
+// The exact propagator against the analytic results of docs/physics.md.
 // Every expected value below comes from textbook optics computed here, not from wavecam.
 #include <gtest/gtest.h>
 
@@ -24,7 +24,7 @@ PsfImage psf(const PsfParams& p) {
     return r.value;
 }
 
-// Number of half-period zones, straight from its definition (PHYSICS.md result 1).
+// Number of half-period zones, straight from its definition (docs/physics.md result 1).
 double zones(double a, double f, double z, double lambda) {
     const long double A = a, F = f, Z = z;
     const long double film = std::sqrt(F * F + A * A) - F;

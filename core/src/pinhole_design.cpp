@@ -20,8 +20,4 @@ double nyquist_optimal_diameter(double film_width, double wavelength) {
     return std::sqrt(film_width * wavelength / 2.0);
 }
 
-double geometric_spot_diameter(double diameter, double film_distance, double source_distance) {
-    return diameter * (1.0 + (std::isinf(source_distance) ? 0.0 : film_distance / source_distance));
-}
-
 }  // namespace wavecam

@@ -40,7 +40,7 @@ Result<bool> validate(const MonochromeScene& scene, double wavelength, const Dif
 }
 
 // The point source for pixel (i, j), placed at image position (x, y) within it.
-// Irradiance on the pinhole = radiance x pixel solid angle whatever the depth (PHYSICS.md):
+// Irradiance on the pinhole = radiance x pixel solid angle whatever the depth (docs/physics.md):
 // a finite source gets amplitude sqrt(L Omega) |P| so that |U|^2 = L Omega at the pinhole.
 PointSource pixel_source(const MonochromeScene& scene, int i, int j, double x, double y, double phase) {
     const PinholeCamera& c = scene.camera;

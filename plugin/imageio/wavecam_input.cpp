@@ -7,10 +7,13 @@
 //   shot.exr.wavecam?runs=8  settings in the name, too
 //   shot.wavecam             a description file (front/description.h)
 //
-// No exception leaves this file; errors go through OIIO's error reporting.
+// No exception leaves this file; errors go through OIIO's error reporting (and, for the one
+// host that drops them, to stderr as well: see report_where_the_host_drops_it).
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 
+#include <cerrno>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -51,6 +54,28 @@ bool is_file(const std::string& path) {
     return std::filesystem::is_regular_file(path, ec);
 }
 
+// oiiotool (2.4.7 and 3.x, oiiotool.cpp's input_file) opens an input through its ImageCache
+// and, when that fails and no --iconfig was given, reports only `File does not exist` for a
+// name that is not on disk (it checks Filesystem::exists, then asks the reader for its error
+// only if the name exists). shot.exr.wavecam and ?key=value names are never on disk, so in
+// that one case the plugin's message would be lost: write it to stderr too, once per message.
+// Every other host (Python, iinfo, idiff, iconvert, ImageBuf, ImageInput::open) and oiiotool
+// with --iconfig report the message themselves and get nothing on stderr from us.
+void report_where_the_host_drops_it(const std::string& name, const ImageSpec& config, const std::string& message) {
+#ifdef __GLIBC__
+    const bool host_is_oiiotool = std::string(program_invocation_short_name) == "oiiotool";
+#else
+    const bool host_is_oiiotool = false;
+#endif
+    if (!host_is_oiiotool || is_file(name)) return;
+    for (const ParamValue& p : config.extra_attribs)
+        if (p.name() != "oiio:UnassociatedAlpha") return;  // --iconfig given: oiiotool reports it
+    static std::mutex printed_mutex;
+    static std::set<std::string> printed;  // oiiotool may open a failing name twice
+    std::lock_guard<std::mutex> lock(printed_mutex);
+    if (printed.insert(message).second) std::fprintf(stderr, "wavecam ERROR: %s\n", message.c_str());
+}
+
 // Computed images, by request: oiiotool opens one input several times per command.
 std::mutex g_cache_mutex;
 std::map<std::string, std::shared_ptr<const ImageBuf>> g_cache;
@@ -81,12 +106,14 @@ public:
 
     bool open(const std::string& name, ImageSpec& newspec, const ImageSpec& config) override {
         try {
-            return open_checked(name, newspec, config);
+            if (open_checked(name, newspec, config)) return true;
         } catch (const std::exception& e) {
             errorfmt("{}: {}", name, e.what());
         } catch (...) {
             errorfmt("{}: unexpected failure", name);
         }
+        const std::string message = geterror(false);
+        report_where_the_host_drops_it(name, config, message);
         return false;
     }
 
@@ -122,6 +149,13 @@ private:
         } else {
             source = path.substr(0, path.size() - std::strlen(kExtension));
         }
+
+        // OIIO's words for a missing file name its ImageCache ("Invalid image file"); say it
+        // plainly. A source that is itself a wavecam name need not exist on disk.
+        wavecam::front::Settings ignored;
+        std::error_code ec;
+        if (!std::filesystem::exists(source, ec) && !ends_with(split_query(source, ignored), kExtension))
+            return fail(source + ": no such file, expected the render to diffract");
 
         std::string key = source;
         for (const auto& [k, v] : settings) key += "\n" + k + "=" + v;

@@ -15,11 +15,12 @@
 #include <vector>
 #include "camera.h"
 #include "finite_pinhole.h"
+#include "command_line.h"
 #include "subdivision.h"
-#include "units.h"
 
 namespace fs = std::filesystem;
 using namespace wavecam::trace;
+using wavecam::Result;
 
 namespace {
 
@@ -157,18 +158,36 @@ Seen classify(const SmallScene& s, float z, int i, int j) {
 
 }  // namespace
 
-TEST(TracerUnits, LengthsNeedAUnit) {
-    EXPECT_DOUBLE_EQ(*parse_length("0.5mm", "--pinhole-diameter"), 0.5e-3);
-    EXPECT_DOUBLE_EQ(*parse_length("50mm", "--film-distance"), 0.05);
-    EXPECT_DOUBLE_EQ(*parse_length("550nm", "x"), 550e-9);
-    EXPECT_DOUBLE_EQ(*parse_length("2um", "x"), 2e-6);
-    EXPECT_DOUBLE_EQ(*parse_length("3cm", "x"), 0.03);
-    EXPECT_DOUBLE_EQ(*parse_length("1.5m", "x"), 1.5);
-    EXPECT_FALSE(parse_length("0.5", "--pinhole-diameter").ok());
-    EXPECT_NE(parse_length("0.5", "--pinhole-diameter").error().find("missing unit"), std::string::npos);
-    EXPECT_FALSE(parse_length("0.5in", "x").ok());
-    EXPECT_FALSE(parse_length("mm", "x").ok());
-    EXPECT_FALSE(parse_length("-1mm", "x").ok());
+// Lengths go through core's unit parser (tested in tests/test_units.cpp); the tracer adds
+// only that they be positive, and counts at most 65536.
+TEST(TracerCommandLine, LengthsNeedAUnitAndArePositive) {
+    auto parse = [](std::vector<std::string> flags) {
+        flags.insert(flags.begin(), {"scene.toml", "out.exr"});
+        return parse_command_line(flags);
+    };
+    const Result<TraceOptions> ok = parse({"--pinhole-diameter", "0.5mm", "--film-distance", "50mm", "--width", "64"});
+    ASSERT_TRUE(ok.ok()) << ok.error;
+    EXPECT_DOUBLE_EQ(ok.value.pinhole.diameter, 0.5e-3);
+    EXPECT_DOUBLE_EQ(ok.value.pinhole.film_distance, 0.05);
+    EXPECT_EQ(ok.value.width, 64);
+    EXPECT_EQ(ok.value.pinhole_text, "0.5mm");
+    struct Case {
+        std::vector<std::string> flags;
+        std::string expect;
+    } cases[] = {
+        {{"--pinhole-diameter", "0.5", "--film-distance", "50mm"}, "--pinhole-diameter: expected a length with a unit"},
+        {{"--pinhole-diameter", "0.5in", "--film-distance", "50mm"}, "--pinhole-diameter: expected a length"},
+        {{"--pinhole-diameter", "-1mm", "--film-distance", "50mm"}, "--pinhole-diameter: expected a positive length"},
+        {{"--pinhole-diameter", "0.5mm"}, "go together"},
+        {{"--width", "0"}, "--width: expected a positive whole number"},
+        {{"--samples", "100000"}, "--samples: expected at most 65536"},
+        {{"--height", "12px"}, "--height: expected a positive whole number"},
+    };
+    for (const Case& c : cases) {
+        const Result<TraceOptions> r = parse(c.flags);
+        EXPECT_FALSE(r.ok()) << c.expect;
+        EXPECT_NE(r.error.find(c.expect), std::string::npos) << r.error;
+    }
 }
 
 TEST(TracerCamera, MapsKnownPointsToExpectedPixels) {
@@ -217,23 +236,23 @@ TEST(TracerSubdivision, CatmullClarkFaceCounts) {
     cube.indices = {0, 2, 3, 1, 4, 5, 7, 6, 0, 1, 5, 4, 2, 6, 7, 3, 0, 4, 6, 2, 1, 3, 7, 5};
     for (int level = 1; level <= 4; ++level) {
         const Result<RefinedSurface> r = catmull_clark(cube, level);
-        ASSERT_TRUE(r.ok()) << r.error();
-        EXPECT_EQ(r->quads.face_sizes.size(), 6u << (2 * level)) << "level " << level;  // 6 * 4^level
-        for (int size : r->quads.face_sizes) EXPECT_EQ(size, 4);
-        for (const Vec3& n : r->normals) EXPECT_NEAR(length(n), 1, 1e-6);
+        ASSERT_TRUE(r.ok()) << r.error;
+        EXPECT_EQ(r.value.quads.face_sizes.size(), 6u << (2 * level)) << "level " << level;  // 6 * 4^level
+        for (int size : r.value.quads.face_sizes) EXPECT_EQ(size, 4);
+        for (const Vec3& n : r.value.normals) EXPECT_NEAR(length(n), 1, 1e-6);
     }
     // One step: vertices = V + E + F = 8 + 12 + 6.
-    EXPECT_EQ(catmull_clark(cube, 1)->quads.positions.size(), 26u);
+    EXPECT_EQ(catmull_clark(cube, 1).value.quads.positions.size(), 26u);
     // A tetrahedron: 4 triangles become 3 quads each, then x4 per level.
     PolygonMesh tet;
     tet.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     tet.face_sizes = {3, 3, 3, 3};
     tet.indices = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
-    EXPECT_EQ(catmull_clark(tet, 1)->quads.face_sizes.size(), 12u);
-    EXPECT_EQ(catmull_clark(tet, 2)->quads.face_sizes.size(), 48u);
+    EXPECT_EQ(catmull_clark(tet, 1).value.quads.face_sizes.size(), 12u);
+    EXPECT_EQ(catmull_clark(tet, 2).value.quads.face_sizes.size(), 48u);
     // The limit surface of a closed cube cage lies strictly inside the cage.
     const Result<RefinedSurface> level3 = catmull_clark(cube, 3);
-    for (const Vec3& p : level3->quads.positions) {
+    for (const Vec3& p : level3.value.quads.positions) {
         EXPECT_GT(p.x, 0);
         EXPECT_LT(p.x, 1);
     }
@@ -307,7 +326,7 @@ TEST(TracerRender, FinitePinholeRendersAndRecordsItself) {
     EXPECT_EQ(e.spec.get_string_attribute("wavecam.ray-pinhole"), "0.5mm");
     EXPECT_EQ(e.spec.get_string_attribute("wavecam.ray-film-distance"), "50mm");
     EXPECT_EQ(run("'" + kTrace + "' '" + kScenes + "/small.toml' '" + out + "' --pinhole-diameter 0.5 --film-distance 50mm", log), 1);
-    EXPECT_NE(log.find("--pinhole-diameter '0.5': missing unit"), std::string::npos) << log;
+    EXPECT_NE(log.find("--pinhole-diameter: expected a length with a unit"), std::string::npos) << log;
     fs::remove_all(dir);
 }
 

@@ -1,6 +1,5 @@
 #include "command_line.h"
-#include <cstdlib>
-#include "units.h"
+#include "wavecam/units.h"
 
 namespace wavecam::trace {
 
@@ -11,16 +10,6 @@ const char* const kUsage =
     "--pinhole-diameter/--film-distance (e.g. 0.5mm, 50mm) render through a finite pinhole\n"
     "(ray optics) instead of the ideal one.\n";
 
-namespace {
-Result<int> parse_count(const std::string& flag, const std::string& text) {
-    char* end = nullptr;
-    const long v = std::strtol(text.c_str(), &end, 10);
-    if (end == text.c_str() || *end != '\0' || v < 1 || v > 65536)
-        return Error{flag + " '" + text + "': expected a whole number from 1 to 65536"};
-    return static_cast<int>(v);
-}
-}  // namespace
-
 Result<TraceOptions> parse_command_line(const std::vector<std::string>& args) {
     TraceOptions o;
     std::vector<std::string> positional;
@@ -28,33 +17,35 @@ Result<TraceOptions> parse_command_line(const std::vector<std::string>& args) {
         const std::string& a = args[i];
         if (a == "-h" || a == "--help") {
             o.help = true;
-            return o;
+            return Result<TraceOptions>::success(o);
         }
         if (a.rfind("--", 0) != 0) {
             positional.push_back(a);
             continue;
         }
-        if (i + 1 >= args.size()) return Error{a + ": missing value"};
+        if (i + 1 >= args.size()) return Result<TraceOptions>::failure(a + ": missing value");
         const std::string& value = args[++i];
         if (a == "--width" || a == "--height" || a == "--samples") {
-            Result<int> n = parse_count(a, value);
-            if (!n) return Error{n.error()};
-            (a == "--width" ? o.width : a == "--height" ? o.height : o.samples) = *n;
+            const Result<long> n = parse_count(value, a);
+            if (!n.ok()) return Result<TraceOptions>::failure(n.error);
+            if (n.value > 65536) return Result<TraceOptions>::failure(a + ": expected at most 65536, got '" + value + "'");
+            (a == "--width" ? o.width : a == "--height" ? o.height : o.samples) = static_cast<int>(n.value);
         } else if (a == "--pinhole-diameter" || a == "--film-distance") {
-            Result<double> length = parse_length(value, a);
-            if (!length) return Error{length.error()};
-            (a == "--pinhole-diameter" ? o.pinhole.diameter : o.pinhole.film_distance) = *length;
+            const Result<double> length = parse_length(value, a);
+            if (!length.ok()) return Result<TraceOptions>::failure(length.error);
+            if (!(length.value > 0)) return Result<TraceOptions>::failure(a + ": expected a positive length, got '" + value + "'");
+            (a == "--pinhole-diameter" ? o.pinhole.diameter : o.pinhole.film_distance) = length.value;
             (a == "--pinhole-diameter" ? o.pinhole_text : o.film_distance_text) = value;
         } else {
-            return Error{"unknown option " + a};
+            return Result<TraceOptions>::failure("unknown option " + a);
         }
     }
-    if (positional.size() != 2) return Error{"expected SCENE.toml and OUT.exr (see --help)"};
+    if (positional.size() != 2) return Result<TraceOptions>::failure("expected SCENE.toml and OUT.exr (see --help)");
     if ((o.pinhole.diameter > 0) != (o.pinhole.film_distance > 0))
-        return Error{"--pinhole-diameter and --film-distance go together"};
+        return Result<TraceOptions>::failure("--pinhole-diameter and --film-distance go together");
     o.scene_path = positional[0];
     o.output_path = positional[1];
-    return o;
+    return Result<TraceOptions>::success(o);
 }
 
 }  // namespace wavecam::trace

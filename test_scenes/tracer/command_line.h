@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 #include "finite_pinhole.h"
-#include "result.h"
+#include "wavecam/result.h"
 
 namespace wavecam::trace {
 

@@ -1,11 +1,13 @@
 #include "exr_output.h"
-#include <OpenImageIO/imageio.h>
-#include <cstdio>
-#include <unistd.h>
+#include <OpenImageIO/imagebuf.h>
+#include <filesystem>
+#include "wavecam/atomic_write.h"
 
 namespace wavecam::trace {
 
-Result<Written> write_exr(const std::string& path, const RenderedImage& image, const ExrHeader& header) {
+Result<bool> write_exr(const std::string& path, const RenderedImage& image, const ExrHeader& header) {
+    if (std::filesystem::path(path).extension() != ".exr")
+        return Result<bool>::failure(path + ": expected an output name ending in .exr");
     OIIO::ImageSpec spec(image.width, image.height, 4, OIIO::TypeDesc::FLOAT);
     spec.channelnames = {"R", "G", "B", "Z"};
     spec.z_channel = 3;
@@ -22,21 +24,8 @@ Result<Written> write_exr(const std::string& path, const RenderedImage& image, c
         pixels[4 * p + 3] = image.depth[p];
     }
 
-    const std::string partial = path + ".partial-" + std::to_string(::getpid());
-    auto out = OIIO::ImageOutput::create("exr");
-    if (!out) return Error{path + ": OpenImageIO has no OpenEXR writer"};
-    bool ok = out->open(partial, spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
-    ok = out->close() && ok;
-    if (!ok) {
-        const std::string why = out->geterror();
-        std::remove(partial.c_str());
-        return Error{path + ": cannot write: " + why};
-    }
-    if (std::rename(partial.c_str(), path.c_str()) != 0) {
-        std::remove(partial.c_str());
-        return Error{path + ": cannot move the finished file into place"};
-    }
-    return Written{};
+    const OIIO::ImageBuf buffer(spec, pixels.data());
+    return write_image_atomically(buffer, path, OIIO::TypeDesc::FLOAT);
 }
 
 }  // namespace wavecam::trace

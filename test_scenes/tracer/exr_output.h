@@ -3,14 +3,14 @@
 // wavecam.fov (horizontal, degrees), wavecam.depth = "planar", wavecam.scene and the standard
 // worldToCamera (dotted names, as wavecam reads them: OIIO treats a "wavecam:" prefix as
 // format-specific once wavecam's plugin is loaded and drops it). The file appears complete
-// or not at all: it is written beside the target under a temporary name, then renamed.
+// or not at all: core's write_image_atomically writes a temporary beside it, then renames.
 #pragma once
 #include <array>
 #include <string>
 #include <utility>
 #include <vector>
 #include "render.h"
-#include "result.h"
+#include "wavecam/result.h"
 
 namespace wavecam::trace {
 
@@ -21,8 +21,6 @@ struct ExrHeader {
     std::vector<std::pair<std::string, std::string>> extra;  // further string attributes
 };
 
-struct Written {};
-
-Result<Written> write_exr(const std::string& path, const RenderedImage& image, const ExrHeader& header);
+Result<bool> write_exr(const std::string& path, const RenderedImage& image, const ExrHeader& header);
 
 }  // namespace wavecam::trace

@@ -9,6 +9,7 @@
 #include "trace_scene.h"
 
 using namespace wavecam::trace;
+using wavecam::Result;
 
 namespace {
 int fail(const std::string& message) {
@@ -19,31 +20,31 @@ int fail(const std::string& message) {
 
 int main(int argc, char** argv) {
     const Result<TraceOptions> parsed = parse_command_line({argv + 1, argv + argc});
-    if (!parsed) return fail(parsed.error());
-    const TraceOptions& opt = *parsed;
+    if (!parsed.ok()) return fail(parsed.error);
+    const TraceOptions& opt = parsed.value;
     if (opt.help) {
         std::fputs(kUsage, stdout);
         return 0;
     }
     Result<Scene> loaded = load_scene(opt.scene_path);
-    if (!loaded) return fail(loaded.error());
-    Scene scene = std::move(loaded).value();
+    if (!loaded.ok()) return fail(loaded.error);
+    Scene scene = std::move(loaded.value);
     if (opt.width) scene.camera.width = *opt.width;
     if (opt.height) scene.camera.height = *opt.height;
     const int samples = opt.samples.value_or(scene.samples_per_pixel);
 
     const auto start = std::chrono::steady_clock::now();
     Result<std::unique_ptr<TraceScene>> geometry = TraceScene::build(scene);
-    if (!geometry) return fail(opt.scene_path + ": " + geometry.error());
+    if (!geometry.ok()) return fail(opt.scene_path + ": " + geometry.error);
     const Camera camera(scene.camera);
-    const RenderedImage image = render(scene, **geometry, camera, opt.pinhole, samples);
+    const RenderedImage image = render(scene, *geometry.value, camera, opt.pinhole, samples);
 
     ExrHeader header{static_cast<float>(camera.fov_deg()), scene.name, camera.world_to_camera(), {}};
     if (opt.pinhole.diameter > 0) {
         header.extra = {{"wavecam.ray-pinhole", opt.pinhole_text}, {"wavecam.ray-film-distance", opt.film_distance_text}};
     }
-    const Result<Written> written = write_exr(opt.output_path, image, header);
-    if (!written) return fail(written.error());
+    const Result<bool> written = write_exr(opt.output_path, image, header);
+    if (!written.ok()) return fail(written.error);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%s: %dx%d, %d samples/pixel, %.2f s\n", opt.output_path.c_str(), image.width, image.height, samples,
                 seconds);

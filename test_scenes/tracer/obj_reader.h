@@ -3,7 +3,7 @@
 #pragma once
 #include <string>
 #include "polygon_mesh.h"
-#include "result.h"
+#include "wavecam/result.h"
 
 namespace wavecam::trace {
 

@@ -195,8 +195,8 @@ PolygonMesh read_polygons(TableReader& r, const std::filesystem::path& scene_dir
         const std::filesystem::path file = scene_dir / r.string("obj");
         if (!r.has("obj")) return mesh;
         Result<PolygonMesh> read = read_obj(file.string());
-        if (!read) r.fail("obj", read.error());
-        else mesh = std::move(read).value();
+        if (!read.ok()) r.fail("obj", read.error);
+        else mesh = std::move(read.value);
     } else {
         mesh.positions = r.vec3_list("positions");
         r.face_list("faces", mesh.face_sizes, mesh.indices);
@@ -277,14 +277,14 @@ void for_each_entry(const toml::table& root, const std::string& name, std::strin
 }  // namespace
 
 Result<Scene> load_scene(const std::string& path) {
-    if (!std::filesystem::is_regular_file(path)) return Error{path + ": no such scene file"};
+    if (!std::filesystem::is_regular_file(path)) return Result<Scene>::failure(path + ": no such scene file");
     toml::table root;
     try {
         root = toml::parse_file(path);
     } catch (const toml::parse_error& e) {
         std::ostringstream s;
         s << path << ":" << e.source().begin.line << ":" << e.source().begin.column << ": " << e.description();
-        return Error{s.str()};
+        return Result<Scene>::failure(s.str());
     }
     const std::filesystem::path dir = std::filesystem::path(path).parent_path();
     std::string error;
@@ -314,8 +314,8 @@ Result<Scene> load_scene(const std::string& path) {
         for_each_entry(root, "object", &error, [&](TableReader& r) { scene.objects.push_back(read_object(r, dir, &error)); });
     if (error.empty()) for_each_entry(root, "light", &error, [&](TableReader& r) { read_light(r, scene); });
     if (error.empty() && scene.objects.empty()) error = "no [[object]]";
-    if (!error.empty()) return Error{path + ": " + error};
-    return scene;
+    if (!error.empty()) return Result<Scene>::failure(path + ": " + error);
+    return Result<Scene>::success(std::move(scene));
 }
 
 }  // namespace wavecam::trace

@@ -17,7 +17,7 @@
 // Any unknown table or key is an error. Relative OBJ paths are relative to the scene file.
 #pragma once
 #include <string>
-#include "result.h"
+#include "wavecam/result.h"
 #include "scene.h"
 
 namespace wavecam::trace {

@@ -20,13 +20,13 @@ struct Point {
 }  // namespace
 
 Result<RefinedSurface> catmull_clark(const PolygonMesh& cage, int level) {
-    if (level < 1) return Error{"subdivision level must be at least 1"};
+    if (level < 1) return Result<RefinedSurface>::failure("subdivision level must be at least 1");
     std::size_t corners = 0;
     for (int size : cage.face_sizes) corners += static_cast<std::size_t>(size);
-    if (corners != cage.indices.size()) return Error{"cage face sizes do not match its index count"};
+    if (corners != cage.indices.size()) return Result<RefinedSurface>::failure("cage face sizes do not match its index count");
     for (int i : cage.indices)
         if (i < 0 || static_cast<std::size_t>(i) >= cage.positions.size())
-            return Error{"cage face index " + std::to_string(i) + " names no vertex"};
+            return Result<RefinedSurface>::failure("cage face index " + std::to_string(i) + " names no vertex");
     Far::TopologyDescriptor descriptor;
     descriptor.numVertices = static_cast<int>(cage.positions.size());
     descriptor.numFaces = static_cast<int>(cage.face_sizes.size());
@@ -38,7 +38,7 @@ Result<RefinedSurface> catmull_clark(const PolygonMesh& cage, int level) {
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
     std::unique_ptr<Far::TopologyRefiner> refiner(
         Factory::Create(descriptor, Factory::Options(Sdc::SCHEME_CATMARK, sdc)));
-    if (!refiner) return Error{"OpenSubdiv rejected the cage topology"};
+    if (!refiner) return Result<RefinedSurface>::failure("OpenSubdiv rejected the cage topology");
 
     Far::TopologyRefiner::UniformOptions uniform(level);
     uniform.fullTopologyInLastLevel = true;  // face-vertex lists of the last level
@@ -74,7 +74,7 @@ Result<RefinedSurface> catmull_clark(const PolygonMesh& cage, int level) {
         out.quads.face_sizes.push_back(corners.size());
         for (int c = 0; c < corners.size(); ++c) out.quads.indices.push_back(corners[c]);
     }
-    return out;
+    return Result<RefinedSurface>::success(std::move(out));
 }
 
 }  // namespace wavecam::trace

@@ -161,36 +161,36 @@ Result<RTCGeometry> make_geometry(RTCDevice device, const Shape& shape, SurfaceR
     if (const auto* sphere = std::get_if<Sphere>(&shape)) {
         r.kind = SurfaceKind::Sphere;
         r.sphere = *sphere;
-        return analytic_geometry(device, &r);
+        return Result<RTCGeometry>::success(analytic_geometry(device, &r));
     }
     if (const auto* plane = std::get_if<Plane>(&shape)) {
         r.kind = SurfaceKind::Plane;
         r.plane = *plane;
         r.plane.normal = normalize(plane->normal);
         plane_axes(r.plane.normal, r.plane_u, r.plane_v);
-        return analytic_geometry(device, &r);
+        return Result<RTCGeometry>::success(analytic_geometry(device, &r));
     }
     if (const auto* quad = std::get_if<Quad>(&shape)) {
         r.kind = SurfaceKind::Quads;
         add_parallelogram(positions, indices, quad->corner, quad->edge_u, quad->edge_v);
-        return mesh_geometry(device, positions, indices, 4);
+        return Result<RTCGeometry>::success(mesh_geometry(device, positions, indices, 4));
     }
     if (const auto* box = std::get_if<Box>(&shape)) {
         r.kind = SurfaceKind::Quads;
         add_box(positions, indices, *box);
-        return mesh_geometry(device, positions, indices, 4);
+        return Result<RTCGeometry>::success(mesh_geometry(device, positions, indices, 4));
     }
     if (const auto* polygons = std::get_if<PolygonObject>(&shape)) {
         r.kind = SurfaceKind::Triangles;
-        return mesh_geometry(device, polygons->mesh.positions, fan_triangles(polygons->mesh), 3);
+        return Result<RTCGeometry>::success(mesh_geometry(device, polygons->mesh.positions, fan_triangles(polygons->mesh), 3));
     }
     const auto& subdivision = std::get<SubdivisionSurface>(shape);
     Result<RefinedSurface> refined = catmull_clark(subdivision.cage, subdivision.level);
-    if (!refined) return Error{refined.error()};
+    if (!refined.ok()) return Result<RTCGeometry>::failure(refined.error);
     r.kind = SurfaceKind::Quads;
-    r.quad_indices.assign(refined->quads.indices.begin(), refined->quads.indices.end());
-    r.vertex_normals = refined->normals;
-    return mesh_geometry(device, refined->quads.positions, r.quad_indices, 4);
+    r.quad_indices.assign(refined.value.quads.indices.begin(), refined.value.quads.indices.end());
+    r.vertex_normals = refined.value.normals;
+    return Result<RTCGeometry>::success(mesh_geometry(device, refined.value.quads.positions, r.quad_indices, 4));
 }
 
 // Texture coordinates: spheres by longitude/latitude (u = 0.5 + atan2(x, z) / 2 pi,
@@ -228,22 +228,22 @@ Result<std::unique_ptr<TraceScene>> TraceScene::build(const Scene& scene) {
     std::unique_ptr<TraceScene> out(new TraceScene());
     Embree& e = *out->embree_;
     e.device = rtcNewDevice(nullptr);
-    if (!e.device) return Error{"Embree: cannot create a device"};
+    if (!e.device) return Result<std::unique_ptr<TraceScene>>::failure("Embree: cannot create a device");
     e.scene = rtcNewScene(e.device);
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         auto record = std::make_unique<SurfaceRecord>();
         record->material = scene.objects[i].material;
         Result<RTCGeometry> g = make_geometry(e.device, scene.objects[i].shape, *record);
-        if (!g) return Error{"object " + std::to_string(i + 1) + ": " + g.error()};
-        rtcCommitGeometry(*g);
-        const unsigned id = rtcAttachGeometry(e.scene, *g);
-        rtcReleaseGeometry(*g);
-        if (id != out->surfaces_.size()) return Error{"Embree: unexpected geometry id"};
+        if (!g.ok()) return Result<std::unique_ptr<TraceScene>>::failure("object " + std::to_string(i + 1) + ": " + g.error);
+        rtcCommitGeometry(g.value);
+        const unsigned id = rtcAttachGeometry(e.scene, g.value);
+        rtcReleaseGeometry(g.value);
+        if (id != out->surfaces_.size()) return Result<std::unique_ptr<TraceScene>>::failure("Embree: unexpected geometry id");
         out->surfaces_.push_back(std::move(record));
     }
     rtcCommitScene(e.scene);
-    if (rtcGetDeviceError(e.device) != RTC_ERROR_NONE) return Error{"Embree: building the scene failed"};
-    return out;
+    if (rtcGetDeviceError(e.device) != RTC_ERROR_NONE) return Result<std::unique_ptr<TraceScene>>::failure("Embree: building the scene failed");
+    return Result<std::unique_ptr<TraceScene>>::success(std::move(out));
 }
 
 std::optional<SurfaceHit> TraceScene::intersect(const Ray& ray) const {

@@ -5,7 +5,7 @@
 #include <optional>
 #include <vector>
 #include "finite_pinhole.h"
-#include "result.h"
+#include "wavecam/result.h"
 #include "scene.h"
 
 namespace wavecam::trace {

@@ -37,15 +37,6 @@ struct PinholeCamera {
         return t * t / std::pow(1.0 + u * u + v * v, 1.5);
     }
 
-    // Film point of output pixel (i, j): the geometric image -f (u, v) of the pixel centre's
-    // direction, so the output is upright like the render.
-    void film_point(int i, int j, double& x, double& y) const {
-        double u, v;
-        tangent(i + 0.5, j + 0.5, u, v);
-        x = -film_distance * u;
-        y = -film_distance * v;
-    }
-
     // Cosine of the angle at which light from the pinhole meets film pixel (i, j): the film
     // records flux through its plane, |U|^2 cos(incidence).
     double cos_incidence(int i, int j) const {

@@ -1,4 +1,4 @@
-// Pinhole design formulas (PHYSICS.md, result 5, and the seed paper section 3).
+// Pinhole design formulas (docs/physics.md, result 5, and the seed paper section 3).
 #pragma once
 
 namespace wavecam {
@@ -14,8 +14,5 @@ double rayleigh_optimal_diameter(double film_distance, double wavelength);
 
 // The seed paper's Nyquist argument: d = sqrt(D lambda / 2) for a film of width D.
 double nyquist_optimal_diameter(double film_width, double wavelength);
-
-// Geometric shadow of the pinhole for a point source at distance z: diameter d (1 + f/z).
-double geometric_spot_diameter(double diameter, double film_distance, double source_distance);
 
 }  // namespace wavecam

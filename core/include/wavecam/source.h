@@ -6,7 +6,7 @@
 namespace wavecam {
 
 // One point source. A finite source at P radiates U = a exp(i (k r + phase)) / r, r = |P - xi|
-// (PHYSICS.md). A source at infinity is a plane wave a exp(i (k path + phase)) arriving along
+// (docs/physics.md). A source at infinity is a plane wave a exp(i (k path + phase)) arriving along
 // the unit direction (ux, uy, uz) that points from the pinhole toward the source.
 struct PointSource {
     double x = 0, y = 0, z = 1;  // finite: position (m); infinite: unit direction
@@ -35,7 +35,7 @@ inline void geometric_image_point(const PointSource& s, double film_distance, do
 }
 
 // Irradiance |U|^2 the source alone would give at the film centre (0, 0, -f) with no screen:
-// the unit of a relative-irradiance PSF (PHYSICS.md).
+// the unit of a relative-irradiance PSF (docs/physics.md).
 inline double free_irradiance_at_film_centre(const PointSource& s, double film_distance) {
     if (s.at_infinity) return s.amplitude * s.amplitude;
     const double dz = s.z + film_distance;
