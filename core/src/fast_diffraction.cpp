@@ -53,10 +53,12 @@ double cos_widest(const PinholeCamera& c, double x0, double y0, double x1, doubl
 }
 
 // Tile side: at least twice the kernel radius (the overlap-add passes need it), and large
-// enough that the FFT's padding (2 R) costs less than the tile itself.
-int tile_side(int requested, int radius) {
+// enough that the FFT's padding (2 R) costs less than the tile itself; never more than the
+// whole source domain (one tile is then a whole-frame FFT).
+int tile_side(int requested, int radius, int domain) {
     const int base = requested > 0 ? std::max(requested, 2 * radius) : std::max(128, 4 * radius);
-    return detail::fft_friendly_size(base + 2 * radius) - 2 * radius;
+    const int tile = detail::fft_friendly_size(base + 2 * radius) - 2 * radius;
+    return std::min(tile, domain);
 }
 
 }  // namespace
@@ -104,7 +106,7 @@ Result<detail::PsfTableSpec> plan_geometry(const FastPlanSpec& spec) {
     t.origin = radius - o;
     t.domain_width = out_w + 2 * radius;
     t.domain_height = out_h + 2 * radius;
-    t.tile = tile_side(spec.settings.tile, radius);
+    t.tile = tile_side(spec.settings.tile, radius, std::max(t.domain_width, t.domain_height));
     t.anchor_cells = std::max(1, spec.settings.anchor_cells);
     t.radius = radius;
     t.aperture = spec.aperture;
