@@ -40,21 +40,26 @@ Result<double> header_fov(const OIIO::ImageSpec& spec) {
     const OIIO::ParamValue* p = spec.find_attribute(kFovAttribute);
     if (!p) return Result<double>::success(0);
     const OIIO::TypeDesc t = p->type();
+    const bool scalar = t.aggregate == OIIO::TypeDesc::SCALAR && t.arraylen == 0;
+    Result<double> fov = Result<double>::failure(std::string(kFovAttribute) +
+                                                 ": expected degrees as a number or a string such as \"40deg\", "
+                                                 "got a value of type " + t.c_str());
     if (t == OIIO::TypeDesc::STRING) {
         const std::string text = p->get_string();
         char* end = nullptr;
         const double deg = std::strtod(text.c_str(), &end);
-        if (!text.empty() && end && *end == '\0') return Result<double>::success(deg * M_PI / 180.0);
-        return parse_angle(text, kFovAttribute);
+        fov = !text.empty() && *end == '\0' ? Result<double>::success(deg * M_PI / 180.0)
+                                             : parse_angle(text, kFovAttribute);
+    } else if (scalar && t.is_floating_point()) {
+        fov = Result<double>::success(p->get_float() * M_PI / 180.0);
+    } else if (scalar && t.basetype >= OIIO::TypeDesc::UINT8 && t.basetype <= OIIO::TypeDesc::INT64) {
+        // (OIIO 2.4's get_float reads an int attribute as 0)
+        fov = Result<double>::success(p->get_int() * M_PI / 180.0);
     }
-    // (OIIO 2.4's get_float reads an int attribute as 0: integers are read as integers)
-    if (t.aggregate == OIIO::TypeDesc::SCALAR && t.arraylen == 0 && t.is_floating_point())
-        return Result<double>::success(p->get_float() * M_PI / 180.0);
-    if (t.aggregate == OIIO::TypeDesc::SCALAR && t.arraylen == 0 && t.basetype >= OIIO::TypeDesc::UINT8 &&
-        t.basetype <= OIIO::TypeDesc::INT64)
-        return Result<double>::success(p->get_int() * M_PI / 180.0);
-    return Result<double>::failure(std::string(kFovAttribute) + ": expected degrees as a number or a string such as "
-                                   "\"40deg\", got a value of type " + t.c_str());
+    if (fov.ok() && !(fov.value > 0 && fov.value < M_PI))
+        return Result<double>::failure(std::string(kFovAttribute) + " is " + std::to_string(fov.value * 180 / M_PI) +
+                                       " degrees, expected a field of view between 0 and 180 degrees");
+    return fov;
 }
 
 // What to do when the file carries no field of view; a Blender render is told how to get one.
@@ -134,9 +139,6 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
         auto fov = header_fov(spec);
         if (!fov.ok()) return fail(fov.error);
         if (fov.value == 0) return fail(missing_fov_message(spec));
-        if (!(fov.value > 0 && fov.value < M_PI))
-            return fail(std::string(kFovAttribute) + " is " + std::to_string(fov.value * 180 / M_PI) +
-                        " degrees, expected a field of view between 0 and 180 degrees");
         in.fov_h = fov.value;
         in.fov_from = std::string("the file's ") + kFovAttribute + " attribute";
     }
