@@ -21,6 +21,8 @@ PACKAGES=(
   fonts-dejavu-core
   # POV-Ray comparison renders
   povray povray-includes
+  # the Blender add-on's tests (headless Cycles renders; the add-on tags EXRs through OIIO's Python)
+  blender
 )
 
 missing=()

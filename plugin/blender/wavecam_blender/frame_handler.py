@@ -1,0 +1,159 @@
+# After Blender writes a frame (render_write: F12 with a file, -f N, -a), the frame's exact
+# field of view goes into its EXR and `wavecam apply` writes NAME.wavecam.exr beside it.
+# Nothing here may raise into Blender: every failure becomes a report.
+#
+# The camera "as rendered" is the render depsgraph's evaluated camera: an animated lens is
+# evaluated there, not on the scene render_write receives (checked: with -a, frame 2 still
+# saw frame 1's lens). frame_change_post runs on that depsgraph before each rendered frame, so
+# the camera is captured there, and render_write uses the capture for its frame.
+import os
+import subprocess
+
+import bpy
+from bpy.app.handlers import persistent
+
+from . import camera_fov, exr_fov, reports
+from .preferences import wavecam_command
+
+SUFFIX = ".wavecam.exr"
+
+
+class FrameError(Exception):
+    pass
+
+
+def diffracted_path(frame_path):
+    """shot_0001.exr -> shot_0001.wavecam.exr"""
+    stem, ext = os.path.splitext(frame_path)
+    return (stem if ext.lower() == ".exr" else frame_path) + SUFFIX
+
+
+def written_frame_path(scene):
+    """The file Blender just wrote: an animation frame (-a, -f N) is named by frame_path, a
+    still (F12 then save, render(write_still=True)) is the output path itself with the
+    format's extension. Where both exist, the newer is the one just written."""
+    frame = scene.render.frame_path(frame=scene.frame_current)
+    still = bpy.path.abspath(scene.render.filepath)
+    if scene.render.use_file_extension:
+        stem, ext = os.path.splitext(still)
+        still = (stem if ext.lower() in {".exr", ".png", ".jpg", ".jpeg", ".tif", ".tiff"} else still) + ".exr"
+    existing = [p for p in (frame, still) if os.path.isfile(p)]
+    return max(existing, key=os.path.getmtime) if existing else frame
+
+
+def _check_output(scene, frame_path):
+    image = scene.render.image_settings
+    if image.file_format not in {'OPEN_EXR', 'OPEN_EXR_MULTILAYER'}:
+        raise FrameError(f"the frame was saved as {image.file_format}; wavecam needs OpenEXR "
+                         "(Output > Output > File Format: OpenEXR MultiLayer)")
+    if image.file_format == 'OPEN_EXR' and not image.use_zbuffer:
+        raise FrameError("the OpenEXR output has no depth: tick Z Buffer, or use OpenEXR MultiLayer")
+    layers = [layer for layer in scene.view_layers if layer.use]
+    if image.file_format == 'OPEN_EXR_MULTILAYER':
+        if len(layers) != 1:
+            raise FrameError(f"{len(layers)} view layers render into one file; wavecam diffracts one: "
+                             "untick 'Use for Rendering' on all but one")
+        if not layers[0].use_pass_z:
+            raise FrameError(f"view layer '{layers[0].name}' has no Z pass (View Layer > Passes > Z)")
+    if not os.path.isfile(frame_path):
+        raise FrameError(f"{frame_path}: Blender's frame is not there")
+
+
+class RenderedCamera:
+    """What a frame needs from its camera, copied out (evaluated data does not outlive the frame)."""
+
+    def __init__(self, scene, camera_object):
+        cam, w = camera_object.data, camera_object.data.wavecam
+        try:
+            self.fov, self.fov_error = camera_fov.horizontal_fov_degrees(scene, camera_object), None
+        except camera_fov.FovError as e:
+            self.fov, self.fov_error = None, str(e)
+        self.film_distance_mm = w.film_distance_mm(cam)
+        self.pinhole_mm = None if w.auto_pinhole else w.pinhole  # None: wavecam's optimum for the film
+        self.wavelengths = w.wavelengths.replace(" ", "")
+        self.method = w.method
+        self.runs = w.runs
+
+
+# (scene name, frame) -> RenderedCamera captured from the render depsgraph
+_rendered = {}
+
+
+def _command(camera, frame_path, out_path, fov_in_file):
+    exe = wavecam_command()
+    if not exe:
+        raise FrameError("the wavecam command was not found: install wavecam, or set its path in "
+                         "Preferences > Add-ons > wavecam")
+    cmd = [exe, "apply", frame_path, "-o", out_path, "--film-distance", f"{camera.film_distance_mm:.9g}mm",
+           "--wavelengths", camera.wavelengths, "--method", camera.method]
+    if camera.pinhole_mm is not None:
+        cmd += ["--pinhole", f"{camera.pinhole_mm:.9g}mm"]
+    if camera.method == 'exact':
+        cmd += ["--runs", str(camera.runs)]
+    if not fov_in_file:
+        cmd += ["--fov", f"{camera.fov:.9g}deg"]
+    return cmd
+
+
+def diffract_frame(scene, frame_path):
+    """Tags and diffracts one written frame; returns the diffracted file's path."""
+    _check_output(scene, frame_path)
+    camera = _rendered.pop((scene.name, scene.frame_current), None) or RenderedCamera(scene, scene.camera)
+    if camera.fov_error:
+        raise FrameError(camera.fov_error)
+    try:
+        exr_fov.write_fov(frame_path, camera.fov)
+        fov_in_file = True
+    except ImportError:  # Blender without OpenImageIO's Python bindings: wavecam is told instead
+        fov_in_file = False
+    except exr_fov.TagError as e:
+        raise FrameError(str(e))
+    out_path = diffracted_path(frame_path)
+    run = subprocess.run(_command(camera, frame_path, out_path, fov_in_file), capture_output=True, text=True)
+    if run.returncode != 0:
+        lines = [l for l in (run.stderr + run.stdout).splitlines() if l.strip()]
+        raise FrameError(lines[-1] if lines else f"wavecam exited with status {run.returncode}")
+    return out_path
+
+
+@persistent
+def on_frame_change_post(scene, depsgraph=None):
+    try:
+        if depsgraph is None or depsgraph.mode != 'RENDER' or scene.camera is None:
+            return
+        camera_object = scene.camera.evaluated_get(depsgraph)
+        if camera_object.type == 'CAMERA' and camera_object.data.wavecam.enabled:
+            _rendered[(scene.name, scene.frame_current)] = RenderedCamera(depsgraph.scene_eval, camera_object)
+    except Exception as e:  # reported; render_write then falls back to the scene's camera
+        reports.error(f"frame {scene.frame_current}: cannot read the rendered camera: {e}")
+
+
+@persistent
+def on_render_write(scene, *args):
+    try:
+        camera_object = scene.camera
+        if camera_object is None or camera_object.type != 'CAMERA' or not camera_object.data.wavecam.enabled:
+            return
+        out_path = diffract_frame(scene, written_frame_path(scene))
+        reports.info(f"frame {scene.frame_current}: wrote {out_path}")
+        reports.show_image(out_path)
+    except FrameError as e:
+        reports.error(f"frame {scene.frame_current}: {e}")
+    except Exception as e:  # never a crash: anything unforeseen is reported too
+        reports.error(f"frame {scene.frame_current}: unexpected failure: {type(e).__name__}: {e}")
+
+
+_handlers = ((bpy.app.handlers.frame_change_post, on_frame_change_post),
+             (bpy.app.handlers.render_write, on_render_write))
+
+
+def register():
+    for handlers, handler in _handlers:
+        handlers.append(handler)
+
+
+def unregister():
+    for handlers, handler in _handlers:
+        if handler in handlers:
+            handlers.remove(handler)
+    _rendered.clear()

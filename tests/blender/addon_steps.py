@@ -1,0 +1,132 @@
+# Steps of the Blender add-on test, run inside Debian's Blender by blender_addon_test.sh:
+#   blender -b --python addon_steps.py -- install ZIP WAVECAM
+#   blender -b --python addon_steps.py -- scene OUT.blend RENDER_PREFIX (landscape | portrait)
+#   blender -b SCENE.blend --python addon_steps.py -- check FRAME...
+#   blender -b SCENE.blend --python addon_steps.py -- errors
+# The truth for the field of view is written here from the lens and sensor, independently of
+# the add-on: a sensor fit of Auto spans the sensor width across the frame's longer side.
+import math
+import os
+import sys
+
+import bpy
+
+args = sys.argv[sys.argv.index("--") + 1:]
+step = args[0]
+failures = []
+
+
+def expect(ok, message):
+    if not ok:
+        failures.append(message)
+        print("FAIL:", message, flush=True)
+
+
+def install(zip_path, wavecam):
+    bpy.ops.preferences.addon_install(filepath=zip_path)
+    bpy.ops.preferences.addon_enable(module="wavecam_blender")
+    bpy.context.preferences.addons["wavecam_blender"].preferences.wavecam_path = wavecam
+    bpy.ops.wm.save_userpref()
+
+
+def make_scene(blend, prefix, shape):
+    scene = bpy.context.scene
+    scene.render.engine = 'CYCLES'
+    scene.cycles.samples = 2
+    scene.cycles.use_denoising = False  # Debian's build has no OpenImageDenoise
+    scene.cycles.device = 'CPU'
+    scene.render.resolution_x, scene.render.resolution_y = (48, 32) if shape == "landscape" else (32, 48)
+    scene.render.resolution_percentage = 100
+    scene.render.filepath = prefix
+    scene.frame_start, scene.frame_end = 1, 2
+    cam = scene.camera.data
+    cam.sensor_fit = 'AUTO'
+    cam.sensor_width = 36
+    # the lens changes between the two frames: frame 2's fov must follow it
+    cam.lens = 35
+    cam.keyframe_insert("lens", frame=1)
+    cam.lens = 60
+    cam.keyframe_insert("lens", frame=2)
+    cam.wavecam.enabled = True  # turns on the Z pass and OpenEXR MultiLayer
+    cam.wavecam.wavelengths = "3"
+    expect(scene.view_layers[0].use_pass_z, "enabling wavecam turned on the Z pass")
+    expect(scene.render.image_settings.file_format == 'OPEN_EXR_MULTILAYER', "enabling wavecam chose EXR multilayer")
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+
+
+def true_fov(scene, frame):
+    scene.frame_set(frame)
+    cam = scene.camera.data
+    w, h = scene.render.resolution_x, scene.render.resolution_y
+    half = cam.sensor_width / 2 / cam.lens  # tangent of the half angle across the longer side
+    return math.degrees(2 * math.atan(half if w >= h else half * w / h)), cam.lens
+
+
+def check(frames):
+    import OpenImageIO as oiio
+    scene = bpy.context.scene
+    for frame in frames:
+        truth, lens = true_fov(scene, frame)
+        frame_path = scene.render.frame_path(frame=frame)
+        out_path = frame_path[:-len(".exr")] + ".wavecam.exr"
+        expect(os.path.isfile(out_path), f"frame {frame}: {out_path} exists")
+        if not os.path.isfile(out_path):
+            continue
+        blender_spec = oiio.ImageInput.open(frame_path).spec()
+        spec = oiio.ImageInput.open(out_path).spec()
+        for name, s in (("Blender's frame", blender_spec), ("the diffracted frame", spec)):
+            fov = s.getattribute("wavecam.fov")
+            expect(fov is not None and abs(fov - truth) < 0.01,
+                   f"frame {frame}: {name}'s wavecam.fov {fov} vs the camera's {truth:.4f} deg")
+        expect("wavecam.fov" in spec.getattribute("wavecam.fov-from"), f"frame {frame}: fov-from the file's attribute")
+        # film at the lens, the pinhole Rayleigh's 1.9 sqrt(f lambda) at 550 nm
+        film = float(spec.getattribute("wavecam.film-distance")[:-2])
+        pinhole = float(spec.getattribute("wavecam.pinhole")[:-2])
+        optimum = 1.9 * math.sqrt(lens * 1e-3 * 550e-9) * 1e3
+        expect(abs(film - lens) < 1e-3, f"frame {frame}: film distance {film} mm vs lens {lens} mm")
+        expect(abs(pinhole - optimum) < 1e-4, f"frame {frame}: pinhole {pinhole} mm vs optimum {optimum:.5f} mm")
+        expect(list(spec.channelnames) == list(blender_spec.channelnames),
+               f"frame {frame}: channels {list(spec.channelnames)} vs Blender's {list(blender_spec.channelnames)}")
+        print(f"frame {frame}: fov {spec.getattribute('wavecam.fov'):.4f} deg (camera {truth:.4f}), "
+              f"pinhole {pinhole:.4f} mm, {out_path}", flush=True)
+
+
+def errors():
+    """Bad setups are reported (stderr, 'wavecam: error:'), never raised; no frame is written."""
+    scene = bpy.context.scene
+    cam = scene.camera.data
+    prefs = bpy.context.preferences.addons["wavecam_blender"].preferences
+    good = prefs.wavecam_path
+
+    def render(name, diffracted=False):
+        scene.render.filepath = os.path.join(os.path.dirname(bpy.data.filepath), name)
+        bpy.ops.render.render(write_still=True)  # a still: written as NAME.exr
+        out = scene.render.filepath + ".wavecam.exr"
+        expect(os.path.exists(out) == diffracted, f"{name}: diffracted frame {'missing' if diffracted else 'written'}")
+
+    render("still", diffracted=True)  # a good still works
+
+    cam.shift_x = 0.1
+    render("shifted")  # expect: "has shift"
+    cam.shift_x = 0
+    prefs.wavecam_path = "/nonexistent/wavecam"
+    render("nowavecam")  # expect: "wavecam command was not found"
+    prefs.wavecam_path = good
+    cam.wavecam.wavelengths = "banana"
+    render("badsetting")  # expect: wavecam's own message naming --wavelengths
+    cam.wavecam.wavelengths = "3"
+    scene.view_layers[0].use_pass_z = False
+    render("nodepth")  # expect: "has no Z pass"
+
+
+if step == "install":
+    install(args[1], args[2])
+elif step == "scene":
+    make_scene(args[1], args[2], args[3])
+elif step == "check":
+    check([int(f) for f in args[1:]])
+elif step == "errors":
+    errors()
+if failures:
+    print(f"{len(failures)} check(s) failed", flush=True)
+    sys.exit(1)
