@@ -62,6 +62,35 @@ def true_fov(scene, frame):
     return math.degrees(2 * math.atan(half if w >= h else half * w / h)), cam.lens
 
 
+def blender_reads(path):
+    """The layer and passes Blender finds in an EXR (a compositor Image node's outputs)."""
+    scene = bpy.context.scene
+    scene.use_nodes = True
+    node = scene.node_tree.nodes.new("CompositorNodeImage")
+    node.image = bpy.data.images.load(path, check_existing=False)
+    found = (node.layer, [o.name for o in node.outputs if o.enabled])
+    scene.node_tree.nodes.remove(node)
+    return found
+
+
+def tagging_is_lossless(frame_path):
+    """exr_fov.write_fov on a copy: the same pixels, channels and header, plus wavecam.fov."""
+    import shutil
+    import OpenImageIO as oiio
+    from wavecam_blender import exr_fov
+    copy = frame_path[:-4] + ".copy.exr"
+    shutil.copyfile(frame_path, copy)
+    exr_fov.write_fov(copy, 12.5)
+    before, after = oiio.ImageBuf(frame_path), oiio.ImageBuf(copy)
+    expect(before.get_pixels().tobytes() == after.get_pixels().tobytes(), "tagging keeps the pixels")
+    expect(abs(after.spec().getattribute("wavecam.fov") - 12.5) < 1e-6, "tagging writes wavecam.fov")
+    for a in before.spec().extra_attribs:
+        if a.name not in ("wavecam.fov", "oiio:subimages"):
+            expect(after.spec().getattribute(a.name) == a.value, f"tagging keeps {a.name}")
+    expect([f for f in os.listdir(os.path.dirname(copy)) if "tmp" in f] == [], "no temporary left")
+    os.remove(copy)
+
+
 def check(frames):
     import OpenImageIO as oiio
     scene = bpy.context.scene
@@ -70,6 +99,8 @@ def check(frames):
         frame_path = scene.render.frame_path(frame=frame)
         out_path = frame_path[:-len(".exr")] + ".wavecam.exr"
         expect(os.path.isfile(out_path), f"frame {frame}: {out_path} exists")
+        if frame == frames[0]:
+            tagging_is_lossless(frame_path)
         if not os.path.isfile(out_path):
             continue
         blender_spec = oiio.ImageInput.open(frame_path).spec()
@@ -87,6 +118,9 @@ def check(frames):
         expect(abs(pinhole - optimum) < 1e-4, f"frame {frame}: pinhole {pinhole} mm vs optimum {optimum:.5f} mm")
         expect(list(spec.channelnames) == list(blender_spec.channelnames),
                f"frame {frame}: channels {list(spec.channelnames)} vs Blender's {list(blender_spec.channelnames)}")
+        expect(blender_reads(out_path) == blender_reads(frame_path),
+               f"frame {frame}: Blender reads the diffracted frame as {blender_reads(out_path)}, "
+               f"its own as {blender_reads(frame_path)}")
         print(f"frame {frame}: fov {spec.getattribute('wavecam.fov'):.4f} deg (camera {truth:.4f}), "
               f"pinhole {pinhole:.4f} mm, {out_path}", flush=True)
 
