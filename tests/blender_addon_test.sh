@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # The Blender add-on in Debian's Blender, headless, as a user runs it: installed from the zip
 # into temporary BLENDER_USER_* folders, a tiny Cycles scene rendered with `-a` or `-f N`.
-# Usage: blender_addon_test.sh SOURCE_DIR BUILD_DIR (animation | portrait | errors)
+# Usage: blender_addon_test.sh SOURCE_DIR BUILD_DIR (animation | portrait | errors | ui)
+# ui: Blender with its UI under xvfb-run (exit 77, skipped, where xvfb-run is missing).
 set -euo pipefail
 src=$1 build=$2 what=$3
+[ "$what" = ui ] && ! command -v xvfb-run > /dev/null && { echo "xvfb-run not installed: skipped"; exit 77; }
 steps="$src/tests/blender/addon_steps.py"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -34,6 +36,11 @@ errors)
     grep -F -- "wavecam: error: " "$work/errors.log" | grep -qF -- "$expected" ||
       { cat "$work/errors.log"; echo "no reported error containing: $expected"; exit 1; }
   done
-  grep -F "wavecam: error: " "$work/errors.log"
+  grep -E "^wavecam: " "$work/errors.log"
+  ;;
+ui)
+  timeout 240 xvfb-run -a -s "-screen 0 1280x800x24" blender "$work/scene.blend" \
+    --python "$src/tests/blender/ui_steps.py" > "$work/ui.log" 2>&1 || { cat "$work/ui.log"; exit 1; }
+  grep -E "^(wavecam|Info|shown)" "$work/ui.log"
   ;;
 esac

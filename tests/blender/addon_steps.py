@@ -2,7 +2,7 @@
 #   blender -b --python addon_steps.py -- install ZIP WAVECAM
 #   blender -b --python addon_steps.py -- scene OUT.blend RENDER_PREFIX (landscape | portrait)
 #   blender -b SCENE.blend --python addon_steps.py -- check FRAME...
-#   blender -b SCENE.blend --python addon_steps.py -- errors
+#   blender -b SCENE.blend --python addon_steps.py -- errors   (stills, and every refusal)
 # The truth for the field of view is written here from the lens and sensor, independently of
 # the add-on: a sensor fit of Auto spans the sensor width across the frame's longer side.
 import math
@@ -139,6 +139,15 @@ def errors():
         expect(os.path.exists(out) == diffracted, f"{name}: diffracted frame {'missing' if diffracted else 'written'}")
 
     render("still", diffracted=True)  # a good still works
+    # a still Blender does not write (F12): saved from the Render Result into Blender's temp folder
+    bpy.ops.render.render()
+    unsaved = os.path.join(bpy.app.tempdir, f"{scene.name}_{scene.frame_current:04d}.wavecam.exr")
+    expect(os.path.isfile(unsaved), f"unsaved still: {unsaved} written")
+    if os.path.isfile(unsaved):
+        import OpenImageIO as oiio
+        fov = oiio.ImageInput.open(unsaved).spec().getattribute("wavecam.fov")
+        truth = true_fov(scene, scene.frame_current)[0]
+        expect(abs(fov - truth) < 0.01, f"unsaved still: wavecam.fov {fov} vs the camera's {truth:.4f}")
 
     cam.shift_x = 0.1
     render("shifted")  # expect: "has shift"

@@ -1,5 +1,7 @@
-# After Blender writes a frame (render_write: F12 with a file, -f N, -a), the frame's exact
-# field of view goes into its EXR and `wavecam apply` writes NAME.wavecam.exr beside it.
+# After Blender writes a frame (render_write: -f N, -a, a still rendered with a file), the
+# frame's exact field of view goes into its EXR and `wavecam apply` writes NAME.wavecam.exr
+# beside it. A still Blender does not write (F12) is saved from the Render Result into
+# Blender's temporary folder first (render_complete with no render_write before it).
 # Nothing here may raise into Blender: every failure becomes a report.
 #
 # The camera "as rendered" is the render depsgraph's evaluated camera: an animated lens is
@@ -95,10 +97,11 @@ def _command(camera, frame_path, out_path, fov_in_file):
     return cmd
 
 
-def diffract_frame(scene, frame_path):
-    """Tags and diffracts one written frame; returns the diffracted file's path."""
+def diffract_frame(scene, frame_path, camera=None):
+    """Tags and diffracts one written frame; returns the diffracted file's path. `camera`:
+    the frame's RenderedCamera, by default the one captured for it (else the scene's)."""
     _check_output(scene, frame_path)
-    camera = _rendered.pop((scene.name, scene.frame_current), None) or RenderedCamera(scene, scene.camera)
+    camera = camera or _rendered.pop((scene.name, scene.frame_current), None) or RenderedCamera(scene, scene.camera)
     if camera.fov_error:
         raise FrameError(camera.fov_error)
     try:
@@ -128,13 +131,14 @@ def on_frame_change_post(scene, depsgraph=None):
         reports.error(f"frame {scene.frame_current}: cannot read the rendered camera: {e}")
 
 
-@persistent
-def on_render_write(scene, *args):
+def _enabled(scene):
+    camera_object = scene.camera
+    return camera_object is not None and camera_object.type == 'CAMERA' and camera_object.data.wavecam.enabled
+
+
+def _diffract_reported(scene, frame_path_of, camera=None):
     try:
-        camera_object = scene.camera
-        if camera_object is None or camera_object.type != 'CAMERA' or not camera_object.data.wavecam.enabled:
-            return
-        out_path = diffract_frame(scene, written_frame_path(scene))
+        out_path = diffract_frame(scene, frame_path_of(scene), camera)
         reports.info(f"frame {scene.frame_current}: wrote {out_path}")
         reports.show_image(out_path)
     except FrameError as e:
@@ -143,8 +147,50 @@ def on_render_write(scene, *args):
         reports.error(f"frame {scene.frame_current}: unexpected failure: {type(e).__name__}: {e}")
 
 
-_handlers = ((bpy.app.handlers.frame_change_post, on_frame_change_post),
-             (bpy.app.handlers.render_write, on_render_write))
+def unsaved_still_path(scene):
+    """Saves the Render Result (Blender wrote no file) into Blender's temporary folder."""
+    path = os.path.join(bpy.app.tempdir, f"{bpy.path.clean_name(scene.name)}_{scene.frame_current:04d}.exr")
+    bpy.data.images['Render Result'].save_render(path, scene=scene)
+    return path
+
+
+def _diffract_unsaved_still(scene_name, camera):
+    scene = bpy.data.scenes.get(scene_name)
+    if scene is not None:
+        _diffract_reported(scene, unsaved_still_path, camera)
+
+
+_written = set()  # scenes whose current render wrote a file
+
+
+@persistent
+def on_render_init(scene, *args):
+    _written.discard(scene.name)
+
+
+@persistent
+def on_render_write(scene, *args):
+    _written.add(scene.name)
+    if _enabled(scene):
+        _diffract_reported(scene, written_frame_path)
+
+
+@persistent
+def on_render_complete(scene, *args):
+    try:
+        if scene.name not in _written and _enabled(scene):
+            camera = _rendered.pop((scene.name, scene.frame_current), None)
+            reports.on_main_thread(_diffract_unsaved_still, scene.name, camera)
+    except Exception as e:
+        reports.error(f"frame {scene.frame_current}: unexpected failure: {type(e).__name__}: {e}")
+    finally:
+        _rendered.clear()  # captures of frames never written
+
+
+_handlers = ((bpy.app.handlers.render_init, on_render_init),
+             (bpy.app.handlers.frame_change_post, on_frame_change_post),
+             (bpy.app.handlers.render_write, on_render_write),
+             (bpy.app.handlers.render_complete, on_render_complete))
 
 
 def register():

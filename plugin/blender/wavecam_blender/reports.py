@@ -24,6 +24,15 @@ def show_image(path):
         _pending.put(('show', path))
 
 
+def on_main_thread(function, *args):
+    """Runs `function` now in background mode, else soon from the main-thread timer (render
+    handlers may run on the render thread, where Blender's data must not change)."""
+    if bpy.app.background:
+        function(*args)
+    else:
+        _pending.put(('call', function, args))
+
+
 def _emit(level, message):
     stream = sys.stderr if level == 'ERROR' else sys.stdout
     print(f"wavecam: {'error: ' if level == 'ERROR' else ''}{message}", file=stream, flush=True)
@@ -71,10 +80,12 @@ def _drain():
         try:
             if item[0] == 'report':
                 bpy.ops.wavecam.report(level=item[1], message=item[2])
+            elif item[0] == 'call':
+                item[1](*item[2])
             else:
                 _show(item[1])
-        except Exception as e:  # a failed display must not stop later messages
-            print(f"wavecam: error: cannot show {item[-1]}: {e}", file=sys.stderr)
+        except Exception as e:  # one failure must not stop later messages
+            print(f"wavecam: error: {item[0]} {item[1]}: {e}", file=sys.stderr)
     return 0.5
 
 
