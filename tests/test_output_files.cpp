@@ -3,6 +3,7 @@
 // read in any type; no stale camera headers; header values that say what was used.
 #include <gtest/gtest.h>
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
 
 #include <cmath>
 #include <vector>
@@ -203,6 +204,30 @@ TEST(OutputFiles, DisplayFormatsAreDisplayReferredRgbOrRefused) {
         EXPECT_NE(r.status, 0) << refused;
         EXPECT_NE(r.output.find("unsupported output format"), std::string::npos) << refused << ": " << r.output;
         EXPECT_FALSE(fs::exists(dir / refused)) << refused;
+    }
+    fs::remove_all(dir);
+}
+
+// Through the OIIO plugin (loaded into this process): wavecam.fov-from names where the fov came
+// from, and the source's own string wavecam.fov is read as the file's attribute, not as a hint.
+TEST(OutputFiles, PluginSaysWhereTheFieldOfViewCameFrom) {
+    const fs::path dir = scratch("out_plugin_fov");
+    OIIO::attribute("plugin_searchpath", std::string(WAVECAM_PLUGIN_DIR));
+    write_render((dir / "plain.exr").string(), 8, 8, 2.0f, 0.0f);
+    OIIO::ImageBuf tagged = read(dir / "plain.exr");
+    tagged.specmod().attribute("wavecam.fov", "35deg");
+    ASSERT_TRUE(tagged.write((dir / "tagged.exr").string()));
+    const std::string plain = (dir / "plain.exr").string(), with_attr = (dir / "tagged.exr").string();
+    struct Case {
+        std::string name, from;
+        float degrees;
+    } cases[] = {{plain + ".wavecam?fov=40deg&wavelengths=3", "?fov= in the name", 40.0f},
+                 {with_attr + ".wavecam?wavelengths=3", "the file's wavecam.fov attribute", 35.0f}};
+    for (const Case& c : cases) {
+        OIIO::ImageBuf out(c.name);
+        ASSERT_TRUE(out.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << c.name << ": " << out.geterror();
+        EXPECT_EQ(out.spec().get_string_attribute("wavecam.fov-from"), c.from) << c.name;
+        EXPECT_FLOAT_EQ(out.spec().get_float_attribute("wavecam.fov"), c.degrees) << c.name;
     }
     fs::remove_all(dir);
 }
