@@ -149,6 +149,16 @@ def errors():
         truth = true_fov(scene, scene.frame_current)[0]
         expect(abs(fov - truth) < 0.01, f"unsaved still: wavecam.fov {fov} vs the camera's {truth:.4f}")
 
+    # a lossy codec: Blender's file is not rewritten, wavecam is given --fov
+    scene.render.image_settings.exr_codec = 'DWAA'
+    render("lossy", diffracted=True)
+    import OpenImageIO as oiio
+    lossy = oiio.ImageInput.open(scene.render.filepath + ".wavecam.exr").spec()
+    expect(lossy.getattribute("wavecam.fov-from") == "--fov", "lossy: fov-from --fov")
+    expect(oiio.ImageInput.open(scene.render.filepath + ".exr").spec().getattribute("wavecam.fov") is None,
+           "lossy: Blender's file left alone")
+    scene.render.image_settings.exr_codec = 'ZIP'
+
     cam.shift_x = 0.1
     render("shifted")  # expect: "has shift"
     cam.shift_x = 0

@@ -109,6 +109,9 @@ def diffract_frame(scene, frame_path, camera=None):
         fov_in_file = True
     except ImportError:  # Blender without OpenImageIO's Python bindings: wavecam is told instead
         fov_in_file = False
+    except exr_fov.LossyFile as e:
+        reports.info(f"{e}: wavecam is given --fov instead")
+        fov_in_file = False
     except exr_fov.TagError as e:
         raise FrameError(str(e))
     out_path = diffracted_path(frame_path)
