@@ -30,6 +30,14 @@ def tick():
     if not state["rendering"]:
         state["rendering"] = True
         window = bpy.context.window_manager.windows[0]
+        # the camera's data tab in the Properties editor, so the wavecam panel draws (a failing
+        # draw prints a Python traceback, which the test looks for)
+        camera = bpy.context.scene.camera
+        bpy.context.view_layer.objects.active = camera
+        for area in window.screen.areas:
+            if area.type == 'PROPERTIES':
+                area.spaces.active.context = 'DATA'
+                area.tag_redraw()
         with bpy.context.temp_override(window=window, screen=window.screen):
             bpy.ops.render.render('INVOKE_DEFAULT')  # F12
         return 1.0
