@@ -62,13 +62,13 @@ int run_frame(const ApplyFlags& flags, const DiffractOptions& opt, const std::st
     if (!diffract(dst, src, input, opt, flags.threads)) return fail(dst.geterror(), interrupted() ? 130 : 1);
     finish_progress();
     // OpenEXR: scene-linear float, every channel; .png/.jpg/.tif: RGB through the display view
-    auto w = is_exr(output) ? write_image_atomically(dst, output, OIIO::TypeDesc::FLOAT)
-                            : write_display_image(dst, opt, output);
-    if (!w.ok()) return fail(w.error);
+    auto written = is_exr(output) ? write_image_atomically(dst, output, OIIO::TypeDesc::FLOAT)
+                                  : write_display_image(dst, opt, output);
+    if (!written.ok()) return fail(written.error);
     if (!compare.empty())
         if (auto w = write_compare_sheet(src, dst, opt, compare); !w.ok()) return fail(w.error);
     if (!png.empty())
-        if (auto p = write_display_image(dst, opt, png); !p.ok()) return fail(p.error);
+        if (auto w = write_display_image(dst, opt, png); !w.ok()) return fail(w.error);
     std::printf("pinhole %s, %s\n", dst.spec().get_string_attribute("wavecam.pinhole").c_str(),
                 dst.spec().get_string_attribute("wavecam.summary").c_str());
     std::printf("wrote %s\n", output.c_str());

@@ -81,6 +81,7 @@ RenderChannels find_render_channels(const OIIO::ImageSpec& spec, const std::stri
     RenderChannels ch{find_channel(spec, "R"), find_channel(spec, "G"), find_channel(spec, "B"),
                       find_channel(spec, depth_channel)};
     ch.alpha = find_channel(spec, "A");
+    if (ch.alpha == ch.depth) ch.alpha = -1;  // --depth-channel A: depth, not alpha
     return ch;
 }
 
