@@ -41,7 +41,7 @@ errors)
 ui)
   timeout 240 xvfb-run -a -s "-screen 0 1280x800x24" blender "$work/scene.blend" \
     --python "$src/tests/blender/ui_steps.py" > "$work/ui.log" 2>&1 || { cat "$work/ui.log"; exit 1; }
-  grep -E "^(wavecam|Info|shown)" "$work/ui.log"
+  grep -E "^(wavecam|Info|F12|Ctrl|ui:)" "$work/ui.log"
   ! grep -B2 -A12 "^Traceback" "$work/ui.log" || { echo "a Python error in Blender's UI"; exit 1; }
   ;;
 esac

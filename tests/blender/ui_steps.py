@@ -1,15 +1,18 @@
-# The add-on with Blender's UI (run under xvfb-run by blender_addon_test.sh ui): F12 renders a
-# still in the render job's thread and writes no file; the diffracted frame must be saved,
-# made, reported and shown in an Image Editor by the add-on's main-thread timer.
+# The add-on with Blender's UI (run under xvfb-run by blender_addon_test.sh ui), where render
+# handlers run on the render job's thread:
+#   1. F12: a still, no file written; the diffracted frame must be saved, made, reported and
+#      shown in an Image Editor by the add-on's main-thread timer, its fov the camera's.
+#   2. Ctrl+F12: the two-frame animation (lens 35 -> 60 mm) writes both diffracted frames,
+#      each with its own frame's fov, and the last is shown.
 import math
 import os
-import sys
 import time
 
 import bpy
+import OpenImageIO as oiio
 
 start = time.time()
-state = {"rendering": False}
+state = {"phase": 0}
 
 
 def finish(code, message):
@@ -22,38 +25,57 @@ def shown_wavecam_image():
         for area in window.screen.areas:
             image = area.spaces.active.image if area.type == 'IMAGE_EDITOR' else None
             if image is not None and image.filepath.endswith(".wavecam.exr"):
-                return image
+                return bpy.path.abspath(image.filepath)
     return None
 
 
+def fov_of(path):
+    source = oiio.ImageInput.open(path)
+    return source.spec().getattribute("wavecam.fov") if source else None
+
+
+def true_fov(lens):  # the scene's landscape frame, sensor fit Auto
+    return math.degrees(2 * math.atan(bpy.context.scene.camera.data.sensor_width / 2 / lens))
+
+
+def check_fov(path, lens, what):
+    fov, truth = fov_of(path), true_fov(lens)
+    if fov is None or abs(fov - truth) >= 0.01:
+        finish(1, f"FAIL: {what}: {path} wavecam.fov {fov}, camera {truth:.4f}")
+    print(f"{what}: {path}, wavecam.fov {fov:.4f} (camera {truth:.4f})", flush=True)
+
+
+def render(animation):
+    window = bpy.context.window_manager.windows[0]
+    with bpy.context.temp_override(window=window, screen=window.screen):
+        bpy.ops.render.render('INVOKE_DEFAULT', animation=animation)
+
+
 def tick():
-    if not state["rendering"]:
-        state["rendering"] = True
+    scene = bpy.context.scene
+    if state["phase"] == 0:
+        state["phase"] = 1
         window = bpy.context.window_manager.windows[0]
         # the camera's data tab in the Properties editor, so the wavecam panel draws (a failing
         # draw prints a Python traceback, which the test looks for)
-        camera = bpy.context.scene.camera
-        bpy.context.view_layer.objects.active = camera
+        bpy.context.view_layer.objects.active = scene.camera
         for area in window.screen.areas:
             if area.type == 'PROPERTIES':
                 area.spaces.active.context = 'DATA'
                 area.tag_redraw()
-        with bpy.context.temp_override(window=window, screen=window.screen):
-            bpy.ops.render.render('INVOKE_DEFAULT')  # F12
-        return 1.0
-    image = shown_wavecam_image()
-    if image is not None:
-        import OpenImageIO as oiio
-        path = bpy.path.abspath(image.filepath)
-        source = oiio.ImageInput.open(path)
-        fov = source.spec().getattribute("wavecam.fov") if source else None
-        cam = bpy.context.scene.camera.data  # the scene's landscape frame, sensor fit Auto
-        truth = math.degrees(2 * math.atan(cam.sensor_width / 2 / cam.lens))
-        ok = fov is not None and abs(fov - truth) < 0.01
-        finish(0 if ok else 1, f"{'' if ok else 'FAIL: '}shown in an Image Editor: {path}, wavecam.fov {fov} "
-                               f"(camera {truth:.4f})")
-    if time.time() - start > 90:
-        finish(1, "FAIL: no diffracted frame shown in an Image Editor within 90 s")
+        render(animation=False)
+    elif state["phase"] == 1 and shown_wavecam_image():
+        check_fov(shown_wavecam_image(), 35, "F12 still shown in an Image Editor")
+        state["phase"] = 2
+        render(animation=True)
+    elif state["phase"] == 2:
+        last = scene.render.frame_path(frame=2)[:-4] + ".wavecam.exr"
+        if shown_wavecam_image() == last:
+            check_fov(scene.render.frame_path(frame=1)[:-4] + ".wavecam.exr", 35, "Ctrl+F12 frame 1")
+            check_fov(last, 60, "Ctrl+F12 frame 2 shown in an Image Editor")
+            finish(0, "ui: passed")
+    if time.time() - start > 150:
+        finish(1, f"FAIL: phase {state['phase']}: no diffracted frame shown in an Image Editor within 150 s")
     return 0.5
 
 
