@@ -139,6 +139,11 @@ def errors():
         expect(os.path.exists(out) == diffracted, f"{name}: diffracted frame {'missing' if diffracted else 'written'}")
 
     render("still", diffracted=True)  # a good still works
+    # no path in the preferences: wavecam found on PATH
+    prefs.wavecam_path = ""
+    os.environ["PATH"] = os.path.dirname(good) + os.pathsep + os.environ.get("PATH", "")
+    render("onpath", diffracted=True)
+    prefs.wavecam_path = good
     # a still Blender does not write (F12): saved from the Render Result into Blender's temp folder
     bpy.ops.render.render()
     unsaved = os.path.join(bpy.app.tempdir, f"{scene.name}_{scene.frame_current:04d}.wavecam.exr")
