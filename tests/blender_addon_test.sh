@@ -23,10 +23,12 @@ animation)
   grep "wavecam" "$work/render.log"
   "${blender[@]}" "$work/scene.blend" --python "$steps" -- check 1 2 2>&1 | grep -E "^(frame|FAIL|Error|Trace)|check"
   ;;
-portrait)
-  blender -b "$work/scene.blend" -f 1 > "$work/render.log" 2>&1 || { cat "$work/render.log"; exit 1; }
-  grep "wavecam" "$work/render.log"
-  "${blender[@]}" "$work/scene.blend" --python "$steps" -- check 1 2>&1 | grep -E "^(frame|FAIL|Error|Trace)|check"
+portrait)  # sensor fit Auto, then Vertical
+  for blend in scene scene_vertical; do
+    blender -b "$work/$blend.blend" -f 1 > "$work/render.log" 2>&1 || { cat "$work/render.log"; exit 1; }
+    grep "wavecam" "$work/render.log"
+    "${blender[@]}" "$work/$blend.blend" --python "$steps" -- check 1 2>&1 | grep -E "^(frame|FAIL|Error|Trace)|check"
+  done
   ;;
 errors)
   "${blender[@]}" "$work/scene.blend" --python "$steps" -- errors > "$work/errors.log" 2>&1 ||

@@ -52,14 +52,24 @@ def make_scene(blend, prefix, shape):
     expect(scene.view_layers[0].use_pass_z, "enabling wavecam turned on the Z pass")
     expect(scene.render.image_settings.file_format == 'OPEN_EXR_MULTILAYER', "enabling wavecam chose EXR multilayer")
     bpy.ops.wm.save_as_mainfile(filepath=blend)
+    # the same frame with sensor fit Vertical (the sensor height spans the frame's height)
+    cam.sensor_fit = 'VERTICAL'
+    cam.sensor_height = 24
+    scene.render.filepath = prefix + "vertical_"
+    bpy.ops.wm.save_as_mainfile(filepath=blend[:-len(".blend")] + "_vertical.blend")
 
 
 def true_fov(scene, frame):
     scene.frame_set(frame)
     cam = scene.camera.data
     w, h = scene.render.resolution_x, scene.render.resolution_y
-    half = cam.sensor_width / 2 / cam.lens  # tangent of the half angle across the longer side
-    return math.degrees(2 * math.atan(half if w >= h else half * w / h)), cam.lens
+    if cam.sensor_fit == 'VERTICAL':  # tangent of the half angle across the height, scaled to the width
+        half_width = cam.sensor_height / 2 / cam.lens * w / h
+    else:  # the sensor width across the width (Horizontal), or across the longer side (Auto)
+        half_width = cam.sensor_width / 2 / cam.lens
+        if cam.sensor_fit == 'AUTO' and h > w:
+            half_width *= w / h
+    return math.degrees(2 * math.atan(half_width)), cam.lens
 
 
 def blender_reads(path):
