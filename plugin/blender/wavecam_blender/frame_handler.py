@@ -4,18 +4,17 @@
 # Blender's temporary folder first (render_complete with no render_write before it).
 # Nothing here may raise into Blender: every failure becomes a report.
 #
-# The camera "as rendered" is the render depsgraph's evaluated camera: an animated lens is
-# evaluated there, not on the scene render_write receives (checked: with -a, frame 2 still
-# saw frame 1's lens). frame_change_post runs on that depsgraph before each rendered frame, so
-# the camera is captured there, and render_write uses the capture for its frame.
+# The camera "as rendered" is the render depsgraph's evaluated camera (rendered_camera.py):
+# frame_change_post runs on that depsgraph before each rendered frame, so the camera is
+# captured there, and render_write uses the capture for its frame.
 import os
-import subprocess
 
 import bpy
 from bpy.app.handlers import persistent
 
-from . import camera_fov, exr_fov, reports
-from .preferences import wavecam_command
+from . import exr_fov, reports
+from .rendered_camera import RenderedCamera
+from .wavecam_run import WavecamRunError, run_wavecam
 
 SUFFIX = ".wavecam.exr"
 
@@ -61,40 +60,8 @@ def _check_output(scene, frame_path):
         raise FrameError(f"{frame_path}: Blender's frame is not there")
 
 
-class RenderedCamera:
-    """What a frame needs from its camera, copied out (evaluated data does not outlive the frame)."""
-
-    def __init__(self, scene, camera_object):
-        cam, w = camera_object.data, camera_object.data.wavecam
-        try:
-            self.fov, self.fov_error = camera_fov.horizontal_fov_degrees(scene, camera_object), None
-        except camera_fov.FovError as e:
-            self.fov, self.fov_error = None, str(e)
-        self.film_distance_mm = w.film_distance_mm(cam)
-        self.pinhole_mm = None if w.auto_pinhole else w.pinhole  # None: wavecam's optimum for the film
-        self.wavelengths = w.wavelengths.replace(" ", "")
-        self.method = w.method
-        self.runs = w.runs
-
-
 # (scene name, frame) -> RenderedCamera captured from the render depsgraph
 _rendered = {}
-
-
-def _command(camera, frame_path, out_path, fov_in_file):
-    exe = wavecam_command()
-    if not exe:
-        raise FrameError("the wavecam command was not found: install wavecam, or set its path in "
-                         "Preferences > Add-ons > wavecam")
-    cmd = [exe, "apply", frame_path, "-o", out_path, "--film-distance", f"{camera.film_distance_mm:.9g}mm",
-           "--wavelengths", camera.wavelengths, "--method", camera.method]
-    if camera.pinhole_mm is not None:
-        cmd += ["--pinhole", f"{camera.pinhole_mm:.9g}mm"]
-    if camera.method == 'exact':
-        cmd += ["--runs", str(camera.runs)]
-    if not fov_in_file:
-        cmd += ["--fov", f"{camera.fov:.9g}deg"]
-    return cmd
 
 
 def diffract_frame(scene, frame_path, camera=None):
@@ -115,10 +82,10 @@ def diffract_frame(scene, frame_path, camera=None):
     except exr_fov.TagError as e:
         raise FrameError(str(e))
     out_path = diffracted_path(frame_path)
-    run = subprocess.run(_command(camera, frame_path, out_path, fov_in_file), capture_output=True, text=True)
-    if run.returncode != 0:
-        lines = [l for l in (run.stderr + run.stdout).splitlines() if l.strip()]
-        raise FrameError(lines[-1] if lines else f"wavecam exited with status {run.returncode}")
+    try:
+        run_wavecam(camera, frame_path, out_path, fov_in_file)
+    except WavecamRunError as e:
+        raise FrameError(str(e))
     return out_path
 
 
