@@ -68,7 +68,8 @@ std::string missing_fov_message(const OIIO::ImageSpec& spec) {
                     "' attribute; give the render's horizontal field of view with --fov (e.g. --fov 50deg)";
     const bool blender = spec.find_attribute("BlenderMultiChannel") || find_channel(spec, "Combined.R") >= 0;
     if (blender)
-        m += ". For a Blender render: enable wavecam's Blender add-on (it writes " + std::string(kFovAttribute) +
+        m += ". For a Blender render: install and enable wavecam's Blender add-on "
+             "(share/wavecam/blender/wavecam_blender.zip; it writes " + std::string(kFovAttribute) +
              " into each frame and runs wavecam), or pass --fov 2*atan(x/z) in degrees with x, z of the widest corner "
              "of camera.data.view_frame(scene=scene) (that is 2*atan(sensor_width/2/lens) only for a landscape "
              "frame with sensor fit Auto or Horizontal and no shift)";
