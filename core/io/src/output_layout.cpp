@@ -50,7 +50,10 @@ Result<bool> fill_output(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const R
     const int np = int(passed.size());
     std::vector<float> kept(n * np);
     const OIIO::ImageBuf src_kept = OIIO::ImageBufAlgo::channels(src, np, passed);
-    if (!src_kept.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, kept.data()))
+    OIIO::ROI region = dst.roi();  // the output's pixels, should it cover less than the source
+    region.chbegin = 0;
+    region.chend = np;
+    if (!src_kept.get_pixels(region, OIIO::TypeDesc::FLOAT, kept.data()))
         return Result<bool>::failure("cannot read the alpha and depth channels: " + src_kept.geterror());
     std::vector<float> out(n * nc);
     for (size_t p = 0; p < n; ++p) {
