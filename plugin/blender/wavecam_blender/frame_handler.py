@@ -30,8 +30,8 @@ def diffracted_path(frame_path):
 
 
 def written_frame_path(scene):
-    """The file Blender just wrote: an animation frame (-a, -f N) is named by frame_path, a
-    still (F12 then save, render(write_still=True)) is the output path itself with the
+    """The file Blender just wrote: an animation frame (-a, -f N, Ctrl+F12) is named by
+    frame_path, a still written by render(write_still=True) is the output path itself with the
     format's extension. Where both exist, the newer is the one just written."""
     frame = scene.render.frame_path(frame=scene.frame_current)
     still = bpy.path.abspath(scene.render.filepath)
