@@ -21,6 +21,9 @@ PACKAGES=(
   fonts-dejavu-core
   # POV-Ray comparison renders
   povray povray-includes
+  # the Blender add-on's tests (headless Cycles renders; the add-on tags EXRs through OIIO's
+  # Python; its UI test runs Blender in a virtual X server)
+  blender xvfb xauth
 )
 
 missing=()

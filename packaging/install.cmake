@@ -4,6 +4,7 @@
 #   include/wavecam/*.h                       their headers
 #   lib[/<arch>]/wavecam/wavecam.imageio.so     the OIIO plugin: put this folder on OIIO_LIBRARY_PATH
 #   share/wavecam/ocio/wavecam.ocio           the OCIO config (found by the libraries by default)
+#   share/wavecam/blender/wavecam_blender.zip the Blender add-on (Preferences > Add-ons > Install)
 #   lib[/<arch>]/cmake/wavecam/                 find_package(wavecam) -> wavecam::core, wavecam::io
 #   share/doc/wavecam/copyright               the licences (Apache-2.0; CLI11, toml++ compiled in)
 include(CMakePackageConfigHelpers)
@@ -23,6 +24,7 @@ install(TARGETS wavecam_imageio LIBRARY DESTINATION ${WAVECAM_PLUGIN_INSTALL_DIR
 install(FILES ocio_configs/wavecam.ocio DESTINATION ${WAVECAM_OCIO_INSTALL_DIR})
 # Debian's place for the licence: /usr/share/doc/wavecam/copyright (machine-readable format).
 install(FILES packaging/copyright DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(FILES ${WAVECAM_BLENDER_ZIP} DESTINATION ${CMAKE_INSTALL_DATADIR}/wavecam/blender)
 
 install(EXPORT wavecamTargets NAMESPACE wavecam:: DESTINATION ${WAVECAM_CMAKE_INSTALL_DIR})
 configure_package_config_file(packaging/wavecamConfig.cmake.in
@@ -45,4 +47,6 @@ set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "libopenimageio-dev, libopencolorio-dev, libkissfft-dev")
 set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
 set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
+# the Blender add-on runs in Debian's Blender and tags frames through OIIO's Python bindings
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "blender, python3-openimageio")
 include(CPack)

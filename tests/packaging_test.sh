@@ -24,7 +24,7 @@ deb)
   for f in './usr/bin/wavecam' './usr/lib(/[a-z0-9_-]+)?/wavecam/wavecam.imageio.so' \
            './usr/share/wavecam/ocio/wavecam.ocio' './usr/include/wavecam/psf.h' './usr/include/wavecam/diffract_image.h' \
            './usr/lib(/[a-z0-9_-]+)?/cmake/wavecam/wavecamConfig.cmake' './usr/lib(/[a-z0-9_-]+)?/libwavecam.a' \
-           './usr/share/doc/wavecam/copyright'; do
+           './usr/share/doc/wavecam/copyright' './usr/share/wavecam/blender/wavecam_blender.zip'; do
     grep -Eq " $f\$" <<< "$contents" || { echo "missing from the .deb: $f"; exit 1; }
   done
   # installed as a user would: the command and the plugin find their own config

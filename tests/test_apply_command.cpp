@@ -92,7 +92,7 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
         {"inf.exr", "", "expected finite radiance"},
         {"nandepth.exr", "", "channel 'Z' at pixel (3, 2)"},
         {"zero.exr", "", "expected a distance > 0"},
-        {"widefov.exr", "", "below 180"},
+        {"widefov.exr", "", "between 0 and 180"},
         {"tiny.exr", "", "at least 2x2"},
         {"text.exr", "", "text.exr"},
         {"truncated.exr", "", "truncated.exr"},

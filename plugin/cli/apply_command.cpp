@@ -2,6 +2,7 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -29,6 +30,22 @@ int fail(const std::string& message, int status = 1) {
     return status;
 }
 
+bool is_exr(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".exr";
+}
+
+// Output names are checked before any work: OpenEXR, or a display-referred PNG, JPEG or TIFF.
+std::string unsupported_output(const ApplyFlags& flags) {
+    if (!is_exr(flags.output) && display_format(flags.output) == OIIO::TypeDesc::UNKNOWN)
+        return flags.output + ": unsupported output format; expected .exr (scene-linear float, alpha and depth "
+                              "kept) or a display-referred .png, .jpg (8-bit) or .tif (16-bit), RGB only";
+    if (!flags.png.empty() && display_format(flags.png) == OIIO::TypeDesc::UNKNOWN)
+        return "--png " + flags.png + ": expected a .png, .jpg or .tif name";
+    return {};
+}
+
 // One frame: read, diffract, write (and the pictures for people).
 int run_frame(const ApplyFlags& flags, DiffractPlan& plan, const std::string& input,
               const std::string& output, const std::string& compare, const std::string& png) {
@@ -45,11 +62,14 @@ int run_frame(const ApplyFlags& flags, DiffractPlan& plan, const std::string& in
     if (!plan.diffract(dst, src, input, flags.threads)) return fail(dst.geterror(), interrupted() ? 130 : 1);
     const DiffractOptions& opt = plan.options();
     finish_progress();
-    if (auto w = write_image_atomically(dst, output, OIIO::TypeDesc::FLOAT); !w.ok()) return fail(w.error);
+    // OpenEXR: scene-linear float, every channel; .png/.jpg/.tif: RGB through the display view
+    auto written = is_exr(output) ? write_image_atomically(dst, output, OIIO::TypeDesc::FLOAT)
+                                  : write_display_image(dst, opt, output);
+    if (!written.ok()) return fail(written.error);
     if (!compare.empty())
         if (auto w = write_compare_sheet(src, dst, opt, compare); !w.ok()) return fail(w.error);
     if (!png.empty())
-        if (auto w = write_display_png(dst, opt, png); !w.ok()) return fail(w.error);
+        if (auto w = write_display_image(dst, opt, png); !w.ok()) return fail(w.error);
     std::printf("pinhole %s, %s\n", dst.spec().get_string_attribute("wavecam.pinhole").c_str(),
                 dst.spec().get_string_attribute("wavecam.summary").c_str());
     std::printf("wrote %s\n", output.c_str());
@@ -76,6 +96,7 @@ int run(const ApplyFlags& flags) {
     auto options = front::options_from_settings(settings);
     if (!options.ok()) return fail("--" + options.error, 2);
     DiffractOptions opt = options.value;
+    if (const std::string bad = unsupported_output(flags); !bad.empty()) return fail(bad, 2);
     if (flags.frames.empty()) {
         opt.progress = terminal_progress("apply");
         DiffractPlan plan(opt);
@@ -115,7 +136,9 @@ void add_apply_command(CLI::App& app, int& status) {
     auto f = std::make_shared<ApplyFlags>();
     CLI::App* cmd = app.add_subcommand("apply", "Diffract a render (RGB radiance + depth) through a real pinhole");
     cmd->add_option("input", f->input, "Input EXR: linear RGB radiance and depth")->required();
-    cmd->add_option("-o,--output", f->output, "Output EXR (float RGB + the depth channel)")->required();
+    cmd->add_option("-o,--output", f->output,
+                    "Output: .exr (float RGB, the input's alpha and depth, its channel names) or a display-referred "
+                    ".png/.jpg (8-bit) or .tif (16-bit), RGB through the sRGB display's Standard view")->required();
     for (const auto& [key, help] : front::setting_keys()) {
         if (key == "jitter" || key == "vignetting") continue;  // flags below
         cmd->add_option_function<std::string>("--" + key, [f, key = key](const std::string& v) { f->given[key] = v; },

@@ -3,6 +3,10 @@
 #include <OpenImageIO/color.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
 #include "wavecam/atomic_write.h"
 #include "wavecam/colour_pipeline.h"
 
@@ -32,14 +36,31 @@ void label(OIIO::ImageBuf& img, int x, const std::string& text) {
 
 }  // namespace
 
-Result<bool> write_display_png(const OIIO::ImageBuf& output, const DiffractOptions& opt, const std::string& path) {
+OIIO::TypeDesc display_format(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") return OIIO::TypeDesc::UINT8;
+    if (ext == ".tif" || ext == ".tiff") return OIIO::TypeDesc::UINT16;
+    return OIIO::TypeDesc::UNKNOWN;
+}
+
+Result<bool> write_display_image(const OIIO::ImageBuf& output, const DiffractOptions& opt, const std::string& path) {
+    const OIIO::TypeDesc format = display_format(path);
+    if (format == OIIO::TypeDesc::UNKNOWN)
+        return Result<bool>::failure(path + ": expected a display-referred .png, .jpg or .tif name");
     auto config = load_colour_config(opt.colorconfig);
     if (!config.ok()) return Result<bool>::failure(config.error);
     OIIO::ColorConfig cc(config.value.path());
     const int rgb[3] = {0, 1, 2};
     auto shown = to_display(first_three(output, rgb), output.spec().get_string_attribute("oiio:ColorSpace"), cc);
     if (!shown.ok()) return Result<bool>::failure(path + ": " + shown.error);
-    return write_image_atomically(shown.value, path, OIIO::TypeDesc::UINT8);
+    // the header says what the pixels now are: display-encoded RGB, one layer
+    OIIO::ImageSpec& spec = shown.value.specmod();
+    spec.erase_attribute("BlenderMultiChannel");
+    spec.erase_attribute("wavecam.output-colorspace");
+    spec.attribute("wavecam.display", kDisplay);
+    spec.attribute("wavecam.view", kView);
+    return write_image_atomically(shown.value, path, format);
 }
 
 Result<bool> write_compare_sheet(const OIIO::ImageBuf& input, const OIIO::ImageBuf& output,

@@ -135,17 +135,21 @@ private:
         namespace front = wavecam::front;
         front::Settings settings;
         const std::string path = split_query(name, settings);
+        // where a fov setting came from, for the output's wavecam.fov-from
+        std::string fov_from = settings.count("fov") ? "?fov= in the name" : "";
         // hints: --iconfig wavecam:KEY VALUE
         for (const ParamValue& p : config.extra_attribs) {
             const std::string n = p.name().string();
             if (n.rfind("wavecam:", 0) == 0 && !settings.count(n.substr(8))) settings[n.substr(8)] = p.get_string();
         }
+        if (fov_from.empty() && settings.count("fov")) fov_from = "--iconfig wavecam:fov";
         std::string source;
         if (is_file(path)) {  // a description file
             auto d = front::read_description(path);
             if (!d.ok()) return fail(d.error);
             source = d.value.source;
             for (const auto& [k, v] : d.value.settings) settings.emplace(k, v);  // hints win
+            if (fov_from.empty() && settings.count("fov")) fov_from = "fov in " + path;
         } else {
             source = path.substr(0, path.size() - std::strlen(kExtension));
         }
@@ -165,7 +169,7 @@ private:
         }
         if (t_opening.count(source)) return fail(source + ": refers to itself through the wavecam plugin");
         t_opening.insert(source);
-        auto image = compute(source, settings);
+        auto image = compute(source, settings, fov_from);
         t_opening.erase(source);
         if (!image) return false;
         {
@@ -175,22 +179,25 @@ private:
         return publish(image, newspec);
     }
 
-    std::shared_ptr<const ImageBuf> compute(const std::string& source, wavecam::front::Settings settings) {
+    std::shared_ptr<const ImageBuf> compute(const std::string& source, wavecam::front::Settings settings,
+                                            const std::string& fov_from) {
         ImageBuf src(source);
         if (!src.read(0, 0, true, TypeDesc::FLOAT)) {
             const std::string e = src.geterror();
             fail(source + ": " + (e.empty() ? "cannot be read as an image" : e));
             return nullptr;
         }
-        // the source's own wavecam.KEY metadata, where no hint gave the key
+        // the source's own wavecam.KEY metadata, where no hint gave the key (not its wavecam.fov:
+        // the diffraction reads that itself, in any type, and says it came from the file)
         for (const auto& [key, help] : wavecam::front::setting_keys())
-            if (const ParamValue* p = src.spec().find_attribute("wavecam." + key, TypeDesc::STRING))
+            if (const ParamValue* p = src.spec().find_attribute("wavecam." + key, TypeDesc::STRING); p && key != "fov")
                 settings.emplace(key, p->get_string());
         auto options = wavecam::front::options_from_settings(settings);
         if (!options.ok()) {
             fail(source + ": " + options.error);
             return nullptr;
         }
+        if (!fov_from.empty()) options.value.read.fov_from = fov_from;
         std::string plan_key;
         for (const auto& [k, v] : settings) plan_key += k + "=" + v + "\n";
         std::shared_ptr<wavecam::DiffractPlan> plan;

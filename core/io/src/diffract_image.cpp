@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "wavecam/colour_pipeline.h"
+#include "wavecam/output_layout.h"
 #include "wavecam/pinhole_design.h"
 #include "wavecam/source.h"
 #include "wavecam/spectral_diffraction.h"
@@ -179,17 +180,13 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     if (auto c = config.value.convert_from_xyz(pixels.data(), pixels.size() / 3, out_space); !c.ok())
         return fail(c.error);
 
-    // Output: float R, G, B in the output space, then the source's depth channel unchanged.
-    OIIO::ImageSpec spec = in.spec;
-    spec.width = spec.full_width = out_w;
+    // Output: float R, G, B in the output space under the input's names, then its alpha and depth
+    // unchanged; the input's header less what described the ideal camera (output_layout.h).
+    const RenderChannels channels = find_render_channels(src.spec(), opt.read.depth_channel);
+    OIIO::ImageSpec spec = output_header(src.spec(), channels);
+    spec.width = spec.full_width = out_w;  // the frame without its overscan margin
     spec.height = spec.full_height = out_h;
     spec.x = spec.y = spec.full_x = spec.full_y = 0;
-    spec.nchannels = 4;
-    spec.channelnames = {"R", "G", "B", in.depth_channel};
-    spec.alpha_channel = -1;
-    spec.z_channel = 3;
-    spec.set_format(OIIO::TypeDesc::FLOAT);
-    spec.channelformats.clear();
     spec.attribute("oiio:ColorSpace", out_space);
     spec.attribute("wavecam.pinhole", with_unit(s.aperture.diameter, 1e-3, "mm"));
     spec.attribute("wavecam.aperture", s.aperture.shape == ApertureShape::Circle ? "circle" : "square");
@@ -206,12 +203,14 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     spec.attribute("wavecam.method", opt.method == DiffractMethod::Fast    ? "fast"
                                      : opt.method == DiffractMethod::Exact ? "exact"
                                                                            : "incoherent");
-    spec.attribute("wavecam.runs", s.runs);
-    spec.attribute("wavecam.seed", std::to_string(s.seed));
-    spec.attribute("wavecam.film-subsamples",
-                   s.film_subsamples > 0 ? s.film_subsamples
-                                         : auto_film_subsamples(s.aperture, camera, sampling.value.wavelength[0]));
-    spec.attribute("wavecam.jitter", s.jitter ? "true" : "false");
+    if (opt.method != DiffractMethod::Fast) {  // what only the exact sums use
+        if (opt.method == DiffractMethod::Exact) spec.attribute("wavecam.runs", s.runs);
+        spec.attribute("wavecam.seed", std::to_string(s.seed));
+        spec.attribute("wavecam.film-subsamples",
+                       s.film_subsamples > 0 ? s.film_subsamples
+                                             : auto_film_subsamples(s.aperture, camera, sampling.value.wavelength[0]));
+        spec.attribute("wavecam.jitter", s.jitter ? "true" : "false");
+    }
     spec.attribute("wavecam.vignetting", opt.vignetting ? "true" : "false");
     spec.attribute("wavecam.input-colorspace", in_space);
     spec.attribute("wavecam.output-colorspace", out_space);
@@ -222,19 +221,12 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     std::ostringstream summary;
     summary << sampling.value.wavelength.size() << " wavelengths, ";
     if (opt.method == DiffractMethod::Fast) summary << "fast method";
-    else summary << s.runs << " runs, " << terms << " terms";
+    else if (opt.method == DiffractMethod::Exact) summary << s.runs << " runs, " << terms << " terms";
+    else summary << "incoherent sum, " << terms << " terms";
     spec.attribute("wavecam.summary", summary.str());
 
     dst.reset(spec);
-    std::vector<float> out(4 * size_t(out_w) * out_h);
-    for (int j = 0; j < out_h; ++j)
-        for (int i = 0; i < out_w; ++i) {
-            const size_t p = size_t(j) * out_w + i;
-            for (int k = 0; k < 3; ++k) out[4 * p + k] = pixels[3 * p + k];
-            out[4 * p + 3] = in.depth[size_t(j + o) * in.width + i + o];
-        }
-    if (!dst.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, out.data()))
-        return fail(name + ": cannot fill the output image: " + dst.geterror());
+    if (auto f = fill_output(dst, src, channels, o, pixels.data()); !f.ok()) return fail(name + ": " + f.error);
     return true;
 }
 

@@ -3,7 +3,10 @@
 #include <OpenImageIO/imagebufalgo.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
+
+#include "wavecam/units.h"
 
 namespace wavecam {
 namespace {
@@ -30,11 +33,57 @@ std::string channel_list(const OIIO::ImageSpec& spec) {
     return s;
 }
 
+// The header's horizontal field of view in radians (0 when the attribute is absent). Degrees as
+// a float or an int (`oiiotool --attrib wavecam.fov 40` writes an int), or a string: a bare
+// number in degrees ("40") or an angle with its unit ("40deg", "0.7rad").
+Result<double> header_fov(const OIIO::ImageSpec& spec) {
+    const OIIO::ParamValue* p = spec.find_attribute(kFovAttribute);
+    if (!p) return Result<double>::success(0);
+    const OIIO::TypeDesc t = p->type();
+    const bool scalar = t.aggregate == OIIO::TypeDesc::SCALAR && t.arraylen == 0;
+    Result<double> fov = Result<double>::failure(std::string(kFovAttribute) +
+                                                 ": expected degrees as a number or a string such as \"40deg\", "
+                                                 "got a value of type " + t.c_str());
+    if (t == OIIO::TypeDesc::STRING) {
+        const std::string text = p->get_string();
+        char* end = nullptr;
+        const double deg = std::strtod(text.c_str(), &end);
+        fov = !text.empty() && *end == '\0' ? Result<double>::success(deg * M_PI / 180.0)
+                                             : parse_angle(text, kFovAttribute);
+    } else if (scalar && t.is_floating_point()) {
+        fov = Result<double>::success(p->get_float() * M_PI / 180.0);
+    } else if (scalar && t.basetype >= OIIO::TypeDesc::UINT8 && t.basetype <= OIIO::TypeDesc::INT64) {
+        // (OIIO 2.4's get_float reads an int attribute as 0)
+        fov = Result<double>::success(p->get_int() * M_PI / 180.0);
+    }
+    if (fov.ok() && !(fov.value > 0 && fov.value < M_PI))
+        return Result<double>::failure(std::string(kFovAttribute) + " is " + std::to_string(fov.value * 180 / M_PI) +
+                                       " degrees, expected a field of view between 0 and 180 degrees");
+    return fov;
+}
+
+// What to do when the file carries no field of view; a Blender render is told how to get one.
+std::string missing_fov_message(const OIIO::ImageSpec& spec) {
+    std::string m = std::string("no field of view: the file has no '") + kFovAttribute +
+                    "' attribute; give the render's horizontal field of view with --fov (e.g. --fov 50deg)";
+    const bool blender = spec.find_attribute("BlenderMultiChannel") || find_channel(spec, "Combined.R") >= 0;
+    if (blender)
+        m += ". For a Blender render: install and enable wavecam's Blender add-on "
+             "(share/wavecam/blender/wavecam_blender.zip; it writes " + std::string(kFovAttribute) +
+             " into each frame and runs wavecam), or pass --fov 2*atan(x/z) in degrees with x, z of the widest corner "
+             "of camera.data.view_frame(scene=scene) (that is 2*atan(sensor_width/2/lens) only for a landscape "
+             "frame with sensor fit Auto or Horizontal and no shift)";
+    return m;
+}
+
 }  // namespace
 
 RenderChannels find_render_channels(const OIIO::ImageSpec& spec, const std::string& depth_channel) {
-    return {find_channel(spec, "R"), find_channel(spec, "G"), find_channel(spec, "B"),
-            find_channel(spec, depth_channel)};
+    RenderChannels ch{find_channel(spec, "R"), find_channel(spec, "G"), find_channel(spec, "B"),
+                      find_channel(spec, depth_channel)};
+    ch.alpha = find_channel(spec, "A");
+    if (ch.alpha == ch.depth) ch.alpha = -1;  // --depth-channel A: depth, not alpha
+    return ch;
 }
 
 Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& name, const RenderReadOptions& opt) {
@@ -87,15 +136,13 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
 
     if (opt.fov_h > 0) {
         in.fov_h = opt.fov_h;
-        in.fov_from = "--fov";
-    } else if (const float deg = spec.get_float_attribute(kFovAttribute, 0.0f); deg > 0) {
-        if (!(deg < 180)) return fail(std::string(kFovAttribute) + " is " + std::to_string(deg) +
-                                      ", expected a field of view in degrees below 180");
-        in.fov_h = deg * M_PI / 180.0;
-        in.fov_from = kFovAttribute;
+        in.fov_from = opt.fov_from;
     } else {
-        return fail(std::string("no field of view: the file has no '") + kFovAttribute +
-                    "' attribute; give the render's horizontal field of view with --fov (e.g. --fov 50deg)");
+        auto fov = header_fov(spec);
+        if (!fov.ok()) return fail(fov.error);
+        if (fov.value == 0) return fail(missing_fov_message(spec));
+        in.fov_h = fov.value;
+        in.fov_from = std::string("the file's ") + kFovAttribute + " attribute";
     }
     return Result<RenderInput>::success(std::move(in));
 }

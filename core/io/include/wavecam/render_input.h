@@ -12,6 +12,7 @@ namespace wavecam {
 struct RenderReadOptions {
     std::string depth_channel = "Z";  // also matches a layer prefix: "ViewLayer.Depth.Z"
     double fov_h = 0;                 // radians; 0 = from the file's metadata
+    std::string fov_from = "--fov";   // where fov_h came from, for the output's wavecam.fov-from
 };
 
 // Radiance and depth as plain arrays, plus what the file says about itself.
@@ -26,14 +27,16 @@ struct RenderInput {
     OIIO::ImageSpec spec;      // the source's header, for carrying metadata through
 };
 
-// The attribute our tracer (and any renderer that wants to) writes: horizontal field of view
-// in degrees. Without it, the field of view must be given.
+// The attribute our tracer, our Blender add-on (and any renderer that wants to) writes:
+// horizontal field of view in degrees, as a float, an int or a string ("40", "40deg",
+// "0.7rad"). Without it, the field of view must be given.
 constexpr const char* kFovAttribute = "wavecam.fov";
 
 // Channel indices of R, G, B and depth (-1 where missing): the exact name first, then a layer
 // prefix such as "ViewLayer.Combined.R" (a "Combined" layer preferred) or "ViewLayer.Depth.Z".
 struct RenderChannels {
     int r = -1, g = -1, b = -1, depth = -1;
+    int alpha = -1;  // "A" or "<layer>.A", optional
 };
 RenderChannels find_render_channels(const OIIO::ImageSpec& spec, const std::string& depth_channel);
 

@@ -1,0 +1,28 @@
+// The output file's layout: the input's own channel names and header, less what described the
+// ideal pinhole camera it was rendered with, so a renderer reads wavecam's image back as its
+// own (a Blender multilayer file stays one layer: ViewLayer.Combined.R/G/B/A, ViewLayer.Depth.Z).
+#pragma once
+#include <OpenImageIO/imagebuf.h>
+#include <string>
+#include "wavecam/render_input.h"
+#include "wavecam/result.h"
+
+namespace wavecam {
+
+// Whether an input header attribute describes the ideal camera or an earlier wavecam run, and
+// so would be stale in the diffracted image: lens and focal length (Blender's `Lens`, EXIF and
+// OpenEXR lens fields), camera matrices (`worldToCamera`, `worldToNDC`), the renderer's
+// statistics (`cycles.*`), and `wavecam.*` (rewritten for this run; `wavecam.scene` is kept).
+bool is_stale_camera_attribute(const std::string& name);
+
+// The output's header: the input's, stale attributes dropped, channels R, G, B named as the
+// input names them, then its alpha (if any) and its depth channel, all float.
+OIIO::ImageSpec output_header(const OIIO::ImageSpec& input, const RenderChannels& channels);
+
+// Fills `dst` (already reset to output_header's spec, cropped by `margin` pixels of overscan
+// on every side): R, G, B from `rgb` (interleaved), alpha and depth copied unchanged from the
+// same pixels of `src`.
+Result<bool> fill_output(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const RenderChannels& channels, int margin,
+                         const float* rgb);
+
+}  // namespace wavecam

@@ -1,0 +1,29 @@
+# wavecam for Blender: after each rendered frame, the image a real pinhole camera makes.
+#
+# A panel on the camera (Properties > Camera data > wavecam) sets the pinhole; when on, every
+# frame Blender writes (F12 with a file, `blender -b scene.blend -f N` or `-a`) gets its exact
+# horizontal field of view written into its EXR as `wavecam.fov`, and `wavecam apply` writes
+# the diffracted frame beside it as NAME.wavecam.exr.
+bl_info = {
+    "name": "wavecam",
+    "author": "wavecam developers",
+    "version": (0, 1, 0),
+    "blender": (3, 4, 0),
+    "location": "Properties > Camera > wavecam",
+    "description": "Diffract each rendered frame through a real pinhole with the wavecam command",
+    "category": "Render",
+}
+
+from . import camera_settings, frame_handler, panel, preferences, reports
+
+_modules = (preferences, camera_settings, panel, reports, frame_handler)
+
+
+def register():
+    for m in _modules:
+        m.register()
+
+
+def unregister():
+    for m in reversed(_modules):
+        m.unregister()

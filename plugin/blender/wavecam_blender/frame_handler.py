@@ -1,0 +1,175 @@
+# After Blender writes a frame (render_write: -f N, -a, a still rendered with a file), the
+# frame's exact field of view goes into its EXR and `wavecam apply` writes NAME.wavecam.exr
+# beside it. A still Blender does not write (F12) is saved from the Render Result into
+# Blender's temporary folder first (render_complete with no render_write before it).
+# Nothing here may raise into Blender: every failure becomes a report.
+#
+# The camera "as rendered" is the render depsgraph's evaluated camera (rendered_camera.py):
+# frame_change_post runs on that depsgraph before each rendered frame, so the camera is
+# captured there, and render_write uses the capture for its frame.
+import os
+
+import bpy
+from bpy.app.handlers import persistent
+
+from . import exr_fov, reports
+from .rendered_camera import RenderedCamera
+from .wavecam_run import WavecamRunError, run_wavecam
+
+SUFFIX = ".wavecam.exr"
+
+
+class FrameError(Exception):
+    pass
+
+
+def diffracted_path(frame_path):
+    """shot_0001.exr -> shot_0001.wavecam.exr"""
+    stem, ext = os.path.splitext(frame_path)
+    return (stem if ext.lower() == ".exr" else frame_path) + SUFFIX
+
+
+def written_frame_path(scene):
+    """The file Blender just wrote: an animation frame (-a, -f N, Ctrl+F12) is named by
+    frame_path, a still written by render(write_still=True) is the output path itself with the
+    format's extension. Where both exist, the newer is the one just written."""
+    frame = scene.render.frame_path(frame=scene.frame_current)
+    still = bpy.path.abspath(scene.render.filepath)
+    if scene.render.use_file_extension:
+        stem, ext = os.path.splitext(still)
+        still = (stem if ext.lower() in {".exr", ".png", ".jpg", ".jpeg", ".tif", ".tiff"} else still) + ".exr"
+    existing = [p for p in (frame, still) if os.path.isfile(p)]
+    return max(existing, key=os.path.getmtime) if existing else frame
+
+
+def _check_output(scene, frame_path):
+    image = scene.render.image_settings
+    if image.file_format not in {'OPEN_EXR', 'OPEN_EXR_MULTILAYER'}:
+        raise FrameError(f"the frame was saved as {image.file_format}; wavecam needs OpenEXR "
+                         "(Output > Output > File Format: OpenEXR MultiLayer)")
+    if image.file_format == 'OPEN_EXR' and not image.use_zbuffer:
+        raise FrameError("the OpenEXR output has no depth: tick Z Buffer, or use OpenEXR MultiLayer")
+    layers = [layer for layer in scene.view_layers if layer.use]
+    if image.file_format == 'OPEN_EXR_MULTILAYER':
+        if len(layers) != 1:
+            raise FrameError(f"{len(layers)} view layers render into one file; wavecam diffracts one: "
+                             "untick 'Use for Rendering' on all but one")
+        if not layers[0].use_pass_z:
+            raise FrameError(f"view layer '{layers[0].name}' has no Z pass (View Layer > Passes > Z)")
+    if not os.path.isfile(frame_path):
+        raise FrameError(f"{frame_path}: Blender's frame is not there")
+
+
+# (scene name, frame) -> RenderedCamera captured from the render depsgraph
+_rendered = {}
+
+
+def diffract_frame(scene, frame_path, camera=None):
+    """Tags and diffracts one written frame; returns the diffracted file's path. `camera`:
+    the frame's RenderedCamera, by default the one captured for it (else the scene's)."""
+    _check_output(scene, frame_path)
+    camera = camera or _rendered.pop((scene.name, scene.frame_current), None) or RenderedCamera(scene, scene.camera)
+    if camera.fov_error:
+        raise FrameError(camera.fov_error)
+    try:
+        exr_fov.write_fov(frame_path, camera.fov)
+        fov_in_file = True
+    except ImportError:  # Blender without OpenImageIO's Python bindings: wavecam is told instead
+        fov_in_file = False
+    except exr_fov.LossyFile as e:
+        reports.info(f"{e}: wavecam is given --fov instead")
+        fov_in_file = False
+    except exr_fov.TagError as e:
+        raise FrameError(str(e))
+    out_path = diffracted_path(frame_path)
+    try:
+        run_wavecam(camera, frame_path, out_path, fov_in_file)
+    except WavecamRunError as e:
+        raise FrameError(str(e))
+    return out_path
+
+
+@persistent
+def on_frame_change_post(scene, depsgraph=None):
+    try:
+        if depsgraph is None or depsgraph.mode != 'RENDER' or scene.camera is None:
+            return
+        camera_object = scene.camera.evaluated_get(depsgraph)
+        if camera_object.type == 'CAMERA' and camera_object.data.wavecam.enabled:
+            _rendered[(scene.name, scene.frame_current)] = RenderedCamera(depsgraph.scene_eval, camera_object)
+    except Exception as e:  # reported; render_write then falls back to the scene's camera
+        reports.error(f"frame {scene.frame_current}: cannot read the rendered camera: {e}")
+
+
+def _enabled(scene):
+    camera_object = scene.camera
+    return camera_object is not None and camera_object.type == 'CAMERA' and camera_object.data.wavecam.enabled
+
+
+def _diffract_reported(scene, frame_path_of, camera=None):
+    try:
+        out_path = diffract_frame(scene, frame_path_of(scene), camera)
+        reports.info(f"frame {scene.frame_current}: wrote {out_path}")
+        reports.show_image(out_path)
+    except FrameError as e:
+        reports.error(f"frame {scene.frame_current}: {e}")
+    except Exception as e:  # never a crash: anything unforeseen is reported too
+        reports.error(f"frame {scene.frame_current}: unexpected failure: {type(e).__name__}: {e}")
+
+
+def unsaved_still_path(scene):
+    """Saves the Render Result (Blender wrote no file) into Blender's temporary folder."""
+    path = os.path.join(bpy.app.tempdir, f"{bpy.path.clean_name(scene.name)}_{scene.frame_current:04d}.exr")
+    bpy.data.images['Render Result'].save_render(path, scene=scene)
+    return path
+
+
+def _diffract_unsaved_still(scene_name, camera):
+    scene = bpy.data.scenes.get(scene_name)
+    if scene is not None:
+        _diffract_reported(scene, unsaved_still_path, camera)
+
+
+_written = set()  # scenes whose current render wrote a file
+
+
+@persistent
+def on_render_init(scene, *args):
+    _written.discard(scene.name)
+
+
+@persistent
+def on_render_write(scene, *args):
+    _written.add(scene.name)
+    if _enabled(scene):
+        _diffract_reported(scene, written_frame_path)
+
+
+@persistent
+def on_render_complete(scene, *args):
+    try:
+        if scene.name not in _written and _enabled(scene):
+            camera = _rendered.pop((scene.name, scene.frame_current), None)
+            reports.on_main_thread(_diffract_unsaved_still, scene.name, camera)
+    except Exception as e:
+        reports.error(f"frame {scene.frame_current}: unexpected failure: {type(e).__name__}: {e}")
+    finally:
+        _rendered.clear()  # captures of frames never written
+
+
+_handlers = ((bpy.app.handlers.render_init, on_render_init),
+             (bpy.app.handlers.frame_change_post, on_frame_change_post),
+             (bpy.app.handlers.render_write, on_render_write),
+             (bpy.app.handlers.render_complete, on_render_complete))
+
+
+def register():
+    for handlers, handler in _handlers:
+        handlers.append(handler)
+
+
+def unregister():
+    for handlers, handler in _handlers:
+        if handler in handlers:
+            handlers.remove(handler)
+    _rendered.clear()

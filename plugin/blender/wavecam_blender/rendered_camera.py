@@ -1,0 +1,18 @@
+# What a frame needs from its camera, copied out of Blender's data: the render depsgraph's
+# evaluated camera (an animated lens is evaluated there, not on the scene that render_write
+# receives; checked: with -a, frame 2 saw frame 1's lens there) does not outlive the frame.
+from . import camera_fov
+
+
+class RenderedCamera:
+    def __init__(self, scene, camera_object):
+        cam, w = camera_object.data, camera_object.data.wavecam
+        try:
+            self.fov, self.fov_error = camera_fov.horizontal_fov_degrees(scene, camera_object), None
+        except camera_fov.FovError as e:
+            self.fov, self.fov_error = None, str(e)
+        self.film_distance_mm = w.film_distance_mm(cam)
+        self.pinhole_mm = None if w.auto_pinhole else w.pinhole  # None: wavecam's optimum for the film
+        self.wavelengths = w.wavelengths.replace(" ", "")
+        self.method = w.method
+        self.runs = w.runs

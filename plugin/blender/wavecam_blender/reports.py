@@ -1,0 +1,101 @@
+# Messages and results reach the user without touching Blender's data from the render thread:
+# in background mode they are printed (stdout for information, stderr for errors); with a UI
+# they are queued and a main-thread timer turns them into operator reports (status bar, Info
+# editor) and shows the diffracted frame in an Image Editor.
+import os
+import queue
+import sys
+
+import bpy
+
+_pending = queue.Queue()
+
+
+def info(message):
+    _emit('INFO', message)
+
+
+def error(message):
+    _emit('ERROR', message)
+
+
+def show_image(path):
+    if not bpy.app.background:
+        _pending.put(('show', path))
+
+
+def on_main_thread(function, *args):
+    """Runs `function` now in background mode, else soon from the main-thread timer (render
+    handlers may run on the render thread, where Blender's data must not change)."""
+    if bpy.app.background:
+        function(*args)
+    else:
+        _pending.put(('call', function, args))
+
+
+def _emit(level, message):
+    stream = sys.stderr if level == 'ERROR' else sys.stdout
+    print(f"wavecam: {'error: ' if level == 'ERROR' else ''}{message}", file=stream, flush=True)
+    if not bpy.app.background:
+        _pending.put(('report', level, message))
+
+
+class WAVECAM_OT_report(bpy.types.Operator):
+    """Shows a wavecam message in Blender's reports"""
+    bl_idname = "wavecam.report"
+    bl_label = "wavecam report"
+    bl_options = {'INTERNAL'}
+
+    level: bpy.props.EnumProperty(items=[('INFO', "Info", ""), ('ERROR', "Error", "")])
+    message: bpy.props.StringProperty()
+
+    def execute(self, context):
+        self.report({self.level}, self.message)
+        return {'FINISHED'}
+
+
+def _load(path):
+    for image in bpy.data.images:
+        if image.filepath and os.path.abspath(bpy.path.abspath(image.filepath)) == os.path.abspath(path):
+            image.reload()
+            return image
+    return bpy.data.images.load(path)
+
+
+def _show(path):
+    image = _load(path)
+    editors = [area.spaces.active for window in bpy.context.window_manager.windows
+               for area in window.screen.areas if area.type == 'IMAGE_EDITOR']
+    # an editor showing nothing or an earlier wavecam frame first, else the render view
+    free = [s for s in editors if s.image is None or s.image.filepath.endswith(".wavecam.exr")]
+    for space in free or [s for s in editors if s.image and s.image.type == 'RENDER_RESULT'][:1]:
+        space.image = image
+    if not editors:
+        info(f"{os.path.basename(path)} loaded as image '{image.name}'; open it in an Image Editor")
+
+
+def _drain():
+    while not _pending.empty():
+        item = _pending.get()
+        try:
+            if item[0] == 'report':
+                bpy.ops.wavecam.report(level=item[1], message=item[2])
+            elif item[0] == 'call':
+                item[1](*item[2])
+            else:
+                _show(item[1])
+        except Exception as e:  # one failure must not stop later messages
+            print(f"wavecam: error: {item[0]} {item[1]}: {e}", file=sys.stderr)
+    return 0.5
+
+
+def register():
+    bpy.utils.register_class(WAVECAM_OT_report)
+    if not bpy.app.background:
+        bpy.app.timers.register(_drain, first_interval=0.5, persistent=True)
+
+
+def unregister():
+    if bpy.app.timers.is_registered(_drain):
+        bpy.app.timers.unregister(_drain)
+    bpy.utils.unregister_class(WAVECAM_OT_report)

@@ -1,0 +1,200 @@
+# Steps of the Blender add-on test, run inside Debian's Blender by blender_addon_test.sh:
+#   blender -b --python addon_steps.py -- install ZIP WAVECAM
+#   blender -b --python addon_steps.py -- scene OUT.blend RENDER_PREFIX (landscape | portrait)
+#   blender -b SCENE.blend --python addon_steps.py -- check FRAME...
+#   blender -b SCENE.blend --python addon_steps.py -- errors   (stills, and every refusal)
+# The truth for the field of view is written here from the lens and sensor, independently of
+# the add-on: a sensor fit of Auto spans the sensor width across the frame's longer side.
+import math
+import os
+import sys
+
+import bpy
+
+args = sys.argv[sys.argv.index("--") + 1:]
+step = args[0]
+failures = []
+
+
+def expect(ok, message):
+    if not ok:
+        failures.append(message)
+        print("FAIL:", message, flush=True)
+
+
+def install(zip_path, wavecam):
+    bpy.ops.preferences.addon_install(filepath=zip_path)
+    bpy.ops.preferences.addon_enable(module="wavecam_blender")
+    bpy.context.preferences.addons["wavecam_blender"].preferences.wavecam_path = wavecam
+    bpy.ops.wm.save_userpref()
+
+
+def make_scene(blend, prefix, shape):
+    scene = bpy.context.scene
+    scene.render.engine = 'CYCLES'
+    scene.cycles.samples = 2
+    scene.cycles.use_denoising = False  # Debian's build has no OpenImageDenoise
+    scene.cycles.device = 'CPU'
+    scene.render.resolution_x, scene.render.resolution_y = (48, 32) if shape == "landscape" else (32, 48)
+    scene.render.resolution_percentage = 100
+    scene.render.filepath = prefix
+    scene.frame_start, scene.frame_end = 1, 2
+    cam = scene.camera.data
+    cam.sensor_fit = 'AUTO'
+    cam.sensor_width = 36
+    # the lens changes between the two frames: frame 2's fov must follow it
+    cam.lens = 35
+    cam.keyframe_insert("lens", frame=1)
+    cam.lens = 60
+    cam.keyframe_insert("lens", frame=2)
+    cam.wavecam.enabled = True  # turns on the Z pass and OpenEXR MultiLayer
+    cam.wavecam.wavelengths = "3"
+    expect(scene.view_layers[0].use_pass_z, "enabling wavecam turned on the Z pass")
+    expect(scene.render.image_settings.file_format == 'OPEN_EXR_MULTILAYER', "enabling wavecam chose EXR multilayer")
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+    # the same frame with sensor fit Vertical (the sensor height spans the frame's height)
+    cam.sensor_fit = 'VERTICAL'
+    cam.sensor_height = 24
+    scene.render.filepath = prefix + "vertical_"
+    bpy.ops.wm.save_as_mainfile(filepath=blend[:-len(".blend")] + "_vertical.blend")
+
+
+def true_fov(scene, frame):
+    scene.frame_set(frame)
+    cam = scene.camera.data
+    w, h = scene.render.resolution_x, scene.render.resolution_y
+    if cam.sensor_fit == 'VERTICAL':  # tangent of the half angle across the height, scaled to the width
+        half_width = cam.sensor_height / 2 / cam.lens * w / h
+    else:  # the sensor width across the width (Horizontal), or across the longer side (Auto)
+        half_width = cam.sensor_width / 2 / cam.lens
+        if cam.sensor_fit == 'AUTO' and h > w:
+            half_width *= w / h
+    return math.degrees(2 * math.atan(half_width)), cam.lens
+
+
+def blender_reads(path):
+    """The layer and passes Blender finds in an EXR (a compositor Image node's outputs)."""
+    scene = bpy.context.scene
+    scene.use_nodes = True
+    node = scene.node_tree.nodes.new("CompositorNodeImage")
+    node.image = bpy.data.images.load(path, check_existing=False)
+    found = (node.layer, [o.name for o in node.outputs if o.enabled])
+    scene.node_tree.nodes.remove(node)
+    return found
+
+
+def tagging_is_lossless(frame_path):
+    """exr_fov.write_fov on a copy: the same pixels, channels and header, plus wavecam.fov."""
+    import shutil
+    import OpenImageIO as oiio
+    from wavecam_blender import exr_fov
+    copy = frame_path[:-4] + ".copy.exr"
+    shutil.copyfile(frame_path, copy)
+    exr_fov.write_fov(copy, 12.5)
+    before, after = oiio.ImageBuf(frame_path), oiio.ImageBuf(copy)
+    expect(before.get_pixels().tobytes() == after.get_pixels().tobytes(), "tagging keeps the pixels")
+    expect(abs(after.spec().getattribute("wavecam.fov") - 12.5) < 1e-6, "tagging writes wavecam.fov")
+    for a in before.spec().extra_attribs:
+        if a.name not in ("wavecam.fov", "oiio:subimages"):
+            expect(after.spec().getattribute(a.name) == a.value, f"tagging keeps {a.name}")
+    expect([f for f in os.listdir(os.path.dirname(copy)) if "tmp" in f] == [], "no temporary left")
+    os.remove(copy)
+
+
+def check(frames):
+    import OpenImageIO as oiio
+    scene = bpy.context.scene
+    for frame in frames:
+        truth, lens = true_fov(scene, frame)
+        frame_path = scene.render.frame_path(frame=frame)
+        out_path = frame_path[:-len(".exr")] + ".wavecam.exr"
+        expect(os.path.isfile(out_path), f"frame {frame}: {out_path} exists")
+        if frame == frames[0]:
+            tagging_is_lossless(frame_path)
+        if not os.path.isfile(out_path):
+            continue
+        blender_spec = oiio.ImageInput.open(frame_path).spec()
+        spec = oiio.ImageInput.open(out_path).spec()
+        for name, s in (("Blender's frame", blender_spec), ("the diffracted frame", spec)):
+            fov = s.getattribute("wavecam.fov")
+            expect(fov is not None and abs(fov - truth) < 0.01,
+                   f"frame {frame}: {name}'s wavecam.fov {fov} vs the camera's {truth:.4f} deg")
+        expect("wavecam.fov" in spec.getattribute("wavecam.fov-from"), f"frame {frame}: fov-from the file's attribute")
+        # film at the lens, the pinhole Rayleigh's 1.9 sqrt(f lambda) at 550 nm
+        film = float(spec.getattribute("wavecam.film-distance")[:-2])
+        pinhole = float(spec.getattribute("wavecam.pinhole")[:-2])
+        optimum = 1.9 * math.sqrt(lens * 1e-3 * 550e-9) * 1e3
+        expect(abs(film - lens) < 1e-3, f"frame {frame}: film distance {film} mm vs lens {lens} mm")
+        expect(abs(pinhole - optimum) < 1e-4, f"frame {frame}: pinhole {pinhole} mm vs optimum {optimum:.5f} mm")
+        expect(list(spec.channelnames) == list(blender_spec.channelnames),
+               f"frame {frame}: channels {list(spec.channelnames)} vs Blender's {list(blender_spec.channelnames)}")
+        expect(blender_reads(out_path) == blender_reads(frame_path),
+               f"frame {frame}: Blender reads the diffracted frame as {blender_reads(out_path)}, "
+               f"its own as {blender_reads(frame_path)}")
+        print(f"frame {frame}: fov {spec.getattribute('wavecam.fov'):.4f} deg (camera {truth:.4f}), "
+              f"pinhole {pinhole:.4f} mm, {out_path}", flush=True)
+
+
+def errors():
+    """Bad setups are reported (stderr, 'wavecam: error:'), never raised; no frame is written."""
+    scene = bpy.context.scene
+    cam = scene.camera.data
+    prefs = bpy.context.preferences.addons["wavecam_blender"].preferences
+    good = prefs.wavecam_path
+
+    def render(name, diffracted=False):
+        scene.render.filepath = os.path.join(os.path.dirname(bpy.data.filepath), name)
+        bpy.ops.render.render(write_still=True)  # a still: written as NAME.exr
+        out = scene.render.filepath + ".wavecam.exr"
+        expect(os.path.exists(out) == diffracted, f"{name}: diffracted frame {'missing' if diffracted else 'written'}")
+
+    render("still", diffracted=True)  # a good still works
+    # no path in the preferences: wavecam found on PATH
+    prefs.wavecam_path = ""
+    os.environ["PATH"] = os.path.dirname(good) + os.pathsep + os.environ.get("PATH", "")
+    render("onpath", diffracted=True)
+    prefs.wavecam_path = good
+    # a still Blender does not write (F12): saved from the Render Result into Blender's temp folder
+    bpy.ops.render.render()
+    unsaved = os.path.join(bpy.app.tempdir, f"{scene.name}_{scene.frame_current:04d}.wavecam.exr")
+    expect(os.path.isfile(unsaved), f"unsaved still: {unsaved} written")
+    if os.path.isfile(unsaved):
+        import OpenImageIO as oiio
+        fov = oiio.ImageInput.open(unsaved).spec().getattribute("wavecam.fov")
+        truth = true_fov(scene, scene.frame_current)[0]
+        expect(abs(fov - truth) < 0.01, f"unsaved still: wavecam.fov {fov} vs the camera's {truth:.4f}")
+
+    # a lossy codec: Blender's file is not rewritten, wavecam is given --fov
+    scene.render.image_settings.exr_codec = 'DWAA'
+    render("lossy", diffracted=True)
+    import OpenImageIO as oiio
+    lossy = oiio.ImageInput.open(scene.render.filepath + ".wavecam.exr").spec()
+    expect(lossy.getattribute("wavecam.fov-from") == "--fov", "lossy: fov-from --fov")
+    expect(oiio.ImageInput.open(scene.render.filepath + ".exr").spec().getattribute("wavecam.fov") is None,
+           "lossy: Blender's file left alone")
+    scene.render.image_settings.exr_codec = 'ZIP'
+
+    cam.shift_x = 0.1
+    render("shifted")  # expect: "has shift"
+    cam.shift_x = 0
+    prefs.wavecam_path = "/nonexistent/wavecam"
+    render("nowavecam")  # expect: "wavecam command was not found"
+    prefs.wavecam_path = good
+    cam.wavecam.wavelengths = "banana"
+    render("badsetting")  # expect: wavecam's own message naming --wavelengths
+    cam.wavecam.wavelengths = "3"
+    scene.view_layers[0].use_pass_z = False
+    render("nodepth")  # expect: "has no Z pass"
+
+
+if step == "install":
+    install(args[1], args[2])
+elif step == "scene":
+    make_scene(args[1], args[2], args[3])
+elif step == "check":
+    check([int(f) for f in args[1:]])
+elif step == "errors":
+    errors()
+if failures:
+    print(f"{len(failures)} check(s) failed", flush=True)
+    sys.exit(1)
