@@ -9,6 +9,7 @@
 #include "wavecam/pinhole_design.h"
 #include "wavecam/source.h"
 #include "wavecam/spectral_diffraction.h"
+#include "wavecam/term_rate.h"
 
 namespace wavecam {
 namespace {
@@ -99,13 +100,22 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     s.nthreads = nthreads;
     const double terms = estimate_terms(opt, camera, in.depth, opt.depth_meaning);
+    std::ostringstream job;
+    job << in.width << "x" << in.height << " pixels x " << sampling.value.wavelength.size() << " wavelengths x "
+        << (s.method == CoherenceMethod::Incoherent ? 1 : s.runs) << " runs";
     if (terms > opt.max_terms) {
+        const double rate = measured_term_rate(nthreads);
         std::ostringstream m;
-        m << name << ": " << in.width << "x" << in.height << " pixels x " << sampling.value.wavelength.size()
-          << " wavelengths x " << s.runs << " runs = " << terms << " terms, beyond --max-terms " << opt.max_terms
-          << " (about an hour on 2 cores); lower --runs, --wavelengths or the image size, or raise --max-terms";
+        const double seconds = terms / rate;
+        m << name << ": " << job.str() << " = " << terms << " terms, about "
+          << (seconds < 5400 ? std::to_string(long(std::ceil(seconds / 60))) + " min"
+                             : std::to_string(long(std::round(seconds / 3600))) + " h")
+          << " at the " << rate << " terms/s measured here, beyond --max-terms " << opt.max_terms
+          << "; lower --runs, --wavelengths or the image size, raise --max-terms, or share the work out "
+             "(--part K/N, wavecam farm)";
         return fail(m.str());
     }
+    if (opt.on_estimate && opt.method != DiffractMethod::Fast) opt.on_estimate(job.str(), terms);
 
     if (const double bytes = estimate_memory(opt, camera); bytes > opt.max_memory) {
         std::ostringstream m;
@@ -120,8 +130,9 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
     fast.nthreads = nthreads;
     auto r = opt.method == DiffractMethod::Fast
                  ? diffract_fast(scene, basis.value, s.aperture, opt.vignetting, pixels.data(), fast, opt.progress)
-                 : diffract_spectral(scene, basis.value, s.aperture, wave_propagator(s), opt.vignetting,
-                                     pixels.data(), opt.progress);
+                 : diffract_spectral(scene, basis.value, s.aperture,
+                                     opt.exact_propagator ? opt.exact_propagator : wave_propagator(s),
+                                     opt.vignetting, pixels.data(), opt.progress);
     if (!r.ok()) return fail(r.error == "cancelled" ? name + ": interrupted" : name + ": " + r.error);
     if (auto c = config.value.convert_from_xyz(pixels.data(), pixels.size() / 3, out_space); !c.ok())
         return fail(c.error);
