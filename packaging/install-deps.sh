@@ -21,6 +21,8 @@ PACKAGES=(
   fonts-dejavu-core
   # POV-Ray comparison renders
   povray povray-includes
+  # wavecam farm's test: a one-node Slurm cluster (tests/slurm_cluster.sh)
+  slurm-wlm munge
 )
 
 missing=()

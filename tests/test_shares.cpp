@@ -129,7 +129,7 @@ TEST(Shares, BadSetsAreRefusedNamingTheShareAndNothingIsWritten) {
         std::string parts, expected;
     };
     const std::vector<Case> cases = {
-        {"p1.exr p3.exr", "share 2 of 3 missing"},
+        {"p1.exr p3.exr", "share 2/3 missing (given: 2 of 3)"},
         {"p1.exr p2.exr copy2.exr p3.exr", "share 2/3 (copy2.exr): given twice (also p2.exr)"},
         {"p1.exr seed2.exr p3.exr", "share 2/3 (seed2.exr): another seed: seed '8' (the other shares: '7')"},
         {"p1.exr pinhole2.exr p3.exr", "share 2/3 (pinhole2.exr): another setting: pinhole '0.12mm' (the other shares: '0.1mm')"},

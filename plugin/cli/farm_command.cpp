@@ -50,7 +50,7 @@ fs::path farm_dir(const std::string& output) {
     return fs::path(absolute(output)).parent_path() / (name + ".farm");
 }
 
-// One frame of the job (the frame number 0 and tag "frame" for a single image).
+// One frame of the job (the frame number 0 and tag "image" for a single image).
 struct Frame {
     int number = 0;
     std::string tag, input, output;
@@ -167,7 +167,7 @@ Result<bool> report_status(const std::string& output) {
     const auto frames = frames_of(job);
     for (size_t i = 0; i < frames.size(); ++i) {
         const Frame& f = frames[i];
-        std::string line = "frame " + f.tag + ": ";
+        std::string line = (f.tag == "image" ? "image" : "frame " + f.tag) + ": ";
         if (frame_merged(f)) {
             line += "merged -> " + f.output;
             ++merged;
@@ -219,7 +219,7 @@ int submit(const FarmFlags& flags) {
     // The frames: one image, or a range of patterns.
     std::vector<Frame> frames;
     if (flags.frames.empty()) {
-        frames.push_back({0, "frame", absolute(flags.input), absolute(flags.output), {}});
+        frames.push_back({0, "image", absolute(flags.input), absolute(flags.output), {}});
     } else {
         std::vector<int> numbers;
         if (!OIIO::Filesystem::enumerate_sequence(flags.frames, numbers) || numbers.empty())
@@ -363,7 +363,7 @@ int submit(const FarmFlags& flags) {
         if (!id.ok()) return fail(id.error);
         record << "merge-job." << i << "=" << id.value << "\n";
         waiting.push_back(id.value);
-        std::printf("farm: frame %s: merge job %s\n", f.tag.c_str(), id.value.c_str());
+        std::printf("farm: %s%s: merge job %s\n", f.tag == "image" ? "" : "frame ", f.tag.c_str(), id.value.c_str());
     }
     if (auto w = write_text(farm / "job.txt", record.str()); !w.ok()) return fail(w.error);
     if (!flags.wait) return 0;

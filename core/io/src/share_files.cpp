@@ -293,11 +293,10 @@ Result<bool> check_part_set(const std::vector<PartFile>& parts) {
     }
     std::string missing;
     for (int k = 1; k <= count; ++k)
-        if (!seen.count(k)) missing += (missing.empty() ? "" : ", ") + std::to_string(k);
+        if (!seen.count(k)) missing += (missing.empty() ? "" : ", ") + std::to_string(k) + "/" + std::to_string(count);
     if (!missing.empty())
         problems.push_back("share" + std::string(missing.find(',') == std::string::npos ? " " : "s ") + missing +
-                           " of " + std::to_string(count) + " missing (given: " + std::to_string(seen.size()) +
-                           " of " + std::to_string(count) + ")");
+                           " missing (given: " + std::to_string(seen.size()) + " of " + std::to_string(count) + ")");
     if (problems.empty()) return Result<bool>::success(true);
     std::string all;
     for (const auto& m : problems) all += (all.empty() ? "" : "\n") + m;
