@@ -269,6 +269,7 @@ int submit(const FarmFlags& flags) {
                 "measured here; with every task running at once, about %s\n",
                 frames.size(), frames.size() == 1 ? "" : "s", flags.tasks, total, core_hours, core_rate,
                 format_duration(total / frames.size() / flags.tasks / (core_rate * flags.cpus)).c_str());
+    std::fflush(stdout);
 
     // A previous submission still in the queue would compute the same shares twice.
     const fs::path farm = farm_dir(flags.output);
