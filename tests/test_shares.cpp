@@ -23,6 +23,16 @@ struct Fixture {
     std::string input;
     explicit Fixture(const std::string& name) : dir(scratch(name)), input((dir / "in.exr").string()) {
         write_render(input, 24, 16, 2.0f, 30.0f);
+        // saturated primaries: their spectra go negative at some wavelengths, so parts carry
+        // the negative channels too
+        OIIO::ImageBuf in(input);
+        in.read(0, 0, true, OIIO::TypeDesc::FLOAT);
+        for (int j = 10; j < 14; ++j) {
+            in.setpixel(2, j, std::vector<float>{1, 0, 0, 2}.data());
+            in.setpixel(12, j, std::vector<float>{0, 0, 1, 2}.data());
+            in.setpixel(20, j, std::vector<float>{0, 1, 0, 2}.data());
+        }
+        in.write(input);
     }
     ~Fixture() { fs::remove_all(dir); }
     std::string path(const std::string& f) const { return (dir / f).string(); }
@@ -88,6 +98,9 @@ TEST(Shares, MergeEqualsTheSingleMachineRun) {
             auto r = f.part(k, n, "n" + std::to_string(n) + "_part" + std::to_string(k) + ".exr");
             ASSERT_EQ(r.status, 0) << r.output;
         }
+        OIIO::ImageBuf last(f.path("n" + std::to_string(n) + "_part" + std::to_string(n) + ".exr"));
+        ASSERT_TRUE(last.read());
+        EXPECT_GE(last.spec().channelindex("w002.r001.neg"), 0) << "the test should cover negative power";
         const std::string out = "merged" + std::to_string(n) + ".exr";
         auto m = f.merge("'n" + std::to_string(n) + "_part*.exr'", out);
         ASSERT_EQ(m.status, 0) << m.output;

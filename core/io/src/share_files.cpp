@@ -36,11 +36,19 @@ std::string channel_name(int w, int r, int sign) {
     return s;
 }
 
+// Channel by channel in name order: OpenEXR stores channels sorted by name, whatever order
+// they were written in.
 std::string pixel_checksum(const OIIO::ImageBuf& image) {
-    std::vector<float> px(image.spec().image_pixels() * image.nchannels());
+    const size_t n = image.spec().image_pixels(), C = size_t(image.nchannels());
+    std::vector<float> px(n * C);
     image.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, px.data());
+    std::map<std::string, size_t> by_name;
+    for (size_t c = 0; c < C; ++c) by_name[image.spec().channelnames[c]] = c;
     Fnv1a f;
-    f.add(px.data(), px.size() * sizeof(float));
+    for (const auto& [name, c] : by_name) {
+        f.add(name.data(), name.size());
+        for (size_t p = 0; p < n; ++p) f.add(&px[p * C + c], sizeof(float));
+    }
     return f.hex();
 }
 
@@ -143,7 +151,6 @@ bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::
 
     // Each unit of the share, computed on its own into a zeroed image and kept by name.
     std::map<std::string, std::vector<float>> units;
-    std::vector<std::string> order;
     double done = 0;
     DiffractOptions run = opt;
     run.max_terms = INFINITY;  // bounded above, by the share's own terms
@@ -167,14 +174,14 @@ bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::
             std::vector<float> irradiance(size_t(in.width) * in.height, 0.0f);
             if (auto rr = diffract_monochrome(mono, wavelength, unit, irradiance.data(), report); !rr.ok()) return rr;
             if (mono.sign > 0) done += weight;
-            const std::string name = channel_name(mono.spectral_index, r, mono.sign);
-            order.push_back(name);
-            units[name] = std::move(irradiance);
+            units[channel_name(mono.spectral_index, r, mono.sign)] = std::move(irradiance);
         }
         return Result<bool>::success(true);
     };
     OIIO::ImageBuf whole;
     if (!diffract(whole, src, input_path, run, nthreads)) return fail(whole.geterror());
+    std::vector<std::string> order;  // by name, as OpenEXR stores them
+    for (const auto& unit : units) order.push_back(unit.first);
 
     // The part: the share's rows of every unit, and the whole job's header plus what was summed.
     OIIO::ImageSpec spec = whole.spec();
