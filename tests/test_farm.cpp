@@ -123,3 +123,28 @@ TEST_F(Farm, FramesGoThroughOneArrayWithAMergePerFrame) {
     ASSERT_EQ(second.status, 0) << second.output;
     EXPECT_TRUE(images_equal(path("single2.exr"), path("out.0002.exr")));
 }
+
+TEST_F(Farm, FastSequencesGoThroughTheArrayInFrameChunks) {
+    for (int f = 1; f <= 3; ++f) {
+        char name[32];
+        std::snprintf(name, sizeof name, "seq.%04d.exr", f);
+        write_render(path(name), 24, 16, 1.0f + f, 30.0f);
+    }
+    const std::string fast = " --film-distance 20mm --pinhole 0.1mm --wavelengths 3 ";
+    auto r = run_command(kWavecam + " farm submit " + path("seq.#.exr") + " -o " + path("fast.#.exr") + fast +
+                         " --tasks 2 --frames 1-3 --wait");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("3 frames, fast method"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("3 to make in 2 tasks"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("3 of 3 frames done"), std::string::npos) << r.output;
+    // each frame is the image the same command makes on one machine, on one thread as the task did
+    auto single = run_command(kWavecam + " apply " + path("seq.0003.exr") + " -o " + path("fast3.exr") + fast +
+                              " --threads 1");
+    ASSERT_EQ(single.status, 0) << single.output;
+    EXPECT_TRUE(images_equal(path("fast3.exr"), path("fast.0003.exr")));
+    // a re-submit finds every frame made
+    auto again = run_command(kWavecam + " farm submit " + path("seq.#.exr") + " -o " + path("fast.#.exr") + fast +
+                             " --tasks 2 --frames 1-3 --wait");
+    EXPECT_EQ(again.status, 0) << again.output;
+    EXPECT_NE(again.output.find("0 to make in 0 tasks"), std::string::npos) << again.output;
+}

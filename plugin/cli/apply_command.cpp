@@ -90,6 +90,10 @@ int run_frame(const ApplyFlags& flags, const DiffractOptions& opt, const std::st
     OIIO::ImageBuf dst;
     if (!diffract(dst, src, input, opt, flags.threads)) return fail(dst.geterror(), interrupted() ? 130 : 1);
     finish_progress();
+    // the job this image is (input bytes and settings): `wavecam farm` skips frames already made
+    if (auto fingerprint = file_fingerprint(input); fingerprint.ok())
+        dst.specmod().attribute("wavecam.job", job_fingerprint(fingerprint.value, recorded_settings(
+                                                                   flags.given, flags.no_vignetting, flags.no_jitter)));
     if (auto w = write_image_atomically(dst, output, OIIO::TypeDesc::FLOAT); !w.ok()) return fail(w.error);
     if (!compare.empty())
         if (auto w = write_compare_sheet(src, dst, opt, compare); !w.ok()) return fail(w.error);

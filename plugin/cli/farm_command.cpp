@@ -2,7 +2,8 @@
 // per frame x share, each `wavecam apply --part K/N`) and one merge job per frame that waits for
 // that frame's tasks (--dependency=afterok), skipping shares whose part files are complete;
 // `status` says what is done. Files live in OUT.farm/: parts/FRAME/share-K-of-N.exr, logs/, the
-// scripts and job.txt (what was submitted).
+// scripts and job.txt (what was submitted). The fast method needs no shares: its frames go
+// through the array in chunks, one `wavecam apply --frames` per task.
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
@@ -169,8 +170,12 @@ Result<bool> report_status(const std::string& output) {
         const Frame& f = frames[i];
         std::string line = (f.tag == "image" ? "image" : "frame " + f.tag) + ": ";
         if (frame_merged(f)) {
-            line += "merged -> " + f.output;
+            line += (n == 0 ? "done -> " : "merged -> ") + f.output;
             ++merged;
+        } else if (n == 0) {  // fast method: the frame's chunk task
+            const std::string task = array + "_" + job["task-of." + std::to_string(i)];
+            line += "not done; task " + task + " " +
+                    (states.ok() && states.value.count(task) ? states.value[task] : std::string("not queued"));
         } else {
             const Progress p = shares_done(farm, f, n);
             line += std::to_string(p.done) + " of " + std::to_string(n) + " shares done";
@@ -195,8 +200,104 @@ Result<bool> report_status(const std::string& output) {
         std::printf("%s\n", line.c_str());
     }
     if (!states.ok()) std::printf("(queue unknown: %s)\n", states.error.c_str());
-    std::printf("%d of %zu frames merged\n", merged, frames.size());
+    std::printf("%d of %zu frames %s\n", merged, frames.size(), n == 0 ? "done" : "merged");
     return Result<bool>::success(merged == int(frames.size()));
+}
+
+// Waits until none of `jobs` is in the queue, then reports; exit status 0 when all is done.
+int wait_and_report(const FarmFlags& flags, const std::vector<std::string>& jobs) {
+    for (;;) {
+        auto now = squeue_states();
+        if (!now.ok()) return fail(now.error);
+        bool any = false;
+        for (const auto& [id, state] : now.value)
+            for (const auto& w : jobs) any |= id.substr(0, id.find('_')) == w;
+        if (!any || interrupted()) break;
+        std::this_thread::sleep_for(std::chrono::seconds(1));
+    }
+    auto done = report_status(flags.output);
+    if (!done.ok()) return fail(done.error);
+    return done.value ? 0 : 1;
+}
+
+// A submission of this farm folder still in the queue (it would compute the same work twice).
+Result<bool> check_nothing_queued(const FarmFlags& flags, size_t frames) {
+    auto previous = read_job_file(farm_dir(flags.output) / "job.txt");
+    auto states = squeue_states();
+    if (!states.ok()) return Result<bool>::failure(states.error);
+    for (const auto& [id, state] : states.value) {
+        const std::string job = id.substr(0, id.find('_'));
+        bool ours = job == previous["array-job"];
+        for (size_t i = 0; i < frames; ++i) ours |= job == previous["merge-job." + std::to_string(i)];
+        if (ours && !job.empty())
+            return Result<bool>::failure("job " + id + " of the last submission is still " + state +
+                                         "; wait for it (wavecam farm status " + flags.output +
+                                         ") or scancel it, then submit again");
+    }
+    return Result<bool>::success(true);
+}
+
+std::string apply_arguments(const FarmFlags& flags);
+
+// The fast method: the frames not yet made, in --tasks contiguous chunks of one array.
+int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::vector<Frame>& frames) {
+    std::vector<size_t> todo;
+    for (size_t i = 0; i < frames.size(); ++i) {
+        auto fingerprint = file_fingerprint(frames[i].input);
+        if (!fingerprint.ok()) return fail(fingerprint.error);
+        frames[i].job = job_fingerprint(fingerprint.value, settings);
+        if (!frame_merged(frames[i])) todo.push_back(i);
+    }
+    const size_t tasks = std::min(todo.size(), size_t(flags.tasks));
+    std::printf("farm: %zu frame%s, fast method (seconds to minutes a frame); %zu to make in %zu task%s\n",
+                frames.size(), frames.size() == 1 ? "" : "s", todo.size(), tasks, tasks == 1 ? "" : "s");
+    std::fflush(stdout);
+    if (auto q = check_nothing_queued(flags, frames.size()); !q.ok()) return fail(q.error);
+    const fs::path farm = farm_dir(flags.output);
+    std::error_code ec;
+    fs::create_directories(farm / "logs", ec);
+    std::ostringstream array, record;
+    array << "#!/bin/bash\n# wavecam farm: fast method, task i makes one chunk of frames; written by `wavecam farm "
+             "submit`.\n#SBATCH --job-name=wavecam\n#SBATCH --output="
+          << (farm / "logs" / "task-%a.log").string() << "\n#SBATCH --cpus-per-task=" << flags.cpus << "\n"
+          << "case \"$SLURM_ARRAY_TASK_ID\" in\n";
+    std::map<size_t, size_t> task_of;
+    for (size_t t = 0; t < tasks; ++t) {
+        std::string list;
+        for (size_t c = t * todo.size() / tasks; c < (t + 1) * todo.size() / tasks; ++c) {
+            list += (list.empty() ? "" : ",") + std::to_string(frames[todo[c]].number);
+            task_of[todo[c]] = t;
+        }
+        const std::string apply = shell_quote(self_path()) + " apply " + shell_quote(absolute(flags.input)) + " -o " +
+                                  shell_quote(absolute(flags.output)) + " --threads " + std::to_string(flags.cpus) +
+                                  apply_arguments(flags);
+        array << t << ") exec " << apply << (flags.frames.empty() ? "" : " --frames " + list) << " ;;\n";
+    }
+    array << "*) echo \"wavecam farm: no task $SLURM_ARRAY_TASK_ID\" >&2; exit 1 ;;\nesac\n";
+    if (auto w = write_text(farm / "array.sbatch", array.str()); !w.ok()) return fail(w.error);
+    std::string array_id;
+    if (tasks > 0) {
+        std::vector<std::string> opts{"--array=0-" + std::to_string(tasks - 1)};
+        if (!flags.partition.empty()) opts.push_back("--partition=" + flags.partition);
+        if (flags.hold) opts.push_back("--hold");
+        auto id = sbatch((farm / "array.sbatch").string(), opts);
+        if (!id.ok()) return fail(id.error);
+        array_id = id.value;
+        std::printf("farm: submitted array job %s: %zu tasks\n", array_id.c_str(), tasks);
+    } else {
+        std::printf("farm: every frame is made; nothing to compute\n");
+    }
+    record << "input=" << absolute(flags.input) << "\noutput=" << absolute(flags.output) << "\ntasks=0\narray-job="
+           << array_id << "\n";
+    for (size_t i = 0; i < frames.size(); ++i) {
+        const Frame& f = frames[i];
+        record << "frame." << i << "=" << f.tag << "|" << f.number << "|" << f.input << "|" << f.output << "|" << f.job
+               << "\n";
+        if (task_of.count(i)) record << "task-of." << i << "=" << task_of[i] << "\n";
+    }
+    if (auto w = write_text(farm / "job.txt", record.str()); !w.ok()) return fail(w.error);
+    if (!flags.wait) return 0;
+    return wait_and_report(flags, array_id.empty() ? std::vector<std::string>{} : std::vector<std::string>{array_id});
 }
 
 std::string apply_arguments(const FarmFlags& flags) {
@@ -212,8 +313,7 @@ int submit(const FarmFlags& flags) {
     auto options = front::options_from_settings(flags.given);
     if (!options.ok()) return fail("--" + options.error, 2);
     const DiffractOptions opt = options.value;
-    if (opt.method == DiffractMethod::Fast)
-        return fail("--method: the farm shares the exact methods' work; give --method exact or incoherent", 2);
+    const bool fast = opt.method == DiffractMethod::Fast;
     const front::Settings settings = recorded_settings(flags.given, flags.no_vignetting, flags.no_jitter);
 
     // The frames: one image, or a range of patterns.
@@ -235,6 +335,8 @@ int submit(const FarmFlags& flags) {
             frames.push_back({numbers[i], tag, absolute(in.value[i]), absolute(out.value[i]), {}});
         }
     }
+
+    if (fast) return submit_fast(flags, settings, frames);
 
     // The estimate, before anything is submitted.
     double total = 0;
@@ -271,19 +373,8 @@ int submit(const FarmFlags& flags) {
                 format_duration(total / frames.size() / flags.tasks / (core_rate * flags.cpus)).c_str());
     std::fflush(stdout);
 
-    // A previous submission still in the queue would compute the same shares twice.
+    if (auto q = check_nothing_queued(flags, frames.size()); !q.ok()) return fail(q.error);
     const fs::path farm = farm_dir(flags.output);
-    auto previous = read_job_file(farm / "job.txt");
-    auto states = squeue_states();
-    if (!states.ok()) return fail(states.error);
-    for (const auto& [id, state] : states.value) {
-        const std::string job = id.substr(0, id.find('_'));
-        bool ours = job == previous["array-job"];
-        for (size_t i = 0; i < frames.size(); ++i) ours |= job == previous["merge-job." + std::to_string(i)];
-        if (ours && !job.empty())
-            return fail("job " + id + " of the last submission is still " + state + "; wait for it (wavecam farm "
-                        "status " + flags.output + ") or scancel it, then submit again");
-    }
 
     // The array: every (frame, share) task in the script, only the incomplete ones submitted.
     std::error_code ec;
@@ -368,20 +459,7 @@ int submit(const FarmFlags& flags) {
     }
     if (auto w = write_text(farm / "job.txt", record.str()); !w.ok()) return fail(w.error);
     if (!flags.wait) return 0;
-
-    // --wait: until none of this submission's jobs is in the queue, then what is done.
-    for (;;) {
-        auto now = squeue_states();
-        if (!now.ok()) return fail(now.error);
-        bool any = false;
-        for (const auto& [id, state] : now.value)
-            for (const auto& w : waiting) any |= id.substr(0, id.find('_')) == w;
-        if (!any || interrupted()) break;
-        std::this_thread::sleep_for(std::chrono::seconds(1));
-    }
-    auto done = report_status(flags.output);
-    if (!done.ok()) return fail(done.error);
-    return done.value ? 0 : 1;
+    return wait_and_report(flags, waiting);
 }
 
 }  // namespace
@@ -401,7 +479,7 @@ void add_farm_command(CLI::App& app, int& status) {
     }
     cmd->add_flag("--no-jitter", f->no_jitter, "Keep each source at its pixel centre");
     cmd->add_flag("--no-vignetting", f->no_vignetting, "Divide out the natural cos^4 fall-off");
-    cmd->add_option("--tasks", f->tasks, "Shares per frame (array tasks per frame)")->required();
+    cmd->add_option("--tasks", f->tasks, "Exact methods: shares per frame (array tasks per frame); fast method: tasks in all, each a chunk of frames")->required();
     cmd->add_option("--frames", f->frames, "Frame range, e.g. 1-100; input and -o are then patterns (#, @, %04d)");
     cmd->add_option("--partition", f->partition, "Slurm partition");
     cmd->add_option("--cpus-per-task", f->cpus, "Cores per task (its threads)")->capture_default_str();
