@@ -87,6 +87,19 @@ FilmPoints camera_film(const PinholeCamera& c, int n, int row_begin, int row_end
     return film;
 }
 
+// The share of the work the settings ask for: film rows and runs, clamped to the job.
+struct WorkRange {
+    int row_begin, row_end, run_begin, run_end;
+};
+WorkRange work_range(const DiffractionSettings& s, int height) {
+    WorkRange w;
+    w.row_begin = std::clamp(s.row_begin, 0, height);
+    w.row_end = s.row_end < 0 ? height : std::clamp(s.row_end, w.row_begin, height);
+    w.run_begin = std::clamp(s.run_begin, 0, s.runs);
+    w.run_end = s.run_end < 0 ? s.runs : std::clamp(s.run_end, w.run_begin, s.runs);
+    return w;
+}
+
 uint64_t wavelength_stream(double wavelength) {
     uint64_t bits;
     std::memcpy(&bits, &wavelength, sizeof bits);
@@ -126,13 +139,10 @@ double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, do
     const double samples = estimate_sample_count(s.aperture, scene_sample_pitch(s, camera, wavelength, nearest));
     const double pixels = double(camera.width) * camera.height;
     const int sub = s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, camera, wavelength);
-    const int row_begin = std::clamp(s.row_begin, 0, camera.height);
-    const int row_end = s.row_end < 0 ? camera.height : std::clamp(s.row_end, row_begin, camera.height);
-    const int run_begin = std::clamp(s.run_begin, 0, s.runs);
-    const int run_end = s.run_end < 0 ? s.runs : std::clamp(s.run_end, run_begin, s.runs);
-    const double film = double(camera.width) * (row_end - row_begin) * sub * sub;
+    const WorkRange w = work_range(s, camera.height);
+    const double film = double(camera.width) * (w.row_end - w.row_begin) * sub * sub;
     return s.method == CoherenceMethod::Incoherent ? samples * pixels * (film + 1)
-                                                   : samples * (pixels + film) * (run_end - run_begin);
+                                                   : samples * (pixels + film) * (w.run_end - w.run_begin);
 }
 
 Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s,
@@ -142,14 +152,13 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
     const ApertureSamples samples =
         sample_aperture(s.aperture, scene_sample_pitch(s, c, wavelength, nearest_depth(c, scene.depth, scene.depth_meaning)));
     const int sub = s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, c, wavelength);
-    const int row_begin = std::clamp(s.row_begin, 0, c.height);
-    const int row_end = s.row_end < 0 ? c.height : std::clamp(s.row_end, row_begin, c.height);
-    const FilmPoints film = camera_film(c, sub, row_begin, row_end);
+    const WorkRange range = work_range(s, c.height);
+    const FilmPoints film = camera_film(c, sub, range.row_begin, range.row_end);
     // Irradiance at every film point; averaged into the output pixels after each run.
     std::vector<float> points(film.size(), 0.0f);
     auto average_into_output = [&] {
         const size_t n2 = size_t(sub) * sub;
-        float* out = irradiance + size_t(row_begin) * c.width;
+        float* out = irradiance + size_t(range.row_begin) * c.width;
         for (size_t p = 0; p < points.size() / n2; ++p) {
             double sum = 0;
             for (size_t k = 0; k < n2; ++k) sum += points[p * n2 + k];
@@ -178,9 +187,7 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
         return average_into_output();
     }
 
-    const int run_begin = std::clamp(s.run_begin, 0, s.runs);
-    const int run_end = s.run_end < 0 ? s.runs : std::clamp(s.run_end, run_begin, s.runs);
-    for (int run = run_begin; run < run_end; ++run) {
+    for (int run = range.run_begin; run < range.run_end; ++run) {
         std::vector<PointSource> sources;
         sources.reserve(size_t(c.width) * c.height);
         for (int j = 0; j < c.height; ++j)
@@ -195,7 +202,7 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
         // Progress: half of a run's terms go to the pinhole, half to the film.
         auto stage = [&](double offset) -> ProgressFn {
             if (!progress) return {};
-            return [&progress, offset, first = run_begin, runs = run_end - run_begin, run](double f) {
+            return [&progress, offset, first = range.run_begin, runs = range.run_end - range.run_begin, run](double f) {
                 return progress((run - first + offset + 0.5 * f) / runs);
             };
         };
