@@ -86,6 +86,11 @@ TEST_F(Farm, ACancelledTaskIsNamedByTheMergeAndAResubmitCompletesIt) {
     std::smatch m;
     ASSERT_TRUE(std::regex_search(r.output, m, std::regex("submitted array job ([0-9]+)"))) << r.output;
     const std::string job = m[1];
+    // while it is queued, the same job is not submitted twice
+    auto twice = run_command(kWavecam + " farm submit " + path("in.exr") + " -o " + path("held.exr") + kJob +
+                             " --tasks 4");
+    EXPECT_NE(twice.status, 0);
+    EXPECT_NE(twice.output.find("of the last submission is still PENDING"), std::string::npos) << twice.output;
     ASSERT_EQ(run_command("scancel " + job + "_2").status, 0);  // share 3/4
     ASSERT_EQ(run_command("scontrol release " + job).status, 0);
     // wait until the array and its (now never satisfiable) merge job have left the queue
@@ -147,4 +152,22 @@ TEST_F(Farm, FastSequencesGoThroughTheArrayInFrameChunks) {
                              " --tasks 2 --frames 1-3 --wait");
     EXPECT_EQ(again.status, 0) << again.output;
     EXPECT_NE(again.output.find("0 to make in 0 tasks"), std::string::npos) << again.output;
+}
+
+TEST_F(Farm, BadSubmissionsAndStatusWithoutAJob) {
+    auto none = run_command(kWavecam + " farm status " + path("nothing.exr"));
+    EXPECT_NE(none.status, 0);
+    EXPECT_NE(none.output.find("no farm job here"), std::string::npos) << none.output;
+    auto tasks = run_command(kWavecam + " farm submit " + path("in.exr") + " -o " + path("x.exr") + kJob + " --tasks 0");
+    EXPECT_NE(tasks.output.find("--tasks: expected at least 1"), std::string::npos) << tasks.output;
+    auto many = run_command(kWavecam + " farm submit " + path("in.exr") + " -o " + path("x.exr") + kJob +
+                            " --tasks 100000");
+    EXPECT_NE(many.output.find("more than the job's 6 units x 16 film rows"), std::string::npos) << many.output;
+    auto frames = run_command(kWavecam + " farm submit " + path("in.exr") + " -o " + path("x.exr") + kJob +
+                              " --tasks 2 --frames 1-2");
+    EXPECT_NE(frames.output.find("has no frame number pattern"), std::string::npos) << frames.output;
+    auto bound = run_command(kWavecam + " farm submit " + path("in.exr") + " -o " + path("x.exr") + kJob +
+                             " --tasks 2 --max-terms 1e6");
+    EXPECT_NE(bound.output.find("beyond --max-terms; use more --tasks"), std::string::npos) << bound.output;
+    EXPECT_FALSE(fs::exists(path("x.exr.farm")));
 }

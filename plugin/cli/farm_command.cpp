@@ -353,10 +353,12 @@ int submit(const FarmFlags& flags) {
         const int runs = opt.method == DiffractMethod::Incoherent ? 1 : opt.diffraction.runs;
         if (auto s = work_share(flags.tasks, flags.tasks, wavelengths, runs, camera.height); !s.ok())
             return fail(f.input + ": --tasks: " + s.error, 2);
-        if (terms / flags.tasks > opt.max_terms)
-            return fail(f.input + ": a share is about " + std::to_string(terms / flags.tasks) +
-                            " terms, beyond --max-terms; use more --tasks or raise --max-terms",
-                        2);
+        if (terms / flags.tasks > opt.max_terms) {
+            std::ostringstream m;
+            m << f.input << ": a share is about " << terms / flags.tasks << " terms (" << terms << " / " << flags.tasks
+              << "), beyond --max-terms; use more --tasks or raise --max-terms (now " << opt.max_terms << ")";
+            return fail(m.str(), 2);
+        }
         auto fingerprint = file_fingerprint(f.input);
         if (!fingerprint.ok()) return fail(fingerprint.error);
         f.job = job_fingerprint(fingerprint.value, settings);
