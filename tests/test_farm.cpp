@@ -120,7 +120,7 @@ TEST_F(Farm, FramesGoThroughOneArrayWithAMergePerFrame) {
     write_render(path("shot.0001.exr"), 24, 16, 2.0f, 30.0f);
     write_render(path("shot.0002.exr"), 24, 16, 3.0f, 30.0f);
     auto r = run_command(kWavecam + " farm submit " + path("shot.#.exr") + " -o " + path("out.#.exr") + kJob +
-                         " --tasks 2 --frames 1-2 --wait");
+                         " --tasks 2 --frames 1-2 --partition debug --wait");
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("2 frames x 2 shares"), std::string::npos) << r.output;
     EXPECT_TRUE(images_equal(path("single.exr"), path("out.0001.exr")));  // frame 1 is the same render
