@@ -24,6 +24,8 @@ PACKAGES=(
   # the Blender add-on's tests (headless Cycles renders; the add-on tags EXRs through OIIO's
   # Python; its UI test runs Blender in a virtual X server)
   blender xvfb xauth
+  # wavecam farm's test: a one-node Slurm cluster (tests/slurm_cluster.sh)
+  slurm-wlm munge
 )
 
 missing=()

@@ -69,12 +69,13 @@ PointSource pixel_source(const MonochromeScene& scene, int i, int j, double x, d
     return s;
 }
 
-// n x n film points per output pixel, at the centres of an n x n split of the pixel, stored
-// pixel by pixel so that point p * n^2 + k belongs to pixel p.
-FilmPoints camera_film(const PinholeCamera& c, int n) {
+// n x n film points per output pixel of rows [row_begin, row_end), at the centres of an n x n
+// split of the pixel, stored pixel by pixel so that point p * n^2 + k belongs to the p-th pixel
+// of those rows.
+FilmPoints camera_film(const PinholeCamera& c, int n, int row_begin, int row_end) {
     FilmPoints film;
     film.film_distance = c.film_distance;
-    for (int j = 0; j < c.height; ++j)
+    for (int j = row_begin; j < row_end; ++j)
         for (int i = 0; i < c.width; ++i)
             for (int b = 0; b < n; ++b)
                 for (int a = 0; a < n; ++a) {
@@ -84,6 +85,19 @@ FilmPoints camera_film(const PinholeCamera& c, int n) {
                     film.y.push_back(static_cast<float>(-c.film_distance * v));
                 }
     return film;
+}
+
+// The share of the work the settings ask for: film rows and runs, clamped to the job.
+struct WorkRange {
+    int row_begin, row_end, run_begin, run_end;
+};
+WorkRange work_range(const DiffractionSettings& s, int height) {
+    WorkRange w;
+    w.row_begin = std::clamp(s.row_begin, 0, height);
+    w.row_end = s.row_end < 0 ? height : std::clamp(s.row_end, w.row_begin, height);
+    w.run_begin = std::clamp(s.run_begin, 0, s.runs);
+    w.run_end = s.run_end < 0 ? s.runs : std::clamp(s.run_end, w.run_begin, s.runs);
+    return w;
 }
 
 uint64_t wavelength_stream(double wavelength) {
@@ -125,9 +139,10 @@ double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, do
     const double samples = estimate_sample_count(s.aperture, scene_sample_pitch(s, camera, wavelength, nearest));
     const double pixels = double(camera.width) * camera.height;
     const int sub = s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, camera, wavelength);
-    const double film = pixels * sub * sub;
+    const WorkRange w = work_range(s, camera.height);
+    const double film = double(camera.width) * (w.row_end - w.row_begin) * sub * sub;
     return s.method == CoherenceMethod::Incoherent ? samples * pixels * (film + 1)
-                                                   : samples * (pixels + film) * s.runs;
+                                                   : samples * (pixels + film) * (w.run_end - w.run_begin);
 }
 
 Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s,
@@ -137,16 +152,19 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
     const ApertureSamples samples =
         sample_aperture(s.aperture, scene_sample_pitch(s, c, wavelength, nearest_depth(c, scene.depth, scene.depth_meaning)));
     const int sub = s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, c, wavelength);
-    const FilmPoints film = camera_film(c, sub);
-    // Irradiance at every film point; averaged into the output pixels at the end.
+    const WorkRange range = work_range(s, c.height);
+    const FilmPoints film = camera_film(c, sub, range.row_begin, range.row_end);
+    // Irradiance at every film point; averaged into the output pixels after each run.
     std::vector<float> points(film.size(), 0.0f);
     auto average_into_output = [&] {
         const size_t n2 = size_t(sub) * sub;
+        float* out = irradiance + size_t(range.row_begin) * c.width;
         for (size_t p = 0; p < points.size() / n2; ++p) {
             double sum = 0;
             for (size_t k = 0; k < n2; ++k) sum += points[p * n2 + k];
-            irradiance[p] += static_cast<float>(sum / n2);
+            out[p] += static_cast<float>(sum / n2);
         }
+        std::fill(points.begin(), points.end(), 0.0f);
         return Result<bool>::success(true);
     };
     const uint64_t stream = wavelength_stream(wavelength);
@@ -169,7 +187,7 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
         return average_into_output();
     }
 
-    for (int run = 0; run < s.runs; ++run) {
+    for (int run = range.run_begin; run < range.run_end; ++run) {
         std::vector<PointSource> sources;
         sources.reserve(size_t(c.width) * c.height);
         for (int j = 0; j < c.height; ++j)
@@ -184,16 +202,17 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
         // Progress: half of a run's terms go to the pinhole, half to the film.
         auto stage = [&](double offset) -> ProgressFn {
             if (!progress) return {};
-            return [&progress, offset, runs = s.runs, run](double f) {
-                return progress((run + offset + 0.5 * f) / runs);
+            return [&progress, offset, first = range.run_begin, runs = range.run_end - range.run_begin, run](double f) {
+                return progress((run - first + offset + 0.5 * f) / runs);
             };
         };
         if (!illuminate_pinhole(samples, sources, wavelength, field, s.nthreads, stage(0.0))) return cancelled();
         if (!accumulate_film_irradiance(samples, field, film, wavelength, 1.0 / s.runs, points.data(), s.nthreads,
                                         stage(0.5)))
             return cancelled();
+        average_into_output();
     }
-    return average_into_output();
+    return Result<bool>::success(true);
 }
 
 }  // namespace wavecam

@@ -36,7 +36,7 @@ Result<bool> diffract_spectral(const SpectralScene& scene, const SpectralBasis& 
             if (sign < 0 && !any_negative) continue;
             std::fill(irradiance.begin(), irradiance.end(), 0.0f);
             const MonochromeScene mono{c, sign > 0 ? positive.data() : negative.data(), scene.depth,
-                                       scene.depth_meaning};
+                                       scene.depth_meaning, s, sign};
             ProgressFn report;
             if (progress)
                 report = [&progress, s, S, sign](double f) { return progress((s + (sign > 0 ? 0.0 : 0.5) + 0.5 * f) / S); };

@@ -12,13 +12,14 @@
 #include "terminal_progress.h"
 #include "wavecam/atomic_write.h"
 #include "wavecam/diffract_image.h"
+#include "wavecam/share_files.h"
 #include "../front/settings.h"
 
 namespace wavecam::cli {
 namespace {
 
 struct ApplyFlags {
-    std::string input, output, compare, png, frames;
+    std::string input, output, compare, png, frames, part;
     front::Settings given;  // the settings flags that were given, by key
     bool no_vignetting = false, no_jitter = false;
     int threads = 0;
@@ -46,6 +47,50 @@ std::string unsupported_output(const ApplyFlags& flags) {
     return {};
 }
 
+}  // namespace
+
+front::Settings recorded_settings(const front::Settings& given, bool no_vignetting, bool no_jitter) {
+    front::Settings settings = given;
+    if (no_vignetting) settings["vignetting"] = "false";
+    if (no_jitter) settings["jitter"] = "false";
+    settings.erase("max-terms");
+    settings.erase("max-memory");
+    return settings;
+}
+
+namespace {
+
+// One share of an exact job (--part K/N): a part file for `wavecam merge`. A part already there
+// for the same job and share is kept, so a re-run array task finishes at once.
+int run_share(const ApplyFlags& flags, const DiffractOptions& opt, const std::string& input,
+              const std::string& output) {
+    auto k = parse_share(flags.part);
+    if (!k.ok()) return fail(k.error, 2);
+    const std::string input_path = std::filesystem::absolute(input).lexically_normal().string();
+    const front::Settings settings = recorded_settings(flags.given, flags.no_vignetting, flags.no_jitter);
+    if (std::filesystem::exists(output)) {
+        auto have = read_part(output);
+        auto fingerprint = file_fingerprint(input_path);
+        if (have.ok() && fingerprint.ok() && have.value.job == job_fingerprint(fingerprint.value, settings) &&
+            have.value.share.index == k.value.index && have.value.share.count == k.value.count) {
+            std::printf("%s: share %s already complete; kept\n", output.c_str(), flags.part.c_str());
+            return 0;
+        }
+    }
+    OIIO::ImageBuf src(input);
+    if (!src.read(0, 0, true, OIIO::TypeDesc::FLOAT)) return fail(input + ": " + src.geterror());
+    DiffractOptions o = opt;
+    o.progress = terminal_progress("apply share " + flags.part);
+    OIIO::ImageBuf part;
+    if (!diffract_share(part, src, input_path, o, settings, k.value.index, k.value.count, flags.threads))
+        return fail(part.geterror(), interrupted() ? 130 : 1);
+    finish_progress();
+    if (auto w = write_image_atomically(part, output, OIIO::TypeDesc::FLOAT); !w.ok()) return fail(w.error);
+    std::printf("share %s (%s)\nwrote %s\n", flags.part.c_str(),
+                part.spec().get_string_attribute("wavecam.part.summed").c_str(), output.c_str());
+    return 0;
+}
+
 // One frame: read, diffract, write (and the pictures for people).
 int run_frame(const ApplyFlags& flags, DiffractPlan& plan, const std::string& input,
               const std::string& output, const std::string& compare, const std::string& png) {
@@ -53,6 +98,7 @@ int run_frame(const ApplyFlags& flags, DiffractPlan& plan, const std::string& in
     std::error_code ec;
     if (fs::exists(output) && fs::equivalent(input, output, ec))
         return fail(output + ": the output would overwrite the input; choose another -o", 2);
+    if (!flags.part.empty()) return run_share(flags, plan.options(), input, output);
     OIIO::ImageBuf src(input);
     if (!src.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
         std::string e = src.geterror();
@@ -62,6 +108,10 @@ int run_frame(const ApplyFlags& flags, DiffractPlan& plan, const std::string& in
     if (!plan.diffract(dst, src, input, flags.threads)) return fail(dst.geterror(), interrupted() ? 130 : 1);
     const DiffractOptions& opt = plan.options();
     finish_progress();
+    // the job this image is (input bytes and settings): `wavecam farm` skips frames already made
+    if (auto fingerprint = file_fingerprint(input); fingerprint.ok())
+        dst.specmod().attribute("wavecam.job", job_fingerprint(fingerprint.value, recorded_settings(
+                                                                   flags.given, flags.no_vignetting, flags.no_jitter)));
     // OpenEXR: scene-linear float, every channel; .png/.jpg/.tif: RGB through the display view
     auto written = is_exr(output) ? write_image_atomically(dst, output, OIIO::TypeDesc::FLOAT)
                                   : write_display_image(dst, opt, output);
@@ -76,8 +126,8 @@ int run_frame(const ApplyFlags& flags, DiffractPlan& plan, const std::string& in
     return 0;
 }
 
-// The files of a frame range: OIIO's own pattern rules ("shot.#.exr" = 4 digits, "@" = 1,
-// "%04d" printf style) and sequence syntax ("1-100", "1-100x2", "3,7,10-20").
+}  // namespace
+
 Result<std::vector<std::string>> frame_files(const std::string& pattern, const std::vector<int>& frames) {
     std::string normalized, ignored;
     std::vector<std::string> files;
@@ -89,6 +139,8 @@ Result<std::vector<std::string>> frame_files(const std::string& pattern, const s
     return Result<std::vector<std::string>>::success(files);
 }
 
+namespace {
+
 int run(const ApplyFlags& flags) {
     front::Settings settings = flags.given;
     if (flags.no_vignetting) settings["vignetting"] = "false";
@@ -97,6 +149,11 @@ int run(const ApplyFlags& flags) {
     if (!options.ok()) return fail("--" + options.error, 2);
     DiffractOptions opt = options.value;
     if (const std::string bad = unsupported_output(flags); !bad.empty()) return fail(bad, 2);
+    if (!flags.part.empty() && (!flags.compare.empty() || !flags.png.empty()))
+        return fail("--part writes a part file for `wavecam merge`; give --compare and --png to the merge instead", 2);
+    opt.on_estimate = [threads = flags.threads](const std::string& job, double terms) {
+        print_estimate("apply", job, terms, threads);
+    };
     if (flags.frames.empty()) {
         opt.progress = terminal_progress("apply");
         DiffractPlan plan(opt);
@@ -152,6 +209,9 @@ void add_apply_command(CLI::App& app, int& status) {
     cmd->add_option("--frames", f->frames,
                     "Frame range, e.g. 1-100; input, -o, --compare and --png are then patterns (#, @ or %04d)");
     cmd->add_option("--threads", f->threads, "Threads (0 = every core)")->capture_default_str();
+    cmd->add_option("--part", f->part,
+                    "K/N: compute share K of N of an exact job and write it to -o as a part file for "
+                    "`wavecam merge` (see `wavecam farm`)");
     cmd->callback([f, &status] { status = run(*f); });
 }
 

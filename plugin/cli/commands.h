@@ -3,10 +3,26 @@
 #pragma once
 #include <CLI/CLI.hpp>
 
+#include <string>
+#include <vector>
+
+#include "wavecam/result.h"
+#include "../front/settings.h"
+
 namespace wavecam::cli {
 
 void add_psf_command(CLI::App& app, int& status);
 void add_apply_command(CLI::App& app, int& status);
 void add_sweep_command(CLI::App& app, int& status);
+void add_merge_command(CLI::App& app, int& status);
+void add_farm_command(CLI::App& app, int& status);
+
+// The files of a frame range: OIIO's own pattern rules ("shot.#.exr" = 4 digits, "@" = 1,
+// "%04d" printf style) and sequence syntax ("1-100", "1-100x2", "3,7,10-20").
+Result<std::vector<std::string>> frame_files(const std::string& pattern, const std::vector<int>& frames);
+
+// The settings a part file records for its merge: every result-changing key as given (flags
+// --no-vignetting, --no-jitter as their keys; not the bounds --max-terms, --max-memory).
+front::Settings recorded_settings(const front::Settings& given, bool no_vignetting, bool no_jitter);
 
 }  // namespace wavecam::cli

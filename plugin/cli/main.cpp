@@ -11,6 +11,8 @@ int main(int argc, char** argv) {
     wavecam::cli::add_psf_command(app, status);
     wavecam::cli::add_apply_command(app, status);
     wavecam::cli::add_sweep_command(app, status);
+    wavecam::cli::add_merge_command(app, status);
+    wavecam::cli::add_farm_command(app, status);
     wavecam::cli::install_interrupt_handlers();
     try {
         app.parse(argc, argv);

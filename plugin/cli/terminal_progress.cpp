@@ -1,16 +1,23 @@
 #include "terminal_progress.h"
 
+#include <omp.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <memory>
+
+#include "wavecam/term_rate.h"
 
 namespace wavecam::cli {
 namespace {
 std::atomic<bool> g_interrupted{false};
 bool g_drawn = false;
 extern "C" void on_signal(int) { g_interrupted.store(true); }
+using Clock = std::chrono::steady_clock;
 }  // namespace
 
 void install_interrupt_handlers() {
@@ -20,15 +27,51 @@ void install_interrupt_handlers() {
 
 bool interrupted() { return g_interrupted.load(); }
 
+std::string format_duration(double seconds) {
+    char s[32];
+    const long t = std::lround(std::max(0.0, seconds));
+    if (t >= 3600) std::snprintf(s, sizeof s, "%ldh%02ldm", t / 3600, t / 60 % 60);
+    else if (t >= 60) std::snprintf(s, sizeof s, "%ldm%02lds", t / 60, t % 60);
+    else std::snprintf(s, sizeof s, "%lds", t);
+    return s;
+}
+
+void print_estimate(const std::string& label, const std::string& job, double terms, int nthreads) {
+    const int threads = nthreads > 0 ? nthreads : omp_get_max_threads();
+    const double rate = measured_term_rate(threads);
+    std::fprintf(stderr, "%s: %s = %.3g terms, about %s on %d thread%s at %.3g terms/s measured here\n",
+                 label.c_str(), job.c_str(), terms, format_duration(terms / rate).c_str(), threads,
+                 threads == 1 ? "" : "s", rate);
+    std::fflush(stderr);
+}
+
 ProgressFn terminal_progress(const std::string& label) {
-    const bool tty = ::isatty(STDERR_FILENO);
-    return [label, tty](double fraction) {
-        if (tty) {
+    struct State {
+        bool tty = ::isatty(STDERR_FILENO);
+        Clock::time_point start = Clock::now(), last_line = start;
+        double last_fraction = 0;
+    };
+    auto st = std::make_shared<State>();
+    return [label, st](double fraction) {
+        const auto now = Clock::now();
+        const double elapsed = std::chrono::duration<double>(now - st->start).count();
+        const double since = std::chrono::duration<double>(now - st->last_line).count();
+        const std::string left = fraction > 0.001 && elapsed > 1
+                                     ? format_duration(elapsed / fraction * (1 - fraction)) + " left"
+                                     : "estimating";
+        if (st->tty) {
             const int width = 30, full = static_cast<int>(fraction * width + 0.5);
-            std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%", label.c_str(), full, "##############################",
-                         width - full, "", static_cast<int>(fraction * 100 + 0.5));
+            std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%  %-16s", label.c_str(), full, "##############################",
+                         width - full, "", static_cast<int>(fraction * 100 + 0.5), left.c_str());
             std::fflush(stderr);
             g_drawn = true;
+        } else if (since >= 10 || (fraction - st->last_fraction >= 0.05 && since >= 1)) {
+            std::fprintf(stderr, "%s: %d%% after %s, %s\n", label.c_str(), static_cast<int>(fraction * 100),
+                         format_duration(elapsed).c_str(), fraction > 0.001 && elapsed > 1 ? ("about " + left).c_str()
+                                                                                         : left.c_str());
+            std::fflush(stderr);
+            st->last_line = now;
+            st->last_fraction = fraction;
         }
         return !g_interrupted.load();
     };

@@ -1,12 +1,21 @@
-// A progress bar on stderr when it is a terminal, nothing otherwise.
+// Progress people can read: the estimate before the work, then on a terminal a bar with the
+// time left, and in a log (stderr not a terminal, as under Slurm) a line every 10 s or 5%.
 #pragma once
 #include <string>
 #include "wavecam/progress.h"
 
 namespace wavecam::cli {
 
-// Returns a ProgressFn that draws "label [#####....] 42%" on a terminal and is silent
-// otherwise; it returns false (stop) once SIGINT/SIGTERM has been received.
+// "1h02m", "3m20s", "12s".
+std::string format_duration(double seconds);
+
+// Prints "LABEL: JOB = T terms, about D on N threads at R terms/s measured here" on stderr,
+// timing the kernel here first (measured_term_rate).
+void print_estimate(const std::string& label, const std::string& job, double terms, int nthreads);
+
+// Returns a ProgressFn that draws "label [#####....] 42%  2m10s left" on a terminal, or writes
+// "label: 42% after 1m35s, about 2m10s left" lines to a log; it returns false (stop) once
+// SIGINT/SIGTERM has been received.
 ProgressFn terminal_progress(const std::string& label);
 // Ends the bar's line (if one was drawn).
 void finish_progress();

@@ -26,7 +26,7 @@ const std::vector<std::pair<std::string, std::string>>& setting_keys() {
         {"colorconfig", "OpenColorIO config (default: wavecam's own)"},
         {"input-colorspace", "colour space of the input (default: from the file, else lin_rec709)"},
         {"output-colorspace", "colour space of the output (default: the input's)"},
-        {"max-terms", "refuse exact-method jobs beyond this many terms (default 4e12, about an hour here)"},
+        {"max-terms", "refuse exact-method jobs (or shares) beyond this many terms (default 4e12); the estimate and its time at the measured rate print before work"},
         {"max-memory", "refuse jobs estimated to need more memory, e.g. 16GiB (the default), 512MiB"},
         {"overscan", "pixels of margin the render has on every side: light sources, cropped from the output "
                      "(the fov describes the whole input)"},

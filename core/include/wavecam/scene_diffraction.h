@@ -24,6 +24,11 @@ struct DiffractionSettings {
     double sin_theta_max = 0;  // aperture sampling lambda/(2 sin theta_max); 0 = from the frame
     int film_subsamples = 0;   // n: each film pixel averages n x n points; 0 = auto_film_subsamples
     int nthreads = 0;
+    // One share of the work (work_share.h): runs [run_begin, run_end) of the `runs` averaged, each
+    // still weighted 1/runs, on output rows [row_begin, row_end); an end < 0 means the last.
+    // Every run is averaged into the output on its own, so a job equals the sum of its shares.
+    int run_begin = 0, run_end = -1;
+    int row_begin = 0, row_end = -1;
 };
 
 // Per-pixel inputs at one wavelength, row-major width x height.
@@ -32,6 +37,8 @@ struct MonochromeScene {
     const float* power = nullptr;  // spectral radiance (any consistent unit), >= 0
     const float* depth = nullptr;  // metres; >= kInfiniteDepth or inf = sky
     DepthMeaning depth_meaning = DepthMeaning::Planar;
+    int spectral_index = 0;  // which wavelength sample of a spectral job this is
+    int sign = +1;           // +1: the positive part of the spectral power, -1: the negative part
 };
 
 // The aperture sampling pitch used for this camera at this wavelength: lambda/2, or wider when
@@ -42,7 +49,7 @@ constexpr double kMinSamplesAcross = 128;
 double scene_sample_pitch(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength,
                           double nearest_depth);
 
-// Work estimate: terms (pinhole samples x (sources + film points)) over all runs.
+// Work estimate: terms (pinhole samples x (sources + film points)) over the runs and rows set.
 double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength,
                    double nearest_depth);
 

@@ -10,6 +10,7 @@
 #include "wavecam/pinhole_design.h"
 #include "wavecam/source.h"
 #include "wavecam/spectral_diffraction.h"
+#include "wavecam/term_rate.h"
 
 namespace wavecam {
 namespace {
@@ -130,13 +131,22 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     s.nthreads = nthreads;
     const double terms = estimate_terms(opt, camera, in.depth, opt.depth_meaning);
+    std::ostringstream job;
+    job << in.width << "x" << in.height << " pixels x " << sampling.value.wavelength.size() << " wavelengths x "
+        << (s.method == CoherenceMethod::Incoherent ? 1 : s.runs) << " runs";
     if (terms > opt.max_terms) {
+        const double rate = measured_term_rate(nthreads);
         std::ostringstream m;
-        m << name << ": " << in.width << "x" << in.height << " pixels x " << sampling.value.wavelength.size()
-          << " wavelengths x " << s.runs << " runs = " << terms << " terms, beyond --max-terms " << opt.max_terms
-          << " (about an hour on 2 cores); lower --runs, --wavelengths or the image size, or raise --max-terms";
+        const double seconds = terms / rate;
+        m << name << ": " << job.str() << " = " << terms << " terms, about "
+          << (seconds < 5400 ? std::to_string(long(std::ceil(seconds / 60))) + " min"
+                             : std::to_string(long(std::round(seconds / 3600))) + " h")
+          << " at the " << rate << " terms/s measured here, beyond --max-terms " << opt.max_terms
+          << "; lower --runs, --wavelengths or the image size, raise --max-terms, or share the work out "
+             "(--part K/N, wavecam farm)";
         return fail(m.str());
     }
+    if (opt.on_estimate && opt.method != DiffractMethod::Fast) opt.on_estimate(job.str(), terms);
 
     const SpectralScene scene{camera, in.rgb.data(), in.depth.data(), opt.depth_meaning};
     FastPlanSpec fs{camera, o, s.aperture, basis.value, 0.0, opt.fast};
@@ -171,8 +181,9 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     } else {
         // the exact methods diffract the whole input, overscan included, then crop
         std::vector<float> full(3 * size_t(in.width) * in.height);
-        r = diffract_spectral(scene, basis.value, s.aperture, wave_propagator(s), opt.vignetting, full.data(),
-                              opt.progress);
+        r = diffract_spectral(scene, basis.value, s.aperture,
+                              opt.exact_propagator ? opt.exact_propagator : wave_propagator(s), opt.vignetting,
+                              full.data(), opt.progress);
         for (int j = 0; j < out_h; ++j)
             std::copy_n(&full[3 * (size_t(j + o) * in.width + o)], 3 * size_t(out_w), &pixels[3 * size_t(j) * out_w]);
     }

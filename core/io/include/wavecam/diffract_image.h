@@ -10,6 +10,7 @@
 #include "wavecam/render_input.h"
 #include "wavecam/fast_diffraction.h"
 #include "wavecam/scene_diffraction.h"
+#include "wavecam/spectral_diffraction.h"
 
 namespace wavecam {
 
@@ -34,9 +35,13 @@ struct DiffractOptions {
     std::string colorconfig;                       // OCIO config; "" = the one wavecam ships
     std::string input_colorspace;                  // "" = the file's oiio:ColorSpace, else lin_rec709
     std::string output_colorspace;                 // "" = the input's
-    double max_terms = 4e12;                       // refuse larger jobs (about an hour here)
+    double max_terms = 4e12;                       // refuse larger exact jobs (see term_rate.h for the time)
     double max_memory = 16.0 * (1ull << 30);       // bytes; refuse jobs estimated to need more
     ProgressFn progress;
+    // Told the job before any work starts: "24x16 pixels x 3 wavelengths x 2 runs" and its terms.
+    std::function<void(const std::string& job, double terms)> on_estimate;
+    // Replaces the exact methods' physical propagator (shares and merges, share_files.h).
+    MonochromePropagator exact_propagator;
 };
 
 // The pinhole diameter the options resolve to (the optimum when none is given).

@@ -1,0 +1,343 @@
+#include "wavecam/share_files.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <algorithm>
+#include <memory>
+#include <set>
+#include <sstream>
+
+#include "wavecam/render_input.h"
+#include "wavecam/spectrum.h"
+
+namespace wavecam {
+namespace {
+
+constexpr const char* kSettingPrefix = "wavecam.part.setting.";
+
+// FNV-1a, 64 bit (Fowler, Noll, Vo): a fingerprint, not a cryptographic hash.
+struct Fnv1a {
+    uint64_t h = 1469598103934665603ull;
+    void add(const void* data, size_t n) {
+        const auto* p = static_cast<const unsigned char*>(data);
+        for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+    }
+    std::string hex() const {
+        char s[17];
+        std::snprintf(s, sizeof s, "%016llx", static_cast<unsigned long long>(h));
+        return s;
+    }
+};
+
+std::string channel_name(int w, int r, int sign) {
+    char s[32];
+    std::snprintf(s, sizeof s, "w%03d.r%03d.%s", w, r, sign > 0 ? "pos" : "neg");
+    return s;
+}
+
+// Channel by channel in name order: OpenEXR stores channels sorted by name, whatever order
+// they were written in.
+std::string pixel_checksum(const OIIO::ImageBuf& image) {
+    const size_t n = image.spec().image_pixels(), C = size_t(image.nchannels());
+    std::vector<float> px(n * C);
+    image.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, px.data());
+    std::map<std::string, size_t> by_name;
+    for (size_t c = 0; c < C; ++c) by_name[image.spec().channelnames[c]] = c;
+    Fnv1a f;
+    for (const auto& [name, c] : by_name) {
+        f.add(name.data(), name.size());
+        for (size_t p = 0; p < n; ++p) f.add(&px[p * C + c], sizeof(float));
+    }
+    return f.hex();
+}
+
+std::string range_text(int a, int b) { return std::to_string(a) + "-" + std::to_string(b); }
+
+bool parse_range(const std::string& t, int& a, int& b) {
+    int used = 0;
+    return std::sscanf(t.c_str(), "%d-%d%n", &a, &b, &used) == 2 && used == int(t.size());
+}
+
+std::string share_name(const PartFile& p) {
+    return "share " + std::to_string(p.share.index) + "/" + std::to_string(p.share.count) + " (" + p.path + ")";
+}
+
+// The value most parts carry (the first part's on a tie), so the odd one out is named.
+template <class Key>
+Key majority(const std::vector<PartFile>& parts, Key (*key)(const PartFile&)) {
+    std::map<Key, int> count;
+    for (const auto& p : parts) ++count[key(p)];
+    Key best = key(parts.front());
+    for (const auto& [k, n] : count)
+        if (n > count[best]) best = k;
+    return best;
+}
+
+}  // namespace
+
+Result<std::string> file_fingerprint(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return Result<std::string>::failure(path + ": cannot be read");
+    Fnv1a f;
+    std::vector<char> buf(1 << 16);
+    while (in.read(buf.data(), buf.size()) || in.gcount() > 0) f.add(buf.data(), size_t(in.gcount()));
+    return Result<std::string>::success(f.hex());
+}
+
+std::string job_fingerprint(const std::string& input_fingerprint, const SettingsText& settings) {
+    Fnv1a f;
+    f.add(input_fingerprint.data(), input_fingerprint.size());
+    for (const auto& [k, v] : settings) {
+        const std::string line = "\n" + k + "=" + v;
+        f.add(line.data(), line.size());
+    }
+    return f.hex();
+}
+
+bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::string& input_path,
+                    const DiffractOptions& opt, const SettingsText& settings, int index, int count, int nthreads) {
+    auto fail = [&part](const std::string& m) {
+        part.errorfmt("{}", m);
+        return false;
+    };
+    if (opt.method == DiffractMethod::Fast)
+        return fail(input_path + ": --part shares the exact methods' work; use --method exact or incoherent");
+    auto input = load_render(src, input_path, opt.read);
+    if (!input.ok()) return fail(input.error);
+    const RenderInput& in = input.value;
+    auto sampling = opt.wavelengths.empty() ? visible_sampling(opt.wavelength_count) : explicit_sampling(opt.wavelengths);
+    if (!sampling.ok()) return fail("--" + sampling.error);
+    const int S = int(sampling.value.wavelength.size());
+    const bool incoherent = opt.method == DiffractMethod::Incoherent;
+    const int R = incoherent ? 1 : opt.diffraction.runs;
+    auto share = work_share(index, count, S, R, in.height);
+    if (!share.ok()) return fail("--" + share.error);
+    const WorkShare sh = share.value;
+    auto fingerprint = file_fingerprint(input_path);
+    if (!fingerprint.ok()) return fail(fingerprint.error);
+
+    // The same settings diffract() resolves, restricted to one unit at a time.
+    DiffractionSettings s = opt.diffraction;
+    s.aperture = {opt.aperture_shape, resolved_pinhole(opt)};
+    s.method = incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
+    s.nthreads = nthreads;
+    s.row_begin = sh.row_begin;
+    s.row_end = sh.row_end;
+    PinholeCamera camera;
+    camera.width = in.width;
+    camera.height = in.height;
+    camera.fov_h = in.fov_h;
+    camera.film_distance = opt.film_distance;
+    const double nearest = nearest_depth(camera, in.depth.data(), opt.depth_meaning);
+    std::vector<double> unit_terms;
+    double terms = 0;
+    for (int u = sh.unit_begin; u < sh.unit_end; ++u) {
+        s.run_begin = u % R;
+        s.run_end = u % R + 1;
+        unit_terms.push_back(scene_terms(s, camera, sampling.value.wavelength[u / R], nearest));
+        terms += unit_terms.back();
+    }
+    std::ostringstream job;
+    job << "share " << index << "/" << count << " of " << in.width << "x" << in.height << " pixels x " << S
+        << " wavelengths x " << R << " runs: " << describe_share(sh, R);
+    if (terms > opt.max_terms) {
+        std::ostringstream m;
+        m << input_path << ": " << job.str() << " = " << terms << " terms, beyond --max-terms " << opt.max_terms
+          << "; use more shares or raise --max-terms";
+        return fail(m.str());
+    }
+    if (opt.on_estimate) opt.on_estimate(job.str(), terms);
+
+    // Each unit of the share, computed on its own into a zeroed image and kept by name.
+    std::map<std::string, std::vector<float>> units;
+    double done = 0;
+    DiffractOptions run = opt;
+    run.max_terms = INFINITY;  // bounded above, by the share's own terms
+    run.on_estimate = {};
+    run.progress = {};
+    run.exact_propagator = [&](const MonochromeScene& mono, double wavelength, float*, const ProgressFn&) {
+        for (int r = 0; r < R; ++r) {
+            const int u = mono.spectral_index * R + r;
+            if (u < sh.unit_begin || u >= sh.unit_end) continue;
+            DiffractionSettings unit = s;
+            unit.run_begin = r;
+            unit.run_end = r + 1;
+            const double weight = unit_terms[u - sh.unit_begin] / terms;
+            // A wavelength's negative part (rare) is not in the estimate: count it at no weight.
+            const double before = done;
+            ProgressFn report;
+            if (opt.progress)
+                report = [&, before, weight, sign = mono.sign](double f) {
+                    return opt.progress(std::min(1.0, before + (sign > 0 ? weight * f : 0.0)));
+                };
+            std::vector<float> irradiance(size_t(in.width) * in.height, 0.0f);
+            if (auto rr = diffract_monochrome(mono, wavelength, unit, irradiance.data(), report); !rr.ok()) return rr;
+            if (mono.sign > 0) done += weight;
+            units[channel_name(mono.spectral_index, r, mono.sign)] = std::move(irradiance);
+        }
+        return Result<bool>::success(true);
+    };
+    OIIO::ImageBuf whole;
+    if (!diffract(whole, src, input_path, run, nthreads)) return fail(whole.geterror());
+    std::vector<std::string> order;  // by name, as OpenEXR stores them
+    for (const auto& unit : units) order.push_back(unit.first);
+
+    // The part: the share's rows of every unit, and the whole job's header plus what was summed.
+    OIIO::ImageSpec spec = whole.spec();
+    spec.nchannels = int(order.size());
+    spec.channelnames = order;
+    spec.alpha_channel = -1;
+    spec.z_channel = -1;
+    spec.y = sh.row_begin;
+    spec.height = sh.row_end - sh.row_begin;
+    spec.full_y = 0;
+    spec.full_height = in.height;
+    spec.attribute("wavecam.part.share", std::to_string(index) + "/" + std::to_string(count));
+    spec.attribute("wavecam.part.units", range_text(sh.unit_begin, sh.unit_end));
+    spec.attribute("wavecam.part.rows", range_text(sh.row_begin, sh.row_end));
+    spec.attribute("wavecam.part.summed", describe_share(sh, R));
+    spec.attribute("wavecam.part.wavelength-count", S);
+    spec.attribute("wavecam.part.runs", R);
+    spec.attribute("wavecam.part.terms", float(terms));
+    spec.attribute("wavecam.part.input", input_path);
+    spec.attribute("wavecam.part.input-fingerprint", fingerprint.value);
+    spec.attribute("wavecam.part.job", job_fingerprint(fingerprint.value, settings));
+    for (const auto& [k, v] : settings) spec.attribute(kSettingPrefix + k, v);
+    part.reset(spec);
+    const size_t W = size_t(in.width), rows = size_t(spec.height), C = order.size();
+    std::vector<float> px(W * rows * C);
+    for (size_t c = 0; c < C; ++c) {
+        const float* unit = units[order[c]].data() + size_t(sh.row_begin) * W;
+        for (size_t p = 0; p < W * rows; ++p) px[p * C + c] = unit[p];
+    }
+    if (!part.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, px.data()))
+        return fail(input_path + ": cannot fill the part image: " + part.geterror());
+    part.specmod().attribute("wavecam.part.checksum", pixel_checksum(part));
+    return true;
+}
+
+Result<PartFile> read_part(const std::string& path) {
+    auto fail = [&path](const std::string& m) { return Result<PartFile>::failure(path + ": " + m); };
+    PartFile p;
+    p.path = path;
+    p.image.reset(path);
+    if (!p.image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
+        std::string e = p.image.geterror();
+        return fail("corrupt or unreadable: " + (e.empty() ? std::string("cannot be read as an image") : e));
+    }
+    const OIIO::ImageSpec& spec = p.image.spec();
+    const std::string share = spec.get_string_attribute("wavecam.part.share");
+    if (share.empty()) return fail("not a wavecam part file: no wavecam.part.share in its header");
+    auto k = parse_share(share);
+    int ub = 0, ue = 0, rb = 0, re = 0;
+    p.wavelengths = spec.get_int_attribute("wavecam.part.wavelength-count");
+    p.runs = spec.get_int_attribute("wavecam.part.runs");
+    p.width = spec.full_width;
+    p.height = spec.full_height;
+    p.input = spec.get_string_attribute("wavecam.part.input");
+    p.input_fingerprint = spec.get_string_attribute("wavecam.part.input-fingerprint");
+    p.job = spec.get_string_attribute("wavecam.part.job");
+    if (!k.ok() || !parse_range(spec.get_string_attribute("wavecam.part.units"), ub, ue) ||
+        !parse_range(spec.get_string_attribute("wavecam.part.rows"), rb, re) || p.wavelengths < 1 || p.runs < 1 ||
+        p.input.empty() || p.input_fingerprint.empty() || p.job.empty())
+        return fail("corrupt: its wavecam.part header is incomplete");
+    auto layout = work_share(k.value.index, k.value.count, p.wavelengths, p.runs, p.height);
+    if (!layout.ok() || layout.value.unit_begin != ub || layout.value.unit_end != ue ||
+        layout.value.row_begin != rb || layout.value.row_end != re || spec.y != rb || spec.height != re - rb)
+        return fail("corrupt: its header's units and rows are not share " + share + "'s");
+    p.share = layout.value;
+    const std::string sum = spec.get_string_attribute("wavecam.part.checksum");
+    if (sum != pixel_checksum(p.image))
+        return fail("corrupt: its pixels do not match the checksum in its header");
+    for (const auto& a : spec.extra_attribs) {
+        const std::string name = a.name().string();
+        if (name.rfind(kSettingPrefix, 0) == 0) p.settings[name.substr(std::string(kSettingPrefix).size())] = a.get_string();
+    }
+    if (job_fingerprint(p.input_fingerprint, p.settings) != p.job)
+        return fail("corrupt: its settings do not match the job fingerprint in its header");
+    for (int u = ub; u < ue; ++u)
+        if (spec.channelindex(channel_name(u / p.runs, u % p.runs, +1)) < 0)
+            return fail("corrupt: channel " + channel_name(u / p.runs, u % p.runs, +1) + " is missing");
+    return Result<PartFile>::success(std::move(p));
+}
+
+Result<bool> check_part_set(const std::vector<PartFile>& parts) {
+    if (parts.empty()) return Result<bool>::failure("no part files given");
+    std::vector<std::string> problems;
+    const std::string input = majority<std::string>(parts, [](const PartFile& p) { return p.input_fingerprint; });
+    const SettingsText settings = majority<SettingsText>(parts, [](const PartFile& p) { return p.settings; });
+    const int count = majority<int>(parts, [](const PartFile& p) { return p.share.count; });
+    std::map<int, const PartFile*> seen;
+    for (const auto& p : parts) {
+        const size_t before = problems.size();
+        if (p.input_fingerprint != input) {
+            const PartFile& other = *std::find_if(parts.begin(), parts.end(),
+                                                  [&](const PartFile& q) { return q.input_fingerprint == input; });
+            problems.push_back(share_name(p) + ": made from another input (" + p.input + ", fingerprint " +
+                               p.input_fingerprint + "; the other shares: " + other.input + ", fingerprint " + input +
+                               ")");
+        }
+        std::set<std::string> keys;
+        for (const auto& kv : p.settings) keys.insert(kv.first);
+        for (const auto& kv : settings) keys.insert(kv.first);
+        for (const auto& key : keys) {
+            auto mine = p.settings.find(key), theirs = settings.find(key);
+            const std::string a = mine == p.settings.end() ? "(default)" : "'" + mine->second + "'";
+            const std::string b = theirs == settings.end() ? "(default)" : "'" + theirs->second + "'";
+            if (a == b) continue;
+            problems.push_back(share_name(p) + ": " + (key == "seed" ? "another seed" : "another setting") + ": " +
+                               key + " " + a + " (the other shares: " + b + ")");
+        }
+        if (p.share.count != count)
+            problems.push_back(share_name(p) + ": from a split into " + std::to_string(p.share.count) +
+                               " shares; the other shares are of " + std::to_string(count));
+        if (problems.size() != before) continue;
+        if (auto it = seen.find(p.share.index); it != seen.end())
+            problems.push_back(share_name(p) + ": given twice (also " + it->second->path + ")");
+        else
+            seen[p.share.index] = &p;
+    }
+    std::string missing;
+    for (int k = 1; k <= count; ++k)
+        if (!seen.count(k)) missing += (missing.empty() ? "" : ", ") + std::to_string(k) + "/" + std::to_string(count);
+    if (!missing.empty())
+        problems.push_back("share" + std::string(missing.find(',') == std::string::npos ? " " : "s ") + missing +
+                           " missing (given: " + std::to_string(seen.size()) + " of " + std::to_string(count) + ")");
+    if (problems.empty()) return Result<bool>::success(true);
+    std::string all;
+    for (const auto& m : problems) all += (all.empty() ? "" : "\n") + m;
+    return Result<bool>::failure(all);
+}
+
+MonochromePropagator stored_units(const std::vector<PartFile>& parts) {
+    // Every unit's rows gathered into one full-height image per channel name.
+    auto units = std::make_shared<std::map<std::string, std::vector<float>>>();
+    const int W = parts.front().width, H = parts.front().height, R = parts.front().runs;
+    for (const auto& p : parts) {
+        const OIIO::ImageSpec& spec = p.image.spec();
+        const size_t rows = size_t(spec.height), C = size_t(spec.nchannels);
+        std::vector<float> px(size_t(W) * rows * C);
+        p.image.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, px.data());
+        for (size_t c = 0; c < C; ++c) {
+            auto& unit = (*units)[spec.channelnames[c]];
+            if (unit.empty()) unit.assign(size_t(W) * H, 0.0f);
+            float* dst = unit.data() + size_t(spec.y) * W;
+            for (size_t q = 0; q < size_t(W) * rows; ++q) dst[q] = px[q * C + c];
+        }
+    }
+    return [units, R](const MonochromeScene& mono, double, float* irradiance, const ProgressFn&) {
+        const size_t n = size_t(mono.camera.width) * mono.camera.height;
+        // The same sum, in the same order, as diffract_monochrome's runs.
+        for (int r = 0; r < R; ++r) {
+            const std::string name = channel_name(mono.spectral_index, r, mono.sign);
+            auto it = units->find(name);
+            if (it == units->end() || it->second.size() != n)
+                return Result<bool>::failure("the shares hold no channel " + name + " (the input needs it)");
+            for (size_t p = 0; p < n; ++p) irradiance[p] += it->second[p];
+        }
+        return Result<bool>::success(true);
+    };
+}
+
+}  // namespace wavecam

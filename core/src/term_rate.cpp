@@ -1,0 +1,48 @@
+#include "wavecam/term_rate.h"
+
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <mutex>
+
+#include "wavecam/propagation.h"
+#include "wavecam/source.h"
+
+namespace wavecam {
+
+double measured_term_rate(int nthreads, double seconds) {
+    static std::mutex lock;
+    static std::map<int, double> measured;
+    const int threads = nthreads > 0 ? nthreads : omp_get_max_threads();
+    std::lock_guard<std::mutex> guard(lock);
+    if (auto it = measured.find(threads); it != measured.end()) return it->second;
+
+    // A 0.3 mm pinhole at 550 nm (about 2.3e5 samples at lambda/2 would be slow to set up;
+    // a coarser pitch gives the same per-term cost) and 32 x 32 film points.
+    const double lambda = 550e-9;
+    const ApertureSamples samples = sample_aperture({ApertureShape::Circle, 0.3e-3}, 0.3e-3 / 128);
+    PinholeField field;
+    illuminate_pinhole(samples, {source_at_field_angle(INFINITY, 0)}, lambda, field, threads);
+    FilmPoints film;
+    film.film_distance = 50e-3;
+    for (int j = 0; j < 32; ++j)
+        for (int i = 0; i < 32; ++i) {
+            film.x.push_back(float((i - 16) * 1e-5));
+            film.y.push_back(float((j - 16) * 1e-5));
+        }
+    std::vector<float> out(film.size(), 0.0f);
+    const double terms_per_pass = double(samples.size()) * film.size();
+    using clock = std::chrono::steady_clock;
+    const auto start = clock::now();
+    double terms = 0, elapsed = 0;
+    do {
+        accumulate_film_irradiance(samples, field, film, lambda, 1.0, out.data(), threads);
+        terms += terms_per_pass;
+        elapsed = std::chrono::duration<double>(clock::now() - start).count();
+    } while (elapsed < seconds);
+    return measured[threads] = terms / elapsed;
+}
+
+}  // namespace wavecam

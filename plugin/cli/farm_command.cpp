@@ -1,0 +1,502 @@
+// `wavecam farm`: an exact job on a Slurm cluster. `submit` writes an sbatch job array (one task
+// per frame x share, each `wavecam apply --part K/N`) and one merge job per frame that waits for
+// that frame's tasks (--dependency=afterok), skipping shares whose part files are complete;
+// `status` says what is done. Files live in OUT.farm/: parts/FRAME/share-K-of-N.exr, logs/, the
+// scripts and job.txt (what was submitted). The fast method needs no shares: its frames go
+// through the array in chunks, one `wavecam apply --frames` per task.
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <thread>
+
+#include "commands.h"
+#include "slurm.h"
+#include "terminal_progress.h"
+#include "wavecam/diffract_image.h"
+#include "wavecam/render_input.h"
+#include "wavecam/share_files.h"
+#include "wavecam/term_rate.h"
+
+namespace wavecam::cli {
+namespace {
+namespace fs = std::filesystem;
+
+struct FarmFlags {
+    std::string input, output, frames, partition;
+    front::Settings given;
+    bool no_vignetting = false, no_jitter = false, wait = false, hold = false;
+    int tasks = 0, cpus = 1;
+};
+
+int fail(const std::string& message, int status = 1) {
+    std::fprintf(stderr, "wavecam farm: %s\n", message.c_str());
+    return status;
+}
+
+std::string absolute(const std::string& p) { return fs::absolute(p).lexically_normal().string(); }
+
+// OUT.farm, with the frame-number characters of a pattern made plain ("out.#.exr" -> "out._.exr.farm").
+fs::path farm_dir(const std::string& output) {
+    std::string name = fs::path(absolute(output)).filename().string();
+    for (char& c : name)
+        if (c == '#' || c == '@' || c == '%') c = '_';
+    return fs::path(absolute(output)).parent_path() / (name + ".farm");
+}
+
+// One frame of the job (the frame number 0 and tag "image" for a single image).
+struct Frame {
+    int number = 0;
+    std::string tag, input, output;
+    std::string job;  // job fingerprint: input bytes and settings
+};
+
+fs::path part_path(const fs::path& farm, const Frame& f, int k, int n) {
+    return farm / "parts" / f.tag / ("share-" + std::to_string(k) + "-of-" + std::to_string(n) + ".exr");
+}
+
+// A part file is complete when its header says it is this job's share K/N (it was written by
+// rename, so a file that exists was written whole; the merge checks its pixels).
+bool part_complete(const fs::path& path, const Frame& f, int k, int n) {
+    if (!fs::exists(path)) return false;
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) return false;
+    const OIIO::ImageSpec& spec = in->spec();
+    return spec.get_string_attribute("wavecam.part.job") == f.job &&
+           spec.get_string_attribute("wavecam.part.share") == std::to_string(k) + "/" + std::to_string(n);
+}
+
+bool frame_merged(const Frame& f) {
+    if (!fs::exists(f.output)) return false;
+    auto in = OIIO::ImageInput::open(f.output);
+    return in && in->spec().get_string_attribute("wavecam.job") == f.job;
+}
+
+// "0-3,5,7-8" for Slurm's --array.
+std::string index_list(const std::vector<int>& ids) {
+    std::string s;
+    for (size_t a = 0; a < ids.size();) {
+        size_t b = a;
+        while (b + 1 < ids.size() && ids[b + 1] == ids[b] + 1) ++b;
+        s += (s.empty() ? "" : ",") + std::to_string(ids[a]) + (b > a ? "-" + std::to_string(ids[b]) : "");
+        a = b + 1;
+    }
+    return s;
+}
+
+std::string self_path() {
+    std::error_code ec;
+    const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+    return ec ? std::string("wavecam") : p.string();
+}
+
+// job.txt: key=value lines.
+std::map<std::string, std::string> read_job_file(const fs::path& p) {
+    std::map<std::string, std::string> kv;
+    std::ifstream in(p);
+    std::string line;
+    while (std::getline(in, line))
+        if (auto eq = line.find('='); eq != std::string::npos) kv[line.substr(0, eq)] = line.substr(eq + 1);
+    return kv;
+}
+
+Result<bool> write_text(const fs::path& p, const std::string& text) {
+    const fs::path temp = p.string() + ".tmp" + std::to_string(::getpid());
+    {
+        std::ofstream out(temp);
+        out << text;
+        if (!out) return Result<bool>::failure(p.string() + ": cannot write");
+    }
+    std::error_code ec;
+    fs::rename(temp, p, ec);
+    if (ec) return Result<bool>::failure(p.string() + ": cannot write: " + ec.message());
+    return Result<bool>::success(true);
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, sep))
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+// The frames as job.txt lists them: "tag|number|input|output|job" per frame.
+std::vector<Frame> frames_of(const std::map<std::string, std::string>& job) {
+    std::vector<Frame> frames;
+    for (int i = 0;; ++i) {
+        auto it = job.find("frame." + std::to_string(i));
+        if (it == job.end()) break;
+        const auto f = split(it->second, '|');
+        if (f.size() == 5) frames.push_back({std::stoi(f[1]), f[0], f[2], f[3], f[4]});
+    }
+    return frames;
+}
+
+struct Progress {
+    int done = 0;
+    std::vector<int> missing;
+};
+
+Progress shares_done(const fs::path& farm, const Frame& f, int n) {
+    Progress p;
+    for (int k = 1; k <= n; ++k)
+        if (part_complete(part_path(farm, f, k, n), f, k, n)) ++p.done;
+        else p.missing.push_back(k);
+    return p;
+}
+
+// What is done, frame by frame; true when every frame is merged.
+Result<bool> report_status(const std::string& output) {
+    const fs::path farm = farm_dir(output);
+    if (!fs::exists(farm / "job.txt"))
+        return Result<bool>::failure(output + ": no farm job here (" + (farm / "job.txt").string() +
+                                     " is missing); submit one with `wavecam farm submit`");
+    auto job = read_job_file(farm / "job.txt");
+    const int n = std::atoi(job["tasks"].c_str());
+    auto states = squeue_states();
+    const std::string array = job["array-job"];
+    int merged = 0;
+    const auto frames = frames_of(job);
+    for (size_t i = 0; i < frames.size(); ++i) {
+        const Frame& f = frames[i];
+        std::string line = (f.tag == "image" ? "image" : "frame " + f.tag) + ": ";
+        if (frame_merged(f)) {
+            line += (n == 0 ? "done -> " : "merged -> ") + f.output;
+            ++merged;
+        } else if (n == 0) {  // fast method: the frame's chunk task
+            const std::string task = array + "_" + job["task-of." + std::to_string(i)];
+            line += "not done; task " + task + " " +
+                    (states.ok() && states.value.count(task) ? states.value[task] : std::string("not queued"));
+        } else {
+            const Progress p = shares_done(farm, f, n);
+            line += std::to_string(p.done) + " of " + std::to_string(n) + " shares done";
+            std::string queued;
+            for (int k : p.missing) {
+                std::string state = "not queued";
+                if (states.ok() && !array.empty()) {
+                    auto it = states.value.find(array + "_" + std::to_string(i * n + k - 1));
+                    if (it != states.value.end()) state = it->second;
+                }
+                queued += (queued.empty() ? "" : ", ") + std::to_string(k) + " " + state;
+            }
+            if (!queued.empty()) line += "; missing: " + queued;
+            const std::string merge_id = job["merge-job." + std::to_string(i)];
+            if (states.ok() && !merge_id.empty() && states.value.count(merge_id))
+                line += "; merge job " + merge_id + " " + states.value[merge_id];
+            else if (p.missing.empty())
+                line += "; ready to merge";
+            else
+                line += "; re-submit to run the missing shares";
+        }
+        std::printf("%s\n", line.c_str());
+    }
+    if (!states.ok()) std::printf("(queue unknown: %s)\n", states.error.c_str());
+    std::printf("%d of %zu frames %s\n", merged, frames.size(), n == 0 ? "done" : "merged");
+    return Result<bool>::success(merged == int(frames.size()));
+}
+
+// Waits until none of `jobs` is in the queue, then reports; exit status 0 when all is done.
+int wait_and_report(const FarmFlags& flags, const std::vector<std::string>& jobs) {
+    for (;;) {
+        auto now = squeue_states();
+        if (!now.ok()) return fail(now.error);
+        bool any = false;
+        for (const auto& [id, state] : now.value)
+            for (const auto& w : jobs) any |= id.substr(0, id.find('_')) == w;
+        if (!any || interrupted()) break;
+        std::this_thread::sleep_for(std::chrono::seconds(1));
+    }
+    auto done = report_status(flags.output);
+    if (!done.ok()) return fail(done.error);
+    return done.value ? 0 : 1;
+}
+
+// A submission of this farm folder still in the queue (it would compute the same work twice).
+Result<bool> check_nothing_queued(const FarmFlags& flags, size_t frames) {
+    auto previous = read_job_file(farm_dir(flags.output) / "job.txt");
+    auto states = squeue_states();
+    if (!states.ok()) return Result<bool>::failure(states.error);
+    for (const auto& [id, state] : states.value) {
+        const std::string job = id.substr(0, id.find('_'));
+        bool ours = job == previous["array-job"];
+        for (size_t i = 0; i < frames; ++i) ours |= job == previous["merge-job." + std::to_string(i)];
+        if (ours && !job.empty())
+            return Result<bool>::failure("job " + id + " of the last submission is still " + state +
+                                         "; wait for it (wavecam farm status " + flags.output +
+                                         ") or scancel it, then submit again");
+    }
+    return Result<bool>::success(true);
+}
+
+std::string apply_arguments(const FarmFlags& flags);
+
+// The fast method: the frames not yet made, in --tasks contiguous chunks of one array.
+int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::vector<Frame>& frames) {
+    std::vector<size_t> todo;
+    for (size_t i = 0; i < frames.size(); ++i) {
+        auto fingerprint = file_fingerprint(frames[i].input);
+        if (!fingerprint.ok()) return fail(fingerprint.error);
+        frames[i].job = job_fingerprint(fingerprint.value, settings);
+        if (!frame_merged(frames[i])) todo.push_back(i);
+    }
+    const size_t tasks = std::min(todo.size(), size_t(flags.tasks));
+    std::printf("farm: %zu frame%s, fast method (seconds to minutes a frame); %zu to make in %zu task%s\n",
+                frames.size(), frames.size() == 1 ? "" : "s", todo.size(), tasks, tasks == 1 ? "" : "s");
+    std::fflush(stdout);
+    if (auto q = check_nothing_queued(flags, frames.size()); !q.ok()) return fail(q.error);
+    const fs::path farm = farm_dir(flags.output);
+    std::error_code ec;
+    fs::create_directories(farm / "logs", ec);
+    std::ostringstream array, record;
+    array << "#!/bin/bash\n# wavecam farm: fast method, task i makes one chunk of frames; written by `wavecam farm "
+             "submit`.\n#SBATCH --job-name=wavecam\n#SBATCH --output="
+          << (farm / "logs" / "task-%a.log").string() << "\n#SBATCH --cpus-per-task=" << flags.cpus << "\n"
+          << "case \"$SLURM_ARRAY_TASK_ID\" in\n";
+    std::map<size_t, size_t> task_of;
+    for (size_t t = 0; t < tasks; ++t) {
+        std::string list;
+        for (size_t c = t * todo.size() / tasks; c < (t + 1) * todo.size() / tasks; ++c) {
+            list += (list.empty() ? "" : ",") + std::to_string(frames[todo[c]].number);
+            task_of[todo[c]] = t;
+        }
+        const std::string apply = shell_quote(self_path()) + " apply " + shell_quote(absolute(flags.input)) + " -o " +
+                                  shell_quote(absolute(flags.output)) + " --threads " + std::to_string(flags.cpus) +
+                                  apply_arguments(flags);
+        array << t << ") exec " << apply << (flags.frames.empty() ? "" : " --frames " + list) << " ;;\n";
+    }
+    array << "*) echo \"wavecam farm: no task $SLURM_ARRAY_TASK_ID\" >&2; exit 1 ;;\nesac\n";
+    if (auto w = write_text(farm / "array.sbatch", array.str()); !w.ok()) return fail(w.error);
+    std::string array_id;
+    if (tasks > 0) {
+        std::vector<std::string> opts{"--array=0-" + std::to_string(tasks - 1)};
+        if (!flags.partition.empty()) opts.push_back("--partition=" + flags.partition);
+        if (flags.hold) opts.push_back("--hold");
+        auto id = sbatch((farm / "array.sbatch").string(), opts);
+        if (!id.ok()) return fail(id.error);
+        array_id = id.value;
+        std::printf("farm: submitted array job %s: %zu tasks\n", array_id.c_str(), tasks);
+    } else {
+        std::printf("farm: every frame is made; nothing to compute\n");
+    }
+    record << "input=" << absolute(flags.input) << "\noutput=" << absolute(flags.output) << "\ntasks=0\narray-job="
+           << array_id << "\n";
+    for (size_t i = 0; i < frames.size(); ++i) {
+        const Frame& f = frames[i];
+        record << "frame." << i << "=" << f.tag << "|" << f.number << "|" << f.input << "|" << f.output << "|" << f.job
+               << "\n";
+        if (task_of.count(i)) record << "task-of." << i << "=" << task_of[i] << "\n";
+    }
+    if (auto w = write_text(farm / "job.txt", record.str()); !w.ok()) return fail(w.error);
+    if (!flags.wait) return 0;
+    return wait_and_report(flags, array_id.empty() ? std::vector<std::string>{} : std::vector<std::string>{array_id});
+}
+
+std::string apply_arguments(const FarmFlags& flags) {
+    std::string args;
+    for (const auto& [key, value] : flags.given) args += " --" + key + " " + shell_quote(value);
+    if (flags.no_jitter) args += " --no-jitter";
+    if (flags.no_vignetting) args += " --no-vignetting";
+    return args;
+}
+
+int submit(const FarmFlags& flags) {
+    if (flags.tasks < 1) return fail("--tasks: expected at least 1 share per frame", 2);
+    auto options = front::options_from_settings(flags.given);
+    if (!options.ok()) return fail("--" + options.error, 2);
+    const DiffractOptions opt = options.value;
+    const bool fast = opt.method == DiffractMethod::Fast;
+    const front::Settings settings = recorded_settings(flags.given, flags.no_vignetting, flags.no_jitter);
+
+    // The frames: one image, or a range of patterns.
+    std::vector<Frame> frames;
+    if (flags.frames.empty()) {
+        frames.push_back({0, "image", absolute(flags.input), absolute(flags.output), {}});
+    } else {
+        std::vector<int> numbers;
+        if (!OIIO::Filesystem::enumerate_sequence(flags.frames, numbers) || numbers.empty())
+            return fail("--frames: expected a frame range such as 1-100, 1-100x2 or 3,7,10-20, got '" + flags.frames +
+                        "'", 2);
+        auto in = frame_files(flags.input, numbers);
+        if (!in.ok()) return fail(in.error, 2);
+        auto out = frame_files(flags.output, numbers);
+        if (!out.ok()) return fail(out.error, 2);
+        for (size_t i = 0; i < numbers.size(); ++i) {
+            char tag[32];
+            std::snprintf(tag, sizeof tag, "%04d", numbers[i]);
+            frames.push_back({numbers[i], tag, absolute(in.value[i]), absolute(out.value[i]), {}});
+        }
+    }
+
+    if (fast) return submit_fast(flags, settings, frames);
+
+    // The estimate, before anything is submitted.
+    double total = 0;
+    for (auto& f : frames) {
+        auto render = read_render(f.input, opt.read);
+        if (!render.ok()) return fail(render.error);
+        PinholeCamera camera;
+        camera.width = render.value.width;
+        camera.height = render.value.height;
+        camera.fov_h = render.value.fov_h;
+        camera.film_distance = opt.film_distance;
+        const double terms = estimate_terms(opt, camera, render.value.depth, opt.depth_meaning);
+        const int wavelengths = opt.wavelengths.empty() ? opt.wavelength_count : int(opt.wavelengths.size());
+        const int runs = opt.method == DiffractMethod::Incoherent ? 1 : opt.diffraction.runs;
+        if (auto s = work_share(flags.tasks, flags.tasks, wavelengths, runs, camera.height); !s.ok())
+            return fail(f.input + ": --tasks: " + s.error, 2);
+        if (terms / flags.tasks > opt.max_terms) {
+            std::ostringstream m;
+            m << f.input << ": a share is about " << terms / flags.tasks << " terms (" << terms << " / " << flags.tasks
+              << "), beyond --max-terms; use more --tasks or raise --max-terms (now " << opt.max_terms << ")";
+            return fail(m.str(), 2);
+        }
+        auto fingerprint = file_fingerprint(f.input);
+        if (!fingerprint.ok()) return fail(fingerprint.error);
+        f.job = job_fingerprint(fingerprint.value, settings);
+        if (&f == &frames.front())
+            std::printf("farm: %dx%d pixels x %d wavelengths x %d runs = %.3g terms a frame\n", camera.width,
+                        camera.height, wavelengths, runs, terms);
+        total += terms;
+    }
+    const double core_rate = measured_term_rate(1);
+    const double core_hours = total / core_rate / 3600;
+    std::printf("farm: %zu frame%s x %d shares = %.3g terms, about %.3g core-hours at the %.3g terms/s per core "
+                "measured here; with every task running at once, about %s\n",
+                frames.size(), frames.size() == 1 ? "" : "s", flags.tasks, total, core_hours, core_rate,
+                format_duration(total / frames.size() / flags.tasks / (core_rate * flags.cpus)).c_str());
+    std::fflush(stdout);
+
+    if (auto q = check_nothing_queued(flags, frames.size()); !q.ok()) return fail(q.error);
+    const fs::path farm = farm_dir(flags.output);
+
+    // The array: every (frame, share) task in the script, only the incomplete ones submitted.
+    std::error_code ec;
+    fs::create_directories(farm / "logs", ec);
+    const int n = flags.tasks;
+    const std::string self = shell_quote(self_path()), args = apply_arguments(flags);
+    std::ostringstream array;
+    array << "#!/bin/bash\n"
+          << "# wavecam farm: task i computes share (i % " << n << ") + 1 of frame i / " << n
+          << "; written by `wavecam farm submit`.\n"
+          << "#SBATCH --job-name=wavecam\n"
+          << "#SBATCH --output=" << (farm / "logs" / "task-%a.log").string() << "\n"
+          << "#SBATCH --cpus-per-task=" << flags.cpus << "\n"
+          << "case \"$SLURM_ARRAY_TASK_ID\" in\n";
+    std::vector<int> pending;
+    std::vector<std::vector<int>> pending_of(frames.size());
+    for (size_t i = 0; i < frames.size(); ++i) {
+        const Frame& f = frames[i];
+        fs::create_directories(farm / "parts" / f.tag, ec);
+        const bool merged = frame_merged(f);
+        for (int k = 1; k <= n; ++k) {
+            const int index = int(i) * n + k - 1;
+            const fs::path part = part_path(farm, f, k, n);
+            array << index << ") exec " << self << " apply " << shell_quote(f.input) << " -o "
+                  << shell_quote(part.string()) << " --part " << k << "/" << n << " --threads " << flags.cpus << args
+                  << " ;;\n";
+            if (!merged && !part_complete(part, f, k, n)) {
+                pending.push_back(index);
+                pending_of[i].push_back(index);
+            }
+        }
+    }
+    array << "*) echo \"wavecam farm: no task $SLURM_ARRAY_TASK_ID\" >&2; exit 1 ;;\nesac\n";
+    if (auto w = write_text(farm / "array.sbatch", array.str()); !w.ok()) return fail(w.error);
+
+    std::vector<std::string> common;
+    if (!flags.partition.empty()) common.push_back("--partition=" + flags.partition);
+    std::string array_id;
+    if (!pending.empty()) {
+        auto opts = common;
+        opts.push_back("--array=" + index_list(pending));
+        if (flags.hold) opts.push_back("--hold");
+        auto id = sbatch((farm / "array.sbatch").string(), opts);
+        if (!id.ok()) return fail(id.error);
+        array_id = id.value;
+        std::printf("farm: submitted array job %s: %zu of %zu tasks (the others are complete)\n", array_id.c_str(),
+                    pending.size(), frames.size() * n);
+    } else {
+        std::printf("farm: every share is complete; nothing to compute\n");
+    }
+
+    std::ostringstream record;
+    record << "input=" << absolute(flags.input) << "\noutput=" << absolute(flags.output) << "\ntasks=" << n
+           << "\narray-job=" << array_id << "\n";
+    std::vector<std::string> waiting = array_id.empty() ? std::vector<std::string>{} : std::vector<std::string>{array_id};
+    for (size_t i = 0; i < frames.size(); ++i) {
+        const Frame& f = frames[i];
+        record << "frame." << i << "=" << f.tag << "|" << f.number << "|" << f.input << "|" << f.output << "|" << f.job
+               << "\n";
+        if (frame_merged(f)) continue;
+        const fs::path script = farm / ("merge-" + f.tag + ".sbatch");
+        std::ostringstream merge;
+        merge << "#!/bin/bash\n# wavecam farm: merges frame " << f.tag << "'s shares; written by `wavecam farm submit`.\n"
+              << "#SBATCH --job-name=wavecam-merge\n"
+              << "#SBATCH --output=" << (farm / "logs" / ("merge-" + f.tag + ".log")).string() << "\n"
+              << "exec " << self << " merge "
+              << shell_quote((farm / "parts" / f.tag / ("share-*-of-" + std::to_string(n) + ".exr")).string())
+              << " -o " << shell_quote(f.output) << "\n";
+        if (auto w = write_text(script, merge.str()); !w.ok()) return fail(w.error);
+        auto opts = common;
+        if (!pending_of[i].empty()) {
+            std::string dep = "--dependency=afterok";
+            for (int index : pending_of[i]) dep += ":" + array_id + "_" + std::to_string(index);
+            opts.push_back(dep);
+            opts.push_back("--kill-on-invalid-dep=yes");
+        }
+        auto id = sbatch(script.string(), opts);
+        if (!id.ok()) return fail(id.error);
+        record << "merge-job." << i << "=" << id.value << "\n";
+        waiting.push_back(id.value);
+        std::printf("farm: %s%s: merge job %s\n", f.tag == "image" ? "" : "frame ", f.tag.c_str(), id.value.c_str());
+    }
+    if (auto w = write_text(farm / "job.txt", record.str()); !w.ok()) return fail(w.error);
+    if (!flags.wait) return 0;
+    return wait_and_report(flags, waiting);
+}
+
+}  // namespace
+
+void add_farm_command(CLI::App& app, int& status) {
+    CLI::App* farm = app.add_subcommand("farm", "Run an exact job on a Slurm cluster: shares, then a merge per frame");
+    farm->require_subcommand(1);
+    auto f = std::make_shared<FarmFlags>();
+    CLI::App* cmd = farm->add_subcommand("submit", "Submit the job array and the merge jobs (sbatch on PATH)");
+    cmd->add_option("input", f->input, "Input EXR (or a pattern with --frames)")->required();
+    cmd->add_option("-o,--output", f->output, "Output EXR (or a pattern with --frames)")->required();
+    for (const auto& [key, help] : front::setting_keys()) {
+        if (key == "jitter" || key == "vignetting") continue;
+        cmd->add_option_function<std::string>("--" + key, [f, key = key](const std::string& v) { f->given[key] = v; },
+                                              help)
+            ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    }
+    cmd->add_flag("--no-jitter", f->no_jitter, "Keep each source at its pixel centre");
+    cmd->add_flag("--no-vignetting", f->no_vignetting, "Divide out the natural cos^4 fall-off");
+    cmd->add_option("--tasks", f->tasks, "Exact methods: shares per frame (array tasks per frame); fast method: tasks in all, each a chunk of frames")->required();
+    cmd->add_option("--frames", f->frames, "Frame range, e.g. 1-100; input and -o are then patterns (#, @, %04d)");
+    cmd->add_option("--partition", f->partition, "Slurm partition");
+    cmd->add_option("--cpus-per-task", f->cpus, "Cores per task (its threads)")->capture_default_str();
+    cmd->add_flag("--hold", f->hold, "Submit the array held (release it with scontrol release JOBID)");
+    cmd->add_flag("--wait", f->wait, "Wait until the jobs leave the queue, then print the status");
+    cmd->callback([f, &status] { status = submit(*f); });
+
+    auto out = std::make_shared<std::string>();
+    CLI::App* st = farm->add_subcommand("status", "What is done: merged frames, complete shares, queued tasks");
+    st->add_option("output", *out, "The -o given to submit")->required();
+    st->callback([out, &status] {
+        auto r = report_status(*out);
+        if (!r.ok()) status = fail(r.error);
+        else status = r.value ? 0 : 1;
+    });
+}
+
+}  // namespace wavecam::cli

@@ -1,0 +1,114 @@
+// `wavecam merge PARTS... -o OUT`: the shares of an exact job (`wavecam apply --part K/N`) into
+// the image the single-machine run makes. A set that is not exactly one whole job is refused,
+// one line per problem, and nothing is written.
+#include <glob.h>
+
+#include <OpenImageIO/imagebuf.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "commands.h"
+#include "compare_sheet.h"
+#include "wavecam/atomic_write.h"
+#include "wavecam/share_files.h"
+#include "../front/settings.h"
+
+namespace wavecam::cli {
+namespace {
+
+struct MergeFlags {
+    std::vector<std::string> parts;
+    std::string output, compare, png;
+};
+
+int refuse(const std::vector<std::string>& problems) {
+    std::fprintf(stderr, "wavecam merge: refused, nothing written:\n");
+    for (const auto& p : problems) std::fprintf(stderr, "  %s\n", p.c_str());
+    return 1;
+}
+
+// Arguments as given; one that is not a file but a pattern ("out.part-*.exr") is expanded.
+std::vector<std::string> expand(const std::vector<std::string>& args, std::vector<std::string>& problems) {
+    std::vector<std::string> files;
+    for (const auto& a : args) {
+        if (std::filesystem::exists(a) || a.find_first_of("*?[") == std::string::npos) {
+            files.push_back(a);
+            continue;
+        }
+        glob_t g{};
+        if (::glob(a.c_str(), 0, nullptr, &g) == 0)
+            for (size_t i = 0; i < g.gl_pathc; ++i) files.push_back(g.gl_pathv[i]);
+        else
+            problems.push_back(a + ": no part files match this pattern");
+        ::globfree(&g);
+    }
+    return files;
+}
+
+std::vector<std::string> split_lines(const std::string& text) {
+    std::vector<std::string> lines;
+    size_t a = 0;
+    while (a <= text.size()) {
+        const size_t b = std::min(text.find('\n', a), text.size());
+        lines.push_back(text.substr(a, b - a));
+        a = b + 1;
+    }
+    return lines;
+}
+
+int run(const MergeFlags& flags) {
+    std::vector<std::string> problems;
+    std::vector<PartFile> parts;
+    for (const auto& f : expand(flags.parts, problems)) {
+        auto p = read_part(f);
+        if (p.ok()) parts.push_back(std::move(p.value));
+        else problems.push_back(p.error);
+    }
+    if (!parts.empty())
+        if (auto set = check_part_set(parts); !set.ok())
+            for (const auto& line : split_lines(set.error)) problems.push_back(line);
+    if (parts.empty() && problems.empty()) problems.push_back("no part files given");
+    if (!problems.empty()) return refuse(problems);
+
+    const PartFile& first = parts.front();
+    auto fingerprint = file_fingerprint(first.input);
+    if (!fingerprint.ok()) return refuse({fingerprint.error + " (the shares' input; the merge reads it again)"});
+    if (fingerprint.value != first.input_fingerprint)
+        return refuse({first.input + ": changed since the shares were computed (fingerprint " + fingerprint.value +
+                       ", the shares' " + first.input_fingerprint + ")"});
+    auto options = front::options_from_settings(first.settings);
+    if (!options.ok()) return refuse({first.path + ": setting " + options.error});
+    DiffractOptions opt = options.value;
+    opt.max_terms = INFINITY;  // nothing is propagated: the shares hold the sums
+    opt.exact_propagator = stored_units(parts);
+    OIIO::ImageBuf src(first.input);
+    if (!src.read(0, 0, true, OIIO::TypeDesc::FLOAT)) return refuse({first.input + ": " + src.geterror()});
+    OIIO::ImageBuf dst;
+    if (!diffract(dst, src, first.input, opt)) return refuse({dst.geterror()});
+    dst.specmod().attribute("wavecam.job", first.job);  // the job the shares belong to (farm status)
+    if (auto w = write_image_atomically(dst, flags.output, OIIO::TypeDesc::FLOAT); !w.ok()) return refuse({w.error});
+    if (!flags.compare.empty())
+        if (auto w = write_compare_sheet(src, dst, opt, flags.compare); !w.ok()) return refuse({w.error});
+    if (!flags.png.empty())
+        if (auto w = write_display_image(dst, opt, flags.png); !w.ok()) return refuse({w.error});
+    std::printf("merged %zu shares: %s\nwrote %s\n", parts.size(),
+                dst.spec().get_string_attribute("wavecam.summary").c_str(), flags.output.c_str());
+    return 0;
+}
+
+}  // namespace
+
+void add_merge_command(CLI::App& app, int& status) {
+    auto f = std::make_shared<MergeFlags>();
+    CLI::App* cmd = app.add_subcommand("merge", "Merge the part files of `wavecam apply --part K/N` into the image");
+    cmd->add_option("parts", f->parts, "Part files or a pattern, e.g. 'out.part-*-of-8.exr'")->required();
+    cmd->add_option("-o,--output", f->output, "Output EXR, as `wavecam apply` writes it")->required();
+    cmd->add_option("--compare", f->compare, "Write input | output | difference as a PNG through the display view");
+    cmd->add_option("--png", f->png, "Also write the output as a display-referred PNG");
+    cmd->callback([f, &status] { status = run(*f); });
+}
+
+}  // namespace wavecam::cli

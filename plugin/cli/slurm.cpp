@@ -1,0 +1,63 @@
+#include "slurm.h"
+
+#include <cstdio>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace wavecam::cli {
+namespace {
+
+struct Captured {
+    int status = -1;
+    std::string output;
+};
+
+Captured capture(const std::string& command) {
+    Captured c;
+    FILE* p = ::popen((command + " 2>&1").c_str(), "r");
+    if (!p) return c;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, p)) c.output += buf;
+    const int s = ::pclose(p);
+    c.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+    return c;
+}
+
+std::string trimmed(std::string s) {
+    while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+    return s;
+}
+
+}  // namespace
+
+std::string shell_quote(const std::string& text) {
+    std::string q = "'";
+    for (char c : text) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+Result<std::string> sbatch(const std::string& script, const std::vector<std::string>& options) {
+    std::string cmd = "sbatch --parsable";
+    for (const auto& o : options) cmd += " " + shell_quote(o);
+    const Captured c = capture(cmd + " " + shell_quote(script));
+    const std::string out = trimmed(c.output);
+    // --parsable prints "JOBID" or "JOBID;CLUSTER"
+    const std::string id = out.substr(0, out.find(';'));
+    if (c.status != 0 || id.empty() || id.find_first_not_of("0123456789") != std::string::npos)
+        return Result<std::string>::failure("sbatch " + script + ": " + (out.empty() ? "failed" : out));
+    return Result<std::string>::success(id);
+}
+
+Result<std::map<std::string, std::string>> squeue_states() {
+    const Captured c = capture("squeue --noheader --array --format='%i %T'");
+    if (c.status != 0)
+        return Result<std::map<std::string, std::string>>::failure("squeue: " +
+                                                                   (c.output.empty() ? "failed" : trimmed(c.output)));
+    std::map<std::string, std::string> states;
+    std::istringstream lines(c.output);
+    std::string id, state;
+    while (lines >> id >> state) states[id] = state;
+    return Result<std::map<std::string, std::string>>::success(states);
+}
+
+}  // namespace wavecam::cli

@@ -1,0 +1,194 @@
+// Shares and merge (`wavecam apply --part K/N`, `wavecam merge`) as a user runs them: the
+// merged image equals the single-machine run, and every bad set is refused with nothing written.
+#include <gtest/gtest.h>
+#include <OpenImageIO/imagebuf.h>
+
+#include <fstream>
+#include <set>
+
+#include "command_runner.h"
+#include "wavecam/work_share.h"
+
+namespace fs = std::filesystem;
+using namespace wavecam::test;
+
+namespace {
+const std::string kWavecam = WAVECAM_BINARY;
+// tiny: 24 x 16 pixels, 3 wavelengths, 2 runs, one film point per pixel
+const std::string kJob = " --method exact --film-distance 20mm --pinhole 0.1mm --wavelengths 3 --runs 2 "
+                         "--film-subsamples 1 --seed 7 ";
+
+struct Fixture {
+    fs::path dir;
+    std::string input;
+    explicit Fixture(const std::string& name) : dir(scratch(name)), input((dir / "in.exr").string()) {
+        write_render(input, 24, 16, 2.0f, 30.0f);
+        // saturated primaries: their spectra go negative at some wavelengths, so parts carry
+        // the negative channels too
+        OIIO::ImageBuf in(input);
+        in.read(0, 0, true, OIIO::TypeDesc::FLOAT);
+        for (int j = 10; j < 14; ++j) {
+            in.setpixel(2, j, std::vector<float>{1, 0, 0, 2}.data());
+            in.setpixel(12, j, std::vector<float>{0, 0, 1, 2}.data());
+            in.setpixel(20, j, std::vector<float>{0, 1, 0, 2}.data());
+        }
+        in.write(input);
+    }
+    ~Fixture() { fs::remove_all(dir); }
+    std::string path(const std::string& f) const { return (dir / f).string(); }
+    CommandRun part(int k, int n, const std::string& out, const std::string& extra = "") const {
+        return run_command(kWavecam + " apply " + input + " -o " + path(out) + kJob + extra + " --part " +
+                           std::to_string(k) + "/" + std::to_string(n));
+    }
+    CommandRun merge(const std::string& parts, const std::string& out) const {
+        return run_command("cd " + dir.string() + " && " + kWavecam + " merge " + parts + " -o " + path(out));
+    }
+};
+
+// Largest |a - b| over every channel; both images must have the same size and channels.
+float max_difference(const std::string& a, const std::string& b) {
+    OIIO::ImageBuf x(a), y(b);
+    EXPECT_TRUE(x.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << a;
+    EXPECT_TRUE(y.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << b;
+    EXPECT_EQ(x.spec().width, y.spec().width);
+    EXPECT_EQ(x.spec().height, y.spec().height);
+    EXPECT_EQ(x.spec().channelnames, y.spec().channelnames);
+    float worst = 0;
+    for (int j = 0; j < x.spec().height; ++j)
+        for (int i = 0; i < x.spec().width; ++i)
+            for (int c = 0; c < x.nchannels(); ++c) worst = std::max(worst, std::abs(x.getchannel(i, j, 0, c) -
+                                                                                       y.getchannel(i, j, 0, c)));
+    return worst;
+}
+}  // namespace
+
+// Every (unit, row) of the job lies in exactly one share, for any N up to units x rows.
+TEST(WorkShare, EveryUnitRowInExactlyOneShare) {
+    for (int units_w : {1, 3}) {
+        for (int runs : {1, 2, 5}) {
+            const int height = 7, units = units_w * runs;
+            for (int n = 1; n <= units * height; ++n) {
+                std::vector<int> cover(units * height, 0);
+                for (int k = 1; k <= n; ++k) {
+                    auto s = wavecam::work_share(k, n, units_w, runs, height);
+                    ASSERT_TRUE(s.ok()) << s.error;
+                    ASSERT_LT(s.value.unit_begin, s.value.unit_end);
+                    ASSERT_LT(s.value.row_begin, s.value.row_end);
+                    for (int u = s.value.unit_begin; u < s.value.unit_end; ++u)
+                        for (int r = s.value.row_begin; r < s.value.row_end; ++r) ++cover[u * height + r];
+                }
+                for (int c : cover) ASSERT_EQ(c, 1) << "units " << units << " n " << n;
+            }
+            EXPECT_FALSE(wavecam::work_share(1, units * height + 1, units_w, runs, height).ok());
+        }
+    }
+    EXPECT_FALSE(wavecam::parse_share("0/4").ok());
+    EXPECT_FALSE(wavecam::parse_share("5/4").ok());
+    EXPECT_FALSE(wavecam::parse_share("2of4").ok());
+    EXPECT_TRUE(wavecam::parse_share("2/4").ok());
+}
+
+// Shares of whole units (4 of 6) and bands of rows (13 > 6 units) merge into the single run's image.
+TEST(Shares, MergeEqualsTheSingleMachineRun) {
+    Fixture f("shares_equal");
+    auto single = run_command(kWavecam + " apply " + f.input + " -o " + f.path("single.exr") + kJob);
+    ASSERT_EQ(single.status, 0) << single.output;
+    for (int n : {4, 13}) {
+        for (int k = 1; k <= n; ++k) {
+            auto r = f.part(k, n, "n" + std::to_string(n) + "_part" + std::to_string(k) + ".exr");
+            ASSERT_EQ(r.status, 0) << r.output;
+        }
+        OIIO::ImageBuf last(f.path("n" + std::to_string(n) + "_part" + std::to_string(n) + ".exr"));
+        ASSERT_TRUE(last.read());
+        EXPECT_GE(last.spec().channelindex("w002.r001.neg"), 0) << "the test should cover negative power";
+        const std::string out = "merged" + std::to_string(n) + ".exr";
+        auto m = f.merge("'n" + std::to_string(n) + "_part*.exr'", out);
+        ASSERT_EQ(m.status, 0) << m.output;
+        // the same sums in the same order: bit for bit on one machine
+        EXPECT_EQ(max_difference(f.path("single.exr"), f.path(out)), 0.0f) << n << " shares";
+    }
+    // the image is not trivially equal to its input or to zero
+    EXPECT_GT(max_difference(f.path("single.exr"), f.input), 1e-3f);
+}
+
+TEST(Shares, BadSetsAreRefusedNamingTheShareAndNothingIsWritten) {
+    Fixture f("shares_bad");
+    for (int k = 1; k <= 3; ++k) ASSERT_EQ(f.part(k, 3, "p" + std::to_string(k) + ".exr").status, 0);
+    // other seed, other setting, other input: share 2 made differently
+    ASSERT_EQ(f.part(2, 3, "seed2.exr", " --seed 8").status, 0);
+    ASSERT_EQ(f.part(2, 3, "pinhole2.exr", " --pinhole 0.12mm").status, 0);
+    write_render(f.path("other.exr"), 24, 16, 3.0f, 30.0f);
+    ASSERT_EQ(run_command(kWavecam + " apply " + f.path("other.exr") + " -o " + f.path("input2.exr") + kJob +
+                          " --part 2/3")
+                  .status,
+              0);
+    ASSERT_EQ(f.part(2, 4, "split2.exr").status, 0);
+    fs::copy_file(f.path("p2.exr"), f.path("copy2.exr"));
+    {  // corrupt: the file cut short, and one pixel changed behind the checksum's back
+        std::string bytes;
+        {
+            std::ifstream in(f.path("p2.exr"), std::ios::binary);
+            bytes.assign(std::istreambuf_iterator<char>(in), {});
+        }
+        std::ofstream(f.path("cut2.exr"), std::ios::binary) << bytes.substr(0, bytes.size() * 2 / 3);
+        OIIO::ImageBuf p(f.path("p2.exr"));
+        ASSERT_TRUE(p.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+        p.setpixel(3, 4, std::vector<float>(p.nchannels(), 0.5f).data());
+        ASSERT_TRUE(p.write(f.path("edited2.exr")));
+    }
+    std::ofstream(f.path("text.exr")) << "not an image";
+
+    struct Case {
+        std::string parts, expected;
+    };
+    const std::vector<Case> cases = {
+        {"p1.exr p3.exr", "share 2/3 missing (given: 2 of 3)"},
+        {"p1.exr p2.exr copy2.exr p3.exr", "share 2/3 (copy2.exr): given twice (also p2.exr)"},
+        {"p1.exr seed2.exr p3.exr", "share 2/3 (seed2.exr): another seed: seed '8' (the other shares: '7')"},
+        {"p1.exr pinhole2.exr p3.exr", "share 2/3 (pinhole2.exr): another setting: pinhole '0.12mm' (the other shares: '0.1mm')"},
+        {"p1.exr input2.exr p3.exr", "share 2/3 (input2.exr): made from another input (" + f.path("other.exr")},
+        {"p1.exr split2.exr p3.exr", "share 2/4 (split2.exr): from a split into 4 shares; the other shares are of 3"},
+        {"p1.exr cut2.exr p3.exr", "cut2.exr: corrupt or unreadable"},
+        {"p1.exr edited2.exr p3.exr", "edited2.exr: corrupt: its pixels do not match the checksum in its header"},
+        {"p1.exr text.exr p3.exr", "text.exr: corrupt or unreadable"},
+        {"p1.exr " + f.input + " p3.exr", f.input + ": not a wavecam part file"},
+        {"'none*.exr'", "none*.exr: no part files match this pattern"},
+    };
+    for (const auto& c : cases) {
+        auto r = f.merge(c.parts, "out.exr");
+        EXPECT_NE(r.status, 0) << c.parts;
+        EXPECT_NE(r.output.find("refused, nothing written"), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.parts << "\n" << r.output;
+        EXPECT_FALSE(fs::exists(f.path("out.exr"))) << c.parts;
+    }
+    // the input changed after the shares were computed
+    write_render(f.input, 24, 16, 2.5f, 30.0f);
+    auto r = f.merge("p1.exr p2.exr p3.exr", "out.exr");
+    EXPECT_NE(r.output.find("changed since the shares were computed"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(f.path("out.exr")));
+}
+
+TEST(Shares, PartFlagErrorsAndACompletePartIsKept) {
+    Fixture f("shares_flags");
+    auto bad = f.part(5, 4, "x.exr");
+    EXPECT_EQ(WEXITSTATUS(bad.status), 2) << bad.output;
+    EXPECT_NE(bad.output.find("--part: expected K/N with 1 <= K <= N"), std::string::npos) << bad.output;
+    auto many = f.part(1, 24 * 16 * 6 + 1, "x.exr");
+    EXPECT_NE(many.output.find("more than the job's 6 units x 16 film rows"), std::string::npos) << many.output;
+    auto fast = run_command(kWavecam + " apply " + f.input + " -o " + f.path("x.exr") + " --part 1/2 --fov 30deg");
+    EXPECT_NE(fast.output.find("use --method exact"), std::string::npos) << fast.output;
+    EXPECT_FALSE(fs::exists(f.path("x.exr")));
+    // the share's own terms are bounded, and the message describes the job
+    auto big = f.part(1, 2, "x.exr", " --max-terms 1e6");
+    EXPECT_NE(big.output.find("share 1/2 of 24x16 pixels x 3 wavelengths x 2 runs"), std::string::npos) << big.output;
+    EXPECT_NE(big.output.find("beyond --max-terms 1e+06"), std::string::npos) << big.output;
+    // a re-run task keeps a complete part of the same job (a killed task is simply re-run)
+    ASSERT_EQ(f.part(1, 2, "p1.exr").status, 0);
+    const auto written = fs::last_write_time(f.path("p1.exr"));
+    auto again = f.part(1, 2, "p1.exr");
+    EXPECT_NE(again.output.find("already complete; kept"), std::string::npos) << again.output;
+    EXPECT_EQ(fs::last_write_time(f.path("p1.exr")), written);
+    // ...but not one of another seed
+    auto other = f.part(1, 2, "p1.exr", " --seed 9");
+    EXPECT_EQ(other.output.find("already complete"), std::string::npos) << other.output;
+}
