@@ -1,0 +1,173 @@
+"""render_pov.sh on unmodified POV-Ray scenes: radiance is POV-Ray's own render (not
+mirrored), depth is the true planar depth (analytic scene, geometry computed here), fov is
+the camera's; every refusal exits non-zero, says why and leaves nothing behind.
+Run: /usr/bin/python3 test_render_pov.py SCENES_DIR (ctest: render_pov_*)."""
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+import OpenImageIO as oiio
+
+SCENES = sys.argv.pop(1) if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..")
+RENDER = os.path.join(SCENES, "pov", "render_pov.sh")
+EXAMPLES = "/usr/share/doc/povray/examples/advanced"
+W, H = 64, 48
+
+
+def render(scene, out, *extra):
+    proc = subprocess.run([RENDER, scene, out, *extra], capture_output=True, text=True)
+    return proc.returncode, proc.stdout + proc.stderr
+
+
+def read(path):
+    buf = oiio.ImageBuf(path)
+    return buf.spec(), buf.get_pixels(oiio.FLOAT)
+
+
+# Analytic scene: floor y = 0, a sphere, a wall rectangle (z = 6, |x| <= 3, 0 <= y <= 2.5),
+# sky above. A reflective sphere and assumed_gamma 2.2 exercise the fog pass's guards.
+LOC, LOOK, ANGLE = np.array([0.4, 1.3, -4.0]), np.array([0.6, 0.9, 2.0]), 55.0
+SPHERE_C, SPHERE_R = np.array([0.9, 0.8, 1.5]), 0.8
+ANALYTIC = f"""#version 3.7;
+global_settings {{ assumed_gamma 2.2 }}
+camera {{ location <{LOC[0]}, {LOC[1]}, {LOC[2]}> right x*image_width/image_height angle {ANGLE}
+         look_at <{LOOK[0]}, {LOOK[1]}, {LOOK[2]}> }}
+light_source {{ <-3, 8, -6> rgb 1 }}
+sky_sphere {{ pigment {{ rgb <0.3, 0.5, 0.9> }} }}
+plane {{ y, 0 pigment {{ checker rgb 0.8 rgb 0.3 }} }}
+box {{ <-3, 0, 6>, <3, 2.5, 6.5> pigment {{ rgb <0.2, 0.6, 0.3> }} }}
+sphere {{ <{SPHERE_C[0]}, {SPHERE_C[1]}, {SPHERE_C[2]}>, {SPHERE_R} pigment {{ rgb <0.8, 0.2, 0.1> }}
+         finish {{ reflection 0.4 }} }}
+"""
+
+
+def analytic_truth():
+    """Planar depth per pixel (inf = sky): POV-Ray's look_at camera written out here,
+    D = look direction with length (W/H) / (2 tan(angle/2)), R = (sky x D) * W/H, U = D x R
+    (unit), pixel ray D + x R + y U with x = (i+0.5)/W - 0.5, y = 0.5 - (j+0.5)/H."""
+    fwd = (LOOK - LOC) / np.linalg.norm(LOOK - LOC)
+    right = np.cross([0, 1, 0], fwd)
+    right /= np.linalg.norm(right)
+    up = np.cross(fwd, right)
+    aspect = W / H
+    d = fwd * aspect / (2 * math.tan(math.radians(ANGLE) / 2))
+    z = np.full((H, W), np.inf)
+    for j in range(H):
+        for i in range(W):
+            x, y = (i + 0.5) / W - 0.5, 0.5 - (j + 0.5) / H
+            ray = d + x * right * aspect + y * up
+            ray /= np.linalg.norm(ray)
+            hits = []
+            if ray[1] < 0:
+                hits.append(-LOC[1] / ray[1])
+            if ray[2] > 0:
+                t = (6 - LOC[2]) / ray[2]
+                p = LOC + t * ray
+                if abs(p[0]) <= 3 and 0 <= p[1] <= 2.5:
+                    hits.append(t)
+            oc = LOC - SPHERE_C
+            b, c = oc @ ray, oc @ oc - SPHERE_R ** 2
+            if b * b - c >= 0 and -b - math.sqrt(b * b - c) > 0:
+                hits.append(-b - math.sqrt(b * b - c))
+            if hits:
+                z[j, i] = min(hits) * (ray @ fwd)
+    return z
+
+
+class RenderPov(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="test_render_pov.")
+
+    def tearDown(self):
+        shutil.rmtree(self.dir)
+
+    def write(self, name, text):
+        path = os.path.join(self.dir, name)
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
+    def check_depth(self, z):
+        truth = analytic_truth()
+        sky = np.isinf(truth)
+        self.assertTrue(np.all(z[sky] >= 1e9), "sky pixels must read as sky")
+        self.assertTrue(np.all(z[~sky] < 1e9), "surfaces must not read as sky")
+        rel = np.abs(z[~sky] / truth[~sky] - 1)
+        near = truth[~sky] < 100  # the floor near the horizon runs to any depth
+        print(f"analytic scene: planar depth median error {np.median(rel):.2e}, 99th percentile "
+              f"{np.percentile(rel[near], 99):.2e} over {int(near.sum())} pixels nearer than 100")
+        self.assertLessEqual(np.median(rel), 0.005)
+        self.assertLessEqual(np.percentile(rel[near], 99), 0.02)
+
+    def test_analytic_scene_depth_and_fov(self):
+        scene, out = self.write("analytic.pov", ANALYTIC), os.path.join(self.dir, "analytic.exr")
+        rc, log = render(scene, out, "--width", str(W), "--height", str(H))
+        self.assertEqual(rc, 0, log)
+        spec, px = read(out)
+        self.assertEqual(list(spec.channelnames), ["R", "G", "B", "Z"])
+        self.assertAlmostEqual(spec.getattribute("wavecam.fov"), ANGLE, places=4)
+        self.check_depth(px[..., 3])
+
+    def test_camera_in_an_include_needs_fov(self):
+        lines = ANALYTIC.splitlines()
+        cam = [k for k, l in enumerate(lines) if l.startswith("camera")][0]
+        self.write("cam.inc", "\n".join(lines[cam:cam + 2]) + "\n")
+        scene = self.write("included.pov", "\n".join(lines[:cam] + ['#include "cam.inc"'] + lines[cam + 2:]))
+        out = os.path.join(self.dir, "included.exr")
+        rc, log = render(scene, out, "--width", str(W), "--height", str(H))
+        self.assertNotEqual(rc, 0)
+        self.assertIn("--fov", log)
+        self.assertFalse(os.path.exists(out))
+        rc, log = render(scene, out, "--width", str(W), "--height", str(H), "--fov", f"{ANGLE}deg")
+        self.assertEqual(rc, 0, log)
+        spec, px = read(out)
+        self.assertAlmostEqual(spec.getattribute("wavecam.fov"), ANGLE, places=4)
+        self.check_depth(px[..., 3])
+
+    def test_shipped_scenes_radiance_and_fov(self):
+        for name, angle in (("pawns", 40.0), ("woodbox", 45.0)):
+            scene = os.path.join(EXAMPLES, name + ".pov")
+            out = os.path.join(self.dir, name + ".exr")
+            rc, log = render(scene, out, "--width", str(W), "--height", str(H))
+            self.assertEqual(rc, 0, log)
+            spec, px = read(out)
+            self.assertAlmostEqual(spec.getattribute("wavecam.fov"), angle, places=4, msg=name)
+            # POV-Ray's own render of the unmodified scene, with the same options.
+            plain = os.path.join(self.dir, name + "_plain.exr")
+            subprocess.run(["povray", "-D", "-V", f"+I{scene}", "+FE", f"+O{plain}", f"+W{W}", f"+H{H}",
+                            "+A0.3", "-J"], cwd=EXAMPLES, check=True, capture_output=True)
+            _, ref = read(plain)
+            np.testing.assert_array_equal(px[..., :3], ref[..., :3], err_msg=name)
+            self.assertGreater(np.abs(px[:, ::-1, :3] - ref[..., :3]).mean(), 0.01, f"{name} is symmetric")
+            z = px[..., 3]
+            self.assertTrue(np.all(np.isfinite(z)) and np.all(z > 0), name)
+
+    def refused(self, scene, expected, *extra):
+        out = os.path.join(self.dir, "refused.exr")
+        rc, log = render(scene, out, "--width", str(W), "--height", str(H), *extra)
+        self.assertEqual(rc, 1, log)
+        self.assertIn(expected, log)
+        self.assertEqual([f for f in os.listdir(self.dir) if not f.endswith((".pov", ".inc"))], [],
+                         f"files left behind: {log}")
+
+    def test_refusals(self):
+        body = ANALYTIC.split("light_source", 1)[1]
+        self.refused(self.write("nocamera.pov", "#version 3.7;\nlight_source" + body), "no camera")
+        self.refused(self.write("fog.pov", ANALYTIC + "fog { distance 30 color rgb 0.7 }\n"), "its own 'fog'")
+        self.refused(self.write("media.pov", ANALYTIC + "sphere { 0, 2 hollow pigment { rgbt 1 } interior {"
+                                " media { scattering { 1, 0.2 } } } }\n"), "its own 'media'")
+        self.refused(self.write("broken.pov", ANALYTIC + "sphere { <0, 1, 0> 0.5 pigment { rgb 1 }\n"),
+                     "Parse Error")
+        self.refused(self.write("ortho.pov", ANALYTIC.replace("camera {", "camera { orthographic")),
+                     "'orthographic'")
+        self.refused(self.write("fovclash.pov", ANALYTIC), "disagrees with the scene's camera", "--fov", "30deg")
+        self.refused(os.path.join(EXAMPLES, "chess2.pov"), "focal blur")
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
