@@ -21,11 +21,18 @@ SKY_DEPTH = 1e10
 FIRST_FOG_DISTANCE = 10.0  # scene units; the ladder moves up and down from here
 LADDER = 4.0           # ratio between successive fog distances
 RADIANCE_OPTIONS = ["+A0.3", "-J"]  # POV-Ray's antialiasing, without jitter (repeatable)
+FOV_CHECK_DEG = 0.05   # at 64 pixels wide and more (noise measured: <= 0.016 deg at 64x48)
 LADDER_STEPS = 6       # at most this many steps up or down from the first distance
 
 
 class Refusal(Exception):
     pass
+
+
+class PovrayFailed(Refusal):
+    def __init__(self, message, in_wrapper):
+        super().__init__(message)
+        self.in_wrapper = in_wrapper  # the error is in our added SDL, not in the scene
 
 
 def parse_args(argv):
@@ -88,7 +95,9 @@ class Povray:
                               errors="replace")
         log = proc.stdout + proc.stderr
         if proc.returncode != 0 or (out and "-F" not in options and not os.path.exists(out)):
-            raise Refusal(f"POV-Ray failed on the {what}:\n" + povray_message(log))
+            message = povray_message(log)
+            raise PovrayFailed(f"POV-Ray failed on the {what}:\n{message}",
+                               wrapper != self.scene and os.path.basename(wrapper) in message)
         return log, (out if "-F" not in options else None)
 
 
@@ -125,7 +134,12 @@ def find_camera(pov, text):
         sdl = pov_camera.probe_sdl(body)
     except pov_camera.CameraError as e:
         return None, str(e)
-    log, _ = pov.run(sdl, ["-F", "+SR1", "+ER1", "+SC1", "+EC1"], "camera probe")
+    try:
+        log, _ = pov.run(sdl, ["-F", "+SR1", "+ER1", "+SC1", "+EC1"], "camera probe")
+    except PovrayFailed as e:
+        if not e.in_wrapper:
+            raise
+        return None, "POV-Ray cannot evaluate its camera statement outside the scene (a macro's camera?)"
     lines = [l[len("wavecam-cam "):] for l in log.splitlines() if l.startswith("wavecam-cam ")]
     return pov_camera.compose(lines), ""
 
@@ -180,19 +194,23 @@ def depth_passes(pov, first_distance):
     gamma = measure_gamma(black, white, grey)
     sky_u = -math.log(2 ** -10)  # t below 2^-10 (~7 D): nothing finite resolved
 
-    def estimates():
-        return {D: ray_distance(b, w, D, gamma) for D, (b, w) in passes.items()}
-
-    for direction in (1, -1):
-        for _ in range(LADDER_STEPS):
-            est = estimates()
-            extreme = max(est) if direction > 0 else min(est)
-            _, u = est[extreme]
-            need = (u > 2.5).any() if direction > 0 else ((u < 0.4) & (u > 0)).any()
-            if not need:
-                break
-            add(extreme * LADDER ** direction)
-    est = estimates()
+    # Up while the farthest pass leaves pixels beyond u = 2.5 and the last step still brought
+    # some into range (sky never comes: its t is 0 at any D); down while pixels sit below 0.4.
+    for _ in range(LADDER_STEPS):
+        top = max(passes)
+        far = ray_distance(*passes[top], top, gamma)[1] > 2.5
+        if not far.any():
+            break
+        add(top * LADDER)
+        if not (far & (ray_distance(*passes[top * LADDER], top * LADDER, gamma)[1] < sky_u)).any():
+            break
+    for _ in range(LADDER_STEPS):
+        bottom = min(passes)
+        u = ray_distance(*passes[bottom], bottom, gamma)[1]
+        if not ((u < 0.4) & (u > 0)).any():
+            break
+        add(bottom / LADDER)
+    est = {D: ray_distance(b, w, D, gamma) for D, (b, w) in passes.items()}
     distances = sorted(est)
     d_all = np.stack([est[D][0] for D in distances])
     u_all = np.stack([est[D][1] for D in distances])
@@ -215,6 +233,57 @@ def depth_passes(pov, first_distance):
     return d, sky, gamma, distances
 
 
+def verify_camera(pov, camera, width, height, nearest, gamma):
+    """Check the camera read from the text against the one POV-Ray renders with: a black plane
+    across the view axis at eps (1% of the nearest depth, so in front of everything) and a
+    white fog of distance eps; every pixel's planar depth must come back as eps."""
+    eps = 0.01 * nearest
+    axis = camera.direction / np.linalg.norm(camera.direction)
+    offset = float(axis @ camera.location) + eps
+    n = ", ".join(repr(float(-c)) for c in axis)
+    sdl = (f"plane {{ <{n}>, {-offset!r} hollow no_shadow pigment {{ rgb 0 }}\n"
+           "  finish { ambient 0 diffuse 0 specular 0 phong 0 reflection 0 } }\n"
+           f"fog {{ distance {eps!r} color rgb 1 }}\n"
+           "global_settings { adc_bailout 1 }\n")
+    white = read(pov.run(sdl, ["-A", "+Q9"], "camera check")[1])
+    d, _ = ray_distance(np.zeros_like(white), white, eps, gamma)
+    cos_model, cos_seen = camera.cosines(width, height), np.clip(eps / d, 1e-6, 1)
+    offset_error = float(np.median(np.abs(d * cos_model / eps - 1)))
+    # The field: tan^2 of each ray's angle to the axis scales as 1/|D|^2; fit the scale k
+    # (tan^2 seen = k tan^2 model) and compare the horizontal fov it implies.
+    t2_model, t2_seen = 1 / cos_model ** 2 - 1, 1 / cos_seen ** 2 - 1
+    k = float((t2_model * t2_seen).sum() / (t2_model ** 2).sum())
+    fov = camera.hfov_deg()
+    fov_seen = math.degrees(2 * math.atan(math.tan(math.radians(fov) / 2) * math.sqrt(k)))
+    if offset_error > 2e-3 or abs(fov_seen - fov) > FOV_CHECK_DEG * max(1, 64 / width):
+        raise Refusal(f"the camera read from the scene's text does not match the one POV-Ray renders with (a test "
+                      f"plane's planar depth is off by {offset_error:.2%}; fov {fov:.3f} deg read, {fov_seen:.3f} "
+                      "deg seen); pass --fov DEG to use a centred camera instead")
+    return offset_error, fov_seen
+
+
+def write_exr(out, rgb, z, fov, scene, camera):
+    """R, G, B, Z and the header wavecam reads; temp file then rename, nothing on failure."""
+    spec = oiio.ImageSpec(z.shape[1], z.shape[0], 4, oiio.FLOAT)
+    spec.channelnames = ("R", "G", "B", "Z")
+    spec.attribute("wavecam.fov", float(fov))
+    spec.attribute("wavecam.depth", "planar")
+    spec.attribute("wavecam.scene", os.path.basename(scene))
+    spec.attribute("compression", "zip")
+    if camera is not None:
+        spec.attribute("worldToCamera", oiio.TypeDesc("matrix"), camera.world_to_camera().astype(np.float32).ravel())
+    partial = os.path.join(os.path.dirname(out), f".{os.path.basename(out)}.partial.exr")
+    try:
+        image = oiio.ImageOutput.create(partial)
+        pixels = np.concatenate([rgb, z[..., None]], axis=-1)
+        if not image or not image.open(partial, spec) or not image.write_image(pixels) or not image.close():
+            raise Refusal(f"{out}: cannot write: {oiio.geterror()}")
+        os.replace(partial, out)
+    finally:
+        if os.path.exists(partial):
+            os.remove(partial)
+
+
 def main(argv):
     args = parse_args(argv)
     pov_dir = os.path.dirname(os.path.abspath(__file__))
@@ -230,7 +299,7 @@ def main(argv):
 
     # POV-Ray's I/O security ("restricted" in /etc/povray/3.7/povray.conf) reads below the
     # current folder and writes /tmp: run from the scene's folder, passes under /tmp.
-    with tempfile.TemporaryDirectory(prefix="render_pov.") as tmp:
+    with tempfile.TemporaryDirectory(prefix="render_pov.", dir="/tmp") as tmp:
         pov = Povray(scene, tmp, (args.width, args.height))
         try:  # first: a camera wavecam cannot use is refused before any long render
             camera, why = find_camera(pov, text)
@@ -240,44 +309,39 @@ def main(argv):
         radiance = oiio.ImageBuf(radiance_path)
         width, height = radiance.spec().width, radiance.spec().height
         pov.size = (width, height)
+        if camera is not None:
+            up_over_right = np.linalg.norm(camera.up) / np.linalg.norm(camera.right)
+            if abs(up_over_right / (height / width) - 1) > 0.01:
+                raise Refusal(f"the camera's pixels are not square (|up|/|right| = {up_over_right:.4f}, image "
+                              f"{height}/{width} = {height / width:.4f}): use right x*image_width/image_height")
+        d, sky, gamma, distances = depth_passes(pov, FIRST_FOG_DISTANCE)
+
+        check = "camera given by --fov"
+        if camera is not None and (~sky).any():
+            nearest = float((d * camera.cosines(width, height))[~sky].min())
+            try:
+                error, fov_seen = verify_camera(pov, camera, width, height, nearest, gamma)
+                check = f"camera checked (test plane: depth off by {error:.1e} median, fov seen {fov_seen:.3f} deg)"
+            except Refusal as e:
+                if args.fov is None:
+                    raise
+                camera, why = None, str(e)
         if camera is None:
             if args.fov is None:
                 raise Refusal(f"cannot read the scene's camera ({why}); pass --fov DEG (its horizontal "
                               "field of view) and the depth assumes a centred camera with square pixels")
-            camera, fov = pov_camera.standard_camera(args.fov, width, height), args.fov
+            fov = args.fov
+            cosines = pov_camera.standard_camera(fov, width, height).cosines(width, height)
         else:
             fov = camera.hfov_deg()
             if args.fov is not None and abs(args.fov - fov) > 0.01:
                 raise Refusal(f"--fov {args.fov:g} disagrees with the scene's camera ({fov:.4f} deg); leave --fov out")
-            pixel_aspect = (np.linalg.norm(camera.up) / height) / (np.linalg.norm(camera.right) / width)
-            if abs(pixel_aspect - 1) > 0.01:
-                raise Refusal(f"the camera's pixels are not square (up/right = {np.linalg.norm(camera.up) / np.linalg.norm(camera.right):.4f}, "
-                              f"image {height}/{width}): use right x*image_width/image_height or render at that shape")
-        d, sky, gamma, distances = depth_passes(pov, FIRST_FOG_DISTANCE)
-        z = np.where(sky, SKY_DEPTH, d * camera.cosines(width, height)).astype(np.float32)
+            cosines = camera.cosines(width, height)
+        z = np.where(sky, SKY_DEPTH, d * cosines).astype(np.float32)
         print(f"render_pov.sh: {os.path.basename(scene)} {width}x{height}, fov {fov:.4f} deg, assumed_gamma "
               f"{gamma:.3f}, fog distances {', '.join(f'{D:g}' for D in distances)}, "
-              f"{int(sky.sum())} sky pixels, {pov.runs} POV-Ray runs", file=sys.stderr)
-
-        rgb = radiance.get_pixels(oiio.FLOAT)[..., :3]
-        pixels = np.concatenate([rgb, z[..., None]], axis=-1)
-        spec = oiio.ImageSpec(width, height, 4, oiio.FLOAT)
-        spec.channelnames = ("R", "G", "B", "Z")
-        spec.attribute("wavecam.fov", float(fov))
-        spec.attribute("wavecam.depth", "planar")
-        spec.attribute("wavecam.scene", os.path.basename(scene))
-        spec.attribute("compression", "zip")
-        if why == "":
-            spec.attribute("worldToCamera", oiio.TypeDesc("matrix"), camera.world_to_camera().astype(np.float32).ravel())
-        partial = os.path.join(os.path.dirname(out), f".{os.path.basename(out)}.partial.exr")
-        try:
-            image = oiio.ImageOutput.create(partial)
-            if not image or not image.open(partial, spec) or not image.write_image(pixels) or not image.close():
-                raise Refusal(f"{out}: cannot write: {oiio.geterror()}")
-            os.replace(partial, out)
-        finally:
-            if os.path.exists(partial):
-                os.remove(partial)
+              f"{int(sky.sum())} sky pixels, {check}, {pov.runs} POV-Ray runs", file=sys.stderr)
+        write_exr(out, radiance.get_pixels(oiio.FLOAT)[..., :3], z, fov, scene, camera)
 
 
 if __name__ == "__main__":

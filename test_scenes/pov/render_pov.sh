@@ -9,4 +9,4 @@ for tool in povray /usr/bin/python3; do
   command -v "$tool" >/dev/null || { echo "render_pov.sh: $tool not found (packaging/install-deps.sh)" >&2; exit 1; }
 done
 # Debian's python3 (python3-openimageio, python3-numpy), whatever python3 is first on PATH.
-exec /usr/bin/python3 "$(dirname "${BASH_SOURCE[0]}")/render_pov.py" "$@"
+exec /usr/bin/python3 -B "$(dirname "${BASH_SOURCE[0]}")/render_pov.py" "$@"

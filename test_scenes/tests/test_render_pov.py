@@ -46,22 +46,30 @@ sphere {{ <{SPHERE_C[0]}, {SPHERE_C[1]}, {SPHERE_C[2]}>, {SPHERE_R} pigment {{ r
 """
 
 
-def analytic_truth():
-    """Planar depth per pixel (inf = sky): POV-Ray's look_at camera written out here,
-    D = look direction with length (W/H) / (2 tan(angle/2)), R = (sky x D) * W/H, U = D x R
-    (unit), pixel ray D + x R + y U with x = (i+0.5)/W - 0.5, y = 0.5 - (j+0.5)/H."""
-    fwd = (LOOK - LOC) / np.linalg.norm(LOOK - LOC)
+def look_at_rays(loc, look, angle):
+    """Unit pixel rays (H, W, 3) and the view axis of POV-Ray's camera `location loc
+    right x*image_width/image_height angle angle look_at look` (sky y), written out here:
+    axis f, R = (y x f) * W/H, U = f x R (unit), D = f * (W/H) / (2 tan(angle/2)); pixel
+    (i, j) looks along D + x R + y U, x = (i+0.5)/W - 0.5, y = 0.5 - (j+0.5)/H."""
+    fwd = (look - loc) / np.linalg.norm(look - loc)
     right = np.cross([0, 1, 0], fwd)
     right /= np.linalg.norm(right)
     up = np.cross(fwd, right)
     aspect = W / H
-    d = fwd * aspect / (2 * math.tan(math.radians(ANGLE) / 2))
+    d = fwd * aspect / (2 * math.tan(math.radians(angle) / 2))
+    x = (np.arange(W) + 0.5) / W - 0.5
+    y = 0.5 - (np.arange(H) + 0.5) / H
+    rays = d + x[None, :, None] * right * aspect + y[:, None, None] * up
+    return rays / np.linalg.norm(rays, axis=-1, keepdims=True), fwd
+
+
+def analytic_truth():
+    """Planar depth per pixel (inf = sky): first hit of floor, wall and sphere."""
+    rays, fwd = look_at_rays(LOC, LOOK, ANGLE)
     z = np.full((H, W), np.inf)
     for j in range(H):
         for i in range(W):
-            x, y = (i + 0.5) / W - 0.5, 0.5 - (j + 0.5) / H
-            ray = d + x * right * aspect + y * up
-            ray /= np.linalg.norm(ray)
+            ray = rays[j, i]
             hits = []
             if ray[1] < 0:
                 hits.append(-LOC[1] / ray[1])
@@ -129,6 +137,25 @@ class RenderPov(unittest.TestCase):
         self.assertAlmostEqual(spec.getattribute("wavecam.fov"), ANGLE, places=4)
         self.check_depth(px[..., 3])
 
+    def test_camera_misread_is_caught(self):
+        # A macro's camera: the probe evaluates the block after the scene, where A is the global
+        # 30, while POV-Ray rendered Cam(55). The test plane sees the difference.
+        lines = ANALYTIC.splitlines()
+        cam = [k for k, l in enumerate(lines) if l.startswith("camera")][0]
+        camera = " ".join(lines[cam:cam + 2]).replace(f"angle {ANGLE}", "angle A")
+        scene = self.write("macro.pov", "\n".join(lines[:cam] + ["#declare A = 30;", f"#macro Cam(A) {camera} #end",
+                                                                 f"Cam({ANGLE})"] + lines[cam + 2:]))
+        out = os.path.join(self.dir, "macro.exr")
+        rc, log = render(scene, out, "--width", str(W), "--height", str(H))
+        self.assertEqual(rc, 1, log)
+        self.assertIn("does not match the one POV-Ray renders with", log)
+        self.assertFalse(os.path.exists(out))
+        rc, log = render(scene, out, "--width", str(W), "--height", str(H), "--fov", str(ANGLE))
+        self.assertEqual(rc, 0, log)
+        spec, px = read(out)
+        self.assertAlmostEqual(spec.getattribute("wavecam.fov"), ANGLE, places=4)
+        self.check_depth(px[..., 3])
+
     def test_shipped_scenes_radiance_and_fov(self):
         for name, angle in (("pawns", 40.0), ("woodbox", 45.0)):
             scene = os.path.join(EXAMPLES, name + ".pov")
@@ -146,6 +173,17 @@ class RenderPov(unittest.TestCase):
             self.assertGreater(np.abs(px[:, ::-1, :3] - ref[..., :3]).mean(), 0.01, f"{name} is symmetric")
             z = px[..., 3]
             self.assertTrue(np.all(np.isfinite(z)) and np.all(z > 0), name)
+            if name == "woodbox":
+                # Its floor is `plane { y, 0 }` and its camera `location <-5, 10, -15> angle 45
+                # right x*image_width/image_height look_at <0,0,0>`; the image's four corners
+                # (6 x 6 pixels each) see only floor: planar depth there is analytic.
+                rays, fwd = look_at_rays(np.array([-5.0, 10, -15]), np.zeros(3), 45.0)
+                truth = (-10.0 / rays[..., 1]) * (rays @ fwd)
+                corners = np.zeros((H, W), bool)
+                corners[:6, :6] = corners[:6, -6:] = corners[-6:, :6] = corners[-6:, -6:] = True
+                rel = np.abs(z[corners] / truth[corners] - 1)
+                print(f"woodbox floor corners: planar depth median error {np.median(rel):.2e}, worst {rel.max():.2e}")
+                self.assertLessEqual(np.median(rel), 0.005)
 
     def refused(self, scene, expected, *extra):
         out = os.path.join(self.dir, "refused.exr")
