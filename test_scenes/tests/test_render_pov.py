@@ -205,6 +205,9 @@ class RenderPov(unittest.TestCase):
                      "'orthographic'")
         self.refused(self.write("fovclash.pov", ANALYTIC), "disagrees with the scene's camera", "--fov", "30deg")
         self.refused(os.path.join(EXAMPLES, "chess2.pov"), "focal blur")
+        # plane { z, 10 } is solid for z < 10, around the camera: the fog cannot reach the surfaces.
+        self.refused(self.write("inside.pov", ANALYTIC + "plane { z, 10 pigment { rgb 1 } }\n"),
+                     "camera inside a non-hollow object")
 
 
 if __name__ == "__main__":
