@@ -157,6 +157,8 @@ class RenderPov(unittest.TestCase):
         self.check_depth(px[..., 3])
 
     def test_shipped_scenes_radiance_and_fov(self):
+        self.assertTrue(os.path.isdir(EXAMPLES), f"{EXAMPLES}: missing (packaging/install-deps.sh installs "
+                        "povray-examples; a dpkg path-exclude of /usr/share/doc would drop it)")
         for name, angle in (("pawns", 40.0), ("woodbox", 45.0)):
             scene = os.path.join(EXAMPLES, name + ".pov")
             out = os.path.join(self.dir, name + ".exr")
