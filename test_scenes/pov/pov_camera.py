@@ -162,7 +162,8 @@ def probe_sdl(body):
         elif key in FLOAT_MODS or key in TYPES:
             out.append(number(key, 0, expr if expr else "0"))
         else:  # a transformation: the images of the origin and the unit vectors
-            out.append(f"#declare Wavecam_F = function {{ transform {{ {key} {expr} }} }}")
+            out.append(f"#ifdef (Wavecam_F) #undef Wavecam_F #end  // functions cannot be redeclared\n"
+                       f"#declare Wavecam_F = function {{ transform {{ {key} {expr} }} }}")
             for p, point in enumerate(("0,0,0", "1,0,0", "0,1,0", "0,0,1")):
                 out.append(f"#declare Wavecam_V = Wavecam_F({point});")
                 out += [number("xform", 3 * p + k, f"Wavecam_V.{c}") for k, c in enumerate("xyz")]

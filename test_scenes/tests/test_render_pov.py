@@ -63,22 +63,30 @@ def look_at_rays(loc, look, angle):
     return rays / np.linalg.norm(rays, axis=-1, keepdims=True), fwd
 
 
-def analytic_truth():
-    """Planar depth per pixel (inf = sky): first hit of floor, wall and sphere."""
+def rotate_y(v, degrees):
+    """POV-Ray's `rotate y*degrees`: vrotate(z, 90*y) = x."""
+    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    return np.stack([v[..., 0] * c + v[..., 2] * s, v[..., 1], -v[..., 0] * s + v[..., 2] * c], axis=-1)
+
+
+def analytic_truth(turn=0.0, shift=np.zeros(3)):
+    """Planar depth per pixel (inf = sky): first hit of floor, wall and sphere, for the
+    camera above, optionally followed by `rotate y*turn translate shift`."""
     rays, fwd = look_at_rays(LOC, LOOK, ANGLE)
+    rays, fwd, loc = rotate_y(rays, turn), rotate_y(fwd, turn), rotate_y(LOC, turn) + shift
     z = np.full((H, W), np.inf)
     for j in range(H):
         for i in range(W):
             ray = rays[j, i]
             hits = []
             if ray[1] < 0:
-                hits.append(-LOC[1] / ray[1])
+                hits.append(-loc[1] / ray[1])
             if ray[2] > 0:
-                t = (6 - LOC[2]) / ray[2]
-                p = LOC + t * ray
+                t = (6 - loc[2]) / ray[2]
+                p = loc + t * ray
                 if abs(p[0]) <= 3 and 0 <= p[1] <= 2.5:
                     hits.append(t)
-            oc = LOC - SPHERE_C
+            oc = loc - SPHERE_C
             b, c = oc @ ray, oc @ oc - SPHERE_R ** 2
             if b * b - c >= 0 and -b - math.sqrt(b * b - c) > 0:
                 hits.append(-b - math.sqrt(b * b - c))
@@ -100,8 +108,8 @@ class RenderPov(unittest.TestCase):
             f.write(text)
         return path
 
-    def check_depth(self, z):
-        truth = analytic_truth()
+    def check_depth(self, z, truth=None):
+        truth = analytic_truth() if truth is None else truth
         sky = np.isinf(truth)
         self.assertTrue(np.all(z[sky] >= 1e9), "sky pixels must read as sky")
         self.assertTrue(np.all(z[~sky] < 1e9), "surfaces must not read as sky")
@@ -136,6 +144,19 @@ class RenderPov(unittest.TestCase):
         spec, px = read(out)
         self.assertAlmostEqual(spec.getattribute("wavecam.fov"), ANGLE, places=4)
         self.check_depth(px[..., 3])
+
+    def test_declared_and_transformed_camera(self):
+        lines = ANALYTIC.splitlines()
+        cam = [k for k, l in enumerate(lines) if l.startswith("camera")][0]
+        camera = " ".join(lines[cam:cam + 2])[:-1] + " rotate y*12 translate <0.3, 0.1, -0.2> }"
+        scene = self.write("declared.pov", "\n".join(lines[:cam] + [f"#declare Cam = {camera}", "camera { Cam }"]
+                                                     + lines[cam + 2:]))
+        out = os.path.join(self.dir, "declared.exr")
+        rc, log = render(scene, out, "--width", str(W), "--height", str(H))
+        self.assertEqual(rc, 0, log)
+        spec, px = read(out)
+        self.assertAlmostEqual(spec.getattribute("wavecam.fov"), ANGLE, places=4)
+        self.check_depth(px[..., 3], analytic_truth(12.0, np.array([0.3, 0.1, -0.2])))
 
     def test_camera_misread_is_caught(self):
         # A macro's camera: the probe evaluates the block after the scene, where A is the global
