@@ -12,7 +12,7 @@ from povray_runner import Refusal, read
 
 FIRST_FOG_DISTANCE = 10.0  # scene units; the ladder moves up and down from here
 LADDER = 4.0               # ratio between successive fog distances
-LADDER_STEPS = 6           # at most this many steps up or down from the first distance
+LADDER_STEPS = 10          # at most this many steps up or down: 4^10 ~ 1e6 times the first
 FOV_CHECK_DEG = 0.05       # at 64 pixels wide and more (noise measured: <= 0.016 deg at 64x48)
 
 
@@ -32,9 +32,9 @@ def measure_gamma(black, white, grey):
     """POV-Ray 3.7 mixes colours in the scene's assumed_gamma space and writes EXR as its linear
     decoding, value^g. With fog colours 0, 1 and 0.5 the working-space values satisfy
     grey^(1/g) = (black^(1/g) + white^(1/g)) / 2; solve for g where that is well conditioned."""
-    ok = (white - black > 0.2) & (white < 0.999) & (grey > black + 0.05)
+    ok = well_conditioned(black, white) & (grey > black + 0.05)
     if ok.sum() < 10:
-        return 1.0
+        return None
     b, w, m = black[ok], white[ok], grey[ok]
     lo, hi = np.full(b.shape, 0.2), np.full(b.shape, 5.0)
     for _ in range(60):  # f(g) = m^(1/g) - (b^(1/g) + w^(1/g))/2 changes sign once on [0.2, 5]
@@ -44,6 +44,10 @@ def measure_gamma(black, white, grey):
         same = np.sign(f) == np.sign(flo)
         lo, hi = np.where(same, g, lo), np.where(same, hi, g)
     return float(np.median((lo + hi) / 2))
+
+
+def well_conditioned(black, white):
+    return (white - black > 0.2) & (white < 0.999)
 
 
 def ray_distance(black, white, distance, gamma):
@@ -65,27 +69,36 @@ def depth_passes(pov, first_distance):
         passes[distance] = (black, white)
 
     add(first_distance)
-    black, white = passes[first_distance]
-    grey = fog_pass(pov, first_distance, 0.5)
-    gamma = measure_gamma(black, white, grey)
     sky_u = -math.log(2 ** -10)  # t below 2^-10 (~7 D): nothing finite resolved
 
+    # The ladder's range with gamma 1 (its thresholds are coarse); the gamma is measured after.
     # Up while the farthest pass leaves pixels beyond u = 2.5 and the last step still brought
     # some into range (sky never comes: its t is 0 at any D); down while pixels sit below 0.4.
+    # Until some surface has been resolved at all, it keeps climbing (a scene in large units).
+    found = (ray_distance(*passes[first_distance], first_distance, 1.0)[1] < sky_u).any()
     for _ in range(LADDER_STEPS):
         top = max(passes)
-        far = ray_distance(*passes[top], top, gamma)[1] > 2.5
+        far = ray_distance(*passes[top], top, 1.0)[1] > 2.5
         if not far.any():
             break
         add(top * LADDER)
-        if not (far & (ray_distance(*passes[top * LADDER], top * LADDER, gamma)[1] < sky_u)).any():
+        resolved = ray_distance(*passes[top * LADDER], top * LADDER, 1.0)[1] < sky_u
+        if found and not (far & resolved).any():
             break
+        found = found or resolved.any()
     for _ in range(LADDER_STEPS):
         bottom = min(passes)
-        u = ray_distance(*passes[bottom], bottom, gamma)[1]
+        u = ray_distance(*passes[bottom], bottom, 1.0)[1]
         if not ((u < 0.4) & (u > 0)).any():
             break
         add(bottom / LADDER)
+    # Gamma from a grey fog at the distance that resolves the most pixels.
+    chosen = max(passes, key=lambda D: int(well_conditioned(*passes[D]).any(axis=-1).sum()))
+    gamma = measure_gamma(*passes[chosen], fog_pass(pov, chosen, 0.5))
+    if gamma is None:
+        if any(well_conditioned(*p).any() for p in passes.values()):
+            raise Refusal("cannot measure the scene's assumed_gamma from the fog passes")
+        gamma = 1.0  # nothing but sky (and fog-saturated surfaces): the gamma changes nothing
     est = {D: ray_distance(b, w, D, gamma) for D, (b, w) in passes.items()}
     distances = sorted(est)
     d_all = np.stack([est[D][0] for D in distances])

@@ -139,7 +139,7 @@ def main(argv):
                               f"{height}/{width} = {height / width:.4f}): use right x*image_width/image_height")
         d, sky, gamma, distances = fog_depth.depth_passes(pov, fog_depth.FIRST_FOG_DISTANCE)
 
-        check = "camera given by --fov"
+        check = "camera given by --fov" if camera is None else "camera not checked (no surface seen)"
         if camera is not None and (~sky).any():
             nearest = float((d * camera.cosines(width, height))[~sky].min())
             try:

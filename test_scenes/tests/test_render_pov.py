@@ -129,6 +129,24 @@ class RenderPov(unittest.TestCase):
         self.assertAlmostEqual(spec.getattribute("wavecam.fov"), ANGLE, places=4)
         self.check_depth(px[..., 3])
 
+    def test_scene_units_far_from_the_first_fog_distance(self):
+        # The same scene in units 100 times larger and 100 times smaller: the fog ladder must
+        # find it from its first distance (10 units) either way.
+        for scale in (100.0, 0.01):
+            loc, look = LOC * scale, LOOK * scale
+            camera = ANALYTIC[ANALYTIC.index("camera"):ANALYTIC.index("light_source")]
+            scaled = camera.replace(f"<{LOC[0]}, {LOC[1]}, {LOC[2]}>", f"<{loc[0]}, {loc[1]}, {loc[2]}>").replace(
+                f"<{LOOK[0]}, {LOOK[1]}, {LOOK[2]}>", f"<{look[0]}, {look[1]}, {look[2]}>")
+            objects = ANALYTIC[ANALYTIC.index("plane"):]
+            scene = self.write("scaled.pov", ANALYTIC[:ANALYTIC.index("camera")] + scaled
+                               + f"light_source {{ <-3, 8, -6>*{scale} rgb 1 }}\n"
+                               + f"union {{ {objects} scale {scale} }}\n")
+            out = os.path.join(self.dir, "scaled.exr")
+            rc, log = render(scene, out, "--width", str(W), "--height", str(H))
+            self.assertEqual(rc, 0, log)
+            z = read(out)[1][..., 3]
+            self.check_depth(np.where(z >= 1e9, z, z / scale))
+
     def test_camera_in_an_include_needs_fov(self):
         lines = ANALYTIC.splitlines()
         cam = [k for k, l in enumerate(lines) if l.startswith("camera")][0]
