@@ -107,8 +107,7 @@ def write_exr(out, rgb, z, fov, scene, camera):
             os.remove(partial)
 
 
-def main(argv):
-    args = parse_args(argv)
+def main(args):
     pov_dir = os.path.dirname(os.path.abspath(__file__))
     scene = args.scene if args.scene.endswith(".pov") else os.path.join(pov_dir, args.scene + ".pov")
     if not os.path.isfile(scene):
@@ -168,8 +167,9 @@ def main(argv):
 
 
 if __name__ == "__main__":
+    arguments = parse_args(sys.argv[1:])
     try:
-        main(sys.argv[1:])
+        main(arguments)
     except Refusal as e:
-        print(f"render_pov.sh: {sys.argv[1] if len(sys.argv) > 1 else ''}: {e}", file=sys.stderr)
+        print(f"render_pov.sh: {arguments.scene}: {e}", file=sys.stderr)
         sys.exit(1)

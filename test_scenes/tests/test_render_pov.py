@@ -245,6 +245,8 @@ class RenderPov(unittest.TestCase):
         self.refused(self.write("ortho.pov", ANALYTIC.replace("camera {", "camera { orthographic")),
                      "'orthographic'")
         self.refused(self.write("fovclash.pov", ANALYTIC), "disagrees with the scene's camera", "--fov", "30deg")
+        self.refused(self.write("stretched.pov", ANALYTIC.replace("right x*image_width/image_height", "right x")),
+                     "pixels are not square")
         self.refused(os.path.join(EXAMPLES, "chess2.pov"), "focal blur")
         # plane { z, 10 } is solid for z < 10, around the camera: the fog cannot reach the surfaces.
         self.refused(self.write("inside.pov", ANALYTIC + "plane { z, 10 pigment { rgb 1 } }\n"),
