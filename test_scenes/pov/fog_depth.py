@@ -13,6 +13,7 @@ from povray_runner import Refusal, read
 FIRST_FOG_DISTANCE = 10.0  # scene units; the ladder moves up and down from here
 LADDER = 4.0               # ratio between successive fog distances
 LADDER_STEPS = 10          # at most this many steps up or down: 4^10 ~ 1e6 times the first
+SKY_FOG_DISTANCE = 1e7     # beyond any scene's depths, far below POV-Ray's background distance
 FOV_CHECK_DEG = 0.05       # at 64 pixels wide and more (noise measured: <= 0.016 deg at 64x48)
 
 
@@ -46,6 +47,15 @@ def measure_gamma(black, white, grey):
     return float(np.median((lo + hi) / 2))
 
 
+def surfaces_lit(pov):
+    """Pixels that see a surface with some colour: a black fog of a distance far beyond any
+    scene (1e7 units) leaves surfaces nearly untouched but blacks out exactly the rays that
+    hit nothing (POV-Ray puts the background at ~1e10). Unlit surfaces read 0 too, so this
+    tells "certainly a surface", not "certainly sky"."""
+    sdl = f"fog {{ distance {SKY_FOG_DISTANCE!r} color rgb 0 }}\n"
+    return read(pov.run(sdl, ["-A", "+Q9"], "sky pass")[1]).max(axis=-1) > 0
+
+
 def well_conditioned(black, white):
     return (white - black > 0.2) & (white < 0.999)
 
@@ -70,22 +80,18 @@ def depth_passes(pov, first_distance):
 
     add(first_distance)
     sky_u = -math.log(2 ** -10)  # t below 2^-10 (~7 D): nothing finite resolved
+    lit = surfaces_lit(pov)
 
     # The ladder's range with gamma 1 (its thresholds are coarse); the gamma is measured after.
-    # Up while the farthest pass leaves pixels beyond u = 2.5 and the last step still brought
-    # some into range (sky never comes: its t is 0 at any D); down while pixels sit below 0.4.
-    # Until some surface has been resolved at all, it keeps climbing (a scene in large units).
-    found = (ray_distance(*passes[first_distance], first_distance, 1.0)[1] < sky_u).any()
+    # Up while pixels remain beyond u = 2.5 that a step can still improve: resolved ones (u <
+    # sky_u) or lit ones not resolved yet (a surface farther out; unlit unresolved pixels are
+    # sky). Down while pixels sit below u = 0.4.
     for _ in range(LADDER_STEPS):
         top = max(passes)
-        far = ray_distance(*passes[top], top, 1.0)[1] > 2.5
-        if not far.any():
+        u = ray_distance(*passes[top], top, 1.0)[1]
+        if not ((u > 2.5) & ((u < sky_u) | lit)).any():
             break
         add(top * LADDER)
-        resolved = ray_distance(*passes[top * LADDER], top * LADDER, 1.0)[1] < sky_u
-        if found and not (far & resolved).any():
-            break
-        found = found or resolved.any()
     for _ in range(LADDER_STEPS):
         bottom = min(passes)
         u = ray_distance(*passes[bottom], bottom, 1.0)[1]

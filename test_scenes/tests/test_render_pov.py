@@ -147,6 +147,21 @@ class RenderPov(unittest.TestCase):
             z = read(out)[1][..., 3]
             self.check_depth(np.where(z >= 1e9, z, z / scale))
 
+    def test_far_wall_beyond_a_depth_gap(self):
+        # A wall 3000 units away behind the scene (depths ~5-30): the ladder must not take the
+        # empty range between for sky, and the wall must not read as sky.
+        scene = self.write("gap.pov", ANALYTIC + "box { <-1e4, 0, 3000>, <1e4, 400, 3001> pigment { rgb 0.5 } }\n")
+        out = os.path.join(self.dir, "gap.exr")
+        rc, log = render(scene, out, "--width", str(W), "--height", str(H))
+        self.assertEqual(rc, 0, log)
+        rays, fwd = look_at_rays(LOC, LOOK, ANGLE)
+        t = (3000 - LOC[2]) / rays[..., 2]
+        wall = np.where((t > 0) & (LOC[1] + t * rays[..., 1] <= 400), t * (rays @ fwd), np.inf)
+        truth = analytic_truth()
+        truth = np.where(np.isinf(truth), wall, truth)
+        self.assertGreater(int((np.isinf(analytic_truth()) & ~np.isinf(wall)).sum()), 50)
+        self.check_depth(read(out)[1][..., 3], truth)
+
     def test_camera_in_an_include_needs_fov(self):
         lines = ANALYTIC.splitlines()
         cam = [k for k, l in enumerate(lines) if l.startswith("camera")][0]
