@@ -22,7 +22,7 @@ def fog_pass(pov, distance, colour):
     # secondary ray weighs < 1): only the first surface sees the fog, as the depth must.
     sdl = (f"fog {{ distance {distance!r} color rgb {colour} }}\n"
            "global_settings { adc_bailout 1 }\n")
-    log, path = pov.run(sdl, ["-A", "+Q9"], f"depth pass (fog distance {distance:g})")
+    log, path = pov.run(sdl, ["-A", "+Q9"], f"depth pass (fog rgb {colour}, distance {distance:g})")
     if "Camera is inside a non-hollow object" in " ".join(log.split()):
         raise Refusal("POV-Ray: \"Camera is inside a non-hollow object. Fog and participating media may not work "
                       "as expected.\" The depth pass relies on fog: make that object hollow")

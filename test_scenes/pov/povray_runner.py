@@ -2,6 +2,7 @@
 import os
 import re
 import subprocess
+import sys
 
 import numpy as np
 import OpenImageIO as oiio
@@ -25,6 +26,7 @@ class Povray:
         """Render the scene itself (sdl None) or a wrapper that #includes it and adds sdl;
         returns (log, exr path or None)."""
         self.runs += 1
+        print(f"render_pov.sh: POV-Ray run {self.runs}: {what}", file=sys.stderr, flush=True)  # progress
         wrapper = self.scene
         if sdl is not None:
             wrapper = os.path.join(self.tmp, f"pass{self.runs}.pov")
