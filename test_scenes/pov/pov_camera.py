@@ -8,7 +8,8 @@ transformations in the order written).
 Why parse rather than probe: POV-Ray's SDL cannot read the camera back, and a probe render
 can only see the scene's surfaces; a render-only probe would need the camera's location to
 place anything in front of it. Reading the block and letting POV-Ray evaluate every
-expression keeps the scene's own meaning for everything the block uses.
+expression keeps the scene's own meaning for everything the block uses. What this reads is
+then checked against the camera POV-Ray rendered with (fog_depth.check_camera).
 """
 import math
 import re
