@@ -130,9 +130,9 @@ def depth_passes(pov, first_distance):
 
 def check_camera(pov, camera, width, height, nearest, gamma):
     """Check the camera read from the text against the one POV-Ray renders with: a black plane
-    across the view axis at eps (1% of the nearest depth, so in front of everything) and a
-    white fog of distance eps; every pixel's planar depth must come back as eps."""
-    eps = 0.01 * nearest
+    across the view axis at eps, half the nearest planar depth (so before every pixel's first
+    hit), in a white fog of distance eps: every pixel's planar depth must come back as eps."""
+    eps = 0.5 * nearest
     axis = camera.direction / np.linalg.norm(camera.direction)
     offset = float(axis @ camera.location) + eps
     n = ", ".join(repr(float(-c)) for c in axis)
@@ -153,5 +153,5 @@ def check_camera(pov, camera, width, height, nearest, gamma):
     if offset_error > 2e-3 or abs(fov_seen - fov) > FOV_CHECK_DEG * max(1, 64 / width):
         raise Refusal(f"the camera read from the scene's text does not match the one POV-Ray renders with (a test "
                       f"plane's planar depth is off by {offset_error:.2%}; fov {fov:.3f} deg read, {fov_seen:.3f} "
-                      "deg seen); pass --fov DEG to use a centred camera instead")
+                      "deg seen)")
     return offset_error, fov_seen

@@ -28,7 +28,11 @@ KEYWORDS = set(VECTOR_MODS + FLOAT_MODS + TRANSFORMS + TYPES + ("normal",))
 
 
 class CameraError(Exception):
-    pass
+    """The camera statement cannot be read here (--fov can stand in for it)."""
+
+
+class CameraUnusable(CameraError):
+    """The camera was read and wavecam cannot use it (not a pinhole): refused."""
 
 
 def strip_comments(text):
@@ -68,25 +72,22 @@ def _block_end(text, open_brace):
     raise CameraError("a camera { block is not closed")
 
 
-def camera_block(text):
-    """Body of the camera statement POV-Ray uses (the last one outside #declare/#local), with
-    a leading camera identifier replaced by its declared body; None if the file has none."""
+def camera_blocks(text):
+    """Bodies of the file's camera statements (outside #declare/#local), the last first (the
+    one POV-Ray uses unless #if branches or macros choose), a leading camera identifier
+    replaced by its declared body."""
     declared, statements = {}, []
     for m in re.finditer(r"\bcamera\s*\{", text):
-        body_start = m.end()
-        body = text[body_start:_block_end(text, m.end() - 1)]
+        body = text[m.end():_block_end(text, m.end() - 1)]
         decl = re.search(r"#\s*(?:declare|local)\s+(\w+)\s*=\s*$", text[:m.start()])
         if decl:
             declared[decl.group(1)] = body
-        else:
-            statements.append(body)
-    if not statements:
-        return None
-    body = statements[-1]
-    first = re.match(r"\s*(\w+)", body)
-    if first and first.group(1) in declared:
-        body = declared[first.group(1)] + "\n" + body[first.end():]
-    return body
+            continue
+        first = re.match(r"\s*(\w+)", body)
+        if first and first.group(1) in declared:
+            body = declared[first.group(1)] + "\n" + body[first.end():]
+        statements.append(body)
+    return statements[::-1]
 
 
 def _items(body):
@@ -128,7 +129,7 @@ def _items(body):
             word = m.group(0)
             if word in KEYWORDS:
                 if word == "normal":
-                    raise CameraError("the camera has a 'normal' (perturbed rays): not a pinhole camera")
+                    raise CameraUnusable("the camera has a 'normal' (perturbed rays): not a pinhole camera")
                 current = ["mod", word, ""]
                 items.append(current)
                 i += m.end()
@@ -220,16 +221,16 @@ def compose(lines):
             mods[key][index] = value
     xforms = [t.reshape(4, 3) for t in xforms]
     if kind != "perspective":
-        raise CameraError(f"the camera is '{kind}': wavecam needs a perspective (pinhole) camera")
+        raise CameraUnusable(f"the camera is '{kind}': wavecam needs a perspective (pinhole) camera")
     if mods.get("aperture", [0])[0] > 0:
-        raise CameraError("the camera has focal blur (aperture > 0): wavecam needs a pinhole render; "
+        raise CameraUnusable("the camera has focal blur (aperture > 0): wavecam needs a pinhole render; "
                           "remove the aperture (wavecam adds the optics)")
     v = {k: np.array(mods.get(k, DEFAULTS[k]), float) for k in DEFAULTS}
     d, r, u, sky, loc = v["direction"], v["right"], v["up"], v["sky"], v["location"]
     if "angle" in mods:
         angle = mods["angle"][0]
         if not 0 < angle < 180:
-            raise CameraError(f"camera angle {angle} is outside (0, 180) degrees")
+            raise CameraUnusable(f"camera angle {angle} is outside (0, 180) degrees")
         d = d / np.linalg.norm(d) * (np.linalg.norm(r) / math.tan(math.radians(angle) / 2) / 2)
     if "look_at" in mods:
         dl, ul, rl = np.linalg.norm(d), np.linalg.norm(u), np.linalg.norm(r)
@@ -252,7 +253,7 @@ def compose(lines):
     cam = Camera(loc, d, r, u)
     dn, rn, un = (x / np.linalg.norm(x) for x in (d, r, u))
     if max(abs(dn @ rn), abs(dn @ un), abs(rn @ un)) > 1e-6:
-        raise CameraError("the camera's direction, right and up vectors are not perpendicular")
+        raise CameraUnusable("the camera's direction, right and up vectors are not perpendicular")
     return cam
 
 

@@ -61,28 +61,58 @@ def scan_fog_and_media(scene):
             todo.append(os.path.join(os.path.dirname(path), inc))
 
 
-def find_camera(pov, text):
-    """(Camera or None, message): the scene's camera, or None when it cannot be read."""
-    body = pov_camera.camera_block(text)
-    if body is None:
-        # A camera in an included file or a macro? A second camera makes POV-Ray say so.
-        log, _ = pov.run("camera { }\n", ["-F", "+SR1", "+ER1", "+SC1", "+EC1"], "camera probe")
-        if "More than one camera" not in " ".join(log.split()):  # POV-Ray wraps its lines
-            raise Refusal("the scene has no camera: POV-Ray would use its default camera (at the origin, "
-                          "looking along +z, right 1.33x whatever the image's shape); add a camera { } statement")
-        return None, "its camera statement is not in the scene file itself (an included file or a macro)"
-    try:
-        sdl = pov_camera.probe_sdl(body)
-    except pov_camera.CameraError as e:
-        return None, str(e)
+def read_camera(pov, body):
+    """The Camera a camera statement's body describes, evaluated by POV-Ray after the scene."""
+    sdl = pov_camera.probe_sdl(body)
     try:
         log, _ = pov.run(sdl, ["-F", "+SR1", "+ER1", "+SC1", "+EC1"], "camera probe")
     except PovrayFailed as e:
         if not e.in_wrapper:
             raise
-        return None, "POV-Ray cannot evaluate its camera statement outside the scene (a macro's camera?)"
+        raise pov_camera.CameraError("POV-Ray cannot evaluate its camera statement outside the scene "
+                                     "(a macro's camera?)")
     lines = [l[len("wavecam-cam "):] for l in log.splitlines() if l.startswith("wavecam-cam ")]
-    return pov_camera.compose(lines), ""
+    return pov_camera.compose(lines)
+
+
+def find_cameras(pov, text):
+    """(candidate Cameras, why none): every camera statement of the scene file that reads, the
+    last first; the render check picks the one POV-Ray used."""
+    try:
+        bodies = pov_camera.camera_blocks(text)
+    except pov_camera.CameraError as e:
+        return [], str(e)
+    if not bodies:
+        # A camera in an included file or a macro? A second camera makes POV-Ray say so.
+        log, _ = pov.run("camera { }\n", ["-F", "+SR1", "+ER1", "+SC1", "+EC1"], "camera probe")
+        if "More than one camera" not in " ".join(log.split()):  # POV-Ray wraps its lines
+            raise Refusal("the scene has no camera: POV-Ray would use its default camera (at the origin, "
+                          "looking along +z, right 1.33x whatever the image's shape); add a camera { } statement")
+        return [], "its camera statement is not in the scene file itself (an included file or a macro)"
+    cameras, reasons = [], []
+    for body in bodies:
+        try:
+            cameras.append(read_camera(pov, body))
+        except pov_camera.CameraError as e:
+            reasons.append(e)
+    if not cameras and isinstance(reasons[0], pov_camera.CameraUnusable):
+        raise Refusal(str(reasons[0]))
+    return cameras, "; ".join(dict.fromkeys(str(r) for r in reasons))
+
+
+def pick_camera(pov, cameras, d, sky, gamma, width, height):
+    """(camera, note): the first candidate that passes the render check, or (None, why)."""
+    if not (~sky).any():
+        return (cameras[0], "camera not checked (no surface seen)") if cameras else (None, "")
+    errors = []
+    for camera in cameras:
+        nearest = float((d * camera.cosines(width, height))[~sky].min())
+        try:
+            error, fov_seen = fog_depth.check_camera(pov, camera, width, height, nearest, gamma)
+            return camera, f"camera checked (test plane: depth off by {error:.1e} median, fov seen {fov_seen:.3f} deg)"
+        except Refusal as e:
+            errors.append(str(e))
+    return None, errors[0] if errors else ""
 
 
 def write_exr(out, rgb, z, fov, scene, camera):
@@ -123,38 +153,26 @@ def main(args):
     # current folder and writes /tmp: run from the scene's folder, passes under /tmp.
     with tempfile.TemporaryDirectory(prefix="render_pov.", dir="/tmp") as tmp:
         pov = Povray(scene, tmp, (args.width, args.height))
-        try:  # first: a camera wavecam cannot use is refused before any long render
-            camera, why = find_camera(pov, text)
-        except pov_camera.CameraError as e:
-            raise Refusal(str(e))
+        # First: a camera wavecam cannot use is refused before any long render.
+        cameras, why = find_cameras(pov, text)
         _, radiance_path = pov.run(None, RADIANCE_OPTIONS, "radiance render")
         radiance = oiio.ImageBuf(radiance_path)
         width, height = radiance.spec().width, radiance.spec().height
         pov.size = (width, height)
-        if camera is not None:
+        d, sky, gamma, distances = fog_depth.depth_passes(pov, fog_depth.FIRST_FOG_DISTANCE)
+        camera, check = pick_camera(pov, cameras, d, sky, gamma, width, height)
+        if camera is None:
+            why = check or why
+            if args.fov is None:
+                raise Refusal(f"cannot read the scene's camera ({why}); pass --fov DEG (its horizontal "
+                              "field of view) and the depth assumes a centred camera with square pixels")
+            fov, check = args.fov, "camera given by --fov"
+            cosines = pov_camera.standard_camera(fov, width, height).cosines(width, height)
+        else:
             up_over_right = np.linalg.norm(camera.up) / np.linalg.norm(camera.right)
             if abs(up_over_right / (height / width) - 1) > 0.01:
                 raise Refusal(f"the camera's pixels are not square (|up|/|right| = {up_over_right:.4f}, image "
                               f"{height}/{width} = {height / width:.4f}): use right x*image_width/image_height")
-        d, sky, gamma, distances = fog_depth.depth_passes(pov, fog_depth.FIRST_FOG_DISTANCE)
-
-        check = "camera given by --fov" if camera is None else "camera not checked (no surface seen)"
-        if camera is not None and (~sky).any():
-            nearest = float((d * camera.cosines(width, height))[~sky].min())
-            try:
-                error, fov_seen = fog_depth.check_camera(pov, camera, width, height, nearest, gamma)
-                check = f"camera checked (test plane: depth off by {error:.1e} median, fov seen {fov_seen:.3f} deg)"
-            except Refusal as e:
-                if args.fov is None:
-                    raise
-                camera, why = None, str(e)
-        if camera is None:
-            if args.fov is None:
-                raise Refusal(f"cannot read the scene's camera ({why}); pass --fov DEG (its horizontal "
-                              "field of view) and the depth assumes a centred camera with square pixels")
-            fov = args.fov
-            cosines = pov_camera.standard_camera(fov, width, height).cosines(width, height)
-        else:
             fov = camera.hfov_deg()
             if args.fov is not None and abs(args.fov - fov) > 0.01:
                 raise Refusal(f"--fov {args.fov:g} disagrees with the scene's camera ({fov:.4f} deg); leave --fov out")

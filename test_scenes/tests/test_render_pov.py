@@ -178,7 +178,7 @@ class RenderPov(unittest.TestCase):
         self.assertAlmostEqual(spec.getattribute("wavecam.fov"), ANGLE, places=4)
         self.check_depth(px[..., 3])
 
-    def test_declared_and_transformed_camera(self):
+    def test_declared_transformed_and_branch_cameras(self):
         lines = ANALYTIC.splitlines()
         cam = [k for k, l in enumerate(lines) if l.startswith("camera")][0]
         camera = " ".join(lines[cam:cam + 2])[:-1] + " rotate y*12 translate <0.3, 0.1, -0.2> }"
@@ -190,6 +190,17 @@ class RenderPov(unittest.TestCase):
         spec, px = read(out)
         self.assertAlmostEqual(spec.getattribute("wavecam.fov"), ANGLE, places=4)
         self.check_depth(px[..., 3], analytic_truth(12.0, np.array([0.3, 0.1, -0.2])))
+        # Two cameras in #if branches (as Debian's landscape.pov): the text's last one is not
+        # the one rendered; the render check picks the other.
+        other = "camera { location <2, 3, -6> right x*image_width/image_height angle 35 look_at <0, 1, 0> }"
+        scene = self.write("branches.pov", "\n".join(lines[:cam] + ["#declare View = 1;", "#if (View = 1)"]
+                                                     + lines[cam:cam + 2] + ["#else", other, "#end"]
+                                                     + lines[cam + 2:]))
+        rc, log = render(scene, out, "--width", str(W), "--height", str(H))
+        self.assertEqual(rc, 0, log)
+        spec, px = read(out)
+        self.assertAlmostEqual(spec.getattribute("wavecam.fov"), ANGLE, places=4)
+        self.check_depth(px[..., 3])
 
     def test_camera_misread_is_caught(self):
         # A macro's camera: the probe evaluates the block after the scene, where A is the global
