@@ -13,14 +13,29 @@ class Refusal(Exception):
 
 
 class PovrayFailed(Refusal):
-    def __init__(self, message, in_wrapper):
+    def __init__(self, message, log, in_wrapper):
         super().__init__(message)
+        self.log = log
         self.in_wrapper = in_wrapper  # the error is in our added SDL, not in the scene
+
+
+PARSED = "wavecam: parsed"
 
 
 class Povray:
     def __init__(self, scene, tmp, size):
         self.scene, self.tmp, self.size, self.runs = scene, tmp, size, 0
+
+    def parse(self, sdl, what):
+        """Parse the scene and sdl without rendering (no radiosity pretrace, no pixels):
+        an #error at the end stops POV-Ray once everything before it has parsed."""
+        try:
+            self.run(sdl + f'#error "{PARSED}"\n', ["-F"], what)
+        except PovrayFailed as e:
+            if PARSED not in e.log:
+                raise
+            return e.log
+        raise PovrayFailed(f"POV-Ray did not stop at the end of the {what}", "", True)
 
     def run(self, sdl, options, what):
         """Render the scene itself (sdl None) or a wrapper that #includes it and adds sdl;
@@ -41,7 +56,7 @@ class Povray:
         log = proc.stdout + proc.stderr
         if proc.returncode != 0 or (out and "-F" not in options and not os.path.exists(out)):
             message = povray_message(log)
-            raise PovrayFailed(f"POV-Ray failed on the {what}:\n{message}",
+            raise PovrayFailed(f"POV-Ray failed on the {what}:\n{message}", log,
                                wrapper != self.scene and os.path.basename(wrapper) in message)
         return log, (out if "-F" not in options else None)
 

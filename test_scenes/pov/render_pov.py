@@ -65,7 +65,7 @@ def read_camera(pov, body):
     """The Camera a camera statement's body describes, evaluated by POV-Ray after the scene."""
     sdl = pov_camera.probe_sdl(body)
     try:
-        log, _ = pov.run(sdl, ["-F", "+SR1", "+ER1", "+SC1", "+EC1"], "camera probe")
+        log = pov.parse(sdl, "camera probe")
     except PovrayFailed as e:
         if not e.in_wrapper:
             raise
@@ -84,7 +84,7 @@ def find_cameras(pov, text):
         return [], str(e)
     if not bodies:
         # A camera in an included file or a macro? A second camera makes POV-Ray say so.
-        log, _ = pov.run("camera { }\n", ["-F", "+SR1", "+ER1", "+SC1", "+EC1"], "camera probe")
+        log = pov.parse("camera { }\n", "camera probe")
         if "More than one camera" not in " ".join(log.split()):  # POV-Ray wraps its lines
             raise Refusal("the scene has no camera: POV-Ray would use its default camera (at the origin, "
                           "looking along +z, right 1.33x whatever the image's shape); add a camera { } statement")
