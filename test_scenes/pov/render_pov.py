@@ -7,6 +7,7 @@ wavecam.fov (horizontal field of view, degrees). See README, "POV-Ray".
 import argparse
 import os
 import re
+import signal
 import sys
 import tempfile
 
@@ -185,6 +186,8 @@ def main(args):
 
 
 if __name__ == "__main__":
+    # A terminated run (timeout, Ctrl-C) unwinds too: POV-Ray is killed, temp files go.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     arguments = parse_args(sys.argv[1:])
     try:
         main(arguments)
