@@ -19,8 +19,9 @@ PACKAGES=(
   libgtest-dev libbenchmark-dev
   # labels on contact sheets (OIIO render_text)
   fonts-dejavu-core
-  # POV-Ray comparison renders
-  povray povray-includes
+  # POV-Ray renders (render_pov.sh: Debian's python3 with OIIO and numpy; tests read the
+  # shipped example scenes)
+  povray povray-includes povray-examples python3-numpy
   # the Blender add-on's tests (headless Cycles renders; the add-on tags EXRs through OIIO's
   # Python; its UI test runs Blender in a virtual X server)
   blender xvfb xauth

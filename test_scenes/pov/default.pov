@@ -3,13 +3,17 @@
 // are stand-ins (a superellipsoid for the rounded slab, a torus for the ring), the
 // lettering card is plain (no 5x7 font), the sphere's checker follows POV-Ray's uv
 // mapping, and light intensities are matched only roughly (no 1/r^2 point-light falloff,
-// no sky light). render_pov.sh default OUT.exr
-#declare Wavecam_Width = 256;
-#declare Wavecam_Height = 256;
+// no sky light). render_pov.sh default OUT.exr --width 256 --height 256
 #include "wavecam.inc"
-#debug "wavecam-attr scene default.pov\n"
 
-Wavecam_Camera(<0.0, 0.4, 0.0>, <0.0, 0.4, -10.0>, <0.0, 1.0, 0.0>, 60.0)
+camera {
+  perspective
+  location <0.0, 0.4, 0.0>
+  right -x * image_width / image_height  // right-handed (see wavecam.inc)
+  up y
+  angle 60.0  // horizontal
+  look_at <0.0, 0.4, -10.0>
+}
 Wavecam_Sky(<0.18, 0.35, 0.85>, <0.75, 0.82, 0.95>)
 Wavecam_Area_Light(<-6.0, 12.0, 4.0>, <0.0, 0.0, -12.0>, <12.0, 0.0, 0.0>, <1.1, 1.05, 0.95>)
 Wavecam_Point_Light(<3.0, 2.5, 2.0>, <0.4, 0.3, 0.2>)

@@ -1,11 +1,15 @@
 // POV-Ray version of scenes/small.toml (same numbers; see wavecam.inc for the conventions).
-// render_pov.sh small OUT.exr
-#declare Wavecam_Width = 64;
-#declare Wavecam_Height = 48;
+// render_pov.sh small OUT.exr --width 64 --height 48
 #include "wavecam.inc"
-#debug "wavecam-attr scene small.pov\n"
 
-Wavecam_Camera(<0.0, 1.5, 4.0>, <0.0, 0.6, 0.0>, <0.0, 1.0, 0.0>, 50.0)
+camera {
+  perspective
+  location <0.0, 1.5, 4.0>
+  right -x * image_width / image_height  // right-handed (see wavecam.inc)
+  up y
+  angle 50.0  // horizontal
+  look_at <0.0, 0.6, 0.0>
+}
 Wavecam_Sky(<0.25, 0.45, 0.9>, <0.8, 0.85, 0.95>)
 
 // Ground: checker in (u, v) = (x, -z), one square per metre.

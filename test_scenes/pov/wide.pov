@@ -5,13 +5,17 @@
 // POV-Ray's uv mapping, and the light is matched only roughly (no sky light; POV-Ray
 // shades an area light by its centre, so the on-axis star, whose plane has the panel's
 // centre behind it, stays dark).
-// render_pov.sh wide OUT.exr
-#declare Wavecam_Width = 400;
-#declare Wavecam_Height = 160;
+// render_pov.sh wide OUT.exr --width 400 --height 160
 #include "wavecam.inc"
-#debug "wavecam-attr scene wide.pov\n"
 
-Wavecam_Camera(<0.0, 1.0, 0.0>, <0.0, 1.0, -10.0>, <0.0, 1.0, 0.0>, 136.397181)
+camera {
+  perspective
+  location <0.0, 1.0, 0.0>
+  right -x * image_width / image_height  // right-handed (see wavecam.inc)
+  up y
+  angle 136.397181  // horizontal
+  look_at <0.0, 1.0, -10.0>
+}
 Wavecam_Sky(<0.2, 0.38, 0.85>, <0.78, 0.84, 0.95>)
 Wavecam_Area_Light(<-8.0, 10.0, 4.0>, <0.0, 0.0, -16.0>, <16.0, 0.0, 0.0>, <0.75, 0.72, 0.65>)
 
