@@ -1,5 +1,5 @@
-// Point-source images for the fast path, by a matrix Fourier transform of the sampled pupil
-// with the wavefront's quadratic phase (Fresnel diffraction about the chief ray).
+// Point-source images for the fast path: Fresnel diffraction of the pupil with the wavefront's
+// quadratic phase about the chief ray, as shares of the power through the pinhole.
 //
 // Method. The path source -> pupil point xi -> film point, expanded to second order in xi
 // about the chief ray at field angle theta (planar source depth z, film distance f), is
