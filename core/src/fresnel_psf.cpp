@@ -38,6 +38,16 @@ FieldGeometry geometry_of(const FieldPsfRequest& q) {
     return g;
 }
 
+// Film radius (m) holding kPsfKernelEnergy of the PSF: the shadow's radius plus the sharp
+// edge's tail, light beyond the rim by s being at most 2 lambda f / (pi^2 D s) of the power,
+// stretched 1/cos^3 off axis (see the header).
+double psf_radius(const Aperture& aperture, double film_distance, double depth, double wavelength, double cos_theta) {
+    const double span = aperture.diameter * (aperture.shape == ApertureShape::Square ? std::sqrt(2.0) : 1.0);
+    const double shadow = 0.5 * span * (1.0 + film_distance / depth);
+    const double tail = 2 * wavelength * film_distance / (M_PI * M_PI * aperture.diameter * (1 - kPsfKernelEnergy));
+    return shadow + tail / std::pow(cos_theta, 3);
+}
+
 // ---- Few zones: matrix Fourier transform of the sampled pupil ----------------------------
 
 // One axis of the matrix Fourier transform, split into real and imaginary parts:
@@ -73,7 +83,12 @@ MftPlan plan_mft(const FieldPsfRequest& q, const FieldGeometry& g) {
     const double fringe = q.wavelength * q.film_distance / g.span;
     p.step = std::max(fringe / 16, std::min(q.pixel_pitch / q.subsamples, fringe / 2));
     p.points = std::max(q.subsamples, int(std::ceil(q.pixel_pitch / p.step - 1e-6)));
-    p.half = int(std::ceil((q.radius + 1) * std::sqrt(2.0) * q.pixel_pitch / p.step));
+    // The grid covers the kernel square rotated by any angle, or only the PSF's own
+    // kPsfKernelEnergy radius where that is smaller (pixels far wider than the PSF): the
+    // fringe-fine step over a kernel of such pixels would cost (pixel / fringe)^2.
+    const double psf_extent = psf_radius(q.aperture, q.film_distance, q.depth, q.wavelength, g.c) + 2 * fringe;
+    const double cover = std::min((q.radius + 1) * q.pixel_pitch, psf_extent) * std::sqrt(2.0);
+    p.half = int(std::ceil(cover / p.step));
     const double extent = p.half * p.step;
     // The quadratic phase spans N = (span/2)^2 alpha / lambda half-period zones; 8 N samples
     // across keep its phase step below pi/2, and never fewer than 64. The sampled pupil's
@@ -335,12 +350,7 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
 
 int psf_kernel_radius(const Aperture& aperture, double film_distance, double nearest_depth, double wavelength,
                       double cos_theta_max, double pixel_pitch, int max_radius) {
-    const double span = aperture.diameter * (aperture.shape == ApertureShape::Square ? std::sqrt(2.0) : 1.0);
-    const double shadow = 0.5 * span * (1.0 + film_distance / nearest_depth);
-    // Light beyond the shadow's rim by s (film): at most 2 lambda f / (pi^2 D s) of the power,
-    // stretched 1/cos^3 off axis; see the header.
-    const double tail = 2 * wavelength * film_distance / (M_PI * M_PI * aperture.diameter * (1 - kPsfKernelEnergy));
-    const double r = (shadow + tail / std::pow(cos_theta_max, 3)) / pixel_pitch;
+    const double r = psf_radius(aperture, film_distance, nearest_depth, wavelength, cos_theta_max) / pixel_pitch;
     return std::clamp(int(std::ceil(r)), 1, max_radius);
 }
 
