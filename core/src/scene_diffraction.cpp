@@ -120,9 +120,14 @@ double scene_sample_pitch(const DiffractionSettings& s, const PinholeCamera& cam
 }
 
 int auto_film_subsamples(const Aperture& aperture, const PinholeCamera& camera, double wavelength) {
-    const double psf = std::max(1.22 * wavelength * camera.film_distance / aperture.diameter, 0.5 * aperture.diameter);
+    // The film field is the pupil's transform (fresnel_psf.h), so the irradiance holds no
+    // frequency above span / (lambda f): its finest fringe is lambda f / span, at any depth
+    // (cos theta only widens it off axis). Film points closer than that sum every pixel's
+    // fringes to their area average; one point per pixel samples them instead.
+    const double span = aperture.diameter * (aperture.shape == ApertureShape::Square ? std::sqrt(2.0) : 1.0);
+    const double finest_fringe = wavelength * camera.film_distance / span;
     const double pixel = camera.film_distance * camera.tan_pitch();
-    return std::clamp(int(std::ceil(pixel / psf)), 1, 3);
+    return std::clamp(int(std::floor(pixel / finest_fringe)) + 1, 1, kMaxFilmSubsamples);
 }
 
 double nearest_depth(const PinholeCamera& camera, const float* depth, DepthMeaning meaning) {

@@ -1,5 +1,5 @@
-// Point-source images for the fast path, by a matrix Fourier transform of the sampled pupil
-// with the wavefront's quadratic phase (Fresnel diffraction about the chief ray).
+// Point-source images for the fast path: Fresnel diffraction of the pupil with the wavefront's
+// quadratic phase about the chief ray, as shares of the power through the pinhole.
 //
 // Method. The path source -> pupil point xi -> film point, expanded to second order in xi
 // about the chief ray at field angle theta (planar source depth z, film distance f), is
@@ -9,8 +9,13 @@
 // So the PSF is |FT[P(xi) exp(i pi/lambda (cos^3 alpha xi_r^2 + cos alpha xi_t^2))]|^2 at
 // frequencies (d_r cos^3 / (lambda f), d_t cos / (lambda f)): the on-axis Fresnel PSF,
 // astigmatic in its defocus term and stretched 1/cos^3 radially, 1/cos tangentially.
-// The transform is evaluated on exactly the output grid needed by a matrix Fourier transform
-// (Soummer et al., Optics Express 15, 15935 (2007)), not an FFT with its fixed sampling.
+// Two evaluations of the same integral, the cheaper one chosen per request (both are exact to
+// the sampling stated in fresnel_psf.cpp):
+//  - few zones: a matrix Fourier transform of the sampled pupil onto exactly the output grid
+//    needed (Soummer et al., Optics Express 15, 15935 (2007)); its pupil grid grows with the
+//    zone count, so its cost does too;
+//  - many zones: Fresnel propagation of the pupil by an FFT transfer function on a grid at a
+//    fraction of a film pixel; its cost is set by the kernel's extent in film pixels.
 // Validity: Fresnel number from ~0 to the geometric regime (the quadratic phase is exact in
 // xi to second order); third-order terms (coma, xi^3 sin theta / r^2) are dropped, which
 // holds while d^3 sin(theta) / (lambda f^2) << 1 - true for pinholes, whose d << f.
@@ -21,6 +26,8 @@
 
 namespace wavecam {
 
+enum class FieldPsfMethod { Auto, MatrixFourier, TransferFunction };  // Auto: the cheaper
+
 struct FieldPsfRequest {
     Aperture aperture{ApertureShape::Circle, 0.0};
     double film_distance = 0;      // f (m)
@@ -30,11 +37,14 @@ struct FieldPsfRequest {
     double pixel_pitch = 0;        // film pixel pitch (m)
     int radius = 8;                // kernel half-width in pixels
     int subsamples = 3;            // each kernel pixel averages n x n points over its area
-    int pupil_samples = 0;         // pupil grid across the aperture; 0 = enough for its Fresnel zones
+    int pupil_samples = 0;         // matrix transform's pupil grid; 0 = enough for its Fresnel zones
+    FieldPsfMethod method = FieldPsfMethod::Auto;
 };
 
 // (2 radius + 1)^2 weights, row-major, upright image orientation (column a grows toward the
-// scene's +x, row b downward), centred on the geometric image; they sum to 1.
+// scene's +x, row b downward), centred on the geometric image. Each weight is the fraction of
+// the power through the pinhole that lands on that pixel (Parseval over the pupil, nothing
+// renormalised): they sum to the share of the PSF inside the kernel, below 1 when it cuts a tail.
 struct PsfKernel {
     int radius = 0;
     std::vector<float> weight;
@@ -43,8 +53,17 @@ struct PsfKernel {
 
 PsfKernel field_psf_kernel(const FieldPsfRequest& request);
 
-// Kernel half-width (pixels) that holds the PSF: the geometric shadow d (1 + f/z) stretched
-// 1/cos^3, plus five Airy radii, capped at `max_radius`.
+// Share of the PSF's power that a kernel of psf_kernel_radius holds, at least.
+constexpr double kPsfKernelEnergy = 0.99;
+
+// Kernel half-width (pixels) that holds kPsfKernelEnergy of the PSF at every depth >=
+// nearest_depth, wavelength <= `wavelength` and field angle up to acos(cos_theta_max): the
+// geometric shadow's radius (span/2)(1 + f/z) plus the diffraction tail. A sharp edge sends a
+// share 2 lambda f / (pi^2 D s) of the power farther than s beyond the shadow's rim (the Airy
+// tail 1 - EE = J0^2 + J1^2 ~ 2 / (pi x), x = pi D r / (lambda f), Born & Wolf 8.5.2; for a
+// straight edge the Fresnel integrals give half of it, one side only), stretched 1/cos^3 off
+// axis; the kernel square holds more than its inscribed disc. `max_radius` is only a safety
+// bound: a kernel cut there holds less.
 int psf_kernel_radius(const Aperture& aperture, double film_distance, double nearest_depth, double wavelength,
                       double cos_theta_max, double pixel_pitch, int max_radius);
 

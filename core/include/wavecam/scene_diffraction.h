@@ -53,10 +53,10 @@ double scene_sample_pitch(const DiffractionSettings& s, const PinholeCamera& cam
 double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength,
                    double nearest_depth);
 
-// Film points per pixel side so that the points resolve the PSF: pixel / PSF scale, the scale
-// being the larger of the Airy radius 1.22 lambda f / d and the shadow radius d / 2, between
-// 1 and 3. (A PSF far smaller than a pixel is sampled by the jitter of random-phase
-// runs; for the incoherent method give film_subsamples explicitly.)
+// Film points per pixel side so that the points are closer than the irradiance's finest
+// fringe, lambda f / span (span: the aperture's largest width): then a pixel's points average
+// its Fresnel structure instead of sampling it. At most kMaxFilmSubsamples.
+constexpr int kMaxFilmSubsamples = 64;
 int auto_film_subsamples(const Aperture& aperture, const PinholeCamera& camera, double wavelength);
 
 // Nearest planar depth in the scene (for the sampling pitch); inf if all sky.
