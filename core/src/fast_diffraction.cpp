@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "anchored_convolution.h"
+#include "far_tail.h"
 #include "real_fft2d.h"
 #include "wavecam/fresnel_psf.h"
 
@@ -123,8 +124,10 @@ double FastPlan::estimate_bytes(const FastPlanSpec& spec) {
     auto g = plan_geometry(spec);
     if (!g.ok()) return 0;
     const detail::PsfTableSpec& t = g.value;
-    const double anchors = double(detail::AnchorAxis::across(t.domain_width, t.tile, t.anchor_cells).knots.size()) *
-                           (detail::AnchorAxis::across(t.domain_height, t.tile, t.anchor_cells).knots.size());
+    const int min_cell = detail::kMinCellRadii * t.radius;
+    const double anchors =
+        double(detail::AnchorAxis::across(t.domain_width, t.tile, t.anchor_cells, min_cell).knots.size()) *
+        (detail::AnchorAxis::across(t.domain_height, t.tile, t.anchor_cells, min_cell).knots.size());
     const double side = 2.0 * t.radius + 1, n = detail::fft_friendly_size(t.tile + 2 * t.radius);
     const double kernels = t.layers.count * anchors * 9 * (side * side * sizeof(float) + n * (n / 2 + 1) * 8);
     const double domain = double(t.domain_width) * t.domain_height * 17;  // radiance, layer, share
@@ -219,6 +222,7 @@ Result<bool> FastPlan::apply(const SpectralScene& scene, bool vignetting, float*
     }
     std::fill(xyz, xyz + 3 * size_t(out_w) * out_h, 0.0f);
     if (auto r = impl_->convolution.apply(src, R, R, out_w, out_h, xyz, progress); !r.ok()) return r;
+    detail::add_far_tail(table, scene, origin, R, R, out_w, out_h, xyz, threads);
     if (!vignetting)
         for (int j = 0; j < out_h; ++j)
             for (int i = 0; i < out_w; ++i) {

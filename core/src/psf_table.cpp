@@ -35,9 +35,9 @@ void DepthLayers::locate(double w, int& lower, float& upper_share) const {
     upper_share = lower + 1 < count ? float(std::min(1.0, x - lower)) : 0.0f;
 }
 
-AnchorAxis AnchorAxis::across(int length, int tile, int cells) {
+AnchorAxis AnchorAxis::across(int length, int tile, int cells, int min_cell) {
     const int tiles = (length + tile - 1) / tile;
-    const int per_cell = std::max(1, int(std::lround(double(tiles) / std::max(1, cells))));
+    const int per_cell = std::max({1, int(std::lround(double(tiles) / std::max(1, cells))), (min_cell + tile - 1) / tile});
     AnchorAxis a;
     for (int k = 0; k * per_cell * tile < length; ++k) a.knots.push_back(k * per_cell * tile);
     // a last cell under half the others joins its neighbour
@@ -55,13 +55,15 @@ Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& pro
     PsfTable t;
     t.radius = spec.radius;
     t.layers = spec.layers;
-    t.ax = AnchorAxis::across(spec.domain_width, spec.tile, spec.anchor_cells);
+    t.ax = AnchorAxis::across(spec.domain_width, spec.tile, spec.anchor_cells, kMinCellRadii * spec.radius);
     t.ay = AnchorAxis::across(spec.domain_height, spec.tile,
                               std::max(1, int(std::lround(double(spec.anchor_cells) * spec.domain_height /
-                                                          std::max(spec.domain_width, spec.domain_height)))));
+                                                          std::max(spec.domain_width, spec.domain_height)))),
+                              kMinCellRadii * spec.radius);
     const int anchors = t.anchors(), S = spec.basis->size();
     const size_t ksize = t.kernel_size();
     t.weights.assign(size_t(t.layers.count) * anchors * 9 * ksize, 0.0f);
+    t.deficit.assign(size_t(t.layers.count) * anchors * 9, 0.0f);
     const PinholeCamera& c = spec.camera;
     const long grid = long(t.layers.count) * anchors;
     ProgressTicker ticker(progress, double(grid) * S);
@@ -87,10 +89,13 @@ Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& pro
             const PsfKernel psf = field_psf_kernel(q);
             const int inset = t.radius - q.radius, pw = 2 * q.radius + 1, tw = 2 * t.radius + 1;
             const Vector3& xyz_s = spec.basis->xyz_per_power(s);
+            double held = 0;  // the weights are shares of the PSF's power: what lies beyond is 1 - held
+            for (float x : psf.weight) held += x;
             for (int p = 0; p < 3; ++p) {
                 const double bp = spec.basis->power(s, p == 0, p == 1, p == 2);
                 for (int qq = 0; qq < 3; ++qq) {
                     const float w = float(bp * xyz_s[qq]);
+                    t.deficit[(size_t(l) * anchors + a) * 9 + 3 * p + qq] += float(w * (1.0 - held));
                     float* dst = &t.weights[((size_t(l) * anchors + a) * 9 + 3 * p + qq) * ksize];
                     for (int b = 0; b < pw; ++b)
                         for (int e = 0; e < pw; ++e)

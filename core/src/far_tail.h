@@ -1,0 +1,25 @@
+// The PSF's far tail, beyond the kernels. Internal to core.
+//
+// A kernel holds kPsfKernelEnergy (99%) of its PSF; the rest lands farther than the kernel
+// radius R. Dropping it would darken every frame by up to 1%, by an amount that varies over
+// the field (off-axis PSFs are wider), and a uniform wall would no longer come back uniform;
+// folding it into the kernel would move it into the core. Here each source's missing share
+// (interpolated over anchors and layers, as its kernel is) is spread over an annulus R <= r <=
+// 4R with the ring-averaged profile of a sharp-edged aperture's far tail, intensity ~ 1/r^3
+// (Born & Wolf 8.5.2: the energy beyond r falls as 1/r). Three quarters of such a tail lies
+// within 4R; the annulus carries all of it, so about 0.25% of a star's light lands nearer
+// than physics puts it, instead of 1% lost or folded into the core. The tail is smooth, so it
+// is computed on a grid coarser by about R/3 and interpolated back.
+#pragma once
+#include "psf_table.h"
+#include "wavecam/spectral_diffraction.h"
+
+namespace wavecam::detail {
+
+// deficit(layer, anchor, m): the share of the power the kernel m = 3p + q does not hold.
+// Adds the far tail of `scene` to `xyz` (out_width x out_height), whose pixel (0, 0) is the
+// table's domain pixel (out_x0, out_y0) and camera pixel (out_x0 - origin, out_y0 - origin).
+void add_far_tail(const PsfTable& table, const SpectralScene& scene, int origin, int out_x0, int out_y0,
+                  int out_width, int out_height, float* xyz, int nthreads);
+
+}  // namespace wavecam::detail
