@@ -13,6 +13,7 @@ namespace wavecam::detail {
 namespace {
 constexpr double kMaxDefocusStep = 0.3;  // radians of defocus phase over the pinhole between layers
 constexpr double kMaxBlurStep = 0.5;     // pixels of blur-disc radius between layers
+constexpr double kGeometricZones = 8;    // Fresnel zones from which the PSF is the blur disc
 constexpr int kMaxLayers = 16;
 }  // namespace
 
@@ -21,9 +22,12 @@ DepthLayers DepthLayers::spanning(double max_inverse_depth, double aperture_radi
     DepthLayers d;
     if (!(max_inverse_depth > 0)) return d;
     // defocus phase pi a^2 dw / lambda <= kMaxDefocusStep; or, for pinholes in the geometric
-    // regime, the blur disc's radius a (1 + f w) changing by at most kMaxBlurStep pixels
-    const double dw = std::max(kMaxDefocusStep * shortest_wavelength / (M_PI * aperture_radius * aperture_radius),
-                               kMaxBlurStep * pixel_pitch / (aperture_radius * film_distance));
+    // regime (at least kGeometricZones Fresnel zones a^2 / (lambda f) even for the sky), the
+    // blur disc's radius a (1 + f w) changing by at most kMaxBlurStep pixels
+    const double defocus = kMaxDefocusStep * shortest_wavelength / (M_PI * aperture_radius * aperture_radius);
+    const bool geometric = aperture_radius * aperture_radius / (shortest_wavelength * film_distance) >= kGeometricZones;
+    const double dw = geometric ? std::max(defocus, kMaxBlurStep * pixel_pitch / (aperture_radius * film_distance))
+                                : defocus;
     d.count = std::min(kMaxLayers, int(std::ceil(max_inverse_depth / dw)) + 1);
     d.step = max_inverse_depth / (d.count - 1);
     return d;
