@@ -66,7 +66,7 @@ Result<bool> diffract_fast(const SpectralScene& scene, const SpectralBasis& basi
         lambda_min = std::min(lambda_min, basis.wavelength(s));
         lambda_max = std::max(lambda_max, basis.wavelength(s));
     }
-    const double radius = 0.5 * aperture.diameter * (aperture.shape == ApertureShape::Square ? std::sqrt(2.0) : 1.0);
+    const double radius = aperture.bounding_radius();
     // defocus phase pi a^2 dw / lambda <= kMaxDefocusStep
     const double dw = kMaxDefocusStep * lambda_min / (M_PI * radius * radius);
     const int layers = w_max > 0 ? std::min(kMaxLayers, int(std::ceil(w_max / dw)) + 1) : 1;

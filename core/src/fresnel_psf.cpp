@@ -34,7 +34,7 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
 
     // Pupil on an n x n grid in (r, t) axes; cell weights from the aperture's coverage (the
     // aperture's own x, y axes rotated by the field azimuth).
-    const double span = q.aperture.diameter * (q.aperture.shape == ApertureShape::Square ? std::sqrt(2.0) : 1.0);
+    const double span = 2 * q.aperture.bounding_radius();
     // The quadratic phase spans N = (span/2)^2 alpha / lambda half-period zones; its slope at the
     // rim is 2 pi N / (span/2) per metre, so 8 N samples across keep the phase step below pi/2
     // (no aliased copies of the PSF), and never fewer than 64.
@@ -62,7 +62,7 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
                 const double r = xi[ir] + ((s % kSub) + 0.5 - 0.5 * kSub) * h / kSub;
                 const double t = xi[it] + ((s / kSub) + 0.5 - 0.5 * kSub) * h / kSub;
                 const double x = r * er_x - t * er_y, y = r * er_y + t * er_x;
-                open += q.aperture.contains(x, y) ? 1.0 : 0.0;
+                open += q.aperture.transmission(x, y);
             }
             open /= kSub * kSub;
             const double phase = M_PI / lambda * (ar * xi[ir] * xi[ir] + at * xi[it] * xi[it]);

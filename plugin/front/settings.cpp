@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "wavecam/aperture_mask.h"
 #include "wavecam/units.h"
 
 namespace wavecam::front {
@@ -11,7 +12,7 @@ namespace wavecam::front {
 const std::vector<std::pair<std::string, std::string>>& setting_keys() {
     static const std::vector<std::pair<std::string, std::string>> keys = {
         {"pinhole", "pinhole diameter, e.g. 0.25mm (default: the optimum 1.9 sqrt(f lambda) at 550nm)"},
-        {"aperture", "aperture shape: circle or square"},
+        {"aperture", "circle, square, polygon:N[:ROTATIONdeg] (vertex on +x at 0deg), mask:FILE (greyscale amplitude transmission, width = pinhole) or zoneplate:N (N zones, outer diameter = pinhole)"},
         {"film-distance", "pinhole to film, e.g. 50mm"},
         {"fov", "the render's horizontal field of view, e.g. 50deg (default: from the file)"},
         {"depth-channel", "depth channel name (default Z; Blender: ViewLayer.Depth.Z)"},
@@ -114,7 +115,7 @@ Result<DiffractOptions> options_from_settings(const Settings& settings) {
             else dst = r.value;
         };
         if (key == "pinhole") take(parse_length(value, key), o.pinhole);
-        else if (key == "aperture") take(parse_aperture_shape(value, key), o.aperture_shape);
+        else if (key == "aperture") take(load_aperture(value, key), o.aperture);
         else if (key == "film-distance") take(parse_length(value, key), o.film_distance);
         else if (key == "fov") take(parse_angle(value, key), o.read.fov_h);
         else if (key == "depth-channel") o.read.depth_channel = value;

@@ -32,11 +32,17 @@ double resolved_pinhole(const DiffractOptions& opt) {
     return opt.pinhole > 0 ? opt.pinhole : rayleigh_optimal_diameter(opt.film_distance, kDesignWavelength);
 }
 
+Aperture resolved_aperture(const DiffractOptions& opt) {
+    Aperture a = opt.aperture;
+    a.diameter = resolved_pinhole(opt);
+    return a;
+}
+
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
                       DepthMeaning meaning) {
     if (opt.method == DiffractMethod::Fast) return 0;  // PSF grid + FFTs: minutes at most
     DiffractionSettings s = opt.diffraction;
-    s.aperture = {opt.aperture_shape, resolved_pinhole(opt)};
+    s.aperture = resolved_aperture(opt);
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     auto sampling = sampling_for(opt);
     if (!sampling.ok()) return 0;
@@ -55,7 +61,7 @@ double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) 
         return images + 16 * anchors * 9 * side * side * sizeof(float) + 2 * 64.0 * (1 << 20);
     }
     const double lambda = 400e-9;  // the shortest wavelength sampled: the densest pinhole grid
-    const Aperture ap{opt.aperture_shape, resolved_pinhole(opt)};
+    const Aperture ap = resolved_aperture(opt);
     const double samples = estimate_sample_count(ap, sample_pitch(lambda, 1.0));
     const double film = pixels * 9;  // up to 3 x 3 film points per pixel
     return images + samples * 5 * sizeof(float) + film * 3 * sizeof(float) + pixels * sizeof(PointSource);
@@ -95,7 +101,7 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
     if (!basis.ok()) return fail("--" + basis.error);
 
     DiffractionSettings s = opt.diffraction;
-    s.aperture = {opt.aperture_shape, resolved_pinhole(opt)};
+    s.aperture = resolved_aperture(opt);
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     s.nthreads = nthreads;
     const double terms = estimate_terms(opt, camera, in.depth, opt.depth_meaning);
@@ -136,7 +142,7 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
     spec.channelformats.clear();
     spec.attribute("oiio:ColorSpace", out_space);
     spec.attribute("wavecam.pinhole", with_unit(s.aperture.diameter, 1e-3, "mm"));
-    spec.attribute("wavecam.aperture", s.aperture.shape == ApertureShape::Circle ? "circle" : "square");
+    spec.attribute("wavecam.aperture", s.aperture.name());
     spec.attribute("wavecam.film-distance", with_unit(opt.film_distance, 1e-3, "mm"));
     spec.attribute("wavecam.film-width", with_unit(camera.film_width(), 1e-3, "mm"));
     spec.attribute("wavecam.fov", static_cast<float>(in.fov_h * 180 / M_PI));
