@@ -18,6 +18,8 @@ const std::vector<std::pair<std::string, std::string>>& setting_keys() {
         {"depth-channel", "depth channel name (default Z; Blender: ViewLayer.Depth.Z)"},
         {"depth", "depth meaning: planar (along the view axis) or ray"},
         {"wavelengths", "a count over 400-700nm (e.g. 16) or a list: 450nm,550nm,650nm"},
+        {"monochrome", "true: every channel diffracted with the same light (the wavelengths' mean PSF), grey in, grey out; "
+                       "automatic for fewer than 3 wavelengths"},
         {"runs", "random-phase runs averaged; noise falls as 1/sqrt(runs)"},
         {"method", "fast (PSF-grid convolution, default), exact (the seed paper's random-phase sum) or incoherent"},
         {"seed", "random seed: the same seed gives the same image"},
@@ -126,7 +128,8 @@ Result<DiffractOptions> options_from_settings(const Settings& settings) {
         } else if (key == "wavelengths") {
             auto w = parse_wavelengths(value, o);
             if (!w.ok()) error = w.error;
-        } else if (key == "runs") {
+        } else if (key == "monochrome") take(parse_bool(key, value), o.monochrome);
+        else if (key == "runs") {
             long n = 0;
             take(parse_integer(key, value, 1, 100000), n);
             o.diffraction.runs = static_cast<int>(n);

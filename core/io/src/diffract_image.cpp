@@ -49,7 +49,8 @@ double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, c
     const double nearest = nearest_depth(camera, depth.data(), meaning);
     double terms = 0;
     for (double lambda : sampling.value.wavelength) terms += scene_terms(s, camera, lambda, nearest);
-    return terms;
+    // monochrome light diffracts each channel on its own (spectrum.h)
+    return opt.monochrome || sampling.value.wavelength.size() < 3 ? 3 * terms : terms;
 }
 
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) {
@@ -97,7 +98,7 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
     if (!xyz_to_rgb.ok()) return fail(xyz_to_rgb.error);
     auto sampling = sampling_for(opt);
     if (!sampling.ok()) return fail("--" + sampling.error);
-    auto basis = make_spectral_basis(sampling.value, xyz_to_rgb.value);
+    auto basis = make_spectral_basis(sampling.value, xyz_to_rgb.value, opt.monochrome);
     if (!basis.ok()) return fail("--" + basis.error);
 
     DiffractionSettings s = opt.diffraction;
@@ -151,6 +152,7 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
     std::string wl;
     for (double l : sampling.value.wavelength) wl += (wl.empty() ? "" : ",") + with_unit(l, 1e-9, "nm");
     spec.attribute("wavecam.wavelengths", wl);
+    spec.attribute("wavecam.light", basis.value.description());
     spec.attribute("wavecam.method", opt.method == DiffractMethod::Fast    ? "fast"
                                      : opt.method == DiffractMethod::Exact ? "exact"
                                                                            : "incoherent");
@@ -168,7 +170,7 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
                    static_cast<float>(fresnel_number(s.aperture.diameter / 2, opt.film_distance, INFINITY,
                                                      kDesignWavelength)));
     std::ostringstream summary;
-    summary << sampling.value.wavelength.size() << " wavelengths, ";
+    summary << sampling.value.wavelength.size() << " wavelengths" << (basis.value.monochrome() ? " (monochrome), " : ", ");
     if (opt.method == DiffractMethod::Fast) summary << "fast method";
     else summary << s.runs << " runs, " << terms << " terms";
     spec.attribute("wavecam.summary", summary.str());

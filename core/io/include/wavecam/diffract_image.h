@@ -26,6 +26,7 @@ struct DiffractOptions {
     FastSettings fast;                             // fast method: tiles, kernel size
     std::vector<double> wavelengths;               // explicit list (m); empty = wavelength_count in 400-700 nm
     int wavelength_count = 8;
+    bool monochrome = false;                       // every channel through the same light (also when < 3 wavelengths)
     bool vignetting = true;                        // keep the natural cos^4 fall-off
     std::string colorconfig;                       // OCIO config; "" = the one wavecam ships
     std::string input_colorspace;                  // "" = the file's oiio:ColorSpace, else lin_rec709
