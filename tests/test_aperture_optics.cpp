@@ -9,6 +9,7 @@
 
 #include "psf_measures.h"
 #include "wavecam/aperture.h"
+#include "wavecam/fast_diffraction.h"
 #include "wavecam/psf.h"
 
 using namespace wavecam;
@@ -254,4 +255,38 @@ TEST(ApertureOptics, ZonePlateFocusMovesAsOneOverWavelength) {
         EXPECT_NEAR(best.back() / f0, 1.0, 0.03) << lambda;  // at r_1^2 / lambda, less a small focal shift
     }
     EXPECT_NEAR(best[0] / best[1], 650.0 / 450.0, 0.01 * 650 / 450);
+}
+
+// The fast path's pupil takes the mask too, in the same orientation: a star at infinity through
+// the L mask (N ~ 15, geometric) lights the shadow's quadrants except the image's left-bottom
+// one, as the exact PSF above does.
+TEST(ApertureOptics, FastPathTurnsTheLMaskLikeTheExactPsf) {
+    const double d = 0.4e-3, f = 5e-3, z = INFINITY;
+    Aperture ell{ApertureShape::Mask, d};
+    ell.mask_file = "L";
+    ASSERT_TRUE(set_aperture_mask(ell, 2, 2, {1, 0, 1, 1}, "aperture").ok());
+    const int w = 41, c = w / 2;
+    PinholeCamera cam;
+    cam.width = cam.height = w;
+    cam.fov_h = 2 * std::atan(w * 20e-6 / (2 * f));  // 20 um film pixels: the shadow spans 20
+    cam.film_distance = f;
+    std::vector<float> rgb(3 * w * w, 0.0f), depth(w * w, 1e10f);  // sky: one depth layer
+    for (int k = 0; k < 3; ++k) rgb[3 * (c * w + c) + k] = 1.0f;
+    const Matrix3 to709{{{3.2406, -1.5372, -0.4986}, {-0.9689, 1.8758, 0.0415}, {0.0557, -0.2040, 1.0570}}};
+    const auto basis = make_spectral_basis(explicit_sampling({550e-9}).value, to709);
+    ASSERT_TRUE(basis.ok());
+    std::vector<float> xyz(3 * w * w);
+    auto r = diffract_fast({cam, rgb.data(), depth.data(), DepthMeaning::Planar}, basis.value, ell, false, xyz.data());
+    ASSERT_TRUE(r.ok()) << r.error;
+    const double half = 0.5 * d / 20e-6;
+    double quad[2][2] = {{0, 0}, {0, 0}};
+    for (int j = 0; j < w; ++j)
+        for (int i = 0; i < w; ++i) {
+            const double dx = i - c, dy = j - c;
+            if (std::fabs(dx) > 1 && std::fabs(dy) > 1 && std::fabs(dx) < half && std::fabs(dy) < half)
+                quad[dx > 0][dy > 0] += xyz[3 * (j * w + i) + 1];  // Y; [right][bottom]
+        }
+    for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b)
+            if (!(a == 0 && b == 1)) EXPECT_GT(quad[a][b], 8 * quad[0][1]) << "right " << a << " bottom " << b;
 }

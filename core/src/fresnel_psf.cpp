@@ -62,7 +62,7 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
                 const double r = xi[ir] + ((s % kSub) + 0.5 - 0.5 * kSub) * h / kSub;
                 const double t = xi[it] + ((s / kSub) + 0.5 - 0.5 * kSub) * h / kSub;
                 const double x = r * er_x - t * er_y, y = r * er_y + t * er_x;
-                open += q.aperture.transmission(x, y);
+                open += q.aperture.transmission(-x, y);  // (x, y): image (column, row); pupil +x lands at column -x
             }
             open /= kSub * kSub;
             const double phase = M_PI / lambda * (ar * xi[ir] * xi[ir] + at * xi[it] * xi[it]);
