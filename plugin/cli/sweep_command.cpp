@@ -148,11 +148,11 @@ int run(const SweepFlags& f) {
         }
     std::printf("measured optimum (smallest r50): %.4g mm = %.3f sqrt(f lambda)\n", best * 1e3, best / unit);
     std::printf("Rayleigh 1.9 sqrt(f lambda):     %.4g mm\n", rayleigh * 1e3);
+    std::printf("paper sqrt(D lambda / 2), D = 5f: %.4g mm\n", nyquist * 1e3);
     if (p.aperture.shape != ApertureShape::Circle)
         std::printf("(%s: 'diameter' is its size parameter - side, circumscribed diameter, mask width or outer\n"
                     " diameter; the Rayleigh and Nyquist optima are the disc's, r50 a centred circle's radius)\n",
                     p.aperture.name().c_str());
-    std::printf("paper sqrt(D lambda / 2), D = 5f: %.4g mm\n", nyquist * 1e3);
     std::printf("wrote %s, %s_psfs.png, %s_spot_size.png\n", csv.c_str(), f.prefix.c_str(), f.prefix.c_str());
     return 0;
 }
