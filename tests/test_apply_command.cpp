@@ -56,6 +56,47 @@ TEST(ApplyCommand, RunsWithNoFlagsWhenTheFileHasItsFieldOfView) {
     fs::remove_all(dir);
 }
 
+// The seed paper's setting: one wavelength is monochromatic light - a grey render stays grey
+// and the header says so; a non-circular aperture is named in the header as given.
+TEST(ApplyCommand, OneWavelengthIsMonochromeAndApertureShapesReachTheHeader) {
+    const fs::path dir = scratch("apply_mono");
+    const std::string in = (dir / "in.exr").string(), out = (dir / "out.exr").string();
+    {
+        OIIO::ImageSpec spec(10, 8, 4, OIIO::TypeDesc::FLOAT);
+        spec.channelnames = {"R", "G", "B", "Z"};
+        spec.attribute("wavecam.fov", 30.0f);
+        OIIO::ImageBuf buf(spec);
+        for (int j = 0; j < 8; ++j)
+            for (int i = 0; i < 10; ++i) {
+                const float g = 0.1f + 0.08f * ((i * 7 + j * 3) % 10);  // a grey pattern
+                const float px[4] = {g, g, g, 2.0f};
+                buf.setpixel(i, j, px);
+            }
+        ASSERT_TRUE(buf.write(in));
+    }
+    for (const std::string method : {"fast", "exact"}) {
+        const auto r = run_command(kWavecam + " apply " + in + " -o " + out +
+                                   " --film-distance 20mm --pinhole 0.2mm --runs 1 --wavelengths 550nm --aperture "
+                                   "polygon:6:30deg --method " + method);
+        ASSERT_EQ(r.status, 0) << r.output;
+        OIIO::ImageBuf img(out);
+        ASSERT_TRUE(img.read());
+        EXPECT_NE(img.spec().get_string_attribute("wavecam.light").find("monochrome"), std::string::npos);
+        EXPECT_EQ(img.spec().get_string_attribute("wavecam.aperture"), "polygon:6:30deg");
+        EXPECT_EQ(img.spec().get_string_attribute("wavecam.wavelengths"), "550nm");
+        double spread = 0, level = 0;
+        for (int j = 0; j < 8; ++j)
+            for (int i = 0; i < 10; ++i) {
+                const float r0 = img.getchannel(i, j, 0, 0), g0 = img.getchannel(i, j, 0, 1), b0 = img.getchannel(i, j, 0, 2);
+                spread = std::max({spread, double(std::fabs(r0 - g0)), double(std::fabs(b0 - g0))});
+                level = std::max(level, double(g0));
+            }
+        EXPECT_GT(level, 0.0) << method;
+        EXPECT_LT(spread, 1e-4 * level) << method << ": grey in, grey out";
+    }
+    fs::remove_all(dir);
+}
+
 TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
     const fs::path dir = scratch("apply_bad");
     const std::string good = (dir / "good.exr").string();
@@ -66,6 +107,10 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
     write_render((dir / "tiny.exr").string(), 1, 1, 2.0f, 30.0f);
     write_render((dir / "zero.exr").string(), 8, 8, 0.0f, 30.0f);
     write_render((dir / "widefov.exr").string(), 8, 8, 2.0f, 200.0f);
+    {
+        OIIO::ImageBuf black(OIIO::ImageSpec(4, 4, 1, OIIO::TypeDesc::UINT8));  // zero-filled
+        ASSERT_TRUE(black.write((dir / "black.png").string()));
+    }
     {
         OIIO::ImageBuf nan(good);
         nan.read(0, 0, true);
@@ -98,7 +143,12 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
         {"truncated.exr", "", "truncated.exr"},
         {"missing.exr", "", "missing.exr"},
         {"good.exr", "--pinhole 0.2", "--pinhole"},
-        {"good.exr", "--wavelengths 2", "--wavelengths"},
+        {"good.exr", "--wavelengths 0", "--wavelengths"},
+        {"good.exr", "--aperture polygon:2", "--aperture: expected the number of sides N"},
+        {"good.exr", "--aperture zoneplate:0", "--aperture: expected the number of zones N"},
+        {"good.exr", "--aperture mask:no_such_mask.png", "no_such_mask.png"},
+        {"good.exr", "--aperture mask:" + (dir / "black.png").string(), "lets no light through"},
+        {"good.exr", "--aperture hexagon", "polygon:N"},
         {"good.exr", "--depth sideways", "--depth"},
         {"good.exr", "--output-colorspace NoSuchSpace", "NoSuchSpace"},
         {"good.exr", "--method exact --runs 100000 --wavelengths 64 --max-terms 1e9", "--max-terms"},

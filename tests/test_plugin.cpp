@@ -56,15 +56,26 @@ TEST(Plugin, DescriptionFileRuns) {
     const fs::path dir = scratch("plugin_desc");
     fs::create_directories(dir / "renders");
     write_render((dir / "renders" / "shot.exr").string(), 8, 8, 3.0f, 35.0f);
+    {
+        OIIO::ImageBuf mask(OIIO::ImageSpec(4, 4, 1, OIIO::TypeDesc::UINT8));
+        const float open[1] = {1.0f};
+        for (int j = 1; j < 3; ++j)
+            for (int i = 1; i < 3; ++i) mask.setpixel(i, j, open);
+        ASSERT_TRUE(mask.write((dir / "renders" / "pinhole.png").string()));
+    }
+    // the mask, like the source, is found beside the description
     std::ofstream(dir / "shot.wavecam") << "source = \"renders/shot.exr\"\npinhole = \"0.2mm\"\n"
                                            "film-distance = \"20mm\"\nwavelengths = [\"450nm\", \"550nm\", \"650nm\"]\n"
-                                           "runs = 1\noutput-colorspace = \"ACEScg\"\n";
+                                           "runs = 1\noutput-colorspace = \"ACEScg\"\naperture = \"mask:renders/pinhole.png\"\n";
     const auto r = run_command(kEnv + "oiiotool " + (dir / "shot.wavecam").string() + " -o " + (dir / "o.exr").string());
     ASSERT_EQ(r.status, 0) << r.output;
     OIIO::ImageBuf out((dir / "o.exr").string());
     ASSERT_TRUE(out.read());
     EXPECT_EQ(out.spec().get_string_attribute("wavecam.output-colorspace"), "ACEScg");
     EXPECT_EQ(out.spec().get_string_attribute("wavecam.wavelengths"), "450nm,550nm,650nm");
+    const std::string aperture = out.spec().get_string_attribute("wavecam.aperture");
+    EXPECT_EQ(aperture.rfind("mask:", 0), 0u) << aperture;
+    EXPECT_NE(aperture.find("pinhole.png"), std::string::npos) << aperture;
     fs::remove_all(dir);
 }
 
@@ -80,6 +91,8 @@ TEST(Plugin, BadDescriptionsFailWithThePluginsMessage) {
         {"source = \"/etc/passwd\"\n", "escapes the description's folder"},
         {"source = \"shot.exr\"\npinhole = \"0.2\"\n", "pinhole: expected a length"},
         {"source = \"shot.exr\"\nfocus = \"2m\"\n", "focus: unknown key"},
+        {"source = \"shot.exr\"\naperture = \"mask:../mask.png\"\n", "aperture: mask '../mask.png' escapes"},
+        {"source = \"shot.exr\"\naperture = \"polygon:2\"\n", "aperture: expected the number of sides"},
         {"pinhole = \"0.2mm\"\n", "source: missing"},
         {"source = [ unclosed\n", "not a wavecam description"},
         {"\x01\x02\xff binary", "not a wavecam description"},

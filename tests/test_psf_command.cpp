@@ -59,6 +59,26 @@ TEST(PsfCommand, WritesRelativeIrradianceWithParametersInTheHeader) {
     fs::remove_all(dir);
 }
 
+// A zone plate: the command states its first focus r_1^2 / lambda (here (0.1 mm)^2 / 4 / 500 nm
+// = 5 mm), in the output and the header, and the plate focuses there: at the focus the centre
+// is far brighter than the unobstructed wave.
+TEST(PsfCommand, ZonePlateStatesItsFocus) {
+    const fs::path dir = temp_dir();
+    const fs::path exr = dir / "zp.exr";
+    const CommandRun r = run("psf --aperture zoneplate:4 --pinhole 0.2mm --film-distance 5mm --wavelength 500nm "
+                             "--film-size 0.02mm --resolution 5 -o " + exr.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("first focus r1^2/lambda = 5 mm"), std::string::npos) << r.output;
+    OIIO::ImageBuf buf(exr.string());
+    ASSERT_TRUE(buf.read()) << buf.geterror();
+    EXPECT_EQ(buf.spec().get_string_attribute("wavecam.aperture"), "zoneplate:4");
+    EXPECT_EQ(buf.spec().get_string_attribute("wavecam.zoneplate_focus"), "5mm");
+    float centre = 0;
+    buf.getpixel(2, 2, &centre, 1);
+    EXPECT_GT(centre, 10);  // two open zones in phase: about (2 x 2)^2 = 16
+    fs::remove_all(dir);
+}
+
 TEST(PsfCommand, BadFlagsGetOneLineNamingTheFlag) {
     const fs::path dir = temp_dir();
     const fs::path exr = dir / "bad.exr";
@@ -70,7 +90,10 @@ TEST(PsfCommand, BadFlagsGetOneLineNamingTheFlag) {
                  {"--wavelength 550", "--wavelength"},
                  {"--source-angle 10", "--source-angle"},
                  {"--film-size 0mm", "--film-size"},
-                 {"--pinhole 20mm", "--max-terms"}};
+                 {"--pinhole 20mm", "--max-terms"},
+                 {"--aperture polygon:2", "--aperture"},
+                 {"--aperture zoneplate:0", "--aperture"},
+                 {"--aperture mask:/nonexistent/pinhole.png", "/nonexistent/pinhole.png"}};
     for (const Case& c : cases) {
         const CommandRun r = run(std::string("psf ") + c.args + " -o " + exr.string());
         EXPECT_NE(r.status, 0) << c.args;

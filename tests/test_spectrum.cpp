@@ -82,19 +82,76 @@ TEST(SpectralSamplingTest, BadWavelengthsAreNamedErrors) {
     }
 }
 
-TEST(SpectralBasisTest, WavelengthsThatCannotCarryColourAreErrors) {
-    const auto two = make_spectral_basis(visible_sampling(2).value, kXyzToRec709);
-    ASSERT_FALSE(two.ok());
-    EXPECT_TRUE(starts_with_field(two.error)) << two.error;
-    // Three wavelengths a picometre apart see the same colour: the bands are not independent.
-    const auto close = make_spectral_basis(explicit_sampling({550e-9, 550.001e-9, 550.002e-9}).value, kXyzToRec709);
-    ASSERT_FALSE(close.ok());
-    EXPECT_TRUE(starts_with_field(close.error)) << close.error;
+TEST(SpectralBasisTest, MismatchedWeightsAreErrors) {
     SpectralSampling mismatched = visible_sampling(8).value;
     mismatched.weight.pop_back();
     const auto r = make_spectral_basis(mismatched, kXyzToRec709);
     ASSERT_FALSE(r.ok());
     EXPECT_TRUE(starts_with_field(r.error)) << r.error;
+}
+
+// Fewer than 3 wavelengths, or three a picometre apart, cannot carry colour: monochrome light,
+// each channel through the same wavelengths, and the round trip still holds.
+TEST(SpectralBasisTest, WavelengthsThatCannotCarryColourAreMonochrome) {
+    for (const auto& sampling : {visible_sampling(1).value, visible_sampling(2).value,
+                                 explicit_sampling({550e-9, 550.001e-9, 550.002e-9}).value}) {
+        const auto b = make_spectral_basis(sampling, kXyzToRec709);
+        ASSERT_TRUE(b.ok()) << b.error;
+        EXPECT_TRUE(b.value.monochrome());
+        EXPECT_EQ(b.value.size(), 3 * int(sampling.wavelength.size()));
+        for (int s = 0; s < b.value.size(); ++s)
+            for (int p = 0; p < 3; ++p) EXPECT_GE(b.value.power(s, p == 0, p == 1, p == 2), 0.0);
+        const Vector3 out = multiply(kXyzToRec709, xyz_of(b.value, 0.3, 0.6, 0.1));
+        EXPECT_NEAR(out[0], 0.3, 1e-9);
+        EXPECT_NEAR(out[1], 0.6, 1e-9);
+        EXPECT_NEAR(out[2], 0.1, 1e-9);
+    }
+}
+
+// Every non-negative Rec.709 colour is a non-negative spectrum once 5 or more wavelengths span
+// the visible range: the three primaries' spectra are non-negative at every sample.
+TEST(SpectralBasisTest, Rec709PrimariesAreNonNegativeLight) {
+    for (int n : {5, 8, 16, 31}) {
+        const auto b = make_spectral_basis(visible_sampling(n).value, kXyzToRec709);
+        ASSERT_TRUE(b.ok()) << b.error;
+        EXPECT_FALSE(b.value.monochrome());
+        for (int p = 0; p < 3; ++p) EXPECT_EQ(b.value.desaturation()[p], 0.0) << n;
+        for (int s = 0; s < b.value.size(); ++s)
+            for (int p = 0; p < 3; ++p) EXPECT_GE(b.value.power(s, p == 0, p == 1, p == 2), 0.0) << n << " " << s;
+    }
+}
+
+// Smooth: at 31 samples each primary's spectrum is one sigmoid of a quadratic - at most one
+// hump or one step, so its differences change sign at most twice (a signed three-band basis
+// or a ragged fit would wiggle).
+TEST(SpectralBasisTest, PrimarySpectraAreSmooth) {
+    const auto b = make_spectral_basis(visible_sampling(31).value, kXyzToRec709);
+    ASSERT_TRUE(b.ok());
+    for (int p = 0; p < 3; ++p) {
+        int turns = 0;
+        double last = 0;
+        for (int s = 1; s < b.value.size(); ++s) {
+            const double d = b.value.power(s, p == 0, p == 1, p == 2) - b.value.power(s - 1, p == 0, p == 1, p == 2);
+            if (d * last < 0) ++turns;
+            if (d != 0) last = d;
+        }
+        EXPECT_LE(turns, 2) << p;
+    }
+}
+
+// Out of gamut: three wavelengths (450, 550, 650 nm) cannot make Rec.709 blue from non-negative
+// light (it lies outside their triangle on the chromaticity diagram); its primary is pulled toward
+// white, the round trip stays exact and pure blue carries a negative share, reported.
+TEST(SpectralBasisTest, UnreachablePrimariesArePulledTowardWhiteAndSaySo) {
+    const auto b = make_spectral_basis(explicit_sampling({450e-9, 550e-9, 650e-9}).value, kXyzToRec709);
+    ASSERT_TRUE(b.ok()) << b.error;
+    EXPECT_GT(b.value.desaturation()[2], 0.0);
+    EXPECT_EQ(b.value.desaturation()[0], 0.0);
+    EXPECT_NE(b.value.description().find("pulled toward white"), std::string::npos);
+    const Vector3 out = multiply(kXyzToRec709, xyz_of(b.value, 0, 0, 1));
+    EXPECT_NEAR(out[2], 1.0, 1e-9);
+    // grey stays non-negative light
+    for (int s = 0; s < b.value.size(); ++s) EXPECT_GT(b.value.power(s, 0.2, 0.2, 0.2), 0.0);
 }
 
 // RGB -> spectrum -> XYZ (sum over samples) -> RGB through the same matrix gives back the input,

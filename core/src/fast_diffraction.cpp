@@ -21,10 +21,6 @@ struct FastPlan::Impl {
 
 namespace {
 
-double circumscribed_radius(const Aperture& a) {
-    return 0.5 * a.diameter * (a.shape == ApertureShape::Square ? std::sqrt(2.0) : 1.0);
-}
-
 bool same_camera(const PinholeCamera& a, const PinholeCamera& b) {
     return a.width == b.width && a.height == b.height && a.fov_h == b.fov_h && a.film_distance == b.film_distance;
 }
@@ -112,7 +108,7 @@ Result<detail::PsfTableSpec> plan_geometry(const FastPlanSpec& spec) {
     t.radius = radius;
     t.aperture = spec.aperture;
     t.basis = &spec.basis;
-    t.layers = detail::DepthLayers::spanning(spec.max_inverse_depth, circumscribed_radius(spec.aperture), lambda_min,
+    t.layers = detail::DepthLayers::spanning(spec.max_inverse_depth, spec.aperture.bounding_radius(), lambda_min,
                                              c.film_distance, pitch);
     t.nthreads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
     return R::success(t);
@@ -156,7 +152,7 @@ Result<std::shared_ptr<const FastPlan>> FastPlan::create(const FastPlanSpec& spe
 
 bool FastPlan::serves(const FastPlanSpec& s) const {
     const FastPlanSpec& p = impl_->spec;
-    return same_camera(s.camera, p.camera) && s.overscan == p.overscan && s.aperture.shape == p.aperture.shape &&
+    return same_camera(s.camera, p.camera) && s.overscan == p.overscan && s.aperture.name() == p.aperture.name() &&
            s.aperture.diameter == p.aperture.diameter && s.max_inverse_depth <= p.max_inverse_depth &&
            s.settings.tile == p.settings.tile && s.settings.max_radius == p.settings.max_radius &&
            s.settings.anchor_cells == p.settings.anchor_cells && same_basis(s.basis, p.basis);

@@ -33,7 +33,7 @@ FieldGeometry geometry_of(const FieldPsfRequest& q) {
         g.er_x = q.u / rn;
         g.er_y = -q.v / rn;
     }
-    g.span = q.aperture.diameter * (q.aperture.shape == ApertureShape::Square ? std::sqrt(2.0) : 1.0);
+    g.span = 2 * q.aperture.bounding_radius();
     g.area = q.aperture.area();
     return g;
 }
@@ -42,7 +42,7 @@ FieldGeometry geometry_of(const FieldPsfRequest& q) {
 // edge's tail, light beyond the rim by s being at most 2 lambda f / (pi^2 D s) of the power,
 // stretched 1/cos^3 off axis (see the header).
 double psf_radius(const Aperture& aperture, double film_distance, double depth, double wavelength, double cos_theta) {
-    const double span = aperture.diameter * (aperture.shape == ApertureShape::Square ? std::sqrt(2.0) : 1.0);
+    const double span = 2 * aperture.bounding_radius();
     const double shadow = 0.5 * span * (1.0 + film_distance / depth);
     const double tail = 2 * wavelength * film_distance / (M_PI * M_PI * aperture.diameter * (1 - kPsfKernelEnergy));
     return shadow + tail / std::pow(cos_theta, 3);
@@ -123,7 +123,7 @@ std::vector<float> kernel_by_mft(const FieldPsfRequest& q, const FieldGeometry& 
                 const double r = xi[ir] + ((s % kSub) + 0.5 - 0.5 * kSub) * h / kSub;
                 const double t = xi[it] + ((s / kSub) + 0.5 - 0.5 * kSub) * h / kSub;
                 const double x = r * g.er_x - t * g.er_y, y = r * g.er_y + t * g.er_x;
-                open += q.aperture.contains(x, y) ? 1.0 : 0.0;
+                open += q.aperture.transmission(-x, y);  // (x, y): image (column, row); pupil +x lands at column -x
             }
             open /= kSub * kSub;
             const double phase = M_PI / lambda * (g.ar * xi[ir] * xi[ir] + g.at * xi[it] * xi[it]);
@@ -298,7 +298,8 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
             const double x = position(ix);
             if (std::fabs(x) > 0.5 * g.span + h) continue;
             double cx, cy;
-            const double open = q.aperture.coverage(x - 0.5 * h, x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy);
+            // (x, y): image (column, row); pupil +x lands at column -x (as in the matrix transform)
+            const double open = q.aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy);
             if (open <= 0) continue;
             field[size_t(iy) * n + ix] = float(open);
             row0 = std::min(row0, iy);

@@ -36,10 +36,11 @@ Result<std::vector<SweepPoint>> sweep_pinholes(const SweepParams& p, const Progr
         SweepPoint pt;
         pt.diameter = unit * p.min_scale * std::pow(p.max_scale / p.min_scale, double(k) / (p.count - 1));
         PsfParams q;
-        q.aperture = {ApertureShape::Circle, pt.diameter};
+        q.aperture = p.aperture;
+        q.aperture.diameter = pt.diameter;
         q.film_distance = p.film_distance;
         q.wavelength = p.wavelength;
-        q.film_size = 3.0 * std::max(pt.diameter, 2.44 * p.wavelength * p.film_distance / pt.diameter);
+        q.film_size = 3.0 * std::max(2 * q.aperture.bounding_radius(), 2.44 * p.wavelength * p.film_distance / pt.diameter);
         q.resolution = p.resolution;
         // every ray between pinhole and window within theta_max (plus the pinhole's own spread)
         q.sin_theta_max = std::min(1.0, 1.5 * (0.5 * q.film_size + 0.5 * pt.diameter) / p.film_distance +

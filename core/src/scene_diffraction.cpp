@@ -124,7 +124,7 @@ int auto_film_subsamples(const Aperture& aperture, const PinholeCamera& camera, 
     // frequency above span / (lambda f): its finest fringe is lambda f / span, at any depth
     // (cos theta only widens it off axis). Film points closer than that sum every pixel's
     // fringes to their area average; one point per pixel samples them instead.
-    const double span = aperture.diameter * (aperture.shape == ApertureShape::Square ? std::sqrt(2.0) : 1.0);
+    const double span = 2 * aperture.bounding_radius();
     const double finest_fringe = wavelength * camera.film_distance / span;
     const double pixel = camera.film_distance * camera.tan_pitch();
     return std::clamp(int(std::floor(pixel / finest_fringe)) + 1, 1, kMaxFilmSubsamples);

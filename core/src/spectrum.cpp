@@ -1,4 +1,5 @@
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "wavecam/spectrum.h"
@@ -45,51 +46,172 @@ Result<SpectralSampling> explicit_sampling(const std::vector<double>& wavelength
     return Result<SpectralSampling>::success(s);
 }
 
-Result<SpectralBasis> make_spectral_basis(const SpectralSampling& sampling, const Matrix3& xyz_to_rgb) {
+namespace {
+
+// Jakob & Hanika's sigmoid, S(x) = 1/2 + x / (2 sqrt(1 + x^2)), and its derivative.
+double sigmoid(double x) { return 0.5 + x / (2.0 * std::sqrt(1.0 + x * x)); }
+double sigmoid_slope(double x) { return 0.5 / std::pow(1.0 + x * x, 1.5); }
+
+// One primary's spectrum at the samples: exp(log_scale) S(c0 + c1 t + c2 t^2).
+struct SigmoidSpectrum {
+    double c[3] = {0, 0, 0}, log_scale = 0;
+    double operator()(double t) const { return std::exp(log_scale) * sigmoid(c[0] + t * (c[1] + t * c[2])); }
+};
+
+double normalised(double wavelength) { return (wavelength - 550e-9) / 150e-9; }
+
+// Fits `spectrum` so that its XYZ at the samples is `target`: Gauss-Newton on the four
+// parameters with the minimum-norm step (three equations), from the current parameters, step
+// halved until the residual falls. True when the relative residual is below 1e-12.
+bool fit_sigmoid(const std::vector<double>& t, const std::vector<Vector3>& xyz, const Vector3& target,
+                 SigmoidSpectrum& spectrum) {
+    const double norm = std::hypot(target[0], target[1], target[2]);
+    auto residual = [&](const SigmoidSpectrum& sp, Vector3& r) {
+        r = {-target[0], -target[1], -target[2]};
+        for (size_t s = 0; s < t.size(); ++s)
+            for (int k = 0; k < 3; ++k) r[k] += sp(t[s]) * xyz[s][k];
+        for (int k = 0; k < 3; ++k) r[k] /= norm;
+        return std::hypot(r[0], r[1], r[2]);
+    };
+    Vector3 r;
+    double err = residual(spectrum, r);
+    for (int iteration = 0; iteration < 200 && err > 1e-12; ++iteration) {
+        // J (3 x 4): d residual / d (c0, c1, c2, log_scale)
+        double J[3][4] = {};
+        for (size_t s = 0; s < t.size(); ++s) {
+            const double x = spectrum.c[0] + t[s] * (spectrum.c[1] + t[s] * spectrum.c[2]);
+            const double a = std::exp(spectrum.log_scale), d = a * sigmoid_slope(x), v = a * sigmoid(x);
+            const double grad[4] = {d, d * t[s], d * t[s] * t[s], v};
+            for (int k = 0; k < 3; ++k)
+                for (int q = 0; q < 4; ++q) J[k][q] += grad[q] * xyz[s][k] / norm;
+        }
+        Matrix3 jjt{};  // J J^T, lightly damped
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+                for (int q = 0; q < 4; ++q) jjt[i][j] += J[i][q] * J[j][q];
+                if (i == j) jjt[i][j] *= 1.0 + 1e-12;
+            }
+        if (!(std::fabs(determinant(jjt)) > 1e-300)) return false;
+        const Vector3 y = multiply(inverse(jjt), r);
+        double step[4] = {};
+        for (int q = 0; q < 4; ++q)
+            for (int k = 0; k < 3; ++k) step[q] -= J[k][q] * y[k];
+        bool improved = false;
+        for (double h = 1.0; h > 1e-4 && !improved; h *= 0.5) {
+            SigmoidSpectrum trial = spectrum;
+            for (int q = 0; q < 3; ++q) trial.c[q] += h * step[q];
+            trial.log_scale += h * step[3];
+            Vector3 rt;
+            const double e = residual(trial, rt);
+            if (e < err) {
+                spectrum = trial;
+                r = rt;
+                err = e;
+                improved = true;
+            }
+        }
+        if (!improved) break;
+    }
+    return err <= 1e-12 && std::fabs(spectrum.c[0]) + std::fabs(spectrum.c[1]) + std::fabs(spectrum.c[2]) < 1e6;
+}
+
+Vector3 column(const Matrix3& m, int p) { return {m[0][p], m[1][p], m[2][p]}; }
+
+}  // namespace
+
+std::string SpectralBasis::description() const {
+    if (monochrome_) return "monochrome (every channel diffracted with the same light)";
+    if (desaturation_[0] == 0 && desaturation_[1] == 0 && desaturation_[2] == 0)
+        return "colour, non-negative spectra over the working space's whole gamut";
+    char line[160];
+    std::snprintf(line, sizeof line,
+                  "colour, non-negative spectra inside a gamut whose primaries are pulled toward white by "
+                  "R %.2f G %.2f B %.2f",
+                  desaturation_[0], desaturation_[1], desaturation_[2]);
+    return line;
+}
+
+Result<SpectralBasis> make_spectral_basis(const SpectralSampling& sampling, const Matrix3& xyz_to_rgb,
+                                          bool monochrome) {
     const int n = int(sampling.wavelength.size());
     if (sampling.weight.size() != sampling.wavelength.size())
         return Result<SpectralBasis>::failure("wavelengths: expected one weight per wavelength, got " +
                                               std::to_string(sampling.weight.size()) + " weights for " +
                                               std::to_string(n) + " wavelengths");
-    if (n < 3)
-        return Result<SpectralBasis>::failure("wavelengths: expected at least 3 wavelengths to carry RGB colour, got " +
-                                              std::to_string(n));
-    // Raw band p: exp(-(lambda - centre_p)^2 / (2 width^2)), one per primary R, G, B.
-    constexpr double kCentre[3] = {610e-9, 545e-9, 465e-9}, kWidth = 40e-9;
-    SpectralBasis b;
-    b.wavelength_ = sampling.wavelength;
-    std::vector<Vector3> raw(n);
-    Matrix3 m{};  // column p: RGB of raw band p
+    if (n < 1) return Result<SpectralBasis>::failure("wavelengths: expected at least 1 wavelength");
+    if (!(std::fabs(determinant(xyz_to_rgb)) > 0))
+        return Result<SpectralBasis>::failure("colorspace: the working space's XYZ -> RGB matrix is singular");
+    const Matrix3 rgb_to_xyz = inverse(xyz_to_rgb);
+    std::vector<Vector3> xyz(n);
+    std::vector<double> t(n);
     for (int s = 0; s < n; ++s) {
         const Vector3 cmf = cie1931_cmf(sampling.wavelength[s]);
-        b.xyz_.push_back({cmf[0] * sampling.weight[s], cmf[1] * sampling.weight[s], cmf[2] * sampling.weight[s]});
-        for (int p = 0; p < 3; ++p) {
-            const double t = (sampling.wavelength[s] - kCentre[p]) / kWidth;
-            raw[s][p] = std::exp(-0.5 * t * t);
+        for (int k = 0; k < 3; ++k) xyz[s][k] = cmf[k] * sampling.weight[s];
+        t[s] = normalised(sampling.wavelength[s]);
+    }
+
+    SpectralBasis b;
+    // Colour: each primary's spectrum, continued from white (where a flat-ish sigmoid fits) out
+    // to the primary in steps, warm-started, as Jakob & Hanika fill their table from the centre.
+    Matrix3 realised{};  // column p: working-space RGB of the realised primary p
+    std::vector<SigmoidSpectrum> primaries(3);
+    bool colour = !monochrome && n >= 3;
+    for (int p = 0; p < 3 && colour; ++p) {
+        constexpr int kSteps = 20;
+        const Vector3 white{1.0 / 3, 1.0 / 3, 1.0 / 3};
+        SigmoidSpectrum sp;
+        double y_white = 0;
+        for (int s = 0; s < n; ++s) y_white += 0.5 * xyz[s][1];
+        sp.log_scale = std::log(multiply(rgb_to_xyz, white)[1] / y_white);
+        int reached = -1;
+        for (int k = 0; k <= kSteps; ++k) {
+            const double alpha = 1.0 - double(k) / kSteps;  // share of white
+            Vector3 rgb = white;
+            for (int q = 0; q < 3; ++q) rgb[q] = alpha * white[q] + (1 - alpha) * (q == p ? 1.0 : 0.0);
+            SigmoidSpectrum trial = sp;
+            if (!fit_sigmoid(t, xyz, multiply(rgb_to_xyz, rgb), trial)) break;
+            sp = trial;
+            reached = k;
+            for (int q = 0; q < 3; ++q) realised[q][p] = rgb[q];
+        }
+        // Colour needs each primary at least half way from white; otherwise the wavelengths are
+        // too close together to carry it (e.g. 549, 550, 551 nm): monochrome.
+        if (reached < kSteps / 2) colour = false;
+        else {
+            primaries[p] = sp;
+            b.desaturation_[p] = 1.0 - double(reached) / kSteps;
         }
     }
-    for (int p = 0; p < 3; ++p) {  // XYZ = sum_s raw_p(s) cmf(s) weight(s)
-        Vector3 xyz{0, 0, 0};
-        for (int s = 0; s < n; ++s)
-            for (int k = 0; k < 3; ++k) xyz[k] += raw[s][p] * b.xyz_[s][k];
-        const Vector3 rgb = multiply(xyz_to_rgb, xyz);
-        for (int k = 0; k < 3; ++k) m[k][p] = rgb[k];
+    if (colour && !(std::fabs(determinant(realised)) > 1e-6)) colour = false;
+
+    if (colour) {
+        // power(s, rgb) = sum_p spectrum_p(s) q_p, q = realised^-1 rgb (the colour in realised
+        // primaries): exact round trip; q >= 0 inside the realised gamut.
+        const Matrix3 to_realised = inverse(realised);
+        b.wavelength_ = sampling.wavelength;
+        b.xyz_ = xyz;
+        for (int s = 0; s < n; ++s) {
+            Vector3 row{0, 0, 0};
+            for (int q = 0; q < 3; ++q)
+                for (int p = 0; p < 3; ++p) row[q] += primaries[p](t[s]) * to_realised[p][q];
+            b.basis_.push_back(row);
+        }
+        return Result<SpectralBasis>::success(std::move(b));
     }
-    // Independence, scale-free: |det M| against its bound, the product of the column lengths.
-    double column_lengths = 1;
-    for (int p = 0; p < 3; ++p) column_lengths *= std::hypot(m[0][p], m[1][p], m[2][p]);
-    if (!(std::fabs(determinant(m)) > 1e-9 * column_lengths))
-        return Result<SpectralBasis>::failure("wavelengths: these " + std::to_string(n) +
-                                              " wavelengths cannot carry RGB colour (the three bands' colours "
-                                              "are not independent)");
-    // Calibrated basis: b(s) = raw(s) . M^-1, so the RGB of the spectrum of (r, g, b) is M M^-1 (r, g, b).
-    const Matrix3 mi = inverse(m);
-    for (int s = 0; s < n; ++s) {
-        Vector3 row{0, 0, 0};
-        for (int q = 0; q < 3; ++q)
-            for (int p = 0; p < 3; ++p) row[q] += raw[s][p] * mi[p][q];
-        b.basis_.push_back(row);
-    }
+    // Monochrome: sample (k, channel c) at wavelength k carries channel c's value x the
+    // wavelength's share of the total weight, and contributes channel c's primary XYZ.
+    double total = 0;
+    for (double w : sampling.weight) total += w;
+    b = SpectralBasis{};
+    b.monochrome_ = true;
+    for (int s = 0; s < n; ++s)
+        for (int c = 0; c < 3; ++c) {
+            b.wavelength_.push_back(sampling.wavelength[s]);
+            Vector3 row{0, 0, 0};
+            row[c] = sampling.weight[s] / total;
+            b.basis_.push_back(row);
+            b.xyz_.push_back(column(rgb_to_xyz, c));
+        }
     return Result<SpectralBasis>::success(std::move(b));
 }
 

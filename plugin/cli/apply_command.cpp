@@ -198,6 +198,10 @@ void add_apply_command(CLI::App& app, int& status) {
                     ".png/.jpg (8-bit) or .tif (16-bit), RGB through the sRGB display's Standard view")->required();
     for (const auto& [key, help] : front::setting_keys()) {
         if (key == "jitter" || key == "vignetting") continue;  // flags below
+        if (key == "monochrome") {
+            cmd->add_flag_callback("--monochrome", [f] { f->given["monochrome"] = "true"; }, help);
+            continue;
+        }
         cmd->add_option_function<std::string>("--" + key, [f, key = key](const std::string& v) { f->given[key] = v; },
                                               help)
             ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);

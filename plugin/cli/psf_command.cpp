@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "terminal_progress.h"
+#include "wavecam/aperture_mask.h"
 #include "wavecam/atomic_write.h"
 #include "wavecam/psf.h"
 #include "wavecam/units.h"
@@ -38,8 +39,8 @@ Result<PsfParams> parse_flags(const PsfFlags& f) {
         if (!r.ok()) error = "--" + r.error;
         else dst = r.value;
     };
+    take(load_aperture(f.aperture, "aperture"), p.aperture);
     take(parse_length(f.pinhole, "pinhole"), p.aperture.diameter);
-    take(parse_aperture_shape(f.aperture, "aperture"), p.aperture.shape);
     take(parse_length(f.film_distance, "film-distance"), p.film_distance);
     take(parse_length_or_inf(f.source_distance, "source-distance"), p.source_distance);
     take(parse_angle(f.source_angle, "source-angle"), p.source_angle);
@@ -63,7 +64,9 @@ OIIO::ImageBuf to_imagebuf(const PsfImage& img, const PsfParams& p) {
     OIIO::ImageSpec spec(n, n, 1, OIIO::TypeDesc::FLOAT);
     spec.channelnames = {"Y"};
     spec.attribute("wavecam.quantity", "relative irradiance (1 = unobstructed irradiance at the film centre)");
-    spec.attribute("wavecam.aperture", p.aperture.shape == ApertureShape::Circle ? "circle" : "square");
+    spec.attribute("wavecam.aperture", p.aperture.name());
+    if (p.aperture.shape == ApertureShape::ZonePlate)
+        spec.attribute("wavecam.zoneplate_focus", with_unit(zone_plate_focus(p.aperture, p.wavelength), 1e-3, "mm"));
     spec.attribute("wavecam.pinhole", with_unit(p.aperture.diameter, 1e-3, "mm"));
     spec.attribute("wavecam.film_distance", with_unit(p.film_distance, 1e-3, "mm"));
     spec.attribute("wavecam.source_distance",
@@ -115,6 +118,9 @@ int run(const PsfFlags& flags) {
             return 1;
         }
     std::printf("Fresnel number  %.4g\n", img.value.fresnel_number);
+    if (p.aperture.shape == ApertureShape::ZonePlate)
+        std::printf("zone plate      first focus r1^2/lambda = %.4g mm at %.4g nm (film at %.4g mm)\n",
+                    zone_plate_focus(p.aperture, p.wavelength) * 1e3, p.wavelength * 1e9, p.film_distance * 1e3);
     std::printf("pinhole samples %zu (pitch %.4g nm)\n", img.value.sample_count, img.value.sample_pitch * 1e9);
     std::printf("peak            %.6g (relative irradiance)\n", img.value.peak);
     std::printf("time            %.3f s\n", img.value.seconds);
@@ -128,7 +134,7 @@ void add_psf_command(CLI::App& app, int& status) {
     auto flags = std::make_shared<PsfFlags>();
     CLI::App* cmd = app.add_subcommand("psf", "Image one point source through the pinhole (exact propagation)");
     cmd->add_option("--pinhole", flags->pinhole, "Pinhole diameter, e.g. 0.3mm")->capture_default_str();
-    cmd->add_option("--aperture", flags->aperture, "Aperture shape: circle or square")->capture_default_str();
+    cmd->add_option("--aperture", flags->aperture, "circle, square, polygon:N[:ROTATIONdeg], mask:FILE or zoneplate:N")->capture_default_str();
     cmd->add_option("--film-distance", flags->film_distance, "Pinhole to film, e.g. 65mm")->capture_default_str();
     cmd->add_option("--source-distance", flags->source_distance, "Source distance along its ray, or inf")
         ->capture_default_str();

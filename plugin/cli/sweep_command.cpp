@@ -13,6 +13,7 @@
 
 #include "commands.h"
 #include "terminal_progress.h"
+#include "wavecam/aperture_mask.h"
 #include "wavecam/atomic_write.h"
 #include "wavecam/pinhole_design.h"
 #include "wavecam/pinhole_sweep.h"
@@ -24,7 +25,7 @@ namespace {
 constexpr const char* kFont = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 
 struct SweepFlags {
-    std::string film_distance = "50mm", wavelength = "550nm", prefix = "sweep";
+    std::string film_distance = "50mm", wavelength = "550nm", prefix = "sweep", aperture = "circle";
     int count = 13, resolution = 101;
 };
 
@@ -103,6 +104,11 @@ int run(const SweepFlags& f) {
     };
     length(f.film_distance, "film-distance", p.film_distance);
     length(f.wavelength, "wavelength", p.wavelength);
+    if (error.empty()) {
+        auto a = load_aperture(f.aperture, "aperture");
+        if (!a.ok()) error = "--" + a.error;
+        else p.aperture = a.value;
+    }
     if (error.empty() && (f.count < 3 || f.count > 64)) error = "--count: expected 3 to 64 diameters";
     if (error.empty() && (f.resolution < 21 || f.resolution > 1001)) error = "--resolution: expected 21 to 1001";
     if (!error.empty()) {
@@ -143,6 +149,10 @@ int run(const SweepFlags& f) {
     std::printf("measured optimum (smallest r50): %.4g mm = %.3f sqrt(f lambda)\n", best * 1e3, best / unit);
     std::printf("Rayleigh 1.9 sqrt(f lambda):     %.4g mm\n", rayleigh * 1e3);
     std::printf("paper sqrt(D lambda / 2), D = 5f: %.4g mm\n", nyquist * 1e3);
+    if (p.aperture.shape != ApertureShape::Circle)
+        std::printf("(%s: 'diameter' is its size parameter - side, circumscribed diameter, mask width or outer\n"
+                    " diameter; the Rayleigh and Nyquist optima are the disc's, r50 a centred circle's radius)\n",
+                    p.aperture.name().c_str());
     std::printf("wrote %s, %s_psfs.png, %s_spot_size.png\n", csv.c_str(), f.prefix.c_str(), f.prefix.c_str());
     return 0;
 }
@@ -154,6 +164,8 @@ void add_sweep_command(CLI::App& app, int& status) {
     CLI::App* cmd = app.add_subcommand("sweep", "PSFs and spot size over pinhole diameters (the paper's figure)");
     cmd->add_option("--film-distance", f->film_distance, "Pinhole to film, e.g. 50mm")->capture_default_str();
     cmd->add_option("--wavelength", f->wavelength, "Wavelength, e.g. 550nm")->capture_default_str();
+    cmd->add_option("--aperture", f->aperture, "circle, square, polygon:N[:ROTATIONdeg], mask:FILE or zoneplate:N")
+        ->capture_default_str();
     cmd->add_option("--count", f->count, "Diameters, log-spaced from 0.4 to 4 sqrt(f lambda)")->capture_default_str();
     cmd->add_option("--resolution", f->resolution, "Pixels across each PSF")->capture_default_str();
     cmd->add_option("-o,--output", f->prefix, "Output prefix: PREFIX.csv, PREFIX_psfs.png, PREFIX_spot_size.png")

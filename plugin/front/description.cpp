@@ -75,6 +75,13 @@ Result<Description> parse_description(std::string_view text, const std::string& 
     if (!fs::is_regular_file(source, ec)) return fail("source: '" + d.source + "' does not exist (looked for " +
                                                       source.string() + ")");
     d.source = source.string();
+    // A mask image, like the source, is found beside this file and stays inside its folder.
+    if (auto a = d.settings.find("aperture"); a != d.settings.end() && a->second.rfind("mask:", 0) == 0) {
+        const std::string file = a->second.substr(5);
+        if (fs::path(file).is_absolute() || !inside(folder, folder / file))
+            return fail("aperture: mask '" + file + "' escapes the description's folder; expected a path inside it");
+        a->second = "mask:" + (folder / file).string();
+    }
     // Check the settings now so the error names this file.
     if (auto o = options_from_settings(d.settings); !o.ok()) return fail(o.error);
     return Result<Description>::success(std::move(d));

@@ -8,6 +8,7 @@
 //   runs = 4
 //   method = "fast"              # or "exact" (the seed paper), "incoherent"
 //   output-colorspace = "ACEScg"
+//   aperture = "mask:pinhole.png"  # a mask, like the source, relative to this file and inside its folder
 #pragma once
 #include <string>
 #include "settings.h"

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "wavecam/aperture_mask.h"
 #include "wavecam/units.h"
 
 namespace wavecam::front {
@@ -11,12 +12,14 @@ namespace wavecam::front {
 const std::vector<std::pair<std::string, std::string>>& setting_keys() {
     static const std::vector<std::pair<std::string, std::string>> keys = {
         {"pinhole", "pinhole diameter, e.g. 0.25mm (default: the optimum 1.9 sqrt(f lambda) at 550nm)"},
-        {"aperture", "aperture shape: circle or square"},
+        {"aperture", "circle, square, polygon:N[:ROTATIONdeg] (vertex on +x at 0deg), mask:FILE (greyscale amplitude transmission, width = pinhole) or zoneplate:N (N zones, outer diameter = pinhole)"},
         {"film-distance", "pinhole to film, e.g. 50mm"},
         {"fov", "the render's horizontal field of view, e.g. 50deg (default: from the file)"},
         {"depth-channel", "depth channel name (default Z; Blender: ViewLayer.Depth.Z)"},
         {"depth", "depth meaning: planar (along the view axis) or ray"},
         {"wavelengths", "a count over 400-700nm (e.g. 16) or a list: 450nm,550nm,650nm"},
+        {"monochrome", "true: every channel diffracted with the same light (the wavelengths' mean PSF), grey in, grey out; "
+                       "automatic for fewer than 3 wavelengths"},
         {"runs", "random-phase runs averaged; noise falls as 1/sqrt(runs)"},
         {"method", "fast (PSF-grid convolution, default), exact (the seed paper's random-phase sum) or incoherent"},
         {"seed", "random seed: the same seed gives the same image"},
@@ -116,7 +119,7 @@ Result<DiffractOptions> options_from_settings(const Settings& settings) {
             else dst = r.value;
         };
         if (key == "pinhole") take(parse_length(value, key), o.pinhole);
-        else if (key == "aperture") take(parse_aperture_shape(value, key), o.aperture_shape);
+        else if (key == "aperture") take(load_aperture(value, key), o.aperture);
         else if (key == "film-distance") take(parse_length(value, key), o.film_distance);
         else if (key == "fov") take(parse_angle(value, key), o.read.fov_h);
         else if (key == "depth-channel") o.read.depth_channel = value;
@@ -127,7 +130,8 @@ Result<DiffractOptions> options_from_settings(const Settings& settings) {
         } else if (key == "wavelengths") {
             auto w = parse_wavelengths(value, o);
             if (!w.ok()) error = w.error;
-        } else if (key == "runs") {
+        } else if (key == "monochrome") take(parse_bool(key, value), o.monochrome);
+        else if (key == "runs") {
             long n = 0;
             take(parse_integer(key, value, 1, 100000), n);
             o.diffraction.runs = static_cast<int>(n);

@@ -1,28 +1,74 @@
 // The pinhole: an opening in the plane z = 0 centred on the origin, and its sampling.
+//
+// Shapes (all sized by `diameter`, metres):
+//   circle          a disc of that diameter;
+//   square          a square of that side, edges along x and y;
+//   polygon:N[:R]   a regular N-gon inscribed in a circle of that diameter, a vertex at angle R
+//                   from +x (R = 0: a vertex on +x);
+//   mask:FILE       a greyscale image of amplitude transmission 0..1, its width spanning the
+//                   diameter, square pixels (a non-square image keeps its aspect), centred;
+//   zoneplate:N     a Fresnel zone plate of N zones inside that diameter: zone n spans
+//                   r_(n-1) < r < r_n, r_n = (D/2) sqrt(n/N), odd zones (the centre) open.
+//                   Its first focus is at r_1^2 / lambda (Born & Wolf 8.8.4; Hecht 10.3.5).
+// Coordinates: x toward the render's right, y toward its top - the pinhole as seen from behind,
+// from the film looking out at the scene. A point's blur on the upright output image is the
+// aperture's shadow rotated by 180 degrees, as on a real camera's print.
 #pragma once
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 #include "wavecam/result.h"
 
 namespace wavecam {
 
-enum class ApertureShape { Circle, Square };
+enum class ApertureShape { Circle, Square, Polygon, Mask, ZonePlate };
+
+// A sampled transmission image: row 0 at the top (+y), column 0 at the left (-x).
+struct TransmissionMask {
+    int width = 0, height = 0;
+    std::vector<float> amplitude;  // row-major, 0..1
+    double radius = 0;             // largest distance of an open pixel's corner from the centre, in mask widths
+};
 
 struct Aperture {
     ApertureShape shape = ApertureShape::Circle;
-    double diameter = 0.0;  // metres; the side for a square
+    double diameter = 0.0;  // metres; the side for a square, the circumscribed diameter for a polygon
+    int sides = 0;          // polygon
+    double rotation = 0.0;  // polygon: angle of a vertex from +x, radians
+    int zones = 0;          // zone plate
+    std::shared_ptr<const TransmissionMask> mask;
+    std::string mask_file;  // as given, for headers and messages
 
-    // Fraction of the axis-aligned cell [x0,x1]x[y0,y1] that is open, and the open part's centroid.
+    // Amplitude transmission at (x, y): 0 or 1 for the hard-edged shapes, 0..1 for a mask.
+    double transmission(double x, double y) const;
+    bool contains(double x, double y) const { return transmission(x, y) > 0; }
+    // Mean amplitude transmission over the axis-aligned cell [x0,x1]x[y0,y1] and the centroid of
+    // the transmission there (16 x 16 sub-cells on the rim; exact box integrals for a mask).
     double coverage(double x0, double x1, double y0, double y1, double& cx, double& cy) const;
+    // Power transmitted per unit irradiance: the integral of |t|^2 (the open area for a hard edge).
     double area() const;
-    bool contains(double x, double y) const;
+    // Radius of the smallest centred disc holding every open point.
+    double bounding_radius() const;
+    // Text that names the aperture as --aperture takes it, e.g. "polygon:6:0deg".
+    std::string name() const;
 };
 
-Result<ApertureShape> parse_aperture_shape(const std::string& name, const std::string& field);
+// A zone plate's first focus for a plane wave: r_1^2 / lambda, r_1 = (D/2) / sqrt(N) (paraxial).
+double zone_plate_focus(const Aperture& zone_plate, double wavelength);
+
+// Parses --aperture text: circle, square, polygon:N[:ROTATIONdeg], mask:FILE, zoneplate:N.
+// A mask comes back with `mask_file` set and no pixels: the image layer reads it
+// (wavecam/aperture_mask.h); errors name `field`.
+Result<Aperture> parse_aperture(const std::string& text, const std::string& field);
+
+// Installs mask pixels (greyscale, row-major, row 0 at the top); refuses an all-zero or
+// out-of-range image, naming `field` and the file.
+Result<bool> set_aperture_mask(Aperture& aperture, int width, int height, std::vector<float> amplitude,
+                               const std::string& field);
 
 // Pinhole samples as structure-of-arrays, ready for the propagation kernels.
-// Positions in metres on the plane z = 0; weight = open area of the sample's cell (m^2).
+// Positions in metres on the plane z = 0; weight = transmission x area of the sample's cell (m^2).
 struct ApertureSamples {
     std::vector<float> x, y, weight;
     double pitch = 0.0;

@@ -13,6 +13,10 @@ struct SweepParams {
     int count = 13;                           // log-spaced diameters
     int resolution = 101;                     // pixels across each PSF window
     int nthreads = 0;
+    // Shape swept (its diameter is replaced by each point's): for a non-circular aperture the
+    // diameter is its size parameter (side, circumscribed diameter, mask width, outer diameter)
+    // and r50/r80 are still radii of centred circles holding that share of the light.
+    Aperture aperture;
 };
 
 struct SweepPoint {

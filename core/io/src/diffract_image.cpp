@@ -34,18 +34,25 @@ double resolved_pinhole(const DiffractOptions& opt) {
     return opt.pinhole > 0 ? opt.pinhole : rayleigh_optimal_diameter(opt.film_distance, kDesignWavelength);
 }
 
+Aperture resolved_aperture(const DiffractOptions& opt) {
+    Aperture a = opt.aperture;
+    a.diameter = resolved_pinhole(opt);
+    return a;
+}
+
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
                       DepthMeaning meaning) {
     if (opt.method == DiffractMethod::Fast) return 0;  // PSF grid + FFTs: minutes at most
     DiffractionSettings s = opt.diffraction;
-    s.aperture = {opt.aperture_shape, resolved_pinhole(opt)};
+    s.aperture = resolved_aperture(opt);
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     auto sampling = sampling_for(opt);
     if (!sampling.ok()) return 0;
     const double nearest = nearest_depth(camera, depth.data(), meaning);
     double terms = 0;
     for (double lambda : sampling.value.wavelength) terms += scene_terms(s, camera, lambda, nearest);
-    return terms;
+    // monochrome light diffracts each channel on its own (spectrum.h)
+    return opt.monochrome || sampling.value.wavelength.size() < 3 ? 3 * terms : terms;
 }
 
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) {
@@ -53,7 +60,7 @@ double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) 
     const double images = pixels * 4 * sizeof(float) * 6;  // source, input arrays, XYZ, output, written copy
     if (opt.method == DiffractMethod::Fast) return images;  // + FastPlan::estimate_bytes, once the frame is known
     const double lambda = 400e-9;  // the shortest wavelength sampled: the densest pinhole grid
-    const Aperture ap{opt.aperture_shape, resolved_pinhole(opt)};
+    const Aperture ap = resolved_aperture(opt);
     const double samples = estimate_sample_count(ap, sample_pitch(lambda, 1.0));
     const double film = pixels * 9;  // up to 3 x 3 film points per pixel
     return images + samples * 5 * sizeof(float) + film * 3 * sizeof(float) + pixels * sizeof(PointSource);
@@ -123,11 +130,11 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     if (!xyz_to_rgb.ok()) return fail(xyz_to_rgb.error);
     auto sampling = sampling_for(opt);
     if (!sampling.ok()) return fail("--" + sampling.error);
-    auto basis = make_spectral_basis(sampling.value, xyz_to_rgb.value);
+    auto basis = make_spectral_basis(sampling.value, xyz_to_rgb.value, opt.monochrome);
     if (!basis.ok()) return fail("--" + basis.error);
 
     DiffractionSettings s = opt.diffraction;
-    s.aperture = {opt.aperture_shape, resolved_pinhole(opt)};
+    s.aperture = resolved_aperture(opt);
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     s.nthreads = nthreads;
     const double terms = estimate_terms(opt, camera, in.depth, opt.depth_meaning);
@@ -200,7 +207,7 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     spec.x = spec.y = spec.full_x = spec.full_y = 0;
     spec.attribute("oiio:ColorSpace", out_space);
     spec.attribute("wavecam.pinhole", with_unit(s.aperture.diameter, 1e-3, "mm"));
-    spec.attribute("wavecam.aperture", s.aperture.shape == ApertureShape::Circle ? "circle" : "square");
+    spec.attribute("wavecam.aperture", s.aperture.name());
     spec.attribute("wavecam.film-distance", with_unit(opt.film_distance, 1e-3, "mm"));
     spec.attribute("wavecam.film-width", with_unit(camera.film_width() * out_w / in.width, 1e-3, "mm"));
     // the output's own field of view: the cropped frame's when the input had an overscan
@@ -211,6 +218,7 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     std::string wl;
     for (double l : sampling.value.wavelength) wl += (wl.empty() ? "" : ",") + with_unit(l, 1e-9, "nm");
     spec.attribute("wavecam.wavelengths", wl);
+    spec.attribute("wavecam.light", basis.value.description());
     spec.attribute("wavecam.method", opt.method == DiffractMethod::Fast    ? "fast"
                                      : opt.method == DiffractMethod::Exact ? "exact"
                                                                            : "incoherent");
@@ -230,7 +238,7 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
                    static_cast<float>(fresnel_number(s.aperture.diameter / 2, opt.film_distance, INFINITY,
                                                      kDesignWavelength)));
     std::ostringstream summary;
-    summary << sampling.value.wavelength.size() << " wavelengths, ";
+    summary << sampling.value.wavelength.size() << " wavelengths" << (basis.value.monochrome() ? " (monochrome), " : ", ");
     if (opt.method == DiffractMethod::Fast) summary << "fast method";
     else if (opt.method == DiffractMethod::Exact) summary << s.runs << " runs, " << terms << " terms";
     else summary << "incoherent sum, " << terms << " terms";

@@ -119,7 +119,7 @@ bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::
 
     // The same settings diffract() resolves, restricted to one unit at a time.
     DiffractionSettings s = opt.diffraction;
-    s.aperture = {opt.aperture_shape, resolved_pinhole(opt)};
+    s.aperture = resolved_aperture(opt);
     s.method = incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     s.nthreads = nthreads;
     s.row_begin = sh.row_begin;

@@ -24,13 +24,14 @@ struct DiffractOptions {
     DepthMeaning depth_meaning = DepthMeaning::Planar;
     double film_distance = 50e-3;                  // f, metres
     double pinhole = 0;                            // diameter (m); 0 = Rayleigh's optimum for f at 550 nm
-    ApertureShape aperture_shape = ApertureShape::Circle;
+    Aperture aperture;                             // shape (--aperture); its diameter comes from `pinhole`
     DiffractionSettings diffraction;               // exact methods: runs, seed, jitter, film subsamples
     FastSettings fast;                             // fast method: tiles, kernel size
     int overscan = 0;                              // pixels of margin on every side: light sources, cropped
                                                    // from the output (the fov is the full input's)
     std::vector<double> wavelengths;               // explicit list (m); empty = wavelength_count in 400-700 nm
     int wavelength_count = 8;
+    bool monochrome = false;                       // every channel through the same light (also when < 3 wavelengths)
     bool vignetting = true;                        // keep the natural cos^4 fall-off
     std::string colorconfig;                       // OCIO config; "" = the one wavecam ships
     std::string input_colorspace;                  // "" = the file's oiio:ColorSpace, else lin_rec709
@@ -46,6 +47,8 @@ struct DiffractOptions {
 
 // The pinhole diameter the options resolve to (the optimum when none is given).
 double resolved_pinhole(const DiffractOptions& opt);
+// The aperture with that diameter.
+Aperture resolved_aperture(const DiffractOptions& opt);
 
 // Terms the job costs for an image of this size and field of view (for refusing and reporting).
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
