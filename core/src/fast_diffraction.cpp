@@ -122,8 +122,8 @@ double FastPlan::estimate_bytes(const FastPlanSpec& spec) {
     const detail::PsfTableSpec& t = g.value;
     const int min_cell = detail::kMinCellRadii * t.radius;
     const double anchors =
-        double(detail::AnchorAxis::across(t.domain_width, t.tile, t.anchor_cells, min_cell).knots.size()) *
-        (detail::AnchorAxis::across(t.domain_height, t.tile, t.anchor_cells, min_cell).knots.size());
+        double(detail::AnchorAxis::across(t.domain_width, t.tile, t.anchor_cells, min_cell, t.radius).knots.size()) *
+        (detail::AnchorAxis::across(t.domain_height, t.tile, t.anchor_cells, min_cell, t.radius).knots.size());
     const double side = 2.0 * t.radius + 1, n = detail::fft_friendly_size(t.tile + 2 * t.radius);
     const double kernels = t.layers.count * anchors * 9 * (side * side * sizeof(float) + n * (n / 2 + 1) * 8);
     const double domain = double(t.domain_width) * t.domain_height * 17;  // radiance, layer, share

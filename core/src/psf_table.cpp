@@ -39,14 +39,17 @@ void DepthLayers::locate(double w, int& lower, float& upper_share) const {
     upper_share = lower + 1 < count ? float(std::min(1.0, x - lower)) : 0.0f;
 }
 
-AnchorAxis AnchorAxis::across(int length, int tile, int cells, int min_cell) {
+AnchorAxis AnchorAxis::across(int length, int tile, int cells, int min_cell, int inset) {
     const int tiles = (length + tile - 1) / tile;
     const int per_cell = std::max({1, int(std::lround(double(tiles) / std::max(1, cells))), (min_cell + tile - 1) / tile});
+    const int end = length - inset;
     AnchorAxis a;
-    for (int k = 0; k * per_cell * tile < length; ++k) a.knots.push_back(k * per_cell * tile);
+    a.knots.push_back(inset);
+    for (int k = 1; k * per_cell * tile < end; ++k)
+        if (k * per_cell * tile > inset) a.knots.push_back(k * per_cell * tile);
     // a last cell under half the others joins its neighbour
-    if (a.knots.size() > 1 && length - a.knots.back() < per_cell * tile / 2) a.knots.pop_back();
-    a.knots.push_back(length);
+    if (a.knots.size() > 1 && end - a.knots.back() < per_cell * tile / 2) a.knots.pop_back();
+    a.knots.push_back(end);
     return a;
 }
 
@@ -59,11 +62,12 @@ Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& pro
     PsfTable t;
     t.radius = spec.radius;
     t.layers = spec.layers;
-    t.ax = AnchorAxis::across(spec.domain_width, spec.tile, spec.anchor_cells, kMinCellRadii * spec.radius);
+    t.ax = AnchorAxis::across(spec.domain_width, spec.tile, spec.anchor_cells, kMinCellRadii * spec.radius,
+                              spec.radius);
     t.ay = AnchorAxis::across(spec.domain_height, spec.tile,
                               std::max(1, int(std::lround(double(spec.anchor_cells) * spec.domain_height /
                                                           std::max(spec.domain_width, spec.domain_height)))),
-                              kMinCellRadii * spec.radius);
+                              kMinCellRadii * spec.radius, spec.radius);
     const int anchors = t.anchors(), S = spec.basis->size();
     const size_t ksize = t.kernel_size();
     t.weights.assign(size_t(t.layers.count) * anchors * 9 * ksize, 0.0f);
