@@ -109,17 +109,20 @@ TEST(FastFrame, OverscanMarginLightsTheFrameAndIsCropped) {
 }
 
 TEST(FastFrame, PlanServesTheFramesItWasMadeFor) {
-    const Frame near = wall(64, 48, 40, 0.5, 0.3f), far = wall(64, 48, 40, 5.0, 0.3f);
+    const Frame near = wall(64, 48, 40, 0.5, 0.3f), about = wall(64, 48, 40, 0.51, 0.7f);
     const SpectralBasis b = basis(3);
     const Aperture ap{ApertureShape::Circle, 0.4e-3};
     FastPlanSpec spec{near.cam, 0, ap, b, 1 / 0.5, {}};
     auto plan = FastPlan::create(spec);
     ASSERT_TRUE(plan.ok());
-    FastPlanSpec farther = spec;
-    farther.max_inverse_depth = 1 / 5.0;
-    EXPECT_TRUE(plan.value->serves(farther));  // its layers reach every farther source
+    FastPlanSpec similar = spec;
+    similar.max_inverse_depth = 1 / 0.51;  // the same layers and kernel radius
+    EXPECT_TRUE(plan.value->serves(similar));
+    FastPlanSpec far = spec;
+    far.max_inverse_depth = 1 / 50.0;  // fewer layers: a plan of its own
+    EXPECT_FALSE(plan.value->serves(far));
     FastPlanSpec nearer = spec;
-    nearer.max_inverse_depth = 1 / 0.25;
+    nearer.max_inverse_depth = 1 / 0.05;
     EXPECT_FALSE(plan.value->serves(nearer));
     FastPlanSpec other_pinhole = spec;
     other_pinhole.aperture.diameter = 0.5e-3;
@@ -127,11 +130,11 @@ TEST(FastFrame, PlanServesTheFramesItWasMadeFor) {
     FastPlanSpec other_colour = spec;
     other_colour.basis = basis(4);
     EXPECT_FALSE(plan.value->serves(other_colour));
-    // a frame through the shared plan equals the same frame through a plan of its own
+    // a frame through the shared plan equals, bit for bit, the frame through a plan of its own
     std::vector<float> shared(3 * 64 * 48), own(3 * 64 * 48);
-    ASSERT_TRUE(plan.value->apply(far.scene(), true, shared.data()).ok());
-    auto own_plan = FastPlan::create(spec);
-    ASSERT_TRUE(own_plan.value->apply(far.scene(), true, own.data()).ok());
+    ASSERT_TRUE(plan.value->apply(about.scene(), true, shared.data()).ok());
+    auto own_plan = FastPlan::create(similar);
+    ASSERT_TRUE(own_plan.value->apply(about.scene(), true, own.data()).ok());
     EXPECT_EQ(shared, own);
 }
 

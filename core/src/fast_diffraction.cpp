@@ -152,10 +152,17 @@ Result<std::shared_ptr<const FastPlan>> FastPlan::create(const FastPlanSpec& spe
 
 bool FastPlan::serves(const FastPlanSpec& s) const {
     const FastPlanSpec& p = impl_->spec;
-    return same_camera(s.camera, p.camera) && s.overscan == p.overscan && s.aperture.name() == p.aperture.name() &&
-           s.aperture.diameter == p.aperture.diameter && s.max_inverse_depth <= p.max_inverse_depth &&
-           s.settings.tile == p.settings.tile && s.settings.max_radius == p.settings.max_radius &&
-           s.settings.anchor_cells == p.settings.anchor_cells && same_basis(s.basis, p.basis);
+    if (!(same_camera(s.camera, p.camera) && s.overscan == p.overscan && s.aperture.name() == p.aperture.name() &&
+          s.aperture.diameter == p.aperture.diameter && s.settings.tile == p.settings.tile &&
+          s.settings.max_radius == p.settings.max_radius && s.settings.anchor_cells == p.settings.anchor_cells &&
+          same_basis(s.basis, p.basis)))
+        return false;
+    // the frame's depth range must lead to this very plan (kernel radius, layers, tiles), so that
+    // a frame's image never depends on the frames before it
+    auto g = plan_geometry(s);
+    const detail::PsfTable& t = impl_->convolution.table();
+    return g.ok() && g.value.radius == t.radius && g.value.layers.count == t.layers.count &&
+           g.value.layers.step == t.layers.step && g.value.tile == impl_->convolution.tile();
 }
 
 Result<double> max_inverse_depth(const SpectralScene& scene) {

@@ -28,8 +28,12 @@ DepthLayers DepthLayers::spanning(double max_inverse_depth, double aperture_radi
     const bool geometric = aperture_radius * aperture_radius / (shortest_wavelength * film_distance) >= kGeometricZones;
     const double dw = geometric ? std::max(defocus, kMaxBlurStep * pixel_pitch / (aperture_radius * film_distance))
                                 : defocus;
-    d.count = std::min(kMaxLayers, int(std::ceil(max_inverse_depth / dw)) + 1);
-    d.step = max_inverse_depth / (d.count - 1);
+    // Layers sit at whole multiples of the step, which depends on the frame only through how
+    // many steps its nearest source needs: frames of a sequence then share a plan and each
+    // frame's image is the one a plan of its own gives. Beyond kMaxLayers, whole multiples of dw.
+    const int multiple = int(std::ceil(max_inverse_depth / (dw * (kMaxLayers - 1))));
+    d.step = dw * multiple;
+    d.count = int(std::ceil(max_inverse_depth / d.step)) + 1;
     return d;
 }
 

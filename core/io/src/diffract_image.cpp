@@ -68,14 +68,12 @@ double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) 
 
 DiffractPlan::DiffractPlan(DiffractOptions options) : opt_(std::move(options)) {}
 
-std::shared_ptr<const FastPlan> DiffractPlan::fast_plan_for(FastPlanSpec spec, const ProgressFn& progress,
+std::shared_ptr<const FastPlan> DiffractPlan::fast_plan_for(const FastPlanSpec& spec, const ProgressFn& progress,
                                                             bool& reused, std::string& error) {
     {
         std::lock_guard<std::mutex> lock(mutex_);
         reused = fast_ && fast_->serves(spec);
         if (reused) return fast_;
-        // a sequence whose nearest depth comes closer: the new plan also serves the frames before
-        if (fast_) spec.max_inverse_depth = std::max(spec.max_inverse_depth, fast_->spec().max_inverse_depth);
     }
     auto plan = FastPlan::create(spec, progress);
     if (!plan.ok()) {

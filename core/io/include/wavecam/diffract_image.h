@@ -70,7 +70,7 @@ public:
     bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, int nthreads = 0);
 
 private:
-    std::shared_ptr<const FastPlan> fast_plan_for(FastPlanSpec spec, const ProgressFn& progress, bool& reused,
+    std::shared_ptr<const FastPlan> fast_plan_for(const FastPlanSpec& spec, const ProgressFn& progress, bool& reused,
                                                   std::string& error);
     DiffractOptions opt_;
     std::mutex mutex_;
