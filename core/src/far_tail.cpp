@@ -7,9 +7,9 @@ namespace wavecam::detail {
 
 namespace {
 
-// The annulus R <= r <= 4R with intensity ~ 1/r^3, integrated over cells of `cell` pixels,
-// normalised to 1; (2 half + 1)^2 cells.
-std::vector<double> tail_kernel(int radius, int cell, int half) {
+// The annulus R <= r <= reach with intensity ~ 1/r^3, integrated over cells of `cell` pixels,
+// holding 1 - R / reach (the share of a 1/r tail beyond R that lies within reach); (2 half + 1)^2 cells.
+std::vector<double> tail_kernel(int radius, int reach, int cell, int half) {
     const int w = 2 * half + 1, sub = 6;
     std::vector<double> k(size_t(w) * w, 0.0);
     double total = 0;
@@ -19,12 +19,12 @@ std::vector<double> tail_kernel(int radius, int cell, int half) {
             for (int sb = 0; sb < sub; ++sb)
                 for (int sa = 0; sa < sub; ++sa) {
                     const double r = std::hypot((a + (sa + 0.5) / sub - 0.5) * cell, (b + (sb + 0.5) / sub - 0.5) * cell);
-                    if (r >= radius && r <= 4.0 * radius) s += 1.0 / (r * r * r);
+                    if (r >= radius && r <= reach) s += 1.0 / (r * r * r);
                 }
             k[size_t(b + half) * w + (a + half)] = s;
             total += s;
         }
-    for (double& x : k) x /= total;
+    for (double& x : k) x *= (1.0 - double(radius) / reach) / total;
     return k;
 }
 
@@ -32,51 +32,63 @@ std::vector<double> tail_kernel(int radius, int cell, int half) {
 
 void add_far_tail(const PsfTable& t, const SpectralScene& scene, int origin, int out_x0, int out_y0, int out_w,
                   int out_h, float* xyz, int nthreads) {
-    const int R = t.radius, reach = 4 * R;
+    const int R = t.radius, reach = kTailReach * R;
     if (R < 2 || t.deficit.empty()) return;
     const PinholeCamera& c = scene.camera;
-    const int cell = std::max(1, R / 3), half = reach / cell + 1;
+    const int cell = std::max(1, R / 3), half = reach / cell + 1, L = t.layers.count;
     // the coarse grid covers the output widened by the tail's reach
     const int x0 = out_x0 - reach, y0 = out_y0 - reach;  // domain coordinates of coarse cell (0, 0)
     const int cw = (out_w + 2 * reach + cell - 1) / cell, ch = (out_h + 2 * reach + cell - 1) / cell;
     const int nkx = int(t.ax.knots.size()), anchors = t.anchors();
     std::vector<float> missing(3 * size_t(cw) * ch, 0.0f);
-#pragma omp parallel for num_threads(nthreads)
-    for (int J = 0; J < ch; ++J)
-        for (int y = y0 + J * cell; y < y0 + (J + 1) * cell; ++y)
-            for (int x = x0; x < x0 + cw * cell; ++x) {
-                // the source: the input where it reaches, its edge continued beyond
-                const int ci = std::clamp(x - origin, 0, c.width - 1), cj = std::clamp(y - origin, 0, c.height - 1);
-                const size_t q = size_t(cj) * c.width + ci;
-                const double d = scene.depth[q];
-                const double w = d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(ci, cj, d, scene.depth_meaning);
-                int lower = 0;
-                float upper = 0;
-                t.layers.locate(w, lower, upper);
-                double u, v;
-                c.tangent(x - origin + 0.5, y - origin + 0.5, u, v);
-                const double c2 = 1.0 / (1.0 + u * u + v * v);
-                // its kernels' missing shares, interpolated as the kernels are
-                const int kx = std::clamp(x, 0, t.ax.knots.back() - 1), ky = std::clamp(y, 0, t.ay.knots.back() - 1);
+#pragma omp parallel num_threads(nthreads)
+    {
+        std::vector<double> light(size_t(L) * 3);  // a cell's light per layer and primary
+#pragma omp for
+        for (int J = 0; J < ch; ++J)
+            for (int I = 0; I < cw; ++I) {
+                std::fill(light.begin(), light.end(), 0.0);
+                for (int y = y0 + J * cell; y < y0 + (J + 1) * cell; ++y)
+                    for (int x = x0 + I * cell; x < x0 + (I + 1) * cell; ++x) {
+                        // the source: the input where it reaches, its edge continued beyond
+                        const int ci = std::clamp(x - origin, 0, c.width - 1);
+                        const int cj = std::clamp(y - origin, 0, c.height - 1);
+                        const size_t q = size_t(cj) * c.width + ci;
+                        const double d = scene.depth[q];
+                        const double w =
+                            d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(ci, cj, d, scene.depth_meaning);
+                        int lower = 0;
+                        float upper = 0;
+                        t.layers.locate(w, lower, upper);
+                        double u, v;
+                        c.tangent(x - origin + 0.5, y - origin + 0.5, u, v);
+                        const double c4 = std::pow(1.0 / (1.0 + u * u + v * v), 2);
+                        for (int p = 0; p < 3; ++p) {
+                            light[size_t(lower) * 3 + p] += (1.0 - upper) * c4 * scene.rgb[3 * q + p];
+                            if (upper > 0) light[size_t(lower + 1) * 3 + p] += upper * c4 * scene.rgb[3 * q + p];
+                        }
+                    }
+                // the kernels' missing shares at the cell's centre, interpolated as the kernels are
+                const int kx = std::clamp(x0 + I * cell + cell / 2, 0, t.ax.knots.back() - 1);
+                const int ky = std::clamp(y0 + J * cell + cell / 2, 0, t.ay.knots.back() - 1);
                 const int cx = t.ax.cell_of(kx), cy = t.ay.cell_of(ky);
                 const double bx = t.ax.upper_weight(cx, kx), by = t.ay.upper_weight(cy, ky);
-                float* m = &missing[3 * (size_t(J) * cw + (x - x0) / cell)];
+                float* m = &missing[3 * (size_t(J) * cw + I)];
                 for (int corner = 0; corner < 4; ++corner) {
                     const int dx = corner & 1, dy = corner >> 1;
                     const double phi = (dx ? bx : 1 - bx) * (dy ? by : 1 - by);
+                    if (phi == 0) continue;
                     const int a = (cy + dy) * nkx + (cx + dx);
-                    for (int l = lower; l <= std::min(lower + 1, t.layers.count - 1); ++l) {
-                        const double share = phi * c2 * c2 * (l == lower ? 1.0 - upper : upper);
-                        if (share == 0) continue;
+                    for (int l = 0; l < L; ++l) {
                         const float* def = &t.deficit[(size_t(l) * anchors + a) * 9];
                         for (int p = 0; p < 3; ++p)
-                            for (int k = 0; k < 3; ++k)
-                                m[k] += float(share * scene.rgb[3 * q + p] * def[3 * p + k]);
+                            for (int k = 0; k < 3; ++k) m[k] += float(phi * light[size_t(l) * 3 + p] * def[3 * p + k]);
                     }
                 }
             }
+    }
     // spread over the annulus (a direct sum: the coarse kernel is small), only where the output is
-    const std::vector<double> k = tail_kernel(R, cell, half);
+    const std::vector<double> k = tail_kernel(R, reach, cell, half);
     const int kw = 2 * half + 1;
     const int I0 = std::max(0, reach / cell - 1), I1 = std::min(cw, (reach + out_w) / cell + 2);
     const int J0 = std::max(0, reach / cell - 1), J1 = std::min(ch, (reach + out_h) / cell + 2);

@@ -1,15 +1,17 @@
 // The PSF's far tail, beyond the kernels. Internal to core.
 //
-// A kernel holds kPsfKernelEnergy (99%) of its PSF; the rest lands farther than the kernel
-// radius R. Dropping it would darken every frame by up to 1%, by an amount that varies over
+// A kernel holds kPsfKernelEnergy (97%) of its PSF; the rest lands farther than the kernel
+// radius R. Dropping it would darken every frame by up to 3%, by an amount that varies over
 // the field (off-axis PSFs are wider), and a uniform wall would no longer come back uniform;
 // folding it into the kernel would move it into the core. Here each source's missing share
 // (interpolated over anchors and layers, as its kernel is) is spread over an annulus R <= r <=
-// 4R with the ring-averaged profile of a sharp-edged aperture's far tail, intensity ~ 1/r^3
-// (Born & Wolf 8.5.2: the energy beyond r falls as 1/r). Three quarters of such a tail lies
-// within 4R; the annulus carries all of it, so about 0.25% of a star's light lands nearer
-// than physics puts it, instead of 1% lost or folded into the core. The tail is smooth, so it
-// is computed on a grid coarser by about R/3 and interpolated back.
+// kTailReach R with the ring-averaged profile of a sharp-edged aperture's far tail, intensity
+// ~ 1/r^3 (Born & Wolf 8.5.2: the energy beyond r falls as 1/r), carrying the share of such a
+// tail that lies within the annulus, 1 - 1/kTailReach; the rest (0.2% of the light) is lost.
+// Computing that far tail at film resolution would cost (kTailReach)^2 times the kernel; it is
+// smooth, so it is summed on a grid coarser by about R/3 (the sources' light per cell, the
+// missing shares interpolated at the cell's centre) and interpolated back bilinearly.
+constexpr int kTailReach = 16;
 #pragma once
 #include "psf_table.h"
 #include "wavecam/spectral_diffraction.h"

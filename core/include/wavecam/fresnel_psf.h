@@ -54,7 +54,7 @@ struct PsfKernel {
 PsfKernel field_psf_kernel(const FieldPsfRequest& request);
 
 // Share of the PSF's power that a kernel of psf_kernel_radius holds, at least.
-constexpr double kPsfKernelEnergy = 0.99;
+constexpr double kPsfKernelEnergy = 0.97;
 
 // Kernel half-width (pixels) that holds kPsfKernelEnergy of the PSF at every depth >=
 // nearest_depth, wavelength <= `wavelength` and field angle up to acos(cos_theta_max): the
