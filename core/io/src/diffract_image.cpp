@@ -40,11 +40,14 @@ Aperture resolved_aperture(const DiffractOptions& opt) {
     return a;
 }
 
+namespace {
+// The input's linear working space: named by the options, else by the file, else Rec.709.
 std::string working_space(const DiffractOptions& opt, const ColourConfig& config, const std::string& file_colorspace) {
     return !opt.input_colorspace.empty()                                          ? opt.input_colorspace
            : !file_colorspace.empty() && config.has_colorspace(file_colorspace) ? file_colorspace
                                                                                   : kDefaultWorkingSpace;
 }
+}  // namespace
 
 Result<SpectralBasis> job_basis(const DiffractOptions& opt, const std::string& file_colorspace) {
     auto config = load_colour_config(opt.colorconfig);
