@@ -272,3 +272,36 @@ TEST(ExactNoise, PerChannelVarianceIsTheWavelengthSumAndFallsAsOneOverK) {
     for (int s = 0; s < S; ++s) sum[s] = a709[0][s] + a709[1][s] + a709[2][s];
     std::printf("; R+G+B %.3f\n", std::sqrt(noise(one, sum).measured));
 }
+
+// What each output space can hold of the colours the film can make: each single wavelength's
+// XYZ (the corners of the set of non-negative spectra). CIE-XYZ-D65 holds every one; ACES2065-1
+// (AP0, whose red-blue edge touches the locus at its violet end) nearly - through the config's
+// Bradford adaptation from D65 to the ACES white, 406-423 nm and 601-689 nm come out with a
+// component below 0, by at most 1.1% of the largest; linear Rec.709 holds none of them.
+TEST(OutOfGamut, WhatEachOutputSpaceHoldsOfTheSpectralColours) {
+    auto config = load_colour_config(kConfig);
+    ASSERT_TRUE(config.ok()) << config.error;
+    std::vector<float> spectral;
+    for (int nm = 400; nm <= 700; ++nm) {
+        const Vector3 c = cie1931_cmf(nm * 1e-9);
+        spectral.insert(spectral.end(), {float(c[0]), float(c[1]), float(c[2])});
+    }
+    const size_t n = spectral.size() / 3;
+    for (const std::string space : {"CIE-XYZ-D65", "ACES2065-1", "lin_rec709"}) {
+        auto rgb = spectral;
+        ASSERT_TRUE(config.value.convert_from_xyz(rgb.data(), n, space).ok());
+        size_t outside = 0;
+        double deepest = 0;  // lowest component / largest
+        for (size_t p = 0; p < n; ++p) {
+            const float* c = &rgb[3 * p];
+            const double lowest = std::min({c[0], c[1], c[2]}), largest = std::max({c[0], c[1], c[2]});
+            outside += lowest < -1e-6 * largest;
+            deepest = std::min(deepest, lowest / largest);
+        }
+        std::printf("%s: %zu of %zu wavelengths (400-700 nm) outside, the deepest at %.3g of the largest component\n",
+                    space.c_str(), outside, n, deepest);
+        if (space == "CIE-XYZ-D65") EXPECT_EQ(outside, 0u);
+        if (space == "ACES2065-1") EXPECT_GT(deepest, -0.012);
+        if (space == "lin_rec709") EXPECT_EQ(outside, n);
+    }
+}
