@@ -7,6 +7,7 @@
 #include <set>
 
 #include "command_runner.h"
+#include "wavecam/diffract_image.h"
 #include "wavecam/work_share.h"
 
 namespace fs = std::filesystem;
@@ -191,4 +192,77 @@ TEST(Shares, PartFlagErrorsAndACompletePartIsKept) {
     // ...but not one of another seed
     auto other = f.part(1, 2, "p1.exr", " --seed 9");
     EXPECT_EQ(other.output.find("already complete"), std::string::npos) << other.output;
+}
+
+// Monochrome light diffracts each channel on its own (three propagations per wavelength): its
+// shares carry all three and merge into the single run's image bit for bit, grey staying grey.
+TEST(Shares, MonochromeSharesMergeEqualToTheSingleRun) {
+    Fixture f("shares_mono");
+    const std::string mono = " --wavelengths 550nm";
+    auto single = run_command(kWavecam + " apply " + f.input + " -o " + f.path("single.exr") + kJob + mono);
+    ASSERT_EQ(single.status, 0) << single.output;
+    for (int n : {2, 5}) {
+        for (int k = 1; k <= n; ++k) {
+            auto r = f.part(k, n, "n" + std::to_string(n) + "_part" + std::to_string(k) + ".exr", mono);
+            ASSERT_EQ(r.status, 0) << r.output;
+        }
+        OIIO::ImageBuf last(f.path("n" + std::to_string(n) + "_part" + std::to_string(n) + ".exr"));
+        ASSERT_TRUE(last.read());
+        // the last share holds run 2 of the one wavelength: every channel's propagation
+        for (const char* c : {"w000.r001.pos", "w001.r001.pos", "w002.r001.pos"})
+            EXPECT_GE(last.spec().channelindex(c), 0) << c << " in share " << n << "/" << n;
+        const std::string out = "merged" + std::to_string(n) + ".exr";
+        auto m = f.merge("'n" + std::to_string(n) + "_part*.exr'", out);
+        ASSERT_EQ(m.status, 0) << m.output;
+        EXPECT_EQ(max_difference(f.path("single.exr"), f.path(out)), 0.0f) << n << " shares";
+    }
+    OIIO::ImageBuf img(f.path("single.exr"));
+    ASSERT_TRUE(img.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+    EXPECT_NE(img.spec().get_string_attribute("wavecam.light").find("monochrome"), std::string::npos);
+    EXPECT_GT(max_difference(f.path("single.exr"), f.input), 1e-3f);
+}
+
+// The exact method's cost: one propagation per wavelength for colour, three for monochrome
+// light whether asked for (--monochrome) or found (549, 550, 551 nm cannot carry colour); against
+// the per-wavelength terms summed here.
+TEST(Shares, EstimateCountsMonochromeLightThreeTimes) {
+    wavecam::PinholeCamera camera;
+    camera.width = 24;
+    camera.height = 16;
+    camera.fov_h = 30 * M_PI / 180;
+    camera.film_distance = 20e-3;
+    const std::vector<float> depth(24 * 16, 2.0f);
+    wavecam::DiffractOptions opt;
+    opt.method = wavecam::DiffractMethod::Exact;
+    opt.colorconfig = std::string(WAVECAM_SOURCE_DIR) + "/ocio_configs/wavecam.ocio";
+    opt.film_distance = 20e-3;
+    opt.pinhole = 0.1e-3;
+    opt.diffraction.runs = 2;  // kJob's
+    opt.diffraction.film_subsamples = 1;
+    auto per_wavelength = [&](const std::vector<double>& wavelengths) {
+        wavecam::DiffractionSettings s = opt.diffraction;
+        s.aperture = wavecam::resolved_aperture(opt);
+        double sum = 0;
+        for (double l : wavelengths)
+            sum += wavecam::scene_terms(s, camera, l, wavecam::nearest_depth(camera, depth.data(), opt.depth_meaning));
+        return sum;
+    };
+    const std::vector<double> colour = {450e-9, 550e-9, 650e-9}, close = {549e-9, 550e-9, 551e-9};
+    opt.wavelengths = colour;
+    const double terms_colour = estimate_terms(opt, camera, depth, opt.depth_meaning);
+    EXPECT_NEAR(terms_colour / per_wavelength(colour), 1.0, 1e-12);
+    opt.monochrome = true;  // asked for
+    EXPECT_NEAR(estimate_terms(opt, camera, depth, opt.depth_meaning) / per_wavelength(colour), 3.0, 1e-12);
+    opt.monochrome = false;
+    opt.wavelengths = close;  // found
+    EXPECT_NEAR(estimate_terms(opt, camera, depth, opt.depth_meaning) / per_wavelength(close), 3.0, 1e-12);
+    opt.wavelengths = {550e-9};  // one wavelength
+    EXPECT_NEAR(estimate_terms(opt, camera, depth, opt.depth_meaning) / per_wavelength({550e-9}), 3.0, 1e-12);
+    // and the command refuses the job with those terms (kJob's render: 24 x 16, 30deg, depth 2 m)
+    Fixture f("shares_estimate");
+    auto r = run_command(kWavecam + " apply " + f.input + " -o " + f.path("x.exr") + kJob +
+                         " --wavelengths 549nm,550nm,551nm --max-terms 1");
+    const size_t at = r.output.find(" runs = ");
+    ASSERT_NE(at, std::string::npos) << r.output;
+    EXPECT_NEAR(std::stod(r.output.substr(at + 8)) / per_wavelength(close), 3.0, 1e-4) << r.output;
 }

@@ -348,7 +348,7 @@ int submit(const FarmFlags& flags) {
         camera.height = render.value.height;
         camera.fov_h = render.value.fov_h;
         camera.film_distance = opt.film_distance;
-        const double terms = estimate_terms(opt, camera, render.value.depth, opt.depth_meaning);
+        const double terms = estimate_terms(opt, camera, render.value.depth, opt.depth_meaning, render.value.colorspace);
         const int wavelengths = opt.wavelengths.empty() ? opt.wavelength_count : int(opt.wavelengths.size());
         const int runs = opt.method == DiffractMethod::Incoherent ? 1 : opt.diffraction.runs;
         if (auto s = work_share(flags.tasks, flags.tasks, wavelengths, runs, camera.height); !s.ok())

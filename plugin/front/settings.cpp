@@ -29,6 +29,8 @@ const std::vector<std::pair<std::string, std::string>>& setting_keys() {
         {"colorconfig", "OpenColorIO config (default: wavecam's own)"},
         {"input-colorspace", "colour space of the input (default: from the file, else lin_rec709)"},
         {"output-colorspace", "colour space of the output (default: the input's)"},
+        {"out-of-gamut", "desaturate (default): a colour the output space cannot hold (a negative channel) is pulled "
+                         "toward the grey of the same luminance until that channel is 0; keep: written as it is"},
         {"max-terms", "refuse exact-method jobs (or shares) beyond this many terms (default 4e12); the estimate and its time at the measured rate print before work"},
         {"max-memory", "refuse jobs estimated to need more memory, e.g. 16GiB (the default), 512MiB"},
         {"overscan", "pixels of margin the render has on every side: light sources, cropped from the output "
@@ -154,6 +156,11 @@ Result<DiffractOptions> options_from_settings(const Settings& settings) {
         else if (key == "colorconfig") o.colorconfig = value;
         else if (key == "input-colorspace") o.input_colorspace = value;
         else if (key == "output-colorspace") o.output_colorspace = value;
+        else if (key == "out-of-gamut") {
+            auto c = parse_choice(key, value, {"desaturate", "keep"});
+            if (!c.ok()) error = c.error;
+            o.desaturate_out_of_gamut = value == "desaturate";
+        }
         else if (key == "max-terms") {
             char* end = nullptr;
             o.max_terms = std::strtod(value.c_str(), &end);

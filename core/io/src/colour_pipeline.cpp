@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "wavecam/out_of_gamut.h"
+
 namespace OCIO = OCIO_NAMESPACE;
 
 namespace wavecam {
@@ -56,16 +58,42 @@ bool ColourConfig::has_colorspace(const std::string& name) const {
 }
 
 Result<bool> ColourConfig::convert_from_xyz(float* rgb, size_t count, const std::string& space) const {
-    if (!has_colorspace(space))
-        return Result<bool>::failure(path_ + ": colour space '" + space + "' not found");
+    return convert(rgb, count, kXyzColorspace, space);
+}
+
+Result<bool> ColourConfig::convert(float* rgb, size_t count, const std::string& from, const std::string& to) const {
+    for (const std::string& space : {from, to})
+        if (!has_colorspace(space)) return Result<bool>::failure(path_ + ": colour space '" + space + "' not found");
     try {
-        auto processor = config_->getProcessor(kXyzColorspace, space.c_str())->getDefaultCPUProcessor();
+        auto processor = config_->getProcessor(from.c_str(), to.c_str())->getDefaultCPUProcessor();
         OCIO::PackedImageDesc desc(rgb, static_cast<long>(count), 1, 3);
         processor->apply(desc);
     } catch (const std::exception& e) {
-        return Result<bool>::failure(path_ + ": cannot convert XYZ to '" + space + "': " + e.what());
+        return Result<bool>::failure(path_ + ": cannot convert '" + from + "' to '" + to + "': " + e.what());
     }
     return Result<bool>::success(true);
+}
+
+Result<size_t> ColourConfig::output_colour(float* xyz, size_t count, const std::string& space,
+                                           const std::string& working_space, bool desaturate) const {
+    auto fail = [](const std::string& m) { return Result<size_t>::failure(m); };
+    if (!desaturate) {
+        if (auto r = convert_from_xyz(xyz, count, space); !r.ok()) return fail(r.error);
+        return Result<size_t>::success(0);
+    }
+    // map in the output space itself when it is linear, else in the working space
+    auto m = xyz_to_rgb_matrix(space);
+    const std::string& linear = m.ok() ? space : working_space;
+    if (!m.ok()) m = xyz_to_rgb_matrix(working_space);
+    if (!m.ok()) return fail(m.error);
+    if (!(std::fabs(determinant(m.value)) > 0))
+        return fail(path_ + ": colour space '" + linear + "' has a singular XYZ matrix");
+    const Vector3 primary_luminance = inverse(m.value)[1];  // row Y of RGB -> XYZ
+    if (auto r = convert_from_xyz(xyz, count, linear); !r.ok()) return fail(r.error);
+    const size_t mapped = desaturate_into_gamut(xyz, count, primary_luminance);
+    if (linear != space)
+        if (auto r = convert(xyz, count, linear, space); !r.ok()) return fail(r.error);
+    return Result<size_t>::success(mapped);
 }
 
 Result<Matrix3> ColourConfig::xyz_to_rgb_matrix(const std::string& space) const {

@@ -40,19 +40,46 @@ Aperture resolved_aperture(const DiffractOptions& opt) {
     return a;
 }
 
+namespace {
+// The input's linear working space: named by the options, else by the file, else Rec.709.
+std::string working_space(const DiffractOptions& opt, const ColourConfig& config, const std::string& file_colorspace) {
+    return !opt.input_colorspace.empty()                                          ? opt.input_colorspace
+           : !file_colorspace.empty() && config.has_colorspace(file_colorspace) ? file_colorspace
+                                                                                  : kDefaultWorkingSpace;
+}
+}  // namespace
+
+Result<SpectralBasis> job_basis(const DiffractOptions& opt, const std::string& file_colorspace) {
+    auto config = load_colour_config(opt.colorconfig);
+    if (!config.ok()) return Result<SpectralBasis>::failure(config.error);
+    auto xyz_to_rgb = config.value.xyz_to_rgb_matrix(working_space(opt, config.value, file_colorspace));
+    if (!xyz_to_rgb.ok()) return Result<SpectralBasis>::failure(xyz_to_rgb.error);
+    auto sampling = sampling_for(opt);
+    if (!sampling.ok()) return Result<SpectralBasis>::failure("--" + sampling.error);
+    auto basis = make_spectral_basis(sampling.value, xyz_to_rgb.value, opt.monochrome);
+    if (!basis.ok()) return Result<SpectralBasis>::failure("--" + basis.error);
+    return basis;
+}
+
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
-                      DepthMeaning meaning) {
+                      DepthMeaning meaning, const SpectralBasis& basis) {
     if (opt.method == DiffractMethod::Fast) return 0;  // PSF grid + FFTs: minutes at most
     DiffractionSettings s = opt.diffraction;
     s.aperture = resolved_aperture(opt);
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
-    auto sampling = sampling_for(opt);
-    if (!sampling.ok()) return 0;
     const double nearest = nearest_depth(camera, depth.data(), meaning);
+    // one propagation per basis sample: monochrome light has three per wavelength, one per
+    // channel (spectrum.h), whether asked for or found (wavelengths too close to carry colour)
     double terms = 0;
-    for (double lambda : sampling.value.wavelength) terms += scene_terms(s, camera, lambda, nearest);
-    // monochrome light diffracts each channel on its own (spectrum.h)
-    return opt.monochrome || sampling.value.wavelength.size() < 3 ? 3 * terms : terms;
+    for (int k = 0; k < basis.size(); ++k) terms += scene_terms(s, camera, basis.wavelength(k), nearest);
+    return terms;
+}
+
+double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
+                      DepthMeaning meaning, const std::string& file_colorspace) {
+    if (opt.method == DiffractMethod::Fast) return 0;
+    auto basis = job_basis(opt, file_colorspace);
+    return basis.ok() ? estimate_terms(opt, camera, depth, meaning, basis.value) : 0;
 }
 
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) {
@@ -119,10 +146,7 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     // Colour: the basis is calibrated against the input's working space as the config defines it.
     auto config = load_colour_config(opt.colorconfig);
     if (!config.ok()) return fail(config.error);
-    const std::string in_space = !opt.input_colorspace.empty() ? opt.input_colorspace
-                                 : !in.colorspace.empty() && config.value.has_colorspace(in.colorspace)
-                                     ? in.colorspace
-                                     : kDefaultWorkingSpace;
+    const std::string in_space = working_space(opt, config.value, in.colorspace);
     const std::string out_space = opt.output_colorspace.empty() ? in_space : opt.output_colorspace;
     auto xyz_to_rgb = config.value.xyz_to_rgb_matrix(in_space);
     if (!xyz_to_rgb.ok()) return fail(xyz_to_rgb.error);
@@ -135,7 +159,7 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     s.aperture = resolved_aperture(opt);
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     s.nthreads = nthreads;
-    const double terms = estimate_terms(opt, camera, in.depth, opt.depth_meaning);
+    const double terms = estimate_terms(opt, camera, in.depth, opt.depth_meaning, basis.value);
     std::ostringstream job;
     job << in.width << "x" << in.height << " pixels x " << sampling.value.wavelength.size() << " wavelengths x "
         << (s.method == CoherenceMethod::Incoherent ? 1 : s.runs) << " runs";
@@ -193,8 +217,9 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
             std::copy_n(&full[3 * (size_t(j + o) * in.width + o)], 3 * size_t(out_w), &pixels[3 * size_t(j) * out_w]);
     }
     if (!r.ok()) return fail(r.error == "cancelled" ? name + ": interrupted" : name + ": " + r.error);
-    if (auto c = config.value.convert_from_xyz(pixels.data(), pixels.size() / 3, out_space); !c.ok())
-        return fail(c.error);
+    auto mapped = config.value.output_colour(pixels.data(), pixels.size() / 3, out_space, in_space,
+                                             opt.desaturate_out_of_gamut);
+    if (!mapped.ok()) return fail(mapped.error);
 
     // Output: float R, G, B in the output space under the input's names, then its alpha and depth
     // unchanged; the input's header less what described the ideal camera (output_layout.h).
@@ -231,6 +256,11 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     spec.attribute("wavecam.vignetting", opt.vignetting ? "true" : "false");
     spec.attribute("wavecam.input-colorspace", in_space);
     spec.attribute("wavecam.output-colorspace", out_space);
+    spec.attribute("wavecam.out-of-gamut",
+                   opt.desaturate_out_of_gamut
+                       ? "desaturated at constant luminance: " + std::to_string(mapped.value) + " of " +
+                             std::to_string(pixels.size() / 3) + " pixels"
+                       : std::string("kept (negative components)"));
     spec.attribute("wavecam.colorconfig", config.value.path());
     spec.attribute("wavecam.fresnel-number",
                    static_cast<float>(fresnel_number(s.aperture.diameter / 2, opt.film_distance, INFINITY,

@@ -109,6 +109,11 @@ bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::
     auto sampling = opt.wavelengths.empty() ? visible_sampling(opt.wavelength_count) : explicit_sampling(opt.wavelengths);
     if (!sampling.ok()) return fail("--" + sampling.error);
     const int S = int(sampling.value.wavelength.size());
+    // a unit is one wavelength and run: one propagation for colour, three (one per channel) for
+    // monochrome light (spectrum.h)
+    auto basis = job_basis(opt, in.colorspace);
+    if (!basis.ok()) return fail(basis.error);
+    const int per_wavelength = basis.value.size() / S;
     const bool incoherent = opt.method == DiffractMethod::Incoherent;
     const int R = incoherent ? 1 : opt.diffraction.runs;
     auto share = work_share(index, count, S, R, in.height);
@@ -135,7 +140,7 @@ bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::
     for (int u = sh.unit_begin; u < sh.unit_end; ++u) {
         s.run_begin = u % R;
         s.run_end = u % R + 1;
-        unit_terms.push_back(scene_terms(s, camera, sampling.value.wavelength[u / R], nearest));
+        unit_terms.push_back(per_wavelength * scene_terms(s, camera, sampling.value.wavelength[u / R], nearest));
         terms += unit_terms.back();
     }
     std::ostringstream job;
@@ -158,22 +163,23 @@ bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::
     run.progress = {};
     run.exact_propagator = [&](const MonochromeScene& mono, double wavelength, float*, const ProgressFn&) {
         for (int r = 0; r < R; ++r) {
-            const int u = mono.spectral_index * R + r;
+            const int u = mono.spectral_index / per_wavelength * R + r;
             if (u < sh.unit_begin || u >= sh.unit_end) continue;
             DiffractionSettings unit = s;
             unit.run_begin = r;
             unit.run_end = r + 1;
             const double weight = unit_terms[u - sh.unit_begin] / terms;
-            // A wavelength's negative part (rare) is not in the estimate: count it at no weight.
+            // A wavelength's negative part (rare) is not in the estimate: count it at no weight;
+            // monochrome light's three channels share their unit's weight.
             const double before = done;
             ProgressFn report;
             if (opt.progress)
                 report = [&, before, weight, sign = mono.sign](double f) {
-                    return opt.progress(std::min(1.0, before + (sign > 0 ? weight * f : 0.0)));
+                    return opt.progress(std::min(1.0, before + (sign > 0 ? weight / per_wavelength * f : 0.0)));
                 };
             std::vector<float> irradiance(size_t(in.width) * in.height, 0.0f);
             if (auto rr = diffract_monochrome(mono, wavelength, unit, irradiance.data(), report); !rr.ok()) return rr;
-            if (mono.sign > 0) done += weight;
+            if (mono.sign > 0) done += weight / per_wavelength;
             units[channel_name(mono.spectral_index, r, mono.sign)] = std::move(irradiance);
         }
         return Result<bool>::success(true);

@@ -20,6 +20,13 @@ public:
     Result<Matrix3> xyz_to_rgb_matrix(const std::string& space) const;
     // Converts `count` interleaved RGB triplets in place from XYZ to `space`.
     Result<bool> convert_from_xyz(float* rgb, size_t count, const std::string& space) const;
+    // ... from `from` to `to`.
+    Result<bool> convert(float* rgb, size_t count, const std::string& from, const std::string& to) const;
+    // The film's XYZ to the output `space`; with `desaturate`, colours outside its gamut are
+    // pulled into it at constant luminance (out_of_gamut.h). A space that is not linear (a display
+    // encoding) is mapped in the linear `working_space` on the way. Returns how many were mapped.
+    Result<size_t> output_colour(float* xyz, size_t count, const std::string& space,
+                                 const std::string& working_space, bool desaturate) const;
 
     friend Result<ColourConfig> load_colour_config(const std::string& path);
 

@@ -36,6 +36,8 @@ struct DiffractOptions {
     std::string colorconfig;                       // OCIO config; "" = the one wavecam ships
     std::string input_colorspace;                  // "" = the file's oiio:ColorSpace, else lin_rec709
     std::string output_colorspace;                 // "" = the input's
+    bool desaturate_out_of_gamut = true;           // colours the output space cannot hold: pulled in at
+                                                   // constant luminance (out_of_gamut.h); false keeps them
     double max_terms = 4e12;                       // refuse larger exact jobs (see term_rate.h for the time)
     double max_memory = 16.0 * (1ull << 30);       // bytes; refuse jobs estimated to need more
     ProgressFn progress;
@@ -50,9 +52,18 @@ double resolved_pinhole(const DiffractOptions& opt);
 // The aperture with that diameter.
 Aperture resolved_aperture(const DiffractOptions& opt);
 
-// Terms the job costs for an image of this size and field of view (for refusing and reporting).
+// The spectral basis a job diffracts with, for an input whose file names `file_colorspace` ("" =
+// none): the working space as diffract() resolves it, monochrome when asked or when the
+// wavelengths cannot carry colour.
+Result<SpectralBasis> job_basis(const DiffractOptions& opt, const std::string& file_colorspace = "");
+
+// Terms the job costs for an image of this size and field of view (for refusing and reporting):
+// one propagation per sample of `basis` (three per wavelength for monochrome light).
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
-                      DepthMeaning meaning);
+                      DepthMeaning meaning, const SpectralBasis& basis);
+// The same with job_basis(opt, file_colorspace); 0 when that basis cannot be made.
+double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
+                      DepthMeaning meaning, const std::string& file_colorspace = "");
 
 // Bytes the job needs at its peak (images, pinhole samples or PSF kernels), an upper estimate.
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera);
