@@ -150,8 +150,8 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
 Result<OIIO::ImageBuf> read_image(const std::string& path) {
     OIIO::ImageBuf image(path);
     if (image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) return Result<OIIO::ImageBuf>::success(std::move(image));
-    const std::string e = image.geterror();
-    return Result<OIIO::ImageBuf>::failure(path + ": " + (e.empty() ? "cannot be read as an image" : e));
+    const std::string why = image.geterror();
+    return Result<OIIO::ImageBuf>::failure(path + ": cannot be read as an image" + (why.empty() ? "" : " (" + why + ")"));
 }
 
 }  // namespace wavecam

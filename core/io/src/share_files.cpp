@@ -218,7 +218,7 @@ Result<PartFile> read_part(const std::string& path) {
     PartFile p;
     p.path = path;
     auto image = read_image(path);
-    if (!image.ok()) return Result<PartFile>::failure(image.error + " (corrupt or unreadable)");
+    if (!image.ok()) return Result<PartFile>::failure(image.error);
     p.image = std::move(image.value);
     const OIIO::ImageSpec& spec = p.image.spec();
     const std::string share = spec.get_string_attribute("wavecam.part.share");

@@ -49,7 +49,7 @@ RenderChannels find_render_channels(const OIIO::ImageSpec& spec, const std::stri
 Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& name, const RenderReadOptions& opt);
 
 // Reads a whole image file (a render, a mask, a part file) through OpenImageIO as float; the
-// one reader every front and command uses. Errors read "PATH: why".
+// one reader every front and command uses. Errors read "PATH: cannot be read as an image (OIIO's reason)".
 Result<OIIO::ImageBuf> read_image(const std::string& path);
 
 }  // namespace wavecam
