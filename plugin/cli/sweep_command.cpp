@@ -23,21 +23,14 @@ namespace {
 
 constexpr const char* kFont = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 
-struct SweepFlags {
-    std::string film_distance, wavelength, prefix = "sweep", aperture;
-    int count = 0, resolution = 0;
-};
-
 // The flags' defaults: SweepParams' own, written as the flags take them.
-SweepFlags as_flags(const SweepParams& p) {
-    SweepFlags f;
-    f.film_distance = with_unit(p.film_distance, 1e-3, "mm");
-    f.wavelength = with_unit(p.wavelength, 1e-9, "nm");
-    f.aperture = p.aperture.name();
-    f.count = p.count;
-    f.resolution = p.resolution;
-    return f;
-}
+const SweepParams kDefaults;
+struct SweepFlags {
+    std::string film_distance = with_unit(kDefaults.film_distance, 1e-3, "mm"),
+                wavelength = with_unit(kDefaults.wavelength, 1e-9, "nm"), prefix = "sweep",
+                aperture = kDefaults.aperture.name();
+    int count = kDefaults.count, resolution = kDefaults.resolution;
+};
 
 using Colour = std::array<float, 3>;
 
@@ -167,7 +160,7 @@ int run(const SweepFlags& f) {
 }  // namespace
 
 void add_sweep_command(CLI::App& app, int& status) {
-    auto f = std::make_shared<SweepFlags>(as_flags(SweepParams{}));
+    auto f = std::make_shared<SweepFlags>();
     CLI::App* cmd = app.add_subcommand("sweep", "PSFs and spot size over pinhole diameters (the paper's figure)");
     cmd->add_option("--film-distance", f->film_distance, "Pinhole to film, e.g. 50mm")->capture_default_str();
     cmd->add_option("--wavelength", f->wavelength, "Wavelength, e.g. 550nm")->capture_default_str();
