@@ -176,7 +176,7 @@ TEST(FastFrame, StarLightLandsWhereTheFresnelIntegralPutsIt) {
     ASSERT_TRUE(diffract_fast(star.scene(), b, {ApertureShape::Circle, d}, true, xyz.data()).ok());
 
     // the reference Y per pixel: each wavelength's Fresnel PSF averaged over the pixel's area
-    const double pitch = f * star.cam.tan_pitch();
+    const double pitch = star.cam.pixel_pitch();
     std::vector<double> ref(w * w, 0.0);
     for (int s = 0; s < b.size(); ++s) {
         const RadialPsf psf(d / 2, f, b.wavelength(s), pitch * w, pitch / 16);

@@ -5,23 +5,10 @@
 
 #include <cmath>
 
-#include "wavecam/psf.h"
-#include "wavecam/spectral_diffraction.h"
+#include "one_star_scene.h"
 
 using namespace wavecam;
-
-namespace {
-// XYZ -> linear Rec.709 (IEC 61966-2-1)
-const Matrix3 kXyzTo709{{{3.2406, -1.5372, -0.4986}, {-0.9689, 1.8758, 0.0415}, {0.0557, -0.2040, 1.0570}}};
-
-PinholeCamera small_camera(int w, double f, double film_pixel) {
-    PinholeCamera cam;
-    cam.width = cam.height = w;
-    cam.fov_h = 2 * std::atan(w * film_pixel / (2 * f));
-    cam.film_distance = f;
-    return cam;
-}
-}  // namespace
+using test::kXyzTo709;
 
 TEST(Monochrome, OneOrTwoWavelengthsGiveAMonochromeBasisAndCloseOnesToo) {
     for (const std::vector<double>& l : std::vector<std::vector<double>>{
@@ -41,50 +28,21 @@ TEST(Monochrome, OneOrTwoWavelengthsGiveAMonochromeBasisAndCloseOnesToo) {
 // A grey star at 550 nm: every output channel is the point-source image at 550 nm, as
 // compute_psf makes it, times the star's grey level.
 TEST(Monochrome, GreyStarAtOneWavelengthIsThePsfInEveryChannel) {
-    const double f = 20e-3, z = 0.3, lambda = 550e-9;
-    const int w = 9, i0 = 5, j0 = 4;
-    const PinholeCamera cam = small_camera(w, f, 5e-6);
-    std::vector<float> rgb(3 * w * w, 0.0f), depth(w * w, float(z));
-    const float grey = 0.7f;
-    for (int k = 0; k < 3; ++k) rgb[3 * (j0 * w + i0) + k] = grey;
+    const test::OneStarScene star;
+    const double lambda = 550e-9;
+    const float grey = 0.7f, rgb[3] = {grey, grey, grey};
     const auto basis = make_spectral_basis(explicit_sampling({lambda}).value, kXyzTo709);
     ASSERT_TRUE(basis.ok()) << basis.error;
-    DiffractionSettings s;
-    s.aperture = {ApertureShape::Circle, 0.2e-3};
-    s.jitter = false;
-    s.runs = 1;
-    s.film_subsamples = 1;
-    std::vector<float> xyz(3 * w * w);
-    ASSERT_TRUE(diffract_spectral({cam, rgb.data(), depth.data(), DepthMeaning::Planar}, basis.value, s.aperture,
-                                  wave_propagator(s), true, xyz.data())
-                    .ok());
-
-    double u, v;
-    cam.tangent(i0 + 0.5, j0 + 0.5, u, v);
-    PsfParams p;
-    p.aperture = s.aperture;
-    p.film_distance = f;
-    p.source_distance = z * std::sqrt(1 + u * u + v * v);
-    p.source_angle = std::atan(u);  // v = 0: the lit pixel sits on the middle row
-    p.wavelength = lambda;
-    p.resolution = w;
-    p.film_size = w * f * cam.tan_pitch();
-    p.sin_theta_max = p.wavelength / (2 * scene_sample_pitch(s, cam, p.wavelength, z));
-    const PsfImage psf = compute_psf(p).value;
-    // relative irradiance -> film irradiance: the star's L Omega |P|^2 / |P - C|^2, then the
-    // camera's exposure and the film's cos(incidence)
-    const double px = z * u, r2 = px * px + (z + f) * (z + f);
-    const double unit = grey * cam.solid_angle(i0, j0) * z * z * (1 + u * u) / r2 * exposure_scale(s.aperture, f);
+    const std::vector<float> xyz = star.diffract(basis.value, rgb);
+    const std::vector<double> psf = star.expected(lambda);
     double peak = 0, worst = 0;
-    for (int j = 0; j < w; ++j)
-        for (int i = 0; i < w; ++i) {
-            const int pi = i - i0 + w / 2;  // the PSF window is centred on the star
-            if (pi < 0 || pi >= w) continue;
-            const double expected = unit * psf.irradiance[j * w + pi] * cam.cos_incidence(i, j);
-            const Vector3 out = multiply(kXyzTo709, {xyz[3 * (j * w + i)], xyz[3 * (j * w + i) + 1], xyz[3 * (j * w + i) + 2]});
-            peak = std::max(peak, expected);
-            for (int k = 0; k < 3; ++k) worst = std::max(worst, std::fabs(out[k] - expected));
-        }
+    for (int p = 0; p < star.w * star.w; ++p) {
+        if (!star.in_window(p % star.w)) continue;
+        const double expected = grey * psf[p];
+        const Vector3 out = multiply(kXyzTo709, {xyz[3 * p], xyz[3 * p + 1], xyz[3 * p + 2]});
+        peak = std::max(peak, expected);
+        for (int k = 0; k < 3; ++k) worst = std::max(worst, std::fabs(out[k] - expected));
+    }
     EXPECT_GT(peak, 0);
     EXPECT_LT(worst / peak, 1e-3);
 }
@@ -98,7 +56,7 @@ TEST(Monochrome, GreyStarAtOneWavelengthIsThePsfInEveryChannel) {
 TEST(PositiveLight, SaturatedColoursThroughTheExactMethodStayNonNegative) {
     const double f = 20e-3, z = 0.3;
     const int w = 12;
-    const PinholeCamera cam = small_camera(w, f, 25e-6);  // about the Airy radius: sharp fringes
+    const PinholeCamera cam = test::small_camera(w, f, 25e-6);  // about the Airy radius: sharp fringes
     std::vector<float> rgb(3 * w * w, 0.0f), depth(w * w, float(z));
     const float colours[6][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0, 1, 1}, {1, 0, 1}};
     for (int j = 0; j < w; ++j)
@@ -129,6 +87,8 @@ TEST(PositiveLight, SaturatedColoursThroughTheExactMethodStayNonNegative) {
             }
         }
         EXPECT_GE(lowest_xyz, 0.0);
-        if (method == CoherenceMethod::Incoherent) EXPECT_GE(lowest_rgb, -1e-6 * brightest);
+        if (method == CoherenceMethod::Incoherent) {
+            EXPECT_GE(lowest_rgb, -1e-6 * brightest);
+        }
     }
 }

@@ -119,3 +119,18 @@ TEST(SweepCommand, WritesCsvPlotAndSheetAndReportsTheOptimum) {
     EXPECT_EQ(rows, 7);
     fs::remove_all(dir);
 }
+
+// A CSV that cannot be moved into place (a folder of that name is in the way) is an error,
+// not a "wrote": the sweep says which file, exits non-zero and leaves no temporary behind.
+TEST(SweepCommand, AFailedRenameIsReportedAndLeavesNoTemporary) {
+    const fs::path dir = temp_dir();
+    fs::create_directories(dir / "s.csv" / "in_the_way");
+    const CommandRun r = run("sweep --film-distance 20mm --count 3 --resolution 21 -o " + (dir / "s").string());
+    EXPECT_NE(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find((dir / "s.csv").string() + ": cannot move the finished file into place"),
+              std::string::npos)
+        << r.output;
+    EXPECT_EQ(r.output.find("wrote"), std::string::npos) << r.output;
+    for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename(), "s.csv");
+    fs::remove_all(dir);
+}

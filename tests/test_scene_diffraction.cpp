@@ -7,9 +7,7 @@
 #include <limits>
 #include <random>
 
-#include "wavecam/psf.h"
-#include "wavecam/scene_diffraction.h"
-#include "wavecam/spectral_diffraction.h"
+#include "one_star_scene.h"
 
 using namespace wavecam;
 
@@ -19,12 +17,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 struct TestScene {
     PinholeCamera camera;
     std::vector<float> power, depth;
-    TestScene(int w, int h, double fov, double f) : power(size_t(w) * h, 0.0f), depth(size_t(w) * h, 1.0f) {
-        camera.width = w;
-        camera.height = h;
-        camera.fov_h = fov;
-        camera.film_distance = f;
-    }
+    explicit TestScene(const PinholeCamera& c)
+        : camera(c), power(size_t(c.width) * c.height, 0.0f), depth(size_t(c.width) * c.height, 1.0f) {}
     MonochromeScene view() const { return {camera, power.data(), depth.data(), DepthMeaning::Planar}; }
     std::vector<float> diffract(double lambda, const DiffractionSettings& s) const {
         std::vector<float> out(power.size(), 0.0f);
@@ -66,7 +60,7 @@ std::vector<float> box3(const std::vector<float>& a, int w) {
 // One lit pixel on black is the point-source image of a source on that pixel's ray.
 TEST(SceneDiffraction, OneBrightPixelIsThePointSourceImage) {
     const double f = 20e-3, lambda = 550e-9, z = 0.5;
-    TestScene scene(15, 15, 2 * std::atan(15 * 4e-6 / (2 * f)), f);  // 4 um film pixels
+    TestScene scene(test::small_camera(15, f, 4e-6));  // 4 um film pixels
     DiffractionSettings s;
     s.aperture = {ApertureShape::Circle, 0.2e-3};
     s.jitter = false;
@@ -88,7 +82,7 @@ TEST(SceneDiffraction, OneBrightPixelIsThePointSourceImage) {
         p.source_angle = std::atan(u);
         p.wavelength = lambda;
         p.resolution = 15;
-        p.film_size = 15 * f * scene.camera.tan_pitch();
+        p.film_size = 15 * scene.camera.pixel_pitch();
         p.sin_theta_max = lambda / (2 * scene_sample_pitch(s, scene.camera, lambda, z));
         const PsfImage psf = compute_psf(p).value;
         // relative irradiance -> |U|^2: times the free irradiance L Omega |P|^2 / |P - C|^2
@@ -112,7 +106,7 @@ TEST(SceneDiffraction, OneBrightPixelIsThePointSourceImage) {
 TEST(SceneDiffraction, DepthChangesTheZoneCountAsTheoryPredicts) {
     const double f = 50e-3, lambda = 550e-9, d = 0.315e-3, a = d / 2;
     for (double z : {kInf, 0.05}) {
-        TestScene scene(5, 5, 2 * std::atan(5 * 10e-6 / (2 * f)), f);
+        TestScene scene(test::small_camera(5, f, 10e-6));
         scene.power[12] = 1.0f;
         scene.depth[12] = std::isinf(z) ? 1e10f : float(z);
         DiffractionSettings s;
@@ -134,7 +128,7 @@ TEST(SceneDiffraction, DepthChangesTheZoneCountAsTheoryPredicts) {
 TEST(SceneDiffraction, LargePinholeApproachesRayOptics) {
     const double f = 2e-3, lambda = 500e-9, d = 0.28e-3;  // N ~ 20
     const int w = 14;
-    TestScene scene(w, w, 2 * std::atan(w * (d / 4) / (2 * f)), f);  // film pixel = d / 4
+    TestScene scene(test::small_camera(w, f, d / 4));  // film pixel = d / 4
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> uni(0.2f, 1.0f);
     for (int j = 4; j < 10; ++j)
@@ -199,7 +193,7 @@ TEST(SceneDiffraction, LargePinholeApproachesRayOptics) {
 // its error falls as 1/sqrt(K).
 TEST(SceneDiffraction, RandomPhaseAverageConvergesAsOneOverRootK) {
     const double f = 5e-3, lambda = 500e-9;
-    TestScene scene(8, 8, 2 * std::atan(8 * 40e-6 / (2 * f)), f);
+    TestScene scene(test::small_camera(8, f, 40e-6));
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> uni(0.0f, 1.0f);
     for (size_t p = 0; p < scene.power.size(); ++p) {
@@ -228,7 +222,7 @@ TEST(SceneDiffraction, RandomPhaseAverageConvergesAsOneOverRootK) {
 }
 
 TEST(SceneDiffraction, BadPixelsAreErrorsNamingTheField) {
-    TestScene scene(4, 4, 0.1, 10e-3);
+    TestScene scene({4, 4, 0.1, 10e-3});
     DiffractionSettings s;
     s.aperture = {ApertureShape::Circle, 50e-6};
     std::vector<float> out(16);
@@ -246,62 +240,21 @@ TEST(SceneDiffraction, BadPixelsAreErrorsNamingTheField) {
 // In colour: one lit pixel gives, in XYZ, the sum over wavelengths of the point-source images
 // weighted by the pixel's spectral power and the colour-matching functions.
 TEST(SceneDiffraction, OneBrightPixelInColourIsTheWavelengthMixOfPsfs) {
-    const double f = 20e-3, z = 0.3;
-    const int w = 9, i0 = 5, j0 = 4;
-    PinholeCamera cam;
-    cam.width = cam.height = w;
-    cam.fov_h = 2 * std::atan(w * 5e-6 / (2 * f));
-    cam.film_distance = f;
-    std::vector<float> rgb(3 * w * w, 0.0f), depth(w * w, float(z));
+    const test::OneStarScene star;
     const float colour[3] = {0.8f, 0.3f, 0.1f};
-    for (int k = 0; k < 3; ++k) rgb[3 * (j0 * w + i0) + k] = colour[k];
-    // XYZ -> linear Rec.709 (IEC 61966-2-1); any invertible matrix serves the basis
-    const Matrix3 m{{{3.2406, -1.5372, -0.4986}, {-0.9689, 1.8758, 0.0415}, {0.0557, -0.2040, 1.0570}}};
-    const auto basis = make_spectral_basis(visible_sampling(3).value, m).value;
-    DiffractionSettings s;
-    s.aperture = {ApertureShape::Circle, 0.2e-3};
-    s.jitter = false;
-    s.runs = 1;
-    s.film_subsamples = 1;
-    std::vector<float> xyz(3 * w * w);
-    ASSERT_TRUE(diffract_spectral({cam, rgb.data(), depth.data(), DepthMeaning::Planar}, basis, s.aperture,
-                                  wave_propagator(s), true, xyz.data())
-                    .ok());
-
-    double u, v;
-    cam.tangent(i0 + 0.5, j0 + 0.5, u, v);
-    std::vector<double> expected(3 * w * w, 0.0);
+    const auto basis = make_spectral_basis(visible_sampling(3).value, test::kXyzTo709).value;
+    const std::vector<float> xyz = star.diffract(basis, colour);
+    std::vector<double> expected(xyz.size(), 0.0);
     for (int sidx = 0; sidx < 3; ++sidx) {
-        PsfParams p;
-        p.aperture = s.aperture;
-        p.film_distance = f;
-        p.source_distance = z * std::sqrt(1 + u * u + v * v);
-        p.source_angle = std::atan(u);  // v = 0: the lit pixel sits on the middle row
-        p.wavelength = basis.wavelength(sidx);
-        p.resolution = w;
-        p.film_size = w * f * cam.tan_pitch();
-        p.sin_theta_max = p.wavelength / (2 * scene_sample_pitch(s, cam, p.wavelength, z));
-        const PsfImage psf = compute_psf(p).value;
+        const std::vector<double> psf = star.expected(basis.wavelength(sidx));
         const double power = basis.power(sidx, colour[0], colour[1], colour[2]);
-        const double px = z * u, r2 = px * px + (z + f) * (z + f);
-        const double unit = power * cam.solid_angle(i0, j0) * z * z * (1 + u * u) / r2;
-        for (int j = 0; j < w; ++j)
-            for (int i = 0; i < w; ++i) {
-                const int pi = i - i0 + w / 2;
-                if (pi < 0 || pi >= w) continue;
-                const double e = unit * psf.irradiance[j * w + pi] * exposure_scale(s.aperture, f) *
-                                 cam.cos_incidence(i, j);
-                for (int k = 0; k < 3; ++k) expected[3 * (j * w + i) + k] += e * basis.xyz_per_power(sidx)[k];
-            }
+        for (size_t p = 0; p < psf.size(); ++p)
+            for (int k = 0; k < 3; ++k) expected[3 * p + k] += power * psf[p] * basis.xyz_per_power(sidx)[k];
     }
     double peak = 0, worst = 0;
     for (size_t k = 0; k < expected.size(); ++k) peak = std::max(peak, std::fabs(expected[k]));
-    for (int j = 0; j < w; ++j)
-        for (int i = 0; i < w; ++i) {
-            if (i - i0 + w / 2 < 0 || i - i0 + w / 2 >= w) continue;
-            for (int k = 0; k < 3; ++k)
-                worst = std::max(worst, std::fabs(xyz[3 * (j * w + i) + k] - expected[3 * (j * w + i) + k]));
-        }
+    for (size_t k = 0; k < expected.size(); ++k)
+        if (star.in_window(int(k / 3) % star.w)) worst = std::max(worst, std::fabs(xyz[k] - expected[k]));
     EXPECT_LT(worst / peak, 1e-3);
 }
 
@@ -315,7 +268,7 @@ TEST(SceneDiffraction, DefaultFilmSamplingAveragesFresnelStructure) {
     };
     for (const Case& c : {Case{0.8e-3, 120e-6, 11}, Case{1.5e-3, 150e-6, 13}}) {
         const double f = 50e-3, lambda = 550e-9;
-        TestScene scene(c.w, c.w, 2 * std::atan(c.w * c.pixel / (2 * f)), f);
+        TestScene scene(test::small_camera(c.w, f, c.pixel));
         const int mid = c.w / 2;
         scene.power[mid * c.w + mid] = 1.0f;
         std::fill(scene.depth.begin(), scene.depth.end(), 1e10f);  // a star

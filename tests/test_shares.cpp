@@ -149,9 +149,9 @@ TEST(Shares, BadSetsAreRefusedNamingTheShareAndNothingIsWritten) {
         {"p1.exr pinhole2.exr p3.exr", "share 2/3 (pinhole2.exr): another setting: pinhole '0.12mm' (the other shares: '0.1mm')"},
         {"p1.exr input2.exr p3.exr", "share 2/3 (input2.exr): made from another input (" + f.path("other.exr")},
         {"p1.exr split2.exr p3.exr", "share 2/4 (split2.exr): from a split into 4 shares; the other shares are of 3"},
-        {"p1.exr cut2.exr p3.exr", "cut2.exr: corrupt or unreadable"},
+        {"p1.exr cut2.exr p3.exr", "cut2.exr: cannot be read as an image ("},
         {"p1.exr edited2.exr p3.exr", "edited2.exr: corrupt: its pixels do not match the checksum in its header"},
-        {"p1.exr text.exr p3.exr", "text.exr: corrupt or unreadable"},
+        {"p1.exr text.exr p3.exr", "text.exr: cannot be read as an image ("},
         {"p1.exr " + f.input + " p3.exr", f.input + ": not a wavecam part file"},
         {"'none*.exr'", "none*.exr: no part files match this pattern"},
     };

@@ -37,7 +37,20 @@ TEST(Units, ErrorsNameTheFieldAndTheExpectation) {
     EXPECT_FALSE(parse_length("0.3deg", "pinhole").ok());
     EXPECT_FALSE(parse_angle("50", "fov").ok());
     EXPECT_FALSE(parse_angle("nandeg", "fov").ok());
-    EXPECT_FALSE(parse_count("-3", "resolution").ok());
-    EXPECT_FALSE(parse_count("12px", "resolution").ok());
-    EXPECT_EQ(parse_count("255", "resolution").value, 255);
+    EXPECT_FALSE(parse_whole_number("-3", "resolution", 1, 16384).ok());
+    EXPECT_FALSE(parse_whole_number("12px", "resolution", 1, 16384).ok());
+    EXPECT_FALSE(parse_whole_number("16385", "resolution", 1, 16384).ok());
+    EXPECT_EQ(parse_whole_number("255", "resolution", 1, 16384).value, 255);
+    EXPECT_EQ(parse_whole_number("12px", "resolution", 1, 16384).error,
+              "resolution: expected a whole number from 1 to 16384, got '12px'");
+}
+
+TEST(Units, SizesConvertToBytes) {
+    EXPECT_DOUBLE_EQ(parse_bytes("16GiB", "max-memory").value, 16.0 * 1024 * 1024 * 1024);
+    EXPECT_DOUBLE_EQ(parse_bytes("512MiB", "max-memory").value, 512.0 * 1024 * 1024);
+    EXPECT_DOUBLE_EQ(parse_bytes("2GB", "max-memory").value, 2e9);
+    EXPECT_DOUBLE_EQ(parse_bytes("1.5KB", "max-memory").value, 1500);
+    for (const char* bad : {"12", "0GiB", "-1MiB", "1 GiB", "1gib", ""})
+        EXPECT_EQ(parse_bytes(bad, "max-memory").error.rfind("max-memory: expected a size > 0 with a unit", 0), 0u)
+            << bad;
 }

@@ -88,7 +88,7 @@ Result<detail::PsfTableSpec> plan_geometry(const FastPlanSpec& spec) {
         lambda_max = std::max(lambda_max, basis.wavelength(s));
     }
     const int out_w = c.width - 2 * o, out_h = c.height - 2 * o;
-    const double pitch = c.film_distance * c.tan_pitch();
+    const double pitch = c.pixel_pitch();
     const double nearest = spec.max_inverse_depth > 0 ? 1.0 / spec.max_inverse_depth : INFINITY;
     // The kernel radius depends on the widest field the sources reach, which depends on the
     // radius: one refinement from the output frame's corners suffices (the radius only grows).

@@ -90,7 +90,7 @@ Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& pro
         q.depth = t.layers.inverse_depth(l) > 0 ? 1.0 / t.layers.inverse_depth(l) : INFINITY;
         // the anchor's field position: its knot, in the camera's pixel coordinates
         c.tangent(t.ax.knots[kx] - spec.origin, t.ay.knots[ky] - spec.origin, q.u, q.v);
-        q.pixel_pitch = c.film_distance * c.tan_pitch();
+        q.pixel_pitch = c.pixel_pitch();
         const double cos_anchor = 1.0 / std::sqrt(1.0 + q.u * q.u + q.v * q.v);
         for (int s = 0; s < S; ++s) {
             q.wavelength = spec.basis->wavelength(s);

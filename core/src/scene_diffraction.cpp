@@ -126,7 +126,7 @@ int auto_film_subsamples(const Aperture& aperture, const PinholeCamera& camera, 
     // fringes to their area average; one point per pixel samples them instead.
     const double span = 2 * aperture.bounding_radius();
     const double finest_fringe = wavelength * camera.film_distance / span;
-    const double pixel = camera.film_distance * camera.tan_pitch();
+    const double pixel = camera.pixel_pitch();
     return std::clamp(int(std::floor(pixel / finest_fringe)) + 1, 1, kMaxFilmSubsamples);
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <sstream>
 #include <string>
 
 namespace wavecam {
@@ -25,24 +26,27 @@ bool split_number(std::string_view text, double& number, std::string_view& suffi
     return true;
 }
 
+template <class T>
+Result<T> expected(std::string_view field, const std::string& what, std::string_view text) {
+    return Result<T>::failure(std::string(field) + ": expected " + what + ", got '" + std::string(text) + "'");
+}
+
 template <size_t N>
 Result<double> parse_with_units(std::string_view text, std::string_view field, const Unit (&units)[N],
-                                const char* expected) {
+                                const char* expected_text) {
     double number = 0;
     std::string_view suffix;
-    auto fail = [&] {
-        return Result<double>::failure(std::string(field) + ": expected " + expected + ", got '" +
-                                       std::string(text) + "'");
-    };
-    if (!split_number(text, number, suffix)) return fail();
-    for (const Unit& u : units)
-        if (suffix == u.name) return Result<double>::success(number * u.scale);
-    return fail();
+    if (split_number(text, number, suffix))
+        for (const Unit& u : units)
+            if (suffix == u.name) return Result<double>::success(number * u.scale);
+    return expected<double>(field, expected_text, text);
 }
 
 constexpr Unit kLengthUnits[] = {{"nm", 1e-9}, {"um", 1e-6}, {"\xC2\xB5m", 1e-6},
                                  {"mm", 1e-3}, {"cm", 1e-2}, {"m", 1.0}};
 constexpr Unit kAngleUnits[] = {{"deg", M_PI / 180.0}, {"rad", 1.0}};
+constexpr Unit kByteUnits[] = {{"GiB", 1073741824.0}, {"MiB", 1048576.0}, {"KiB", 1024.0},
+                               {"GB", 1e9},           {"MB", 1e6},        {"KB", 1e3}};
 
 }  // namespace
 
@@ -61,13 +65,25 @@ Result<double> parse_angle(std::string_view text, std::string_view field) {
     return parse_with_units(text, field, kAngleUnits, "an angle with a unit (deg, rad), e.g. 50deg");
 }
 
-Result<long> parse_count(std::string_view text, std::string_view field) {
-    std::string s(text);
+Result<double> parse_bytes(std::string_view text, std::string_view field) {
+    const char* what = "a size > 0 with a unit (KiB, MiB, GiB, KB, MB, GB), e.g. 16GiB";
+    auto size = parse_with_units(text, field, kByteUnits, what);
+    return size.ok() && !(size.value > 0) ? expected<double>(field, what, text) : size;
+}
+
+Result<long> parse_whole_number(std::string_view text, std::string_view field, long lo, long hi) {
+    const std::string s(text);
     char* end = nullptr;
-    long v = s.empty() ? 0 : std::strtol(s.c_str(), &end, 10);
-    if (s.empty() || *end != '\0' || v <= 0)
-        return Result<long>::failure(std::string(field) + ": expected a positive whole number, got '" + s + "'");
+    const long v = s.empty() ? 0 : std::strtol(s.c_str(), &end, 10);
+    if (s.empty() || *end != '\0' || v < lo || v > hi)
+        return expected<long>(field, "a whole number from " + std::to_string(lo) + " to " + std::to_string(hi), text);
     return Result<long>::success(v);
+}
+
+std::string with_unit(double value, double scale, std::string_view unit) {
+    std::ostringstream s;
+    s << value / scale << unit;
+    return s.str();
 }
 
 }  // namespace wavecam

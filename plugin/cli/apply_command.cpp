@@ -77,12 +77,12 @@ int run_share(const ApplyFlags& flags, const DiffractOptions& opt, const std::st
             return 0;
         }
     }
-    OIIO::ImageBuf src(input);
-    if (!src.read(0, 0, true, OIIO::TypeDesc::FLOAT)) return fail(input + ": " + src.geterror());
+    auto src = read_image(input);
+    if (!src.ok()) return fail(src.error);
     DiffractOptions o = opt;
     o.progress = terminal_progress("apply share " + flags.part);
     OIIO::ImageBuf part;
-    if (!diffract_share(part, src, input_path, o, settings, k.value.index, k.value.count, flags.threads))
+    if (!diffract_share(part, src.value, input_path, o, settings, k.value.index, k.value.count, flags.threads))
         return fail(part.geterror(), interrupted() ? 130 : 1);
     finish_progress();
     if (auto w = write_image_atomically(part, output, OIIO::TypeDesc::FLOAT); !w.ok()) return fail(w.error);
@@ -99,11 +99,9 @@ int run_frame(const ApplyFlags& flags, DiffractPlan& plan, const std::string& in
     if (fs::exists(output) && fs::equivalent(input, output, ec))
         return fail(output + ": the output would overwrite the input; choose another -o", 2);
     if (!flags.part.empty()) return run_share(flags, plan.options(), input, output);
-    OIIO::ImageBuf src(input);
-    if (!src.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
-        std::string e = src.geterror();
-        return fail(input + ": " + (e.empty() ? "cannot be read as an image" : e));
-    }
+    auto read = read_image(input);
+    if (!read.ok()) return fail(read.error);
+    const OIIO::ImageBuf& src = read.value;
     OIIO::ImageBuf dst;
     if (!plan.diffract(dst, src, input, flags.threads)) return fail(dst.geterror(), interrupted() ? 130 : 1);
     const DiffractOptions& opt = plan.options();

@@ -6,7 +6,6 @@
 // through the array in chunks, one `wavecam apply --frames` per task.
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -20,6 +19,7 @@
 #include "commands.h"
 #include "slurm.h"
 #include "terminal_progress.h"
+#include "wavecam/atomic_write.h"
 #include "wavecam/diffract_image.h"
 #include "wavecam/render_input.h"
 #include "wavecam/share_files.h"
@@ -105,19 +105,6 @@ std::map<std::string, std::string> read_job_file(const fs::path& p) {
     while (std::getline(in, line))
         if (auto eq = line.find('='); eq != std::string::npos) kv[line.substr(0, eq)] = line.substr(eq + 1);
     return kv;
-}
-
-Result<bool> write_text(const fs::path& p, const std::string& text) {
-    const fs::path temp = p.string() + ".tmp" + std::to_string(::getpid());
-    {
-        std::ofstream out(temp);
-        out << text;
-        if (!out) return Result<bool>::failure(p.string() + ": cannot write");
-    }
-    std::error_code ec;
-    fs::rename(temp, p, ec);
-    if (ec) return Result<bool>::failure(p.string() + ": cannot write: " + ec.message());
-    return Result<bool>::success(true);
 }
 
 std::vector<std::string> split(const std::string& s, char sep) {
@@ -274,7 +261,7 @@ int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::ve
         array << t << ") exec " << apply << (flags.frames.empty() ? "" : " --frames " + list) << " ;;\n";
     }
     array << "*) echo \"wavecam farm: no task $SLURM_ARRAY_TASK_ID\" >&2; exit 1 ;;\nesac\n";
-    if (auto w = write_text(farm / "array.sbatch", array.str()); !w.ok()) return fail(w.error);
+    if (auto w = write_text_atomically(array.str(), farm / "array.sbatch"); !w.ok()) return fail(w.error);
     std::string array_id;
     if (tasks > 0) {
         std::vector<std::string> opts{"--array=0-" + std::to_string(tasks - 1)};
@@ -295,7 +282,7 @@ int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::ve
                << "\n";
         if (task_of.count(i)) record << "task-of." << i << "=" << task_of[i] << "\n";
     }
-    if (auto w = write_text(farm / "job.txt", record.str()); !w.ok()) return fail(w.error);
+    if (auto w = write_text_atomically(record.str(), farm / "job.txt"); !w.ok()) return fail(w.error);
     if (!flags.wait) return 0;
     return wait_and_report(flags, array_id.empty() ? std::vector<std::string>{} : std::vector<std::string>{array_id});
 }
@@ -341,13 +328,11 @@ int submit(const FarmFlags& flags) {
     // The estimate, before anything is submitted.
     double total = 0;
     for (auto& f : frames) {
-        auto render = read_render(f.input, opt.read);
+        auto image = read_image(f.input);
+        if (!image.ok()) return fail(image.error);
+        auto render = load_render(image.value, f.input, opt.read);
         if (!render.ok()) return fail(render.error);
-        PinholeCamera camera;
-        camera.width = render.value.width;
-        camera.height = render.value.height;
-        camera.fov_h = render.value.fov_h;
-        camera.film_distance = opt.film_distance;
+        const PinholeCamera camera = render.value.camera(opt.film_distance);
         const double terms = estimate_terms(opt, camera, render.value.depth, opt.depth_meaning, render.value.colorspace);
         const int wavelengths = opt.wavelengths.empty() ? opt.wavelength_count : int(opt.wavelengths.size());
         const int runs = opt.method == DiffractMethod::Incoherent ? 1 : opt.diffraction.runs;
@@ -410,7 +395,7 @@ int submit(const FarmFlags& flags) {
         }
     }
     array << "*) echo \"wavecam farm: no task $SLURM_ARRAY_TASK_ID\" >&2; exit 1 ;;\nesac\n";
-    if (auto w = write_text(farm / "array.sbatch", array.str()); !w.ok()) return fail(w.error);
+    if (auto w = write_text_atomically(array.str(), farm / "array.sbatch"); !w.ok()) return fail(w.error);
 
     std::vector<std::string> common;
     if (!flags.partition.empty()) common.push_back("--partition=" + flags.partition);
@@ -445,7 +430,7 @@ int submit(const FarmFlags& flags) {
               << "exec " << self << " merge "
               << shell_quote((farm / "parts" / f.tag / ("share-*-of-" + std::to_string(n) + ".exr")).string())
               << " -o " << shell_quote(f.output) << "\n";
-        if (auto w = write_text(script, merge.str()); !w.ok()) return fail(w.error);
+        if (auto w = write_text_atomically(merge.str(), script); !w.ok()) return fail(w.error);
         auto opts = common;
         if (!pending_of[i].empty()) {
             std::string dep = "--dependency=afterok";
@@ -459,7 +444,7 @@ int submit(const FarmFlags& flags) {
         waiting.push_back(id.value);
         std::printf("farm: %s%s: merge job %s\n", f.tag == "image" ? "" : "frame ", f.tag.c_str(), id.value.c_str());
     }
-    if (auto w = write_text(farm / "job.txt", record.str()); !w.ok()) return fail(w.error);
+    if (auto w = write_text_atomically(record.str(), farm / "job.txt"); !w.ok()) return fail(w.error);
     if (!flags.wait) return 0;
     return wait_and_report(flags, waiting);
 }

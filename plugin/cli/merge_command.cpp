@@ -84,8 +84,9 @@ int run(const MergeFlags& flags) {
     DiffractOptions opt = options.value;
     opt.max_terms = INFINITY;  // nothing is propagated: the shares hold the sums
     opt.exact_propagator = stored_units(parts);
-    OIIO::ImageBuf src(first.input);
-    if (!src.read(0, 0, true, OIIO::TypeDesc::FLOAT)) return refuse({first.input + ": " + src.geterror()});
+    auto read = read_image(first.input);
+    if (!read.ok()) return refuse({read.error});
+    const OIIO::ImageBuf& src = read.value;
     OIIO::ImageBuf dst;
     if (!diffract(dst, src, first.input, opt)) return refuse({dst.geterror()});
     dst.specmod().attribute("wavecam.job", first.job);  // the job the shares belong to (farm status)

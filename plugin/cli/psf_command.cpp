@@ -4,7 +4,6 @@
 
 #include <cstdio>
 #include <memory>
-#include <sstream>
 
 #include "commands.h"
 #include "terminal_progress.h"
@@ -17,17 +16,28 @@ namespace wavecam::cli {
 namespace {
 
 struct PsfFlags {
-    std::string pinhole = "0.3mm", aperture = "circle", film_distance = "65mm", source_distance = "inf",
-                source_angle = "0deg", wavelength = "550nm", film_size = "0.6mm", resolution = "255",
-                max_angle = "90deg", output = "psf.exr", png;
-    double max_terms = 5e12;
+    std::string pinhole, aperture, film_distance, source_distance, source_angle, wavelength, film_size, resolution,
+        max_angle, output = "psf.exr", png;
+    double max_terms = 0;
     int threads = 0;
 };
 
-std::string with_unit(double v, double scale, const char* unit) {
-    std::ostringstream s;
-    s << v / scale << unit;
-    return s.str();
+// Parameters as the flags take them, and as the output's header records them; the flags'
+// defaults are PsfParams' own.
+PsfFlags as_flags(const PsfParams& p) {
+    PsfFlags f;
+    f.pinhole = with_unit(p.aperture.diameter, 1e-3, "mm");
+    f.aperture = p.aperture.name();
+    f.film_distance = with_unit(p.film_distance, 1e-3, "mm");
+    f.source_distance = std::isinf(p.source_distance) ? "inf" : with_unit(p.source_distance, 1.0, "m");
+    f.source_angle = with_unit(p.source_angle, M_PI / 180, "deg");
+    f.wavelength = with_unit(p.wavelength, 1e-9, "nm");
+    f.film_size = with_unit(p.film_size, 1e-3, "mm");
+    f.resolution = std::to_string(p.resolution);
+    f.max_angle = with_unit(std::asin(p.sin_theta_max), M_PI / 180, "deg");
+    f.max_terms = p.max_terms;
+    f.threads = p.nthreads;
+    return f;
 }
 
 // Turns the flags into parameters; the first error names its flag.
@@ -47,11 +57,11 @@ Result<PsfParams> parse_flags(const PsfFlags& f) {
     take(parse_length(f.wavelength, "wavelength"), p.wavelength);
     take(parse_length(f.film_size, "film-size"), p.film_size);
     long res = 0;
-    take(parse_count(f.resolution, "resolution"), res);
+    take(parse_whole_number(f.resolution, "resolution", 1, 16384), res);
     double max_angle = 0;
     take(parse_angle(f.max_angle, "max-angle"), max_angle);
     if (!error.empty()) return Result<PsfParams>::failure(error);
-    p.resolution = static_cast<int>(std::min(res, 1L << 20));
+    p.resolution = static_cast<int>(res);
     p.sin_theta_max = std::sin(max_angle);
     p.max_terms = f.max_terms;
     p.nthreads = f.threads;
@@ -61,19 +71,19 @@ Result<PsfParams> parse_flags(const PsfFlags& f) {
 
 OIIO::ImageBuf to_imagebuf(const PsfImage& img, const PsfParams& p) {
     const int n = img.resolution;
+    const PsfFlags given = as_flags(p);
     OIIO::ImageSpec spec(n, n, 1, OIIO::TypeDesc::FLOAT);
     spec.channelnames = {"Y"};
     spec.attribute("wavecam.quantity", "relative irradiance (1 = unobstructed irradiance at the film centre)");
-    spec.attribute("wavecam.aperture", p.aperture.name());
+    spec.attribute("wavecam.aperture", given.aperture);
     if (p.aperture.shape == ApertureShape::ZonePlate)
         spec.attribute("wavecam.zoneplate_focus", with_unit(zone_plate_focus(p.aperture, p.wavelength), 1e-3, "mm"));
-    spec.attribute("wavecam.pinhole", with_unit(p.aperture.diameter, 1e-3, "mm"));
-    spec.attribute("wavecam.film_distance", with_unit(p.film_distance, 1e-3, "mm"));
-    spec.attribute("wavecam.source_distance",
-                   std::isinf(p.source_distance) ? std::string("inf") : with_unit(p.source_distance, 1.0, "m"));
-    spec.attribute("wavecam.source_angle", with_unit(p.source_angle, M_PI / 180, "deg"));
-    spec.attribute("wavecam.wavelength", with_unit(p.wavelength, 1e-9, "nm"));
-    spec.attribute("wavecam.film_size", with_unit(p.film_size, 1e-3, "mm"));
+    spec.attribute("wavecam.pinhole", given.pinhole);
+    spec.attribute("wavecam.film_distance", given.film_distance);
+    spec.attribute("wavecam.source_distance", given.source_distance);
+    spec.attribute("wavecam.source_angle", given.source_angle);
+    spec.attribute("wavecam.wavelength", given.wavelength);
+    spec.attribute("wavecam.film_size", given.film_size);
     spec.attribute("wavecam.pixel_pitch", with_unit(img.pixel_pitch, 1e-6, "um"));
     spec.attribute("wavecam.film_centre",
                    with_unit(img.centre_x, 1e-3, "mm") + " " + with_unit(img.centre_y, 1e-3, "mm"));
@@ -131,7 +141,7 @@ int run(const PsfFlags& flags) {
 }  // namespace
 
 void add_psf_command(CLI::App& app, int& status) {
-    auto flags = std::make_shared<PsfFlags>();
+    auto flags = std::make_shared<PsfFlags>(as_flags(PsfParams{}));
     CLI::App* cmd = app.add_subcommand("psf", "Image one point source through the pinhole (exact propagation)");
     cmd->add_option("--pinhole", flags->pinhole, "Pinhole diameter, e.g. 0.3mm")->capture_default_str();
     cmd->add_option("--aperture", flags->aperture, "circle, square, polygon:N[:ROTATIONdeg], mask:FILE or zoneplate:N")->capture_default_str();

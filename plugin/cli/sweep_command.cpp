@@ -7,7 +7,6 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <sstream>
 
@@ -24,9 +23,13 @@ namespace {
 
 constexpr const char* kFont = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 
+// The flags' defaults: SweepParams' own, written as the flags take them.
+const SweepParams kDefaults;
 struct SweepFlags {
-    std::string film_distance = "50mm", wavelength = "550nm", prefix = "sweep", aperture = "circle";
-    int count = 13, resolution = 101;
+    std::string film_distance = with_unit(kDefaults.film_distance, 1e-3, "mm"),
+                wavelength = with_unit(kDefaults.wavelength, 1e-9, "nm"), prefix = "sweep",
+                aperture = kDefaults.aperture.name();
+    int count = kDefaults.count, resolution = kDefaults.resolution;
 };
 
 using Colour = std::array<float, 3>;
@@ -127,19 +130,16 @@ int run(const SweepFlags& f) {
     const double unit = std::sqrt(p.film_distance * p.wavelength);
     const double best = optimal_diameter(pts), rayleigh = rayleigh_optimal_diameter(p.film_distance, p.wavelength);
     const double nyquist = nyquist_optimal_diameter(5 * p.film_distance, p.wavelength);
-    const std::string csv = f.prefix + ".csv", tmp = csv + ".tmp";
-    {
-        std::ofstream out(tmp);
-        out << "diameter_mm,diameter_over_sqrt_f_lambda,fresnel_number,r50_um,r80_um\n";
-        for (const auto& pt : pts)
-            out << pt.diameter * 1e3 << "," << pt.diameter / unit << "," << pt.psf.fresnel_number << "," << pt.r50 * 1e6
-                << "," << pt.r80 * 1e6 << "\n";
-        if (!out) {
-            std::fprintf(stderr, "wavecam sweep: %s: cannot write\n", csv.c_str());
-            return 1;
-        }
+    const std::string csv = f.prefix + ".csv";
+    std::ostringstream table;
+    table << "diameter_mm,diameter_over_sqrt_f_lambda,fresnel_number,r50_um,r80_um\n";
+    for (const auto& pt : pts)
+        table << pt.diameter * 1e3 << "," << pt.diameter / unit << "," << pt.psf.fresnel_number << "," << pt.r50 * 1e6
+              << "," << pt.r80 * 1e6 << "\n";
+    if (auto w = write_text_atomically(table.str(), csv); !w.ok()) {
+        std::fprintf(stderr, "wavecam sweep: %s\n", w.error.c_str());
+        return 1;
     }
-    std::rename(tmp.c_str(), csv.c_str());
     for (auto [img, path] : {std::pair{contact_sheet(pts), f.prefix + "_psfs.png"},
                              std::pair{plot(pts, rayleigh, nyquist, best), f.prefix + "_spot_size.png"}})
         if (auto w = write_image_atomically(img, path, OIIO::TypeDesc::UINT8); !w.ok()) {

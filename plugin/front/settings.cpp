@@ -41,17 +41,6 @@ const std::vector<std::pair<std::string, std::string>>& setting_keys() {
 
 namespace {
 
-Result<long> parse_integer(const std::string& key, const std::string& v, long lo, long hi) {
-    char* end = nullptr;
-    const long n = v.empty() ? 0 : std::strtol(v.c_str(), &end, 10);
-    if (v.empty() || *end != '\0' || n < lo || n > hi) {
-        std::ostringstream m;
-        m << key << ": expected a whole number from " << lo << " to " << hi << ", got '" << v << "'";
-        return Result<long>::failure(m.str());
-    }
-    return Result<long>::success(n);
-}
-
 Result<bool> parse_bool(const std::string& key, const std::string& v) {
     if (v == "true" || v == "1" || v == "yes" || v == "on") return Result<bool>::success(true);
     if (v == "false" || v == "0" || v == "no" || v == "off") return Result<bool>::success(false);
@@ -67,24 +56,10 @@ Result<bool> parse_choice(const std::string& key, const std::string& v, std::ini
     return Result<bool>::failure(key + ": expected one of " + list + ", got '" + v + "'");
 }
 
-// "16GiB", "512MiB", "2GB": bytes.
-Result<double> parse_bytes(const std::string& key, const std::string& v) {
-    static const std::pair<const char*, double> units[] = {{"GiB", 1073741824.0}, {"MiB", 1048576.0},
-                                                           {"KiB", 1024.0},       {"GB", 1e9},
-                                                           {"MB", 1e6},           {"KB", 1e3}};
-    char* end = nullptr;
-    const double n = v.empty() ? 0 : std::strtod(v.c_str(), &end);
-    if (end && end != v.c_str() && std::isfinite(n) && n > 0)
-        for (const auto& [unit, scale] : units)
-            if (std::string(end) == unit) return Result<double>::success(n * scale);
-    return Result<double>::failure(key + ": expected a size with a unit (KiB, MiB, GiB, KB, MB, GB), e.g. 16GiB, got '" +
-                                   v + "'");
-}
-
 // "16" = that many wavelengths over the visible range; "450nm,550nm,650nm" = a list.
 Result<bool> parse_wavelengths(const std::string& text, DiffractOptions& o) {
     if (!text.empty() && text.find_first_not_of("0123456789") == std::string::npos) {
-        auto n = parse_integer("wavelengths", text, 1, 1000);
+        auto n = parse_whole_number(text, "wavelengths", 1, 1000);
         if (!n.ok()) return Result<bool>::failure(n.error);
         o.wavelength_count = static_cast<int>(n.value);
         return Result<bool>::success(true);
@@ -135,7 +110,7 @@ Result<DiffractOptions> options_from_settings(const Settings& settings) {
         } else if (key == "monochrome") take(parse_bool(key, value), o.monochrome);
         else if (key == "runs") {
             long n = 0;
-            take(parse_integer(key, value, 1, 100000), n);
+            take(parse_whole_number(value, key, 1, 100000), n);
             o.diffraction.runs = static_cast<int>(n);
         } else if (key == "method") {
             auto c = parse_choice(key, value, {"fast", "exact", "incoherent"});
@@ -145,11 +120,11 @@ Result<DiffractOptions> options_from_settings(const Settings& settings) {
                                           : DiffractMethod::Incoherent;
         } else if (key == "seed") {
             long n = 0;
-            take(parse_integer(key, value, 0, 1L << 62), n);
+            take(parse_whole_number(value, key, 0, 1L << 62), n);
             o.diffraction.seed = static_cast<uint64_t>(n);
         } else if (key == "film-subsamples") {
             long n = 0;
-            take(parse_integer(key, value, 0, 16), n);
+            take(parse_whole_number(value, key, 0, 16), n);
             o.diffraction.film_subsamples = static_cast<int>(n);
         } else if (key == "jitter") take(parse_bool(key, value), o.diffraction.jitter);
         else if (key == "vignetting") take(parse_bool(key, value), o.vignetting);
@@ -167,10 +142,10 @@ Result<DiffractOptions> options_from_settings(const Settings& settings) {
             if (value.empty() || *end != '\0' || !(o.max_terms > 0))
                 error = "max-terms: expected a positive number, got '" + value + "'";
         }
-        else if (key == "max-memory") take(parse_bytes(key, value), o.max_memory);
+        else if (key == "max-memory") take(parse_bytes(value, key), o.max_memory);
         else if (key == "overscan") {
             long n = 0;
-            take(parse_integer(key, value, 0, 100000), n);
+            take(parse_whole_number(value, key, 0, 100000), n);
             o.overscan = static_cast<int>(n);
         }
         if (!error.empty()) return fail(error);

@@ -181,12 +181,12 @@ private:
 
     std::shared_ptr<const ImageBuf> compute(const std::string& source, wavecam::front::Settings settings,
                                             const std::string& fov_from) {
-        ImageBuf src(source);
-        if (!src.read(0, 0, true, TypeDesc::FLOAT)) {
-            const std::string e = src.geterror();
-            fail(source + ": " + (e.empty() ? "cannot be read as an image" : e));
+        auto read = wavecam::read_image(source);
+        if (!read.ok()) {
+            fail(read.error);
             return nullptr;
         }
+        const ImageBuf& src = read.value;
         // the source's own wavecam.KEY metadata, where no hint gave the key (not its wavecam.fov:
         // the diffraction reads that itself, in any type, and says it came from the file)
         for (const auto& [key, help] : wavecam::front::setting_keys())

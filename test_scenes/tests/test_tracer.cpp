@@ -179,9 +179,9 @@ TEST(TracerCommandLine, LengthsNeedAUnitAndArePositive) {
         {{"--pinhole-diameter", "0.5in", "--film-distance", "50mm"}, "--pinhole-diameter: expected a length"},
         {{"--pinhole-diameter", "-1mm", "--film-distance", "50mm"}, "--pinhole-diameter: expected a positive length"},
         {{"--pinhole-diameter", "0.5mm"}, "go together"},
-        {{"--width", "0"}, "--width: expected a positive whole number"},
-        {{"--samples", "100000"}, "--samples: expected at most 65536"},
-        {{"--height", "12px"}, "--height: expected a positive whole number"},
+        {{"--width", "0"}, "--width: expected a whole number from 1 to 65536"},
+        {{"--samples", "100000"}, "--samples: expected a whole number from 1 to 65536"},
+        {{"--height", "12px"}, "--height: expected a whole number from 1 to 65536"},
     };
     for (const Case& c : cases) {
         const Result<TraceOptions> r = parse(c.flags);

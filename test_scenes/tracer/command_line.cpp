@@ -26,9 +26,8 @@ Result<TraceOptions> parse_command_line(const std::vector<std::string>& args) {
         if (i + 1 >= args.size()) return Result<TraceOptions>::failure(a + ": missing value");
         const std::string& value = args[++i];
         if (a == "--width" || a == "--height" || a == "--samples") {
-            const Result<long> n = parse_count(value, a);
+            const Result<long> n = parse_whole_number(value, a, 1, 65536);
             if (!n.ok()) return Result<TraceOptions>::failure(n.error);
-            if (n.value > 65536) return Result<TraceOptions>::failure(a + ": expected at most 65536, got '" + value + "'");
             (a == "--width" ? o.width : a == "--height" ? o.height : o.samples) = static_cast<int>(n.value);
         } else if (a == "--pinhole-diameter" || a == "--film-distance") {
             const Result<double> length = parse_length(value, a);

@@ -1,5 +1,7 @@
 #include "finite_pinhole.h"
 
+#include "wavecam/pinhole_camera.h"
+
 namespace wavecam::trace {
 
 namespace {
@@ -35,8 +37,8 @@ Ray pinhole_ray(const Camera& camera, const FinitePinhole& pinhole, PixelPoint p
 }
 
 double blur_disc_pixels(const Camera& camera, const FinitePinhole& pinhole, double z) {
-    const double film_width = pinhole.film_distance * camera.right_length();  // 2 f tan(fov/2)
-    return pinhole.diameter * (1 + pinhole.film_distance / z) / (film_width / camera.width());
+    const PinholeCamera film{camera.width(), camera.height(), camera.fov_deg() * M_PI / 180, pinhole.film_distance};
+    return pinhole.diameter * (1 + pinhole.film_distance / z) / film.pixel_pitch();
 }
 
 }  // namespace wavecam::trace

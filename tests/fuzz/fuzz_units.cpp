@@ -14,7 +14,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (!r.ok() && r.error.rfind("f: ", 0) != 0) std::abort();
     }
     if (wavecam::parse_length(text, "f").ok() && std::isinf(wavecam::parse_length(text, "f").value)) std::abort();
-    auto c = wavecam::parse_count(text, "f");
-    if (c.ok() && c.value <= 0) std::abort();
+    auto c = wavecam::parse_whole_number(text, "f", 1, 1000);
+    if (c.ok() && (c.value < 1 || c.value > 1000)) std::abort();
+    auto b = wavecam::parse_bytes(text, "f");
+    if (b.ok() && !(b.value > 0 && std::isfinite(b.value))) std::abort();
     return 0;
 }

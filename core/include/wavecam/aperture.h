@@ -37,8 +37,8 @@ struct Aperture {
     int sides = 0;          // polygon
     double rotation = 0.0;  // polygon: angle of a vertex from +x, radians
     int zones = 0;          // zone plate
-    std::shared_ptr<const TransmissionMask> mask;
-    std::string mask_file;  // as given, for headers and messages
+    std::shared_ptr<const TransmissionMask> mask{};  // {}: `{shape, diameter}` initialises every member
+    std::string mask_file{};  // as given, for headers and messages
 
     // Amplitude transmission at (x, y): 0 or 1 for the hard-edged shapes, 0..1 for a mask.
     double transmission(double x, double y) const;

@@ -19,6 +19,9 @@ struct PinholeCamera {
 
     // Pixel pitch in the tangent plane z = 1: 2 tan(fov/2) / width (square pixels).
     double tan_pitch() const { return 2.0 * std::tan(0.5 * fov_h) / width; }
+    // Pixel pitch on the film, metres: f 2 tan(fov/2) / width. The film's size is this times
+    // the pixel count; every film geometry derives from here.
+    double pixel_pitch() const { return film_distance * tan_pitch(); }
 
     // Tangent-plane coordinates (u right, v up) of image position (x, y) in pixels, measured
     // from the top-left corner (pixel (i, j)'s centre is (i + 0.5, j + 0.5)).
@@ -68,8 +71,6 @@ struct PinholeCamera {
         const double r2 = u * u + v * v;
         return std::sqrt(r2 / (1.0 + r2));
     }
-
-    double film_width() const { return 2.0 * film_distance * std::tan(0.5 * fov_h); }
 };
 
 }  // namespace wavecam

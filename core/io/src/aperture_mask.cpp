@@ -1,6 +1,6 @@
 #include "wavecam/aperture_mask.h"
 
-#include <OpenImageIO/imagebuf.h>
+#include "wavecam/render_input.h"
 
 namespace wavecam {
 
@@ -8,10 +8,9 @@ Result<Aperture> load_aperture(const std::string& text, const std::string& field
     auto parsed = parse_aperture(text, field);
     if (!parsed.ok() || parsed.value.shape != ApertureShape::Mask) return parsed;
     Aperture a = parsed.value;
-    OIIO::ImageBuf image(a.mask_file);
-    if (!image.read(0, 0, true, OIIO::TypeDesc::FLOAT))
-        return Result<Aperture>::failure(field + ": mask '" + a.mask_file + "': cannot read the image: " +
-                                         image.geterror());
+    const auto read = read_image(a.mask_file);
+    if (!read.ok()) return Result<Aperture>::failure(field + ": mask " + read.error);
+    const OIIO::ImageBuf& image = read.value;
     const OIIO::ImageSpec& spec = image.spec();
     const int w = spec.width, h = spec.height, nc = spec.nchannels;
     std::vector<float> pixels(size_t(w) * h * nc);

@@ -11,18 +11,13 @@
 #include "wavecam/source.h"
 #include "wavecam/spectral_diffraction.h"
 #include "wavecam/term_rate.h"
+#include "wavecam/units.h"
 
 namespace wavecam {
 namespace {
 
 constexpr double kDesignWavelength = 550e-9;
 constexpr const char* kDefaultWorkingSpace = "lin_rec709";
-
-std::string with_unit(double v, double scale, const char* unit) {
-    std::ostringstream s;
-    s << v / scale << unit;
-    return s.str();
-}
 
 Result<SpectralSampling> sampling_for(const DiffractOptions& opt) {
     return opt.wavelengths.empty() ? visible_sampling(opt.wavelength_count) : explicit_sampling(opt.wavelengths);
@@ -128,11 +123,7 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     if (!input.ok()) return fail(input.error);
     const RenderInput& in = input.value;
 
-    PinholeCamera camera;
-    camera.width = in.width;
-    camera.height = in.height;
-    camera.fov_h = in.fov_h;
-    camera.film_distance = opt.film_distance;
+    const PinholeCamera camera = in.camera(opt.film_distance);
     if (!(opt.film_distance > 0)) return fail("--film-distance: expected a distance > 0");
     if (opt.pinhole < 0) return fail("--pinhole: expected a diameter > 0");
     const int o = opt.overscan, out_w = in.width - 2 * o, out_h = in.height - 2 * o;
@@ -232,7 +223,7 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     spec.attribute("wavecam.pinhole", with_unit(s.aperture.diameter, 1e-3, "mm"));
     spec.attribute("wavecam.aperture", s.aperture.name());
     spec.attribute("wavecam.film-distance", with_unit(opt.film_distance, 1e-3, "mm"));
-    spec.attribute("wavecam.film-width", with_unit(camera.film_width() * out_w / in.width, 1e-3, "mm"));
+    spec.attribute("wavecam.film-width", with_unit(camera.pixel_pitch() * out_w, 1e-3, "mm"));
     // the output's own field of view: the cropped frame's when the input had an overscan
     spec.attribute("wavecam.fov", static_cast<float>(2 * std::atan(std::tan(0.5 * in.fov_h) * out_w / in.width) * 180 / M_PI));
     if (o > 0) spec.attribute("wavecam.overscan", o);

@@ -147,14 +147,11 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
     return Result<RenderInput>::success(std::move(in));
 }
 
-Result<RenderInput> read_render(const std::string& path, const RenderReadOptions& opt) {
+Result<OIIO::ImageBuf> read_image(const std::string& path) {
     OIIO::ImageBuf image(path);
-    if (!image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
-        std::string e = image.geterror();
-        if (e.empty()) e = "cannot be read as an image";
-        return Result<RenderInput>::failure(path + ": " + e);
-    }
-    return load_render(image, path, opt);
+    if (image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) return Result<OIIO::ImageBuf>::success(std::move(image));
+    const std::string why = image.geterror();
+    return Result<OIIO::ImageBuf>::failure(path + ": cannot be read as an image" + (why.empty() ? "" : " (" + why + ")"));
 }
 
 }  // namespace wavecam

@@ -129,11 +129,7 @@ bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::
     s.nthreads = nthreads;
     s.row_begin = sh.row_begin;
     s.row_end = sh.row_end;
-    PinholeCamera camera;
-    camera.width = in.width;
-    camera.height = in.height;
-    camera.fov_h = in.fov_h;
-    camera.film_distance = opt.film_distance;
+    const PinholeCamera camera = in.camera(opt.film_distance);
     const double nearest = nearest_depth(camera, in.depth.data(), opt.depth_meaning);
     std::vector<double> unit_terms;
     double terms = 0;
@@ -227,11 +223,9 @@ Result<PartFile> read_part(const std::string& path) {
     auto fail = [&path](const std::string& m) { return Result<PartFile>::failure(path + ": " + m); };
     PartFile p;
     p.path = path;
-    p.image.reset(path);
-    if (!p.image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
-        std::string e = p.image.geterror();
-        return fail("corrupt or unreadable: " + (e.empty() ? std::string("cannot be read as an image") : e));
-    }
+    auto image = read_image(path);
+    if (!image.ok()) return Result<PartFile>::failure(image.error);
+    p.image = std::move(image.value);
     const OIIO::ImageSpec& spec = p.image.spec();
     const std::string share = spec.get_string_attribute("wavecam.part.share");
     if (share.empty()) return fail("not a wavecam part file: no wavecam.part.share in its header");

@@ -1,5 +1,6 @@
-// Writing an image so that nothing is lost or half-written: write a temporary beside the
-// target, then rename it over the target (atomic on one filesystem).
+// Writing a file so that nothing is lost or half-written: write a temporary beside the
+// target, then rename it over the target (atomic on one filesystem). Every writer of wavecam's
+// outputs (images, CSV tables, job records, scripts) goes through here.
 #pragma once
 #include <OpenImageIO/imagebuf.h>
 #include <string>
@@ -11,5 +12,8 @@ namespace wavecam {
 // target is untouched and the temporary removed; the error names the file.
 Result<bool> write_image_atomically(const OIIO::ImageBuf& image, const std::string& path,
                                     OIIO::TypeDesc format = OIIO::TypeUnknown);
+
+// Writes `text` to `path` the same way.
+Result<bool> write_text_atomically(const std::string& text, const std::string& path);
 
 }  // namespace wavecam

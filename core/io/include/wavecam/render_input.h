@@ -25,6 +25,9 @@ struct RenderInput {
     std::string colorspace;    // the radiance's colour space as the file names it ("" = unknown)
     std::string depth_channel; // the channel actually used
     OIIO::ImageSpec spec;      // the source's header, for carrying metadata through
+
+    // The ideal camera the render was made with, its film `film_distance` behind the pinhole.
+    PinholeCamera camera(double film_distance) const { return {width, height, fov_h, film_distance}; }
 };
 
 // The attribute our tracer, our Blender add-on (and any renderer that wants to) writes:
@@ -45,7 +48,8 @@ RenderChannels find_render_channels(const OIIO::ImageSpec& spec, const std::stri
 // file, the channel or field, and what was expected.
 Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& name, const RenderReadOptions& opt);
 
-// Reads `path` through OpenImageIO, then load_render.
-Result<RenderInput> read_render(const std::string& path, const RenderReadOptions& opt);
+// Reads a whole image file (a render, a mask, a part file) through OpenImageIO as float; the
+// one reader every front and command uses. Errors read "PATH: cannot be read as an image (OIIO's reason)".
+Result<OIIO::ImageBuf> read_image(const std::string& path);
 
 }  // namespace wavecam

@@ -41,7 +41,8 @@ struct PartFile {
 };
 
 // Reads one part file and checks it: readable, a wavecam part, its pixels match the checksum.
-// Errors read "PATH: corrupt: ..." or "PATH: not a wavecam part file: ...".
+// Errors read "PATH: cannot be read as an image (...)", "PATH: corrupt: ..." or
+// "PATH: not a wavecam part file: ...".
 Result<PartFile> read_part(const std::string& path);
 
 // Whether `parts` make exactly one whole job: every share 1..N once, all of one input, seed
