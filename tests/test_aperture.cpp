@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
 
 #include "wavecam/aperture.h"
@@ -141,4 +143,169 @@ TEST(Aperture, AllBlackOrOutOfRangeMaskIsRefusedNamingTheFile) {
     EXPECT_NE(r.error.find("black.png"), std::string::npos);
     EXPECT_NE(r.error.find("no light"), std::string::npos);
     EXPECT_FALSE(set_aperture_mask(ap, 2, 1, {0.5f, 1.5f}, "aperture").ok());
+}
+
+// ---- Photon sieve ------------------------------------------------------------------------
+
+namespace {
+Aperture sieve_aperture(const std::string& text, double diameter) {
+    auto a = parse_aperture(text, "aperture");
+    EXPECT_TRUE(a.ok()) << a.error;
+    a.value.diameter = diameter;
+    return a.value;
+}
+}  // namespace
+
+TEST(Aperture, DiscInCellMatchesAFineGridInAreaAndMoments) {
+    // A disc of radius 1 against cells cutting it every way: inside, across one edge, across a
+    // corner, holding the whole disc, missing it.
+    const double cx = 0.3, cy = -0.2, a = 1.0;
+    const double cells[][4] = {{-0.2, 0.4, -0.5, 0.1}, {0.9, 1.6, -0.9, 0.3}, {0.8, 1.5, 0.5, 1.2},
+                               {-1.0, 1.6, -1.5, 1.0}, {1.35, 2.0, 0.0, 1.0}, {-0.75, 0.05, 0.4, 0.8}};
+    for (const auto& c : cells) {
+        const DiscMoments m = disc_in_cell(cx, cy, a, c[0], c[1], c[2], c[3]);
+        const int g = 2000;  // reference: midpoints of a g x g grid over the cell
+        double area = 0, mx = 0, my = 0;
+        const double hx = (c[1] - c[0]) / g, hy = (c[3] - c[2]) / g;
+        for (int j = 0; j < g; ++j)
+            for (int i = 0; i < g; ++i) {
+                const double x = c[0] + (i + 0.5) * hx, y = c[2] + (j + 0.5) * hy;
+                if ((x - cx) * (x - cx) + (y - cy) * (y - cy) >= a * a) continue;
+                area += hx * hy;
+                mx += x * hx * hy;
+                my += y * hx * hy;
+            }
+        EXPECT_NEAR(m.area, area, 2e-5) << c[0] << " " << c[2];
+        EXPECT_NEAR(m.mx, mx, 2e-5) << c[0] << " " << c[2];
+        EXPECT_NEAR(m.my, my, 2e-5) << c[0] << " " << c[2];
+    }
+    EXPECT_NEAR(disc_in_cell(cx, cy, a, -5, 5, -5, 5).area, M_PI, 1e-12);
+}
+
+TEST(Aperture, PhotonSieveHolesSitOnTheOpenZonesAtOneAndAHalfZoneWidths) {
+    // sieve:8 of outer diameter 0.4 mm: the zone radii written out here, r_n = R sqrt(n / 8).
+    const double D = 0.4e-3, R = D / 2;
+    const int N = 8;
+    const Aperture ap = sieve_aperture("sieve:8", D);
+    EXPECT_EQ(ap.name(), "sieve:8:1.5x:50%:1");
+    const auto holes = sieve_holes(ap.sieve(), R);
+    ASSERT_GT(holes.size(), 1u);
+    EXPECT_DOUBLE_EQ(holes[0].radius, R / std::sqrt(8.0));  // the central zone, open
+    std::map<int, int> per_zone;
+    for (size_t h = 1; h < holes.size(); ++h) {
+        const double rho = std::hypot(holes[h].x, holes[h].y);
+        const int n = int(std::floor(N * (rho / R) * (rho / R))) + 1;  // zone holding the centre
+        ASSERT_TRUE(n % 2 == 1 && n >= 3 && n <= N) << rho;
+        EXPECT_NEAR(rho, R * std::sqrt((n - 0.5) / N), 1e-12 * R);
+        const double width = R * (std::sqrt(double(n) / N) - std::sqrt((n - 1.0) / N));
+        EXPECT_NEAR(2 * holes[h].radius, 1.5 * width, 1e-12 * R);
+        ++per_zone[n];
+    }
+    // diameters cover half of each ring's circumference (rounded down)
+    for (int n : {3, 5, 7}) {
+        const double rho = R * std::sqrt((n - 0.5) / N), d = 1.5 * R * (std::sqrt(double(n) / N) - std::sqrt((n - 1.0) / N));
+        EXPECT_EQ(per_zone[n], int(std::floor(0.5 * 2 * M_PI * rho / d))) << n;
+    }
+    EXPECT_EQ(per_zone.size(), 3u);
+    // no two holes overlap, and the angles are random: the gaps along a ring vary
+    for (size_t p = 0; p < holes.size(); ++p)
+        for (size_t q = p + 1; q < holes.size(); ++q)
+            ASSERT_GT(std::hypot(holes[p].x - holes[q].x, holes[p].y - holes[q].y), holes[p].radius + holes[q].radius);
+    std::vector<double> angles;
+    for (size_t h = 1; h < holes.size(); ++h)
+        if (std::hypot(holes[h].x, holes[h].y) > 0.8 * R) angles.push_back(std::atan2(holes[h].y, holes[h].x));
+    std::sort(angles.begin(), angles.end());
+    double sum = 0, sum2 = 0;
+    for (size_t k = 0; k < angles.size(); ++k) {
+        const double gap = k + 1 < angles.size() ? angles[k + 1] - angles[k] : angles[0] + 2 * M_PI - angles[k];
+        sum += gap;
+        sum2 += gap * gap;
+    }
+    const double mean = sum / angles.size(), spread = std::sqrt(sum2 / angles.size() - mean * mean);
+    EXPECT_GT(spread, 0.15 * mean) << angles.size() << " holes on the outer ring";
+    // the seed decides the angles, the same every time
+    const auto again = sieve_holes(ap.sieve(), R);
+    EXPECT_EQ(again[5].x, holes[5].x);
+    const auto other = sieve_holes(sieve_aperture("sieve:8:7", D).sieve(), R);
+    EXPECT_NE(other[5].x, holes[5].x);
+}
+
+TEST(Aperture, PhotonSieveTransmitsTheSumOfItsHolesAreas) {
+    const double D = 0.3e-3, R = D / 2;
+    for (const char* text : {"sieve:8", "sieve:15:1.2x:70%:3", "sieve:40:1.9x"}) {
+        const Aperture ap = sieve_aperture(text, D);
+        double holes = 0;
+        for (const auto& h : sieve_holes(ap.sieve(), R)) holes += M_PI * h.radius * h.radius;
+        EXPECT_NEAR(ap.area() / holes, 1.0, 1e-12) << text;
+        // the samples' weights at the propagators' pitch (lambda / 2 at 550 nm)
+        const auto s = sample_aperture(ap, sample_pitch(550e-9));
+        EXPECT_NEAR(total_weight(s) / holes, 1.0, 1e-5) << text;
+        // a coarse pitch is refined to 4 samples across the smallest hole
+        EXPECT_LE(sample_aperture(ap, 10e-6).pitch, ap.finest_width() / 4 * (1 + 1e-12)) << text;
+    }
+}
+
+TEST(Aperture, PhotonSieveLooksUpTheSameHolesItLists) {
+    // transmission() and the per-cell coverage find holes through their ring and sector; check
+    // them against a plain scan of the list.
+    const double D = 0.4e-3, R = D / 2;
+    const Aperture ap = sieve_aperture("sieve:12:1.7x:80%:5", D);
+    const auto holes = sieve_holes(ap.sieve(), R);
+    auto inside = [&](double x, double y) {
+        for (const auto& h : holes)
+            if ((x - h.x) * (x - h.x) + (y - h.y) * (y - h.y) < h.radius * h.radius) return true;
+        return false;
+    };
+    int open = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const double x = 1.05 * R * std::sin(k * 1.37), y = 1.05 * R * std::cos(k * 2.91);
+        ASSERT_EQ(ap.contains(x, y), inside(x, y)) << x << " " << y;
+        open += inside(x, y);
+    }
+    EXPECT_GT(open, 2000);
+    for (double cell : {0.3e-6, 7e-6, 60e-6}) {
+        for (int k = 0; k < 300; ++k) {
+            const double x0 = 0.9 * R * std::sin(k * 0.73), y0 = 0.9 * R * std::cos(k * 1.19);
+            double cx = 0, cy = 0;
+            const double c = ap.coverage(x0, x0 + cell, y0, y0 + cell, cx, cy) * cell * cell;
+            DiscMoments all;
+            for (const auto& h : holes) {
+                const DiscMoments m = disc_in_cell(h.x, h.y, h.radius, x0, x0 + cell, y0, y0 + cell);
+                all.area += m.area;
+                all.mx += m.mx;
+                all.my += m.my;
+            }
+            ASSERT_NEAR(c, all.area, 1e-9 * cell * cell) << cell << " " << k;
+            if (all.area > 0) {
+                EXPECT_NEAR(cx, all.mx / all.area, 1e-9 * cell);
+                EXPECT_NEAR(cy, all.my / all.area, 1e-9 * cell);
+            }
+        }
+    }
+}
+
+TEST(Aperture, BadPhotonSievesAreRefusedNamingTheField) {
+    struct Case {
+        const char* text;
+        const char* says;
+    } cases[] = {{"sieve:0", "number of zones N"},
+                 {"sieve:", "number of zones N"},
+                 {"sieve:2", "N >= 3"},
+                 {"sieve:8:2.5x", "at most 1.95"},
+                 {"sieve:8:0x", "more than 0x"},
+                 {"sieve:8:95%", "at most 90%"},
+                 {"sieve:8:0.5%", "without a hole"},
+                 {"sieve:8:1.5x:1.2x", "once each"},
+                 {"sieve:8:-4", "seed"},
+                 {"sieve:8:abc", "seed"}};
+    for (const Case& c : cases) {
+        const auto r = parse_aperture(c.text, "aperture");
+        ASSERT_FALSE(r.ok()) << c.text;
+        EXPECT_EQ(r.error.rfind("aperture: ", 0), 0u) << r.error;
+        EXPECT_NE(r.error.find(c.says), std::string::npos) << c.text << ": " << r.error;
+    }
+    const auto full = parse_aperture("sieve:20:50%:1.2x:42", "aperture");
+    ASSERT_TRUE(full.ok()) << full.error;
+    EXPECT_EQ(full.value.name(), "sieve:20:1.2x:50%:42");
+    EXPECT_EQ(parse_aperture(full.value.name(), "aperture").value.name(), full.value.name());
 }

@@ -146,6 +146,7 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
         {"good.exr", "--wavelengths 0", "--wavelengths"},
         {"good.exr", "--aperture polygon:2", "--aperture: expected the number of sides N"},
         {"good.exr", "--aperture zoneplate:0", "--aperture: expected the number of zones N"},
+        {"good.exr", "--aperture sieve:2", "--aperture: a photon sieve needs N >= 3 zones"},
         {"good.exr", "--aperture mask:no_such_mask.png", "no_such_mask.png"},
         {"good.exr", "--aperture mask:" + (dir / "black.png").string(), "lets no light through"},
         {"good.exr", "--aperture hexagon", "polygon:N"},

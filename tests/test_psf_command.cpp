@@ -79,6 +79,25 @@ TEST(PsfCommand, ZonePlateStatesItsFocus) {
     fs::remove_all(dir);
 }
 
+// A photon sieve: the same focus r_1^2 / lambda, stated the same way; at the focus the ring of
+// holes on zone 3 adds in phase with the central disc, so the centre beats the disc's own 4.
+TEST(PsfCommand, PhotonSieveStatesItsFocus) {
+    const fs::path dir = temp_dir();
+    const fs::path exr = dir / "sieve.exr";
+    const CommandRun r = run("psf --aperture sieve:4 --pinhole 0.2mm --film-distance 5mm --wavelength 500nm "
+                             "--film-size 0.02mm --resolution 5 -o " + exr.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("photon sieve    first focus r1^2/lambda = 5 mm"), std::string::npos) << r.output;
+    OIIO::ImageBuf buf(exr.string());
+    ASSERT_TRUE(buf.read()) << buf.geterror();
+    EXPECT_EQ(buf.spec().get_string_attribute("wavecam.aperture"), "sieve:4:1.5x:50%:1");
+    EXPECT_EQ(buf.spec().get_string_attribute("wavecam.zoneplate_focus"), "5mm");
+    float centre = 0;
+    buf.getpixel(2, 2, &centre, 1);
+    EXPECT_GT(centre, 6);
+    fs::remove_all(dir);
+}
+
 TEST(PsfCommand, BadFlagsGetOneLineNamingTheFlag) {
     const fs::path dir = temp_dir();
     const fs::path exr = dir / "bad.exr";
@@ -93,6 +112,7 @@ TEST(PsfCommand, BadFlagsGetOneLineNamingTheFlag) {
                  {"--pinhole 20mm", "--max-terms"},
                  {"--aperture polygon:2", "--aperture"},
                  {"--aperture zoneplate:0", "--aperture"},
+                 {"--aperture sieve:8:2.5x", "--aperture: hole diameter 2.5x"},
                  {"--aperture mask:/nonexistent/pinhole.png", "/nonexistent/pinhole.png"}};
     for (const Case& c : cases) {
         const CommandRun r = run(std::string("psf ") + c.args + " -o " + exr.string());

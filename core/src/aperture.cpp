@@ -50,7 +50,9 @@ bool inside_polygon(double x, double y, double r, int sides, double rotation) {
 // r_(n-1) <= rho < r_n with r_n = r sqrt(n / N).
 long zone_of(double rho, double r, int zones) { return long(std::floor(zones * (rho * rho) / (r * r))) + 1; }
 
-std::string shape_list() { return "'circle', 'square', 'polygon:N[:ROTATIONdeg]', 'mask:FILE' or 'zoneplate:N'"; }
+std::string shape_list() {
+    return "'circle', 'square', 'polygon:N[:ROTATIONdeg]', 'mask:FILE', 'zoneplate:N' or 'sieve:N[:Kx][:FILL%][:SEED]'";
+}
 
 }  // namespace
 
@@ -64,6 +66,7 @@ double Aperture::transmission(double x, double y) const {
             const double rho = std::hypot(x, y);
             return rho < r && zone_of(rho, r, zones) % 2 == 1 ? 1.0 : 0.0;
         }
+        case ApertureShape::PhotonSieve: return sieve_transmission(sieve(), r, x, y);
         case ApertureShape::Mask: {
             if (!mask) return 0.0;
             const double p = diameter / mask->width;  // metres per mask pixel
@@ -88,6 +91,7 @@ double Aperture::coverage(double x0, double x1, double y0, double y1, double& cx
         cy = 0.5 * (oy0 + oy1);
         return (ox1 - ox0) * (oy1 - oy0) / cell;
     }
+    if (shape == ApertureShape::PhotonSieve) return sieve_open_area_in_cell(sieve(), r, x0, x1, y0, y1, cx, cy) / cell;
     if (shape == ApertureShape::Mask) {
         // Exact integral of the box-sampled image over the cell: each mask pixel is a square of
         // constant transmission; its overlap with the cell adds value x area and moments.
@@ -144,6 +148,7 @@ double Aperture::area() const {
         case ApertureShape::Square: return diameter * diameter;
         case ApertureShape::Polygon: return 0.5 * sides * r * r * std::sin(2 * M_PI / sides);
         case ApertureShape::ZonePlate: return M_PI * r * r / zones * double((zones + 1) / 2);  // odd zones, equal areas
+        case ApertureShape::PhotonSieve: return sieve_area(sieve(), r);
         case ApertureShape::Mask: {
             if (!mask) return 0.0;
             double sum = 0;
@@ -159,7 +164,20 @@ double Aperture::bounding_radius() const {
     switch (shape) {
         case ApertureShape::Square: return 0.5 * diameter * std::sqrt(2.0);
         case ApertureShape::Mask: return mask ? mask->radius * diameter : 0.0;
+        case ApertureShape::PhotonSieve: return sieve_bounding_radius(sieve(), 0.5 * diameter);
         default: return 0.5 * diameter;
+    }
+}
+
+double Aperture::finest_width() const {
+    const double r = diameter / 2.0;
+    switch (shape) {
+        case ApertureShape::PhotonSieve: return sieve_smallest_hole(sieve(), r);
+        case ApertureShape::ZonePlate: {  // the last open zone, N or N - 1
+            const int n = zones % 2 == 1 ? zones : zones - 1;
+            return n > 1 ? r * (std::sqrt(double(n) / zones) - std::sqrt(double(n - 1) / zones)) : diameter;
+        }
+        default: return diameter;
     }
 }
 
@@ -170,6 +188,7 @@ std::string Aperture::name() const {
         case ApertureShape::Square: return "square";
         case ApertureShape::Polygon: s << "polygon:" << sides << ":" << rotation * 180 / M_PI << "deg"; break;
         case ApertureShape::ZonePlate: s << "zoneplate:" << zones; break;
+        case ApertureShape::PhotonSieve: s << "sieve:" << zones << ":" << hole_ratio << "x:" << fill * 100 << "%:" << seed; break;
         case ApertureShape::Mask: s << "mask:" << mask_file; break;
     }
     return s.str();
@@ -177,6 +196,10 @@ std::string Aperture::name() const {
 
 double zone_plate_focus(const Aperture& a, double wavelength) {
     return 0.25 * a.diameter * a.diameter / a.zones / wavelength;
+}
+
+bool has_zone_focus(const Aperture& a) {
+    return a.shape == ApertureShape::ZonePlate || a.shape == ApertureShape::PhotonSieve;
 }
 
 Result<Aperture> parse_aperture(const std::string& text, const std::string& field) {
@@ -210,6 +233,41 @@ Result<Aperture> parse_aperture(const std::string& text, const std::string& fiel
         if (auto e = count("the number of zones N", rest, 1, n); !e.empty()) return fail(e);
         a.shape = ApertureShape::ZonePlate;
         a.zones = int(n);
+    } else if (kind == "sieve") {
+        // sieve:N then, in any order, Kx (hole diameter / zone width), FILL% and a seed
+        std::vector<std::string> parts;
+        for (size_t b = 0, e; b <= rest.size(); b = e + 1) {
+            e = std::min(rest.find(':', b), rest.size());
+            parts.push_back(rest.substr(b, e - b));
+        }
+        long n = 0;
+        if (auto e = count("the number of zones N", parts[0], 1, n); !e.empty()) return fail(e);
+        a.shape = ApertureShape::PhotonSieve;
+        a.zones = int(n);
+        bool ratio = false, fill = false, seed = false;
+        for (size_t k = 1; k < parts.size(); ++k) {
+            const std::string& v = parts[k];
+            const char last = v.empty() ? '\0' : v.back();
+            char* end = nullptr;
+            const double x = v.size() > 1 ? std::strtod(v.c_str(), &end) : NAN;
+            const bool number = end == v.c_str() + v.size() - 1 && std::isfinite(x);
+            if (last == 'x' && !ratio && number) {
+                a.hole_ratio = x;
+                ratio = true;
+            } else if (last == '%' && !fill && number) {
+                a.fill = x / 100;
+                fill = true;
+            } else if (!seed && !v.empty() && v.find_first_not_of("0123456789") == std::string::npos && v.size() <= 10 &&
+                       std::stoull(v) <= 0xffffffffull) {
+                a.seed = uint32_t(std::stoull(v));
+                seed = true;
+            } else {
+                return fail("expected 'sieve:N' then, once each, a hole diameter in zone widths (e.g. '1.5x'), a fill "
+                            "of each ring's circumference (e.g. '50%') and a seed from 0 to 4294967295, got '" + v +
+                            "' in '" + text + "'");
+            }
+        }
+        if (auto c = check_sieve(a.sieve(), field); !c.ok()) return Result<Aperture>::failure(c.error + " in '" + text + "'");
     } else if (kind == "mask") {
         if (rest.empty()) return fail("expected an image file after 'mask:', got '" + text + "'");
         a.shape = ApertureShape::Mask;
@@ -254,11 +312,17 @@ double sample_pitch(double wavelength, double sin_theta_max) {
     return wavelength / (2.0 * std::clamp(sin_theta_max, 1e-6, 1.0));
 }
 
+double resolved_pitch(const Aperture& aperture, double pitch) {
+    return std::min(pitch, aperture.finest_width() / kSamplesAcrossFinest);
+}
+
 double estimate_sample_count(const Aperture& aperture, double pitch) {
+    pitch = resolved_pitch(aperture, pitch);
     return aperture.area() / (pitch * pitch);
 }
 
 ApertureSamples sample_aperture(const Aperture& aperture, double pitch) {
+    pitch = resolved_pitch(aperture, pitch);
     ApertureSamples s;
     s.pitch = pitch;
     const long n = static_cast<long>(std::ceil(aperture.bounding_radius() / pitch)) + 1;

@@ -75,8 +75,8 @@ OIIO::ImageBuf to_imagebuf(const PsfImage& img, const PsfParams& p) {
     OIIO::ImageSpec spec(n, n, 1, OIIO::TypeDesc::FLOAT);
     spec.channelnames = {"Y"};
     spec.attribute("wavecam.quantity", "relative irradiance (1 = unobstructed irradiance at the film centre)");
-    spec.attribute("wavecam.aperture", given.aperture);
-    if (p.aperture.shape == ApertureShape::ZonePlate)
+    spec.attribute("wavecam.aperture", p.aperture.name());
+    if (has_zone_focus(p.aperture))
         spec.attribute("wavecam.zoneplate_focus", with_unit(zone_plate_focus(p.aperture, p.wavelength), 1e-3, "mm"));
     spec.attribute("wavecam.pinhole", given.pinhole);
     spec.attribute("wavecam.film_distance", given.film_distance);
@@ -128,9 +128,9 @@ int run(const PsfFlags& flags) {
             return 1;
         }
     std::printf("Fresnel number  %.4g\n", img.value.fresnel_number);
-    if (p.aperture.shape == ApertureShape::ZonePlate)
-        std::printf("zone plate      first focus r1^2/lambda = %.4g mm at %.4g nm (film at %.4g mm)\n",
-                    zone_plate_focus(p.aperture, p.wavelength) * 1e3, p.wavelength * 1e9, p.film_distance * 1e3);
+    if (has_zone_focus(p.aperture))
+        std::printf("%s first focus r1^2/lambda = %.4g mm at %.4g nm (film at %.4g mm)\n",
+                    p.aperture.shape == ApertureShape::ZonePlate ? "zone plate     " : "photon sieve   ", zone_plate_focus(p.aperture, p.wavelength) * 1e3, p.wavelength * 1e9, p.film_distance * 1e3);
     std::printf("pinhole samples %zu (pitch %.4g nm)\n", img.value.sample_count, img.value.sample_pitch * 1e9);
     std::printf("peak            %.6g (relative irradiance)\n", img.value.peak);
     std::printf("time            %.3f s\n", img.value.seconds);
@@ -144,7 +144,7 @@ void add_psf_command(CLI::App& app, int& status) {
     auto flags = std::make_shared<PsfFlags>(as_flags(PsfParams{}));
     CLI::App* cmd = app.add_subcommand("psf", "Image one point source through the pinhole (exact propagation)");
     cmd->add_option("--pinhole", flags->pinhole, "Pinhole diameter, e.g. 0.3mm")->capture_default_str();
-    cmd->add_option("--aperture", flags->aperture, "circle, square, polygon:N[:ROTATIONdeg], mask:FILE or zoneplate:N")->capture_default_str();
+    cmd->add_option("--aperture", flags->aperture, "circle, square, polygon:N[:ROTATIONdeg], mask:FILE, zoneplate:N or sieve:N[:Kx][:FILL%][:SEED]")->capture_default_str();
     cmd->add_option("--film-distance", flags->film_distance, "Pinhole to film, e.g. 65mm")->capture_default_str();
     cmd->add_option("--source-distance", flags->source_distance, "Source distance along its ray, or inf")
         ->capture_default_str();

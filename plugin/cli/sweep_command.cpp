@@ -153,6 +153,9 @@ int run(const SweepFlags& f) {
         std::printf("(%s: 'diameter' is its size parameter - side, circumscribed diameter, mask width or outer\n"
                     " diameter; the Rayleigh and Nyquist optima are the disc's, r50 a centred circle's radius)\n",
                     p.aperture.name().c_str());
+    if (has_zone_focus(p.aperture))  // r_1^2 / lambda = f with r_1 = (D/2) / sqrt(N)
+        std::printf("(%s is in focus at D = 2 sqrt(N f lambda) = %.4g mm; other diameters defocus it)\n",
+                    p.aperture.name().c_str(), 2 * std::sqrt(p.aperture.zones * p.film_distance * p.wavelength) * 1e3);
     std::printf("wrote %s, %s_psfs.png, %s_spot_size.png\n", csv.c_str(), f.prefix.c_str(), f.prefix.c_str());
     return 0;
 }
@@ -164,7 +167,7 @@ void add_sweep_command(CLI::App& app, int& status) {
     CLI::App* cmd = app.add_subcommand("sweep", "PSFs and spot size over pinhole diameters (the paper's figure)");
     cmd->add_option("--film-distance", f->film_distance, "Pinhole to film, e.g. 50mm")->capture_default_str();
     cmd->add_option("--wavelength", f->wavelength, "Wavelength, e.g. 550nm")->capture_default_str();
-    cmd->add_option("--aperture", f->aperture, "circle, square, polygon:N[:ROTATIONdeg], mask:FILE or zoneplate:N")
+    cmd->add_option("--aperture", f->aperture, "circle, square, polygon:N[:ROTATIONdeg], mask:FILE, zoneplate:N or sieve:N[:Kx][:FILL%][:SEED]")
         ->capture_default_str();
     cmd->add_option("--count", f->count, "Diameters, log-spaced from 0.4 to 4 sqrt(f lambda)")->capture_default_str();
     cmd->add_option("--resolution", f->resolution, "Pixels across each PSF")->capture_default_str();

@@ -12,7 +12,7 @@ namespace wavecam::front {
 const std::vector<std::pair<std::string, std::string>>& setting_keys() {
     static const std::vector<std::pair<std::string, std::string>> keys = {
         {"pinhole", "pinhole diameter, e.g. 0.25mm (default: the optimum 1.9 sqrt(f lambda) at 550nm)"},
-        {"aperture", "circle, square, polygon:N[:ROTATIONdeg] (vertex on +x at 0deg), mask:FILE (greyscale amplitude transmission, width = pinhole) or zoneplate:N (N zones, outer diameter = pinhole)"},
+        {"aperture", "circle, square, polygon:N[:ROTATIONdeg] (vertex on +x at 0deg), mask:FILE (greyscale amplitude transmission, width = pinhole), zoneplate:N (N zones, outer diameter = pinhole) or sieve:N[:Kx][:FILL%][:SEED] (photon sieve: holes K zone widths wide, default 1.5x, covering FILL of each ring, default 50%)"},
         {"film-distance", "pinhole to film, e.g. 50mm"},
         {"fov", "the render's horizontal field of view, e.g. 50deg (default: from the file)"},
         {"depth-channel", "depth channel name (default Z; Blender: ViewLayer.Depth.Z)"},

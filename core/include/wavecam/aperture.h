@@ -10,6 +10,11 @@
 //   zoneplate:N     a Fresnel zone plate of N zones inside that diameter: zone n spans
 //                   r_(n-1) < r < r_n, r_n = (D/2) sqrt(n/N), odd zones (the centre) open.
 //                   Its first focus is at r_1^2 / lambda (Born & Wolf 8.8.4; Hecht 10.3.5).
+//   sieve:N[:Kx][:FILL%][:SEED]
+//                   a photon sieve: that zone plate's open zones 3, 5, ... replaced by rings of
+//                   round holes K zone widths wide (1.5x), their diameters covering FILL of each
+//                   ring (50%), at seeded random angles (seed 1); the centre zone stays open.
+//                   Same focus as the zone plate (wavecam/photon_sieve.h has the design).
 // Coordinates: x toward the render's right, y toward its top - the pinhole as seen from behind,
 // from the film looking out at the scene. A point's blur on the upright output image is the
 // aperture's shadow rotated by 180 degrees, as on a real camera's print.
@@ -18,11 +23,12 @@
 #include <memory>
 #include <string>
 #include <vector>
+#include "wavecam/photon_sieve.h"
 #include "wavecam/result.h"
 
 namespace wavecam {
 
-enum class ApertureShape { Circle, Square, Polygon, Mask, ZonePlate };
+enum class ApertureShape { Circle, Square, Polygon, Mask, ZonePlate, PhotonSieve };
 
 // A sampled transmission image: row 0 at the top (+y), column 0 at the left (-x).
 struct TransmissionMask {
@@ -36,7 +42,10 @@ struct Aperture {
     double diameter = 0.0;  // metres; the side for a square, the circumscribed diameter for a polygon
     int sides = 0;          // polygon
     double rotation = 0.0;  // polygon: angle of a vertex from +x, radians
-    int zones = 0;          // zone plate
+    int zones = 0;          // zone plate, photon sieve
+    double hole_ratio = 1.5;  // photon sieve: hole diameter / zone width
+    double fill = 0.5;        // photon sieve: share of each ring's circumference the holes cover
+    uint32_t seed = 1;        // photon sieve: the holes' random angles
     std::shared_ptr<const TransmissionMask> mask{};  // {}: `{shape, diameter}` initialises every member
     std::string mask_file{};  // as given, for headers and messages
 
@@ -50,14 +59,21 @@ struct Aperture {
     double area() const;
     // Radius of the smallest centred disc holding every open point.
     double bounding_radius() const;
+    // Width of the narrowest opening the samples must resolve: a sieve's smallest hole, a zone
+    // plate's narrowest open zone, else the diameter.
+    double finest_width() const;
+    SieveDesign sieve() const { return {zones, hole_ratio, fill, seed}; }
     // Text that names the aperture as --aperture takes it, e.g. "polygon:6:0deg".
     std::string name() const;
 };
 
-// A zone plate's first focus for a plane wave: r_1^2 / lambda, r_1 = (D/2) / sqrt(N) (paraxial).
+// A zone plate's (or photon sieve's) first focus for a plane wave: r_1^2 / lambda,
+// r_1 = (D/2) / sqrt(N) (paraxial).
 double zone_plate_focus(const Aperture& zone_plate, double wavelength);
+bool has_zone_focus(const Aperture& aperture);  // a zone plate or a photon sieve
 
-// Parses --aperture text: circle, square, polygon:N[:ROTATIONdeg], mask:FILE, zoneplate:N.
+// Parses --aperture text: circle, square, polygon:N[:ROTATIONdeg], mask:FILE, zoneplate:N,
+// sieve:N[:Kx][:FILL%][:SEED].
 // A mask comes back with `mask_file` set and no pixels: the image layer reads it
 // (wavecam/aperture_mask.h); errors name `field`.
 Result<Aperture> parse_aperture(const std::string& text, const std::string& field);
@@ -82,9 +98,16 @@ double sample_pitch(double wavelength, double sin_theta_max = 1.0);
 
 // Samples the aperture on a square lattice of the given pitch, cells centred on (m p, n p).
 // Edge handling: a cell the rim crosses keeps one sample at the centroid of its open part,
-// weighted by the open area (16x16 sub-cell estimate), so the total weight equals the
-// aperture's area to O(pitch^2 / diameter) and rim cells don't bias the Fresnel zones.
+// weighted by the open area (16x16 sub-cell estimate; exact for a sieve's holes), so the total
+// weight equals the aperture's area to O(pitch^2 / diameter) and rim cells don't bias the
+// Fresnel zones. The pitch is refined to resolved_pitch where it is too coarse for the
+// aperture's finest opening; `pitch` in the result is the one used.
 ApertureSamples sample_aperture(const Aperture& aperture, double pitch);
+
+// At least kSamplesAcrossFinest samples across the aperture's finest opening (a sieve's
+// smallest hole): min(pitch, finest_width / kSamplesAcrossFinest).
+constexpr double kSamplesAcrossFinest = 4;
+double resolved_pitch(const Aperture& aperture, double pitch);
 
 // Number of samples sample_aperture would return (approximately), without allocating.
 double estimate_sample_count(const Aperture& aperture, double pitch);
