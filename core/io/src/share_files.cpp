@@ -124,6 +124,7 @@ bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::
     s.nthreads = nthreads;
     s.row_begin = sh.row_begin;
     s.row_end = sh.row_end;
+    s.overscan = opt.overscan;
     PinholeCamera camera;
     camera.width = in.width;
     camera.height = in.height;
