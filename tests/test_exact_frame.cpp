@@ -155,3 +155,29 @@ TEST(ExactFrame, BorderPixelsAgreeWithTheFastPath) {
     std::printf("border pixels, fast against exact: worst %.3f%%\n", 100 * worst);
     EXPECT_LT(worst, 0.02);
 }
+
+// An input with an overscan margin: its pixels are sources, its film is only the cropped frame.
+// A bright patch in the left margin lights the frame's left column beside it (its PSF's 97%
+// radius is 9 pixels); the same rows of the right column, as far from anything bright, stay at
+// the dim wall's level; the margin's own film pixels are not computed.
+TEST(ExactFrame, OverscanMarginLightsTheFrameAndIsNotFilm) {
+    const int o = 4;
+    const PinholeCamera c = wall_camera(kSide);
+    std::vector<float> power(kSide * kSide, 0.05f);
+    for (int j = 10; j < 14; ++j)
+        for (int i = 1; i < o; ++i) power[size_t(j) * kSide + i] = 50.0f;
+    DiffractionSettings s = settings(CoherenceMethod::RandomPhase);
+    s.runs = 4;
+    s.overscan = o;
+    const auto irr = wall_rows(c, s, 0, kSide, power);
+    for (int j = 0; j < kSide; ++j)
+        for (int i = 0; i < kSide; ++i)
+            if (i < o || j < o || i >= kSide - o || j >= kSide - o) ASSERT_EQ(irr[size_t(j) * kSide + i], 0.0f);
+    double left = 0, right = 0;
+    for (int j = 10; j < 14; ++j) {
+        left += flattened(c, irr, o, j);
+        right += flattened(c, irr, kSide - o - 1, j);
+    }
+    std::printf("overscan: frame's left column beside the patch / right column = %.1f\n", left / right);
+    EXPECT_GT(left / right, 10.0);
+}
