@@ -5,9 +5,12 @@
 // outside takes the radiance and planar depth of the nearest edge pixel, at its own field
 // position. The margin reaches kTailReach R beyond the output frame (R: psf_kernel_radius, the
 // kPsfKernelEnergy radius): the light the fast path's kernels and far tail hold, all but about
-// (1 - kPsfKernelEnergy) / kTailReach of each PSF. Never farther than one frame side, though: a
-// PSF wider than the frame would make the scene mostly invented edge, and every margin source
-// widens the pinhole lattice (below).
+// (1 - kPsfKernelEnergy) / kTailReach of each PSF. Never farther than one frame side, though (a
+// PSF wider than the frame would make the scene mostly invented edge), and no farther than the
+// frame's own pinhole lattice carries (below), down to kMinReachRadii R: a tail whose energy
+// beyond r falls as 1/r (Born & Wolf 8.5.2) puts 1/pi of it across a straight edge, so a border
+// pixel then misses at most (1 - kPsfKernelEnergy) / (kMinReachRadii pi) = 0.24% of its light,
+// a corner twice that.
 //
 // Cost. Out to the PSF's geometric shadow (radius rho pixels) margin sources are single pixels;
 // beyond it a PSF is its smooth diffraction tail, so pixels are merged into cells no wider than a
@@ -28,10 +31,10 @@
 
 namespace wavecam::detail {
 
-// Pixels [x0, x1) x [y0, y1) (camera coordinates, beyond the input) lit as the input's edge
-// pixel (edge_x, edge_y).
 constexpr int kMinReachRadii = 4;
 
+// Pixels [x0, x1) x [y0, y1) (camera coordinates, beyond the input) lit as the input's edge
+// pixel (edge_x, edge_y).
 struct MarginCell {
     int x0, x1, y0, y1;
     int edge_x, edge_y;
