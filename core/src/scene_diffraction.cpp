@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "counter_random.h"
+#include "frame_margin.h"
 #include "wavecam/propagation.h"
 
 namespace wavecam {
@@ -20,6 +21,12 @@ Result<bool> validate(const MonochromeScene& scene, double wavelength, const Dif
     if (c.width < 1 || c.height < 1) return fail("image: expected at least 1x1 pixels");
     if (!(wavelength > 0)) return fail("wavelengths: expected wavelengths > 0");
     if (s.runs < 1) return fail("runs: expected at least 1 run");
+    if (s.overscan < 0 || 2 * s.overscan >= std::min(c.width, c.height)) {
+        std::ostringstream m;
+        m << "overscan: expected 0 to " << (std::min(c.width, c.height) - 1) / 2 << " pixels for a " << c.width
+          << "x" << c.height << " image, got " << s.overscan;
+        return fail(m.str());
+    }
     if (!scene.power || !scene.depth) return fail("image: radiance and depth are required");
     const long n = long(c.width) * c.height;
     for (long p = 0; p < n; ++p) {
@@ -39,17 +46,15 @@ Result<bool> validate(const MonochromeScene& scene, double wavelength, const Dif
     return Result<bool>::success(true);
 }
 
-// The point source for pixel (i, j), placed at image position (x, y) within it.
-// Irradiance on the pinhole = radiance x pixel solid angle whatever the depth (docs/physics.md):
-// a finite source gets amplitude sqrt(L Omega) |P| so that |U|^2 = L Omega at the pinhole.
-PointSource pixel_source(const MonochromeScene& scene, int i, int j, double x, double y, double phase) {
-    const PinholeCamera& c = scene.camera;
-    const long p = long(j) * c.width + i;
+// A point source at image position (x, y) (camera pixels) with power `power_on_pinhole` =
+// radiance x solid angle: the irradiance it puts on the pinhole whatever its depth
+// (docs/physics.md), so a finite source gets amplitude sqrt(L Omega) |P|.
+PointSource source_at(const PinholeCamera& c, double x, double y, double power_on_pinhole, double depth,
+                      DepthMeaning meaning, double phase) {
     double u, v;
     c.tangent(x, y, u, v);
     const double norm = std::sqrt(1.0 + u * u + v * v);
-    const double root_power = std::sqrt(double(scene.power[p]) * c.solid_angle(i, j));
-    const double depth = scene.depth[p];
+    const double root_power = std::sqrt(power_on_pinhole);
     PointSource s;
     s.phase = phase;
     if (depth >= kInfiniteDepth) {
@@ -61,7 +66,7 @@ PointSource pixel_source(const MonochromeScene& scene, int i, int j, double x, d
         return s;
     }
     // planar depth: P = Z (u, v, 1); ray depth: P = D (u, v, 1) / |(u, v, 1)|
-    const double scale = scene.depth_meaning == DepthMeaning::Planar ? depth : depth / norm;
+    const double scale = meaning == DepthMeaning::Planar ? depth : depth / norm;
     s.x = scale * u;
     s.y = scale * v;
     s.z = scale;
@@ -69,14 +74,79 @@ PointSource pixel_source(const MonochromeScene& scene, int i, int j, double x, d
     return s;
 }
 
-// n x n film points per output pixel of rows [row_begin, row_end), at the centres of an n x n
-// split of the pixel, stored pixel by pixel so that point p * n^2 + k belongs to the p-th pixel
-// of those rows.
-FilmPoints camera_film(const PinholeCamera& c, int n, int row_begin, int row_end) {
+// What emits light: a lit pixel of the input, or a lit cell of the margin beyond it (its edge
+// pixel's radiance over the cell's solid angle, at the edge pixel's planar depth). A source is
+// placed within [x, x + w) x [y, y + h): at the centre, or anywhere (jitter) in a run.
+struct Emitter {
+    double x, y, w, h;
+    double power;  // radiance x solid angle
+    double depth;
+    DepthMeaning meaning;
+    uint64_t key;  // its random numbers' index
+};
+
+std::vector<Emitter> scene_emitters(const MonochromeScene& scene, const std::vector<detail::MarginCell>& cells) {
+    const PinholeCamera& c = scene.camera;
+    std::vector<Emitter> e;
+    const uint64_t pixels = uint64_t(c.width) * c.height;
+    for (int j = 0; j < c.height; ++j)
+        for (int i = 0; i < c.width; ++i) {
+            const uint64_t p = uint64_t(j) * c.width + i;
+            if (scene.power[p] <= 0) continue;
+            e.push_back({double(i), double(j), 1.0, 1.0, scene.power[p] * c.solid_angle(i, j), scene.depth[p],
+                         scene.depth_meaning, p});
+        }
+    for (size_t k = 0; k < cells.size(); ++k) {
+        const detail::MarginCell& m = cells[k];
+        const size_t q = size_t(m.edge_y) * c.width + m.edge_x;
+        if (scene.power[q] <= 0) continue;
+        const double d = scene.depth[q];
+        e.push_back({double(m.x0), double(m.y0), double(m.x1 - m.x0), double(m.y1 - m.y0),
+                     scene.power[q] * detail::block_solid_angle(c, m.x0, m.x1, m.y0, m.y1),
+                     d >= kInfiniteDepth ? d : c.planar_depth(m.edge_x, m.edge_y, d, scene.depth_meaning),
+                     DepthMeaning::Planar, pixels + k});
+    }
+    return e;
+}
+
+// The widest tangents |u|, |v| of a set of directions: a lattice axis at a time (below).
+struct Extent {
+    double u = 0, v = 0;
+    void add(const PinholeCamera& c, double x0, double y0, double x1, double y1) {
+        for (double x : {x0, x1})
+            for (double y : {y0, y1}) {
+                double tu, tv;
+                c.tangent(x, y, tu, tv);
+                u = std::max(u, std::abs(tu));
+                v = std::max(v, std::abs(tv));
+            }
+    }
+};
+
+// The pinhole lattice for sources within `source` and film points within `film`: the frame's
+// own (scene_sample_pitch), refined where sources beyond it need it. A square lattice of pitch h
+// also sends light to directions shifted by lambda / h along each axis; they miss the film while
+// lambda / h >= sin(widest source) + sin(widest film point) on that axis (frame_margin.h).
+double lattice_pitch(const DiffractionSettings& s, const PinholeCamera& c, double wavelength, double nearest,
+                     const Extent& source, const Extent& film) {
+    const double frame = scene_sample_pitch(s, c, wavelength, nearest);
+    if (s.sin_theta_max > 0) return frame;
+    const double widen = 0.5 * s.aperture.diameter / std::min(c.film_distance, nearest);
+    auto sine = [&](double t) {
+        return std::min(1.0, (t + widen) / std::sqrt(1.0 + (t + widen) * (t + widen)) + wavelength / s.aperture.diameter);
+    };
+    const double need = std::max(sine(source.u) + sine(film.u), sine(source.v) + sine(film.v));
+    return std::min(frame, wavelength / need);
+}
+
+// n x n film points per output pixel of rows [row_begin, row_end) and columns [col_begin,
+// col_end), at the centres of an n x n split of the pixel, stored pixel by pixel so that point
+// p * n^2 + k belongs to the p-th pixel of that window.
+FilmPoints camera_film(const PinholeCamera& c, int n, int row_begin, int row_end, int col_begin, int col_end) {
     FilmPoints film;
     film.film_distance = c.film_distance;
     for (int j = row_begin; j < row_end; ++j)
-        for (int i = 0; i < c.width; ++i)
+        for (int i = col_begin; i < col_end; ++i)
             for (int b = 0; b < n; ++b)
                 for (int a = 0; a < n; ++a) {
                     double u, v;
@@ -87,14 +157,16 @@ FilmPoints camera_film(const PinholeCamera& c, int n, int row_begin, int row_end
     return film;
 }
 
-// The share of the work the settings ask for: film rows and runs, clamped to the job.
+// The share of the work the settings ask for: film rows (within the overscan) and runs,
+// clamped to the job.
 struct WorkRange {
     int row_begin, row_end, run_begin, run_end;
 };
 WorkRange work_range(const DiffractionSettings& s, int height) {
+    const int o = std::clamp(s.overscan, 0, height / 2);
     WorkRange w;
-    w.row_begin = std::clamp(s.row_begin, 0, height);
-    w.row_end = s.row_end < 0 ? height : std::clamp(s.row_end, w.row_begin, height);
+    w.row_begin = std::clamp(s.row_begin, o, height - o);
+    w.row_end = s.row_end < 0 ? height - o : std::clamp(s.row_end, w.row_begin, height - o);
     w.run_begin = std::clamp(s.run_begin, 0, s.runs);
     w.run_end = s.run_end < 0 ? s.runs : std::clamp(s.run_end, w.run_begin, s.runs);
     return w;
@@ -140,34 +212,82 @@ double nearest_depth(const PinholeCamera& camera, const float* depth, DepthMeani
     return z;
 }
 
+namespace {
+
+// The frame's sources (the input's pixels and its margin's cells), the pinhole lattice and the
+// film points of one wavelength's sum.
+struct SceneSum {
+    std::vector<Emitter> emitters;
+    ApertureSamples samples;
+    FilmPoints film;
+    int subsamples = 1;
+};
+
+// With `scene.power` null every pixel and margin cell counts as lit (estimates).
+SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s, double nearest,
+                   const WorkRange& range, bool with_samples) {
+    const PinholeCamera& c = scene.camera;
+    const int o = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);
+    SceneSum sum;
+    Extent film, frame;
+    film.add(c, o, o, c.width - o, c.height - o);
+    frame.add(c, 0, 0, c.width, c.height);
+    // The margin's reach: as far as the frame's own lattice carries, within the radii (frame_margin.h).
+    const detail::MarginRadii radii = detail::margin_radii(s.aperture, c, o, nearest, wavelength);
+    const double frame_pitch = lattice_pitch(s, c, wavelength, nearest, frame, film);
+    const int least = std::min(radii.reach, detail::kMinReachRadii * radii.kernel);
+    int reach = radii.reach;
+    for (;;) {
+        Extent margin = frame;
+        margin.add(c, o - reach, o - reach, c.width - o + reach, c.height - o + reach);
+        if (reach <= least || lattice_pitch(s, c, wavelength, nearest, margin, film) >= frame_pitch) break;
+        reach = std::max(least, reach - std::max(1, radii.kernel / 2));
+    }
+    const std::vector<detail::MarginCell> cells = detail::margin_cells(c, o, reach, radii.rho);
+    Extent source = frame;
+    if (scene.power) {
+        sum.emitters = scene_emitters(scene, cells);
+        for (const Emitter& e : sum.emitters) source.add(c, e.x, e.y, e.x + e.w, e.y + e.h);
+    } else {
+        source.add(c, o - reach, o - reach, c.width - o + reach, c.height - o + reach);
+        sum.emitters.resize(size_t(c.width) * c.height + cells.size());
+    }
+    const double pitch = lattice_pitch(s, c, wavelength, nearest, source, film);
+    if (with_samples) sum.samples = sample_aperture(s.aperture, pitch);
+    else sum.samples.pitch = pitch;
+    sum.subsamples = s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, c, wavelength);
+    if (with_samples) sum.film = camera_film(c, sum.subsamples, range.row_begin, range.row_end, o, c.width - o);
+    else sum.film.x.resize(size_t(c.width - 2 * o) * (range.row_end - range.row_begin) * sum.subsamples * sum.subsamples);
+    return sum;
+}
+
+}  // namespace
+
 double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength, double nearest) {
-    const double samples = estimate_sample_count(s.aperture, scene_sample_pitch(s, camera, wavelength, nearest));
-    const double pixels = double(camera.width) * camera.height;
-    const int sub = s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, camera, wavelength);
     const WorkRange w = work_range(s, camera.height);
-    const double film = double(camera.width) * (w.row_end - w.row_begin) * sub * sub;
-    return s.method == CoherenceMethod::Incoherent ? samples * pixels * (film + 1)
-                                                   : samples * (pixels + film) * (w.run_end - w.run_begin);
+    const SceneSum sum = scene_sum({camera, nullptr, nullptr}, wavelength, s, nearest, w, false);
+    const double samples = estimate_sample_count(s.aperture, sum.samples.pitch);
+    const double sources = double(sum.emitters.size()), film = double(sum.film.size());
+    return s.method == CoherenceMethod::Incoherent ? samples * sources * (film + 1)
+                                                   : samples * (sources + film) * (w.run_end - w.run_begin);
 }
 
 Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s,
                                  float* irradiance, const ProgressFn& progress) {
     if (auto v = validate(scene, wavelength, s); !v.ok()) return v;
     const PinholeCamera& c = scene.camera;
-    const ApertureSamples samples =
-        sample_aperture(s.aperture, scene_sample_pitch(s, c, wavelength, nearest_depth(c, scene.depth, scene.depth_meaning)));
-    const int sub = s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, c, wavelength);
     const WorkRange range = work_range(s, c.height);
-    const FilmPoints film = camera_film(c, sub, range.row_begin, range.row_end);
+    const SceneSum sum = scene_sum(scene, wavelength, s, nearest_depth(c, scene.depth, scene.depth_meaning), range, true);
+    const int sub = sum.subsamples, o = s.overscan;
+    const std::vector<Emitter>& emitters = sum.emitters;
     // Irradiance at every film point; averaged into the output pixels after each run.
-    std::vector<float> points(film.size(), 0.0f);
+    std::vector<float> points(sum.film.size(), 0.0f);
     auto average_into_output = [&] {
-        const size_t n2 = size_t(sub) * sub;
-        float* out = irradiance + size_t(range.row_begin) * c.width;
+        const size_t n2 = size_t(sub) * sub, width = size_t(c.width - 2 * o);
         for (size_t p = 0; p < points.size() / n2; ++p) {
-            double sum = 0;
-            for (size_t k = 0; k < n2; ++k) sum += points[p * n2 + k];
-            out[p] += static_cast<float>(sum / n2);
+            double total = 0;
+            for (size_t k = 0; k < n2; ++k) total += points[p * n2 + k];
+            irradiance[(range.row_begin + p / width) * c.width + o + p % width] += static_cast<float>(total / n2);
         }
         std::fill(points.begin(), points.end(), 0.0f);
         return Result<bool>::success(true);
@@ -175,18 +295,19 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
     const uint64_t stream = wavelength_stream(wavelength);
     PinholeField field;
     auto cancelled = [] { return Result<bool>::failure("cancelled"); };
+    auto centred = [&c](const Emitter& e, double phase) {
+        return source_at(c, e.x + 0.5 * e.w, e.y + 0.5 * e.h, e.power, e.depth, e.meaning, phase);
+    };
 
     if (s.method == CoherenceMethod::Incoherent) {
-        const long n = long(c.width) * c.height;
-        for (long p = 0; p < n; ++p) {
-            if (scene.power[p] <= 0) continue;
-            const int i = int(p % c.width), j = int(p / c.width);
-            illuminate_pinhole(samples, {pixel_source(scene, i, j, i + 0.5, j + 0.5, 0.0)}, wavelength, field,
-                               s.nthreads);
-            const double done = double(p) / n;
+        const size_t n = emitters.size();
+        for (size_t k = 0; k < n; ++k) {
+            illuminate_pinhole(sum.samples, {centred(emitters[k], 0.0)}, wavelength, field, s.nthreads);
+            const double done = double(k) / n;
             ProgressFn report;
             if (progress) report = [&](double f) { return progress(done + f / n); };
-            if (!accumulate_film_irradiance(samples, field, film, wavelength, 1.0, points.data(), s.nthreads, report))
+            if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0, points.data(), s.nthreads,
+                                            report))
                 return cancelled();
         }
         return average_into_output();
@@ -194,16 +315,17 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
 
     for (int run = range.run_begin; run < range.run_end; ++run) {
         std::vector<PointSource> sources;
-        sources.reserve(size_t(c.width) * c.height);
-        for (int j = 0; j < c.height; ++j)
-            for (int i = 0; i < c.width; ++i) {
-                const uint64_t p = uint64_t(j) * c.width + i;
-                if (scene.power[p] <= 0) continue;
-                const double jx = s.jitter ? detail::counter_uniform(s.seed, run, p, 1) : 0.5;
-                const double jy = s.jitter ? detail::counter_uniform(s.seed, run, p, 2) : 0.5;
-                const double phase = 2 * M_PI * detail::counter_uniform(s.seed ^ stream, run, p, 3);
-                sources.push_back(pixel_source(scene, i, j, i + jx, j + jy, phase));
+        sources.reserve(emitters.size());
+        for (const Emitter& e : emitters) {
+            const double phase = 2 * M_PI * detail::counter_uniform(s.seed ^ stream, run, e.key, 3);
+            if (!s.jitter) {
+                sources.push_back(centred(e, phase));
+                continue;
             }
+            const double jx = detail::counter_uniform(s.seed, run, e.key, 1);
+            const double jy = detail::counter_uniform(s.seed, run, e.key, 2);
+            sources.push_back(source_at(c, e.x + jx * e.w, e.y + jy * e.h, e.power, e.depth, e.meaning, phase));
+        }
         // Progress: half of a run's terms go to the pinhole, half to the film.
         auto stage = [&](double offset) -> ProgressFn {
             if (!progress) return {};
@@ -211,9 +333,9 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
                 return progress((run - first + offset + 0.5 * f) / runs);
             };
         };
-        if (!illuminate_pinhole(samples, sources, wavelength, field, s.nthreads, stage(0.0))) return cancelled();
-        if (!accumulate_film_irradiance(samples, field, film, wavelength, 1.0 / s.runs, points.data(), s.nthreads,
-                                        stage(0.5)))
+        if (!illuminate_pinhole(sum.samples, sources, wavelength, field, s.nthreads, stage(0.0))) return cancelled();
+        if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0 / s.runs, points.data(),
+                                        s.nthreads, stage(0.5)))
             return cancelled();
         average_into_output();
     }

@@ -21,7 +21,7 @@ const std::vector<std::pair<std::string, std::string>>& setting_keys() {
         {"monochrome", "true: every channel diffracted with the same light (the wavelengths' mean PSF), grey in, grey out; "
                        "automatic for fewer than 3 wavelengths"},
         {"runs", "random-phase runs averaged; noise falls as 1/sqrt(runs)"},
-        {"method", "fast (PSF-grid convolution, default), exact (the seed paper's random-phase sum) or incoherent"},
+        {"method", "fast (PSF-grid convolution, default), random-phase or its old name exact (the seed paper's random-phase sum), or incoherent (the exact incoherent sum)"},
         {"seed", "random seed: the same seed gives the same image"},
         {"film-subsamples", "n: each film pixel averages n x n points over its area (0 = enough to resolve the PSF)"},
         {"jitter", "true: move each source within its pixel every run"},
@@ -113,10 +113,10 @@ Result<DiffractOptions> options_from_settings(const Settings& settings) {
             take(parse_whole_number(value, key, 1, 100000), n);
             o.diffraction.runs = static_cast<int>(n);
         } else if (key == "method") {
-            auto c = parse_choice(key, value, {"fast", "exact", "incoherent"});
+            auto c = parse_choice(key, value, {"fast", "exact", "random-phase", "incoherent"});
             if (!c.ok()) error = c.error;
             o.method = value == "fast"    ? DiffractMethod::Fast
-                       : value == "exact" ? DiffractMethod::Exact
+                       : value == "exact" || value == "random-phase" ? DiffractMethod::RandomPhase
                                           : DiffractMethod::Incoherent;
         } else if (key == "seed") {
             long n = 0;

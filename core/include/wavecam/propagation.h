@@ -1,5 +1,5 @@
-// The exact wave propagator: the seed paper's two sums, scene -> pinhole samples -> film.
-// Both inner loops share one vectorised phase evaluation (src/sincos_turns.h) and take path
+// The exact wave propagator (src/propagation.cpp): the seed paper's two sums, scene -> pinhole
+// samples -> film. Both are one vectorised phasor sum (src/phasor_sum.h) and take path
 // lengths as differences from a reference path in a cancellation-free form (docs/physics.md), so
 // single-precision arithmetic keeps phases right for paths of 10^6 wavelengths and more.
 #pragma once

@@ -29,6 +29,9 @@ struct DiffractionSettings {
     // Every run is averaged into the output on its own, so a job equals the sum of its shares.
     int run_begin = 0, run_end = -1;
     int row_begin = 0, row_end = -1;
+    // Pixels of margin on every side of the input: light sources, not film (cropped by the
+    // caller). Beyond the input the scene is its edge continued (frame_margin.h).
+    int overscan = 0;
 };
 
 // Per-pixel inputs at one wavelength, row-major width x height.
@@ -41,15 +44,18 @@ struct MonochromeScene {
     int sign = +1;           // +1: the positive part of the spectral power, -1: the negative part
 };
 
-// The aperture sampling pitch used for this camera at this wavelength: lambda/2, or wider when
-// every ray between a pinhole sample and a source or film point stays within theta_max of the
-// axis: tan theta_max = tan(corner field angle) + a / min(f, nearest depth), plus the
-// aperture's own diffraction spread lambda/d as margin; never coarser than d / kMinSamplesAcross.
+// The aperture sampling pitch used for this camera at this wavelength, its sources and film
+// points both within the frame: lambda/2, or wider when every ray between a pinhole sample and a
+// source or film point stays within theta_max of the axis: tan theta_max = tan(corner field
+// angle) + a / min(f, nearest depth), plus the aperture's own diffraction spread lambda/d as
+// margin; never coarser than d / kMinSamplesAcross. A lit scene beyond the frame can need a
+// finer one (frame_margin.h).
 constexpr double kMinSamplesAcross = 128;
 double scene_sample_pitch(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength,
                           double nearest_depth);
 
-// Work estimate: terms (pinhole samples x (sources + film points)) over the runs and rows set.
+// Work estimate: terms (pinhole samples x (sources + film points)) over the runs and rows set,
+// the margin beyond the frame counted as lit.
 double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength,
                    double nearest_depth);
 
@@ -64,7 +70,9 @@ double nearest_depth(const PinholeCamera& camera, const float* depth, DepthMeani
 
 // Adds the film irradiance |U|^2 of the scene at `wavelength` to irradiance[width * height]
 // (output pixel (i, j) averages n x n points over the film area of pixel (i, j), the geometric
-// image of render pixel (i, j)), in units of power x steradian.
+// image of render pixel (i, j)), in units of power x steradian. The sources are every pixel and
+// the scene beyond the input (frame_margin.h); the film is the frame within s.overscan, whose
+// margin pixels are left untouched.
 Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s,
                                  float* irradiance, const ProgressFn& progress = {});
 

@@ -62,6 +62,7 @@ double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, c
     DiffractionSettings s = opt.diffraction;
     s.aperture = resolved_aperture(opt);
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
+    s.overscan = opt.overscan;
     const double nearest = nearest_depth(camera, depth.data(), meaning);
     // one propagation per basis sample: monochrome light has three per wavelength, one per
     // channel (spectrum.h), whether asked for or found (wavelengths too close to carry colour)
@@ -199,7 +200,9 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
         r = plan ? plan->apply(scene, opt.vignetting, pixels.data(), part(reused ? 0.0 : 0.6, 1.0))
                  : Result<bool>::failure(error);
     } else {
-        // the exact methods diffract the whole input, overscan included, then crop
+        // the exact methods light the film within the overscan from every input pixel and the
+        // scene beyond the input (frame_margin.h), then crop
+        s.overscan = o;
         std::vector<float> full(3 * size_t(in.width) * in.height);
         r = diffract_spectral(scene, basis.value, s.aperture,
                               opt.exact_propagator ? opt.exact_propagator : wave_propagator(s), opt.vignetting,
@@ -234,10 +237,10 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     spec.attribute("wavecam.wavelengths", wl);
     spec.attribute("wavecam.light", basis.value.description());
     spec.attribute("wavecam.method", opt.method == DiffractMethod::Fast    ? "fast"
-                                     : opt.method == DiffractMethod::Exact ? "exact"
+                                     : opt.method == DiffractMethod::RandomPhase ? "exact"
                                                                            : "incoherent");
     if (opt.method != DiffractMethod::Fast) {  // what only the exact sums use
-        if (opt.method == DiffractMethod::Exact) spec.attribute("wavecam.runs", s.runs);
+        if (opt.method == DiffractMethod::RandomPhase) spec.attribute("wavecam.runs", s.runs);
         spec.attribute("wavecam.seed", std::to_string(s.seed));
         spec.attribute("wavecam.film-subsamples",
                        s.film_subsamples > 0 ? s.film_subsamples
@@ -259,7 +262,7 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     std::ostringstream summary;
     summary << sampling.value.wavelength.size() << " wavelengths" << (basis.value.monochrome() ? " (monochrome), " : ", ");
     if (opt.method == DiffractMethod::Fast) summary << "fast method";
-    else if (opt.method == DiffractMethod::Exact) summary << s.runs << " runs, " << terms << " terms";
+    else if (opt.method == DiffractMethod::RandomPhase) summary << s.runs << " runs, " << terms << " terms";
     else summary << "incoherent sum, " << terms << " terms";
     spec.attribute("wavecam.summary", summary.str());
 

@@ -129,6 +129,7 @@ bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::
     s.nthreads = nthreads;
     s.row_begin = sh.row_begin;
     s.row_end = sh.row_end;
+    s.overscan = opt.overscan;
     const PinholeCamera camera = in.camera(opt.film_distance);
     const double nearest = nearest_depth(camera, in.depth.data(), opt.depth_meaning);
     std::vector<double> unit_terms;

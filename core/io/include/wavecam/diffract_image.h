@@ -14,9 +14,10 @@
 
 namespace wavecam {
 
-// fast: PSF-grid convolution (the default); exact: the seed paper's random-phase sum over
-// pinhole samples; incoherent: the exact sum with every source alone (small images).
-enum class DiffractMethod { Fast, Exact, Incoherent };
+// Fast: PSF-grid convolution (the default, `--method fast`). The two exact sums over pinhole
+// samples: RandomPhase, the seed paper's random-phase sum (`--method random-phase`, also spelt
+// `exact`), and Incoherent, every source propagated alone (`--method incoherent`, small images).
+enum class DiffractMethod { Fast, RandomPhase, Incoherent };
 
 struct DiffractOptions {
     DiffractMethod method = DiffractMethod::Fast;
