@@ -66,20 +66,20 @@ OIIO::ImageBuf to_imagebuf(const PsfImage& img, const PsfParams& p) {
     spec.attribute("wavecam.quantity", "relative irradiance (1 = unobstructed irradiance at the film centre)");
     spec.attribute("wavecam.aperture", p.aperture.name());
     if (p.aperture.shape == ApertureShape::ZonePlate)
-        spec.attribute("wavecam.zoneplate_focus", with_unit(zone_plate_focus(p.aperture, p.wavelength), 1e-3, "mm"));
+        spec.attribute("wavecam.zoneplate-focus", with_unit(zone_plate_focus(p.aperture, p.wavelength), 1e-3, "mm"));
     spec.attribute("wavecam.pinhole", with_unit(p.aperture.diameter, 1e-3, "mm"));
-    spec.attribute("wavecam.film_distance", with_unit(p.film_distance, 1e-3, "mm"));
-    spec.attribute("wavecam.source_distance",
+    spec.attribute("wavecam.film-distance", with_unit(p.film_distance, 1e-3, "mm"));
+    spec.attribute("wavecam.source-distance",
                    std::isinf(p.source_distance) ? std::string("inf") : with_unit(p.source_distance, 1.0, "m"));
-    spec.attribute("wavecam.source_angle", with_unit(p.source_angle, M_PI / 180, "deg"));
+    spec.attribute("wavecam.source-angle", with_unit(p.source_angle, M_PI / 180, "deg"));
     spec.attribute("wavecam.wavelength", with_unit(p.wavelength, 1e-9, "nm"));
-    spec.attribute("wavecam.film_size", with_unit(p.film_size, 1e-3, "mm"));
-    spec.attribute("wavecam.pixel_pitch", with_unit(img.pixel_pitch, 1e-6, "um"));
-    spec.attribute("wavecam.film_centre",
+    spec.attribute("wavecam.film-size", with_unit(p.film_size, 1e-3, "mm"));
+    spec.attribute("wavecam.pixel-pitch", with_unit(img.pixel_pitch, 1e-6, "um"));
+    spec.attribute("wavecam.film-centre",
                    with_unit(img.centre_x, 1e-3, "mm") + " " + with_unit(img.centre_y, 1e-3, "mm"));
-    spec.attribute("wavecam.sample_pitch", with_unit(img.sample_pitch, 1e-9, "nm"));
-    spec.attribute("wavecam.sample_count", static_cast<int>(img.sample_count));
-    spec.attribute("wavecam.fresnel_number", static_cast<float>(img.fresnel_number));
+    spec.attribute("wavecam.sample-pitch", with_unit(img.sample_pitch, 1e-9, "nm"));
+    spec.attribute("wavecam.sample-count", static_cast<int>(img.sample_count));
+    spec.attribute("wavecam.fresnel-number", static_cast<float>(img.fresnel_number));
     spec.attribute("wavecam.orientation", "upright: column grows with scene +x, row 0 at the top");
     OIIO::ImageBuf buf(spec);
     buf.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, img.irradiance.data());
