@@ -256,7 +256,8 @@ void write_tagged(const fs::path& path, const std::string& method) {
     spec.attribute("wavecam.pinhole", "0.2mm");
     spec.attribute("wavecam.film-distance", "20mm");
     spec.attribute("wavecam.wavelengths", "3");
-    spec.attribute("wavecam.runs", 1);  // an int, as wavecam writes it
+    spec.attribute("wavecam.runs", 1);  // ints, as wavecam writes them
+    spec.attribute("wavecam.film-subsamples", 1);
     spec.attribute("wavecam.seed", "7");
     spec.attribute("wavecam.method", method);
     ASSERT_TRUE(b.write(path.string()));

@@ -165,7 +165,7 @@ private:
             return fail(source + ": no such file, expected the render to diffract");
 
         std::string key = source;
-        for (const Settings* layer : {&query, &sources.given, &sources.description})
+        for (const Settings* layer : {&sources.given, &sources.description})
             for (const auto& [k, v] : *layer) key += "\n" + k + "=" + v;
         {
             std::lock_guard<std::mutex> lock(g_cache_mutex);
