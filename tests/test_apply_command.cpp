@@ -131,7 +131,7 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
         std::string input, extra, expect;
     } cases[] = {
         {"nodepth.exr", "", "channel 'Z'"},
-        {"nofov.exr", "", "--fov"},
+        {"nofov.exr", "", "nofov.exr: no field of view"},
         {"negative.exr", "", "expected a distance > 0"},
         {"nan.exr", "", "pixel (3, 2)"},
         {"inf.exr", "", "expected finite radiance"},
@@ -142,7 +142,7 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
         {"text.exr", "", "text.exr"},
         {"truncated.exr", "", "truncated.exr"},
         {"missing.exr", "", "missing.exr"},
-        {"good.exr", "--pinhole 0.2", "--pinhole"},
+        {"good.exr", "--pinhole 0.2", "--pinhole: expected a length"},
         {"good.exr", "--wavelengths 0", "--wavelengths"},
         {"good.exr", "--aperture polygon:2", "--aperture: expected the number of sides N"},
         {"good.exr", "--aperture zoneplate:0", "--aperture: expected the number of zones N"},
@@ -152,9 +152,9 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
         {"good.exr", "--aperture hexagon", "polygon:N"},
         {"good.exr", "--depth sideways", "--depth"},
         {"good.exr", "--output-colorspace NoSuchSpace", "NoSuchSpace"},
-        {"good.exr", "--method exact --runs 100000 --wavelengths 64 --max-terms 1e9", "--max-terms"},
+        {"good.exr", "--method exact --runs 100000 --wavelengths 64 --max-terms 1e9", "raise --max-terms"},
         {"good.exr", "--method sideways", "--method"},
-        {"good.exr", "--max-memory 1KiB", "beyond --max-memory"},
+        {"good.exr", "--max-memory 1KiB", "raise --max-memory (e.g. --max-memory 32GiB)"},
         {"good.exr", "--max-memory 12", "--max-memory: expected a size"},
     };
     for (const Case& c : cases) {

@@ -1,6 +1,7 @@
 // The OpenImageIO plugin through the real oiiotool and the Python bindings, as users run it.
 #include <gtest/gtest.h>
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 
 #include <cmath>
 #include <fstream>
@@ -149,6 +150,7 @@ struct FailingInput {
     std::string hint_value;
     std::string hinted_name;
     std::string expect;
+    std::string hinted_expect;  // where the hint words it otherwise
 };
 
 std::vector<FailingInput> failing_inputs(const fs::path& dir) {
@@ -159,13 +161,15 @@ std::vector<FailingInput> failing_inputs(const fs::path& dir) {
     tagged.specmod().attribute("wavecam.pinhole", "0.2");  // a bad unit in the source's own metadata
     tagged.write((dir / "tagged.exr").string());
     return {
-        {"missing fov", "nofov.exr.wavecam", "wavelengths", "3", "nofov.exr.wavecam", "nofov.exr: no field of view"},
+        // the plugin's words for a setting: a hint or ?KEY= in the name, never a command-line flag
+        {"missing fov", "nofov.exr.wavecam", "wavelengths", "3", "nofov.exr.wavecam",
+         "give it with --iconfig wavecam:fov 50deg or ?fov=50deg in the name", ""},
         {"bad unit in the name", "shot.exr.wavecam?pinhole=0.2", "pinhole", "0.2", "shot.exr.wavecam",
-         "shot.exr: pinhole: expected a length"},
+         "shot.exr: ?pinhole= in the name: expected a length", "shot.exr: --iconfig wavecam:pinhole: expected a length"},
         {"bad unit in the source's metadata", "tagged.exr.wavecam", "wavelengths", "3", "tagged.exr.wavecam",
-         "tagged.exr: pinhole: expected a length"},
+         "tagged.exr: wavecam.pinhole: expected a length", ""},
         {"missing source", "missing.exr.wavecam", "wavelengths", "3", "missing.exr.wavecam",
-         "missing.exr: no such file"},
+         "missing.exr: no such file", ""},
     };
 }
 }  // namespace
@@ -177,12 +181,14 @@ TEST(Plugin, EveryFailureReachesOiiotoolWithThePluginsMessage) {
             const std::string name = (dir / (hinted ? c.hinted_name : c.name)).string();
             const std::string hints = hinted ? " --iconfig wavecam:" + c.hint_key + " " + c.hint_value + " " : " ";
             const auto r = run_command(kEnv + "oiiotool" + hints + "'" + name + "' -o " + (dir / "o.exr").string());
+            const std::string& expect = hinted && !c.hinted_expect.empty() ? c.hinted_expect : c.expect;
             EXPECT_NE(r.status, 0) << c.what;
-            EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.what << (hinted ? " (hinted)" : "") << ": " << r.output;
+            EXPECT_NE(r.output.find(expect), std::string::npos) << c.what << (hinted ? " (hinted)" : "") << ": " << r.output;
+            EXPECT_EQ(r.output.find("--fov"), std::string::npos) << r.output;
             EXPECT_FALSE(fs::exists(dir / "o.exr")) << c.what;
             // said once: oiiotool's own line, or ours where oiiotool drops it, never both
-            const size_t first = r.output.find(c.expect);
-            EXPECT_EQ(r.output.find(c.expect, first + 1), std::string::npos) << r.output;
+            const size_t first = r.output.find(expect);
+            EXPECT_EQ(r.output.find(expect, first + 1), std::string::npos) << r.output;
         }
     }
     fs::remove_all(dir);
@@ -222,9 +228,149 @@ TEST(Plugin, EveryFailureReachesPythonWithThePluginsMessage) {
     while (std::getline(lines, line)) {
         ASSERT_LT(k / 4, cases.size()) << r.output;
         EXPECT_NE(line.find(" FAILED "), std::string::npos) << line;
-        EXPECT_NE(line.find(cases[k / 4].expect), std::string::npos) << cases[k / 4].what << ": " << line;
+        const FailingInput& c = cases[k / 4];
+        const bool hinted = k % 4 >= 2;
+        const std::string& expect = hinted && !c.hinted_expect.empty() ? c.hinted_expect : c.expect;
+        EXPECT_NE(line.find(expect), std::string::npos) << c.what << ": " << line;
         ++k;
     }
     EXPECT_EQ(k, 4 * cases.size()) << r.output;
+    fs::remove_all(dir);
+}
+
+// One order for both fronts (README "Settings: one order"): the source's wavecam.KEY metadata
+// over the defaults, a description file over the metadata, the user's flags or hints over both.
+// The same file through `wavecam apply` and through oiiotool is the same image: bit for bit for
+// the exact method (tolerance 0); the fast method to the float rounding the first test explains.
+namespace {
+OIIO::ImageBuf read_float(const fs::path& p) {
+    OIIO::ImageBuf b(p.string());
+    EXPECT_TRUE(b.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << p << ": " << b.geterror();
+    return b;
+}
+
+void write_tagged(const fs::path& path, const std::string& method) {
+    write_render(path.string(), 10, 8, 3.0f, 35.0f);
+    OIIO::ImageBuf b = read_float(path);
+    OIIO::ImageSpec& spec = b.specmod();
+    spec.attribute("wavecam.pinhole", "0.2mm");
+    spec.attribute("wavecam.film-distance", "20mm");
+    spec.attribute("wavecam.wavelengths", "3");
+    spec.attribute("wavecam.runs", 1);  // ints, as wavecam writes them
+    spec.attribute("wavecam.film-subsamples", 1);
+    spec.attribute("wavecam.seed", "7");
+    spec.attribute("wavecam.method", method);
+    ASSERT_TRUE(b.write(path.string()));
+}
+}  // namespace
+
+TEST(Plugin, OneFileGivesOneImageThroughTheCommandAndThePlugin) {
+    const fs::path dir = scratch("plugin_one_order");
+    for (const std::string method : {"exact", "fast"}) {
+        const fs::path in = dir / (method + ".exr");
+        write_tagged(in, method);
+        const auto cli = run_command(std::string(WAVECAM_BINARY) + " apply " + in.string() + " -o " +
+                                     (dir / "cli.exr").string());
+        ASSERT_EQ(cli.status, 0) << cli.output;
+        const auto oiio = run_command(kEnv + "oiiotool " + in.string() + ".wavecam -o " + (dir / "oiio.exr").string());
+        ASSERT_EQ(oiio.status, 0) << oiio.output;
+        const OIIO::ImageBuf a = read_float(dir / "cli.exr"), b = read_float(dir / "oiio.exr");
+        for (const OIIO::ImageBuf* out : {&a, &b}) {  // the metadata was read, by both
+            EXPECT_EQ(out->spec().get_string_attribute("wavecam.pinhole"), "0.2mm");
+            EXPECT_EQ(out->spec().get_string_attribute("wavecam.film-distance"), "20mm");
+            EXPECT_EQ(out->spec().get_string_attribute("wavecam.wavelengths"), "450nm,550nm,650nm");
+            EXPECT_EQ(out->spec().get_string_attribute("wavecam.method"), method);
+        }
+        const float tolerance = method == "exact" ? 0.0f : 1e-5f;
+        const auto cmp = OIIO::ImageBufAlgo::compare(a, b, tolerance, tolerance);
+        EXPECT_FALSE(cmp.error) << method;
+        EXPECT_EQ(cmp.nfail, 0u) << method << ": max error " << cmp.maxerror;
+        EXPECT_EQ(cmp.nwarn, 0u) << method;
+        EXPECT_LE(cmp.maxerror, tolerance) << method;
+    }
+    // the user's flag or hint over the metadata, and over a description file, which is over the metadata
+    const fs::path in = dir / "exact.exr";
+    std::ofstream(dir / "shot.wavecam") << "source = \"exact.exr\"\npinhole = \"0.3mm\"\n";
+    struct Case {
+        std::string command, pinhole;
+    } cases[] = {
+        {std::string(WAVECAM_BINARY) + " apply " + in.string() + " -o " + (dir / "o.exr").string() + " --pinhole 0.25mm",
+         "0.25mm"},
+        {kEnv + "oiiotool --iconfig wavecam:pinhole 0.25mm " + in.string() + ".wavecam -o " + (dir / "o.exr").string(),
+         "0.25mm"},
+        {kEnv + "oiiotool " + (dir / "shot.wavecam").string() + " -o " + (dir / "o.exr").string(), "0.3mm"},
+        {kEnv + "oiiotool --iconfig wavecam:pinhole 0.25mm " + (dir / "shot.wavecam").string() + " -o " +
+             (dir / "o.exr").string(),
+         "0.25mm"},
+    };
+    for (const Case& c : cases) {
+        const auto r = run_command(c.command);
+        ASSERT_EQ(r.status, 0) << c.command << ": " << r.output;
+        const OIIO::ImageBuf out = read_float(dir / "o.exr");
+        EXPECT_EQ(out.spec().get_string_attribute("wavecam.pinhole"), c.pinhole) << c.command;
+        EXPECT_EQ(out.spec().get_string_attribute("wavecam.film-distance"), "20mm") << c.command;  // the metadata's
+        fs::remove(dir / "o.exr");
+    }
+    fs::remove_all(dir);
+}
+
+// Core reports the setting a failure is about; each front words it: flags for the command,
+// hints and ?KEY= for the plugin (the plugin's wording: EveryFailureReaches... above).
+TEST(Plugin, TheCommandWordsMissingAndBadSettingsAsFlags) {
+    const fs::path dir = scratch("plugin_command_words");
+    write_render((dir / "nofov.exr").string(), 6, 6, 3.0f, 0.0f);
+    write_render((dir / "shot.exr").string(), 6, 6, 3.0f, 35.0f);
+    OIIO::ImageBuf tagged = read_float(dir / "shot.exr");
+    tagged.specmod().attribute("wavecam.pinhole", "0.2");
+    ASSERT_TRUE(tagged.write((dir / "tagged.exr").string()));
+    struct Case {
+        std::string input, flags, expect;
+    } cases[] = {
+        {"nofov.exr", "", "nofov.exr: no field of view: the file has no 'wavecam.fov' attribute, and no fov setting "
+                          "was given; give it with --fov 50deg"},
+        {"shot.exr", "--pinhole 0.2", "--pinhole: expected a length with a unit"},
+        {"tagged.exr", "", "tagged.exr: wavecam.pinhole: expected a length with a unit"},
+    };
+    for (const Case& c : cases) {
+        const auto r = run_command(std::string(WAVECAM_BINARY) + " apply " + (dir / c.input).string() + " -o " +
+                                   (dir / "o.exr").string() + " --wavelengths 3 " + c.flags);
+        EXPECT_NE(r.status, 0) << c.input;
+        EXPECT_NE(r.output.find(c.expect), std::string::npos) << r.output;
+        EXPECT_EQ(r.output.find("wavecam:"), std::string::npos) << r.output;
+        EXPECT_FALSE(fs::exists(dir / "o.exr"));
+    }
+    fs::remove_all(dir);
+}
+
+// An output read back as an input: its wavecam.* header names the same keys the metadata reader
+// reads, so a second run with no settings uses the first run's, through either front, and
+// reads the output's own colour space and frame (no overscan left to crop).
+TEST(Plugin, AnOutputReadBackAsInputKeepsItsSettings) {
+    const fs::path dir = scratch("plugin_round_trip");
+    write_render((dir / "in.exr").string(), 14, 12, 3.0f, 35.0f);
+    auto r = run_command(std::string(WAVECAM_BINARY) + " apply " + (dir / "in.exr").string() + " -o " +
+                         (dir / "first.exr").string() +
+                         " --pinhole 0.2mm --film-distance 20mm --wavelengths 3 --method exact --runs 2 --seed 5"
+                         " --aperture polygon:6:30deg --no-vignetting --output-colorspace ACEScg --overscan 1 --film-subsamples 1");
+    ASSERT_EQ(r.status, 0) << r.output;
+    r = run_command(std::string(WAVECAM_BINARY) + " apply " + (dir / "first.exr").string() + " -o " +
+                    (dir / "again.exr").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    r = run_command(kEnv + "oiiotool " + (dir / "first.exr").string() + ".wavecam -o " + (dir / "plugin.exr").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    const OIIO::ImageBuf first = read_float(dir / "first.exr"), again = read_float(dir / "again.exr"),
+                         plugin = read_float(dir / "plugin.exr");
+    for (const char* key : {"pinhole", "aperture", "film-distance", "wavelengths", "method", "runs", "seed", "jitter",
+                            "vignetting", "depth", "output-colorspace", "fov", "film-subsamples"}) {
+        const std::string name = std::string("wavecam.") + key;
+        ASSERT_NE(first.spec().find_attribute(name), nullptr) << name;
+        for (const OIIO::ImageBuf* out : {&again, &plugin})
+            EXPECT_EQ(out->spec().get_string_attribute(name), first.spec().get_string_attribute(name)) << name;
+    }
+    EXPECT_EQ(first.spec().width, 12);  // the overscan was cropped once, not again
+    EXPECT_EQ(again.spec().width, 12);
+    EXPECT_EQ(again.spec().get_string_attribute("wavecam.input-colorspace"), "ACEScg");
+    const auto cmp = OIIO::ImageBufAlgo::compare(again, plugin, 0.0f, 0.0f);
+    EXPECT_EQ(cmp.nfail, 0u) << cmp.maxerror;
     fs::remove_all(dir);
 }

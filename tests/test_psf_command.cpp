@@ -49,7 +49,7 @@ TEST(PsfCommand, WritesRelativeIrradianceWithParametersInTheHeader) {
     EXPECT_EQ(spec.format, OIIO::TypeDesc::FLOAT);
     EXPECT_EQ(spec.get_string_attribute("wavecam.pinhole"), "0.04mm");
     EXPECT_EQ(spec.get_string_attribute("wavecam.wavelength"), "500nm");
-    EXPECT_EQ(spec.get_string_attribute("wavecam.source_distance"), "inf");
+    EXPECT_EQ(spec.get_string_attribute("wavecam.source-distance"), "inf");
     // centre pixel: 4 sin^2(pi N / 2), N = a^2 / (lambda f) = 0.08 (independent of the command)
     const double n = std::pow(20e-6, 2) / (500e-9 * 10e-3);
     float centre = 0;
@@ -72,7 +72,7 @@ TEST(PsfCommand, ZonePlateStatesItsFocus) {
     OIIO::ImageBuf buf(exr.string());
     ASSERT_TRUE(buf.read()) << buf.geterror();
     EXPECT_EQ(buf.spec().get_string_attribute("wavecam.aperture"), "zoneplate:4");
-    EXPECT_EQ(buf.spec().get_string_attribute("wavecam.zoneplate_focus"), "5mm");
+    EXPECT_EQ(buf.spec().get_string_attribute("wavecam.zoneplate-focus"), "5mm");
     float centre = 0;
     buf.getpixel(2, 2, &centre, 1);
     EXPECT_GT(centre, 10);  // two open zones in phase: about (2 x 2)^2 = 16
@@ -91,7 +91,7 @@ TEST(PsfCommand, PhotonSieveStatesItsFocus) {
     OIIO::ImageBuf buf(exr.string());
     ASSERT_TRUE(buf.read()) << buf.geterror();
     EXPECT_EQ(buf.spec().get_string_attribute("wavecam.aperture"), "sieve:4:1.5x:50%:1");
-    EXPECT_EQ(buf.spec().get_string_attribute("wavecam.zoneplate_focus"), "5mm");
+    EXPECT_EQ(buf.spec().get_string_attribute("wavecam.zoneplate-focus"), "5mm");
     float centre = 0;
     buf.getpixel(2, 2, &centre, 1);
     EXPECT_GT(centre, 6);

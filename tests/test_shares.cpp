@@ -177,12 +177,13 @@ TEST(Shares, PartFlagErrorsAndACompletePartIsKept) {
     auto many = f.part(1, 24 * 16 * 6 + 1, "x.exr");
     EXPECT_NE(many.output.find("more than the job's 6 units x 16 film rows"), std::string::npos) << many.output;
     auto fast = run_command(kWavecam + " apply " + f.input + " -o " + f.path("x.exr") + " --part 1/2 --fov 30deg");
-    EXPECT_NE(fast.output.find("use --method exact"), std::string::npos) << fast.output;
+    EXPECT_NE(fast.output.find("expected method exact or incoherent (--method)"), std::string::npos) << fast.output;
     EXPECT_FALSE(fs::exists(f.path("x.exr")));
     // the share's own terms are bounded, and the message describes the job
     auto big = f.part(1, 2, "x.exr", " --max-terms 1e6");
     EXPECT_NE(big.output.find("share 1/2 of 24x16 pixels x 3 wavelengths x 2 runs"), std::string::npos) << big.output;
-    EXPECT_NE(big.output.find("beyond --max-terms 1e+06"), std::string::npos) << big.output;
+    EXPECT_NE(big.output.find("beyond the max-terms limit of 1e+06"), std::string::npos) << big.output;
+    EXPECT_NE(big.output.find("raise --max-terms"), std::string::npos) << big.output;
     // a re-run task keeps a complete part of the same job (a killed task is simply re-run)
     ASSERT_EQ(f.part(1, 2, "p1.exr").status, 0);
     const auto written = fs::last_write_time(f.path("p1.exr"));
@@ -233,7 +234,7 @@ TEST(Shares, EstimateCountsMonochromeLightThreeTimes) {
     camera.film_distance = 20e-3;
     const std::vector<float> depth(24 * 16, 2.0f);
     wavecam::DiffractOptions opt;
-    opt.method = wavecam::DiffractMethod::Exact;
+    opt.method = wavecam::DiffractMethod::RandomPhase;
     opt.colorconfig = std::string(WAVECAM_SOURCE_DIR) + "/ocio_configs/wavecam.ocio";
     opt.film_distance = 20e-3;
     opt.pinhole = 0.1e-3;

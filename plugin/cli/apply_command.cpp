@@ -58,12 +58,35 @@ front::Settings recorded_settings(const front::Settings& given, bool no_vignetti
     return settings;
 }
 
+Result<ResolvedInput> read_and_resolve(const std::string& input, const front::Settings& given) {
+    auto image = read_image(input);
+    if (!image.ok()) return Result<ResolvedInput>::failure(image);
+    ResolvedInput r{std::move(image.value), {}};
+    front::SettingSources sources;
+    sources.given = given;
+    sources.given_name = [](const std::string& key) { return "--" + key; };
+    auto settings = front::resolve_settings(r.image.spec(), sources);
+    if (!settings.ok()) return Result<ResolvedInput>::failure(input + ": " + settings.error);
+    r.settings = std::move(settings.value);
+    return Result<ResolvedInput>::success(std::move(r));
+}
+
 namespace {
+
+front::Settings given_settings(const ApplyFlags& flags) {
+    front::Settings settings = flags.given;
+    if (flags.no_vignetting) settings["vignetting"] = "false";
+    if (flags.no_jitter) settings["jitter"] = "false";
+    return settings;
+}
+
+int fail_with(const Result<bool>& r) {
+    return fail(front::word_failure(r, front::Front::Command), r.kind == ErrorKind::Cancelled || interrupted() ? 130 : 1);
+}
 
 // One share of an exact job (--part K/N): a part file for `wavecam merge`. A part already there
 // for the same job and share is kept, so a re-run array task finishes at once.
-int run_share(const ApplyFlags& flags, const DiffractOptions& opt, const std::string& input,
-              const std::string& output) {
+int run_share(const ApplyFlags& flags, const std::string& input, const std::string& output) {
     auto k = parse_share(flags.part);
     if (!k.ok()) return fail(k.error, 2);
     const std::string input_path = std::filesystem::absolute(input).lexically_normal().string();
@@ -77,13 +100,18 @@ int run_share(const ApplyFlags& flags, const DiffractOptions& opt, const std::st
             return 0;
         }
     }
-    auto src = read_image(input);
-    if (!src.ok()) return fail(src.error);
-    DiffractOptions o = opt;
+    auto in = read_and_resolve(input, given_settings(flags));
+    if (!in.ok()) return fail(in.error, 2);
+    DiffractOptions o = in.value.settings.options;
+    o.on_estimate = [threads = flags.threads](const std::string& job, double terms) {
+        print_estimate("apply", job, terms, threads);
+    };
     o.progress = terminal_progress("apply share " + flags.part);
     OIIO::ImageBuf part;
-    if (!diffract_share(part, src.value, input_path, o, settings, k.value.index, k.value.count, flags.threads))
-        return fail(part.geterror(), interrupted() ? 130 : 1);
+    if (auto r = diffract_share(part, in.value.image, input_path, o, settings, k.value.index, k.value.count,
+                                flags.threads);
+        !r.ok())
+        return fail_with(r);
     finish_progress();
     if (auto w = write_image_atomically(part, output, OIIO::TypeDesc::FLOAT); !w.ok()) return fail(w.error);
     std::printf("share %s (%s)\nwrote %s\n", flags.part.c_str(),
@@ -91,20 +119,31 @@ int run_share(const ApplyFlags& flags, const DiffractOptions& opt, const std::st
     return 0;
 }
 
-// One frame: read, diffract, write (and the pictures for people).
-int run_frame(const ApplyFlags& flags, DiffractPlan& plan, const std::string& input,
-              const std::string& output, const std::string& compare, const std::string& png) {
+// One frame: read, resolve its settings, diffract, write (and the pictures for people). `plan`
+// is kept for the next frame while the settings stay the same (a sequence pays for one PSF table).
+int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, front::Settings& plan_settings,
+              const ProgressFn& progress, const std::string& input, const std::string& output,
+              const std::string& compare, const std::string& png) {
     namespace fs = std::filesystem;
     std::error_code ec;
     if (fs::exists(output) && fs::equivalent(input, output, ec))
         return fail(output + ": the output would overwrite the input; choose another -o", 2);
-    if (!flags.part.empty()) return run_share(flags, plan.options(), input, output);
-    auto read = read_image(input);
-    if (!read.ok()) return fail(read.error);
-    const OIIO::ImageBuf& src = read.value;
+    if (!flags.part.empty()) return run_share(flags, input, output);
+    auto in = read_and_resolve(input, given_settings(flags));
+    if (!in.ok()) return fail(in.error, 2);
+    const OIIO::ImageBuf& src = in.value.image;
+    if (!plan || plan_settings != in.value.settings.text) {
+        DiffractOptions o = in.value.settings.options;
+        o.progress = progress;
+        o.on_estimate = [threads = flags.threads](const std::string& job, double terms) {
+            print_estimate("apply", job, terms, threads);
+        };
+        plan = std::make_unique<DiffractPlan>(std::move(o));
+        plan_settings = in.value.settings.text;
+    }
     OIIO::ImageBuf dst;
-    if (!plan.diffract(dst, src, input, flags.threads)) return fail(dst.geterror(), interrupted() ? 130 : 1);
-    const DiffractOptions& opt = plan.options();
+    if (auto r = plan->diffract(dst, src, input, flags.threads); !r.ok()) return fail_with(r);
+    const DiffractOptions& opt = plan->options();
     finish_progress();
     // the job this image is (input bytes and settings): `wavecam farm` skips frames already made
     if (auto fingerprint = file_fingerprint(input); fingerprint.ok())
@@ -140,23 +179,14 @@ Result<std::vector<std::string>> frame_files(const std::string& pattern, const s
 namespace {
 
 int run(const ApplyFlags& flags) {
-    front::Settings settings = flags.given;
-    if (flags.no_vignetting) settings["vignetting"] = "false";
-    if (flags.no_jitter) settings["jitter"] = "false";
-    auto options = front::options_from_settings(settings);
-    if (!options.ok()) return fail("--" + options.error, 2);
-    DiffractOptions opt = options.value;
     if (const std::string bad = unsupported_output(flags); !bad.empty()) return fail(bad, 2);
     if (!flags.part.empty() && (!flags.compare.empty() || !flags.png.empty()))
         return fail("--part writes a part file for `wavecam merge`; give --compare and --png to the merge instead", 2);
-    opt.on_estimate = [threads = flags.threads](const std::string& job, double terms) {
-        print_estimate("apply", job, terms, threads);
-    };
-    if (flags.frames.empty()) {
-        opt.progress = terminal_progress("apply");
-        DiffractPlan plan(opt);
-        return run_frame(flags, plan, flags.input, flags.output, flags.compare, flags.png);
-    }
+    std::unique_ptr<DiffractPlan> plan;
+    front::Settings plan_settings;
+    if (flags.frames.empty())
+        return run_frame(flags, plan, plan_settings, terminal_progress("apply"), flags.input, flags.output,
+                         flags.compare, flags.png);
 
     std::vector<int> frames;
     if (!OIIO::Filesystem::enumerate_sequence(flags.frames, frames) || frames.empty())
@@ -173,13 +203,14 @@ int run(const ApplyFlags& flags) {
         if (!files.ok()) return fail(files.error, 2);
         lists[k] = files.value;
     }
-    // one plan for the sequence: the PSF table is built for the first frame and reused
+    // one plan while the frames' settings agree: the PSF table is built once and reused
     auto bar = std::make_shared<ProgressFn>();
-    opt.progress = [bar](double f) { return (*bar)(f); };
-    DiffractPlan plan(opt);
+    const ProgressFn progress = [bar](double f) { return (*bar)(f); };
     for (size_t f = 0; f < frames.size(); ++f) {
         *bar = terminal_progress("apply frame " + std::to_string(frames[f]));
-        if (const int status = run_frame(flags, plan, lists[0][f], lists[1][f], lists[2][f], lists[3][f]); status != 0)
+        if (const int status = run_frame(flags, plan, plan_settings, progress, lists[0][f], lists[1][f], lists[2][f],
+                                         lists[3][f]);
+            status != 0)
             return status;
     }
     return 0;
@@ -194,14 +225,15 @@ void add_apply_command(CLI::App& app, int& status) {
     cmd->add_option("-o,--output", f->output,
                     "Output: .exr (float RGB, the input's alpha and depth, its channel names) or a display-referred "
                     ".png/.jpg (8-bit) or .tif (16-bit), RGB through the sRGB display's Standard view")->required();
-    for (const auto& [key, help] : front::setting_keys()) {
+    for (const front::SettingKey& k : front::setting_keys()) {
+        const std::string& key = k.key;
         if (key == "jitter" || key == "vignetting") continue;  // flags below
         if (key == "monochrome") {
-            cmd->add_flag_callback("--monochrome", [f] { f->given["monochrome"] = "true"; }, help);
+            cmd->add_flag_callback("--monochrome", [f] { f->given["monochrome"] = "true"; }, k.help);
             continue;
         }
-        cmd->add_option_function<std::string>("--" + key, [f, key = key](const std::string& v) { f->given[key] = v; },
-                                              help)
+        cmd->add_option_function<std::string>("--" + key, [f, key](const std::string& v) { f->given[key] = v; },
+                                              k.help)
             ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     }
     cmd->add_flag("--no-jitter", f->no_jitter, "Keep each source at its pixel centre");

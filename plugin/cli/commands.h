@@ -2,6 +2,7 @@
 // leaves its exit status in `status`.
 #pragma once
 #include <CLI/CLI.hpp>
+#include <OpenImageIO/imagebuf.h>
 
 #include <string>
 #include <vector>
@@ -24,5 +25,13 @@ Result<std::vector<std::string>> frame_files(const std::string& pattern, const s
 // The settings a part file records for its merge: every result-changing key as given (flags
 // --no-vignetting, --no-jitter as their keys; not the bounds --max-terms, --max-memory).
 front::Settings recorded_settings(const front::Settings& given, bool no_vignetting, bool no_jitter);
+
+// A render read, and its settings resolved in the one order (front/settings.h): the source's
+// wavecam.KEY metadata under `given`, the command's flags. Errors name the file.
+struct ResolvedInput {
+    OIIO::ImageBuf image;
+    front::ResolvedSettings settings;
+};
+Result<ResolvedInput> read_and_resolve(const std::string& input, const front::Settings& given);
 
 }  // namespace wavecam::cli

@@ -297,10 +297,9 @@ std::string apply_arguments(const FarmFlags& flags) {
 
 int submit(const FarmFlags& flags) {
     if (flags.tasks < 1) return fail("--tasks: expected at least 1 share per frame", 2);
-    auto options = front::options_from_settings(flags.given);
-    if (!options.ok()) return fail("--" + options.error, 2);
-    const DiffractOptions opt = options.value;
-    const bool fast = opt.method == DiffractMethod::Fast;
+    front::Settings given = flags.given;
+    if (flags.no_vignetting) given["vignetting"] = "false";
+    if (flags.no_jitter) given["jitter"] = "false";
     const front::Settings settings = recorded_settings(flags.given, flags.no_vignetting, flags.no_jitter);
 
     // The frames: one image, or a range of patterns.
@@ -323,15 +322,18 @@ int submit(const FarmFlags& flags) {
         }
     }
 
-    if (fast) return submit_fast(flags, settings, frames);
-
-    // The estimate, before anything is submitted.
+    // The estimate, before anything is submitted: each frame's settings resolved as its task will.
     double total = 0;
     for (auto& f : frames) {
-        auto image = read_image(f.input);
-        if (!image.ok()) return fail(image.error);
-        auto render = load_render(image.value, f.input, opt.read);
-        if (!render.ok()) return fail(render.error);
+        auto in = read_and_resolve(f.input, given);
+        if (!in.ok()) return fail(in.error, 2);
+        const DiffractOptions& opt = in.value.settings.options;
+        if (opt.method == DiffractMethod::Fast) {
+            if (&f != &frames.front()) return fail(f.input + ": method fast, unlike the first frame's", 2);
+            return submit_fast(flags, settings, frames);
+        }
+        auto render = load_render(in.value.image, f.input, opt.read);
+        if (!render.ok()) return fail(front::word_failure(Result<bool>::failure(render), front::Front::Command));
         const PinholeCamera camera = render.value.camera(opt.film_distance);
         const double terms = estimate_terms(opt, camera, render.value.depth, opt.depth_meaning, render.value.colorspace);
         const int wavelengths = opt.wavelengths.empty() ? opt.wavelength_count : int(opt.wavelengths.size());
@@ -458,10 +460,11 @@ void add_farm_command(CLI::App& app, int& status) {
     CLI::App* cmd = farm->add_subcommand("submit", "Submit the job array and the merge jobs (sbatch on PATH)");
     cmd->add_option("input", f->input, "Input EXR (or a pattern with --frames)")->required();
     cmd->add_option("-o,--output", f->output, "Output EXR (or a pattern with --frames)")->required();
-    for (const auto& [key, help] : front::setting_keys()) {
+    for (const front::SettingKey& k : front::setting_keys()) {
+        const std::string& key = k.key;
         if (key == "jitter" || key == "vignetting") continue;
-        cmd->add_option_function<std::string>("--" + key, [f, key = key](const std::string& v) { f->given[key] = v; },
-                                              help)
+        cmd->add_option_function<std::string>("--" + key, [f, key](const std::string& v) { f->given[key] = v; },
+                                              k.help)
             ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     }
     cmd->add_flag("--no-jitter", f->no_jitter, "Keep each source at its pixel centre");

@@ -79,16 +79,16 @@ int run(const MergeFlags& flags) {
     if (fingerprint.value != first.input_fingerprint)
         return refuse({first.input + ": changed since the shares were computed (fingerprint " + fingerprint.value +
                        ", the shares' " + first.input_fingerprint + ")"});
-    auto options = front::options_from_settings(first.settings);
-    if (!options.ok()) return refuse({first.path + ": setting " + options.error});
-    DiffractOptions opt = options.value;
+    // the shares' settings resolved over the input's metadata, as `apply --part` resolved them
+    auto in = read_and_resolve(first.input, first.settings);
+    if (!in.ok()) return refuse({first.path + ": " + in.error});
+    const OIIO::ImageBuf& src = in.value.image;
+    DiffractOptions opt = in.value.settings.options;
     opt.max_terms = INFINITY;  // nothing is propagated: the shares hold the sums
     opt.exact_propagator = stored_units(parts);
-    auto read = read_image(first.input);
-    if (!read.ok()) return refuse({read.error});
-    const OIIO::ImageBuf& src = read.value;
     OIIO::ImageBuf dst;
-    if (!diffract(dst, src, first.input, opt)) return refuse({dst.geterror()});
+    if (auto r = DiffractPlan(opt).diffract(dst, src, first.input); !r.ok())
+        return refuse({front::word_failure(r, front::Front::Command)});
     dst.specmod().attribute("wavecam.job", first.job);  // the job the shares belong to (farm status)
     if (auto w = write_image_atomically(dst, flags.output, OIIO::TypeDesc::FLOAT); !w.ok()) return refuse({w.error});
     if (!flags.compare.empty())

@@ -77,19 +77,19 @@ OIIO::ImageBuf to_imagebuf(const PsfImage& img, const PsfParams& p) {
     spec.attribute("wavecam.quantity", "relative irradiance (1 = unobstructed irradiance at the film centre)");
     spec.attribute("wavecam.aperture", p.aperture.name());
     if (has_zone_focus(p.aperture))
-        spec.attribute("wavecam.zoneplate_focus", with_unit(zone_plate_focus(p.aperture, p.wavelength), 1e-3, "mm"));
+        spec.attribute("wavecam.zoneplate-focus", with_unit(zone_plate_focus(p.aperture, p.wavelength), 1e-3, "mm"));
     spec.attribute("wavecam.pinhole", given.pinhole);
-    spec.attribute("wavecam.film_distance", given.film_distance);
-    spec.attribute("wavecam.source_distance", given.source_distance);
-    spec.attribute("wavecam.source_angle", given.source_angle);
+    spec.attribute("wavecam.film-distance", given.film_distance);
+    spec.attribute("wavecam.source-distance", given.source_distance);
+    spec.attribute("wavecam.source-angle", given.source_angle);
     spec.attribute("wavecam.wavelength", given.wavelength);
-    spec.attribute("wavecam.film_size", given.film_size);
-    spec.attribute("wavecam.pixel_pitch", with_unit(img.pixel_pitch, 1e-6, "um"));
-    spec.attribute("wavecam.film_centre",
+    spec.attribute("wavecam.film-size", given.film_size);
+    spec.attribute("wavecam.pixel-pitch", with_unit(img.pixel_pitch, 1e-6, "um"));
+    spec.attribute("wavecam.film-centre",
                    with_unit(img.centre_x, 1e-3, "mm") + " " + with_unit(img.centre_y, 1e-3, "mm"));
-    spec.attribute("wavecam.sample_pitch", with_unit(img.sample_pitch, 1e-9, "nm"));
-    spec.attribute("wavecam.sample_count", static_cast<int>(img.sample_count));
-    spec.attribute("wavecam.fresnel_number", static_cast<float>(img.fresnel_number));
+    spec.attribute("wavecam.sample-pitch", with_unit(img.sample_pitch, 1e-9, "nm"));
+    spec.attribute("wavecam.sample-count", static_cast<int>(img.sample_count));
+    spec.attribute("wavecam.fresnel-number", static_cast<float>(img.fresnel_number));
     spec.attribute("wavecam.orientation", "upright: column grows with scene +x, row 0 at the top");
     OIIO::ImageBuf buf(spec);
     buf.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, img.irradiance.data());

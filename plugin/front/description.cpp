@@ -82,8 +82,6 @@ Result<Description> parse_description(std::string_view text, const std::string& 
             return fail("aperture: mask '" + file + "' escapes the description's folder; expected a path inside it");
         a->second = "mask:" + (folder / file).string();
     }
-    // Check the settings now so the error names this file.
-    if (auto o = options_from_settings(d.settings); !o.ok()) return fail(o.error);
     return Result<Description>::success(std::move(d));
 }
 

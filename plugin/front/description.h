@@ -20,7 +20,8 @@ struct Description {
     Settings settings;
 };
 
-// Reads and checks a description file. Errors name the file and the key.
+// Reads a description file and checks its form and paths; its settings are checked when they
+// are resolved (settings.h), with errors that name this file and the key.
 Result<Description> read_description(const std::string& path);
 
 // The same for a description already in memory; `path` places the source and names errors.

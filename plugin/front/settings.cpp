@@ -1,156 +1,261 @@
 #include "settings.h"
 
-#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include "wavecam/aperture_mask.h"
+#include "wavecam/spectrum.h"
 #include "wavecam/units.h"
 
 namespace wavecam::front {
-
-const std::vector<std::pair<std::string, std::string>>& setting_keys() {
-    static const std::vector<std::pair<std::string, std::string>> keys = {
-        {"pinhole", "pinhole diameter, e.g. 0.25mm (default: the optimum 1.9 sqrt(f lambda) at 550nm)"},
-        {"aperture", "circle, square, polygon:N[:ROTATIONdeg] (vertex on +x at 0deg), mask:FILE (greyscale amplitude transmission, width = pinhole), zoneplate:N (N zones, outer diameter = pinhole) or sieve:N[:Kx][:FILL%][:SEED] (photon sieve: holes K zone widths wide, default 1.5x, covering FILL of each ring, default 50%)"},
-        {"film-distance", "pinhole to film, e.g. 50mm"},
-        {"fov", "the render's horizontal field of view, e.g. 50deg (default: from the file)"},
-        {"depth-channel", "depth channel name (default Z; Blender: ViewLayer.Depth.Z)"},
-        {"depth", "depth meaning: planar (along the view axis) or ray"},
-        {"wavelengths", "a count over 400-700nm (e.g. 16) or a list: 450nm,550nm,650nm"},
-        {"monochrome", "true: every channel diffracted with the same light (the wavelengths' mean PSF), grey in, grey out; "
-                       "automatic for fewer than 3 wavelengths"},
-        {"runs", "random-phase runs averaged; noise falls as 1/sqrt(runs)"},
-        {"method", "fast (PSF-grid convolution, default), random-phase or its old name exact (the seed paper's random-phase sum), or incoherent (the exact incoherent sum)"},
-        {"seed", "random seed: the same seed gives the same image"},
-        {"film-subsamples", "n: each film pixel averages n x n points over its area (0 = enough to resolve the PSF)"},
-        {"jitter", "true: move each source within its pixel every run"},
-        {"vignetting", "true: keep the natural cos^4 fall-off; false divides it out"},
-        {"colorconfig", "OpenColorIO config (default: wavecam's own)"},
-        {"input-colorspace", "colour space of the input (default: from the file, else lin_rec709)"},
-        {"output-colorspace", "colour space of the output (default: the input's)"},
-        {"out-of-gamut", "desaturate (default): a colour the output space cannot hold (a negative channel) is pulled "
-                         "toward the grey of the same luminance until that channel is 0; keep: written as it is"},
-        {"max-terms", "refuse exact-method jobs (or shares) beyond this many terms (default 4e12); the estimate and its time at the measured rate print before work"},
-        {"max-memory", "refuse jobs estimated to need more memory, e.g. 16GiB (the default), 512MiB"},
-        {"overscan", "pixels of margin the render has on every side: light sources, cropped from the output "
-                     "(the fov describes the whole input)"},
-    };
-    return keys;
-}
-
 namespace {
 
-Result<bool> parse_bool(const std::string& key, const std::string& v) {
+using Ok = Result<bool>;
+
+Ok fail(const std::string& name, const std::string& expected, const std::string& text) {
+    return Ok::failure(name + ": expected " + expected + ", got '" + text + "'");
+}
+
+template <class T, class U>
+Ok take(const Result<T>& r, U& dst) {
+    if (!r.ok()) return Ok::failure(r);
+    dst = static_cast<U>(r.value);
+    return Ok::success(true);
+}
+
+Result<bool> parse_bool(const std::string& name, const std::string& v) {
     if (v == "true" || v == "1" || v == "yes" || v == "on") return Result<bool>::success(true);
     if (v == "false" || v == "0" || v == "no" || v == "off") return Result<bool>::success(false);
-    return Result<bool>::failure(key + ": expected true or false, got '" + v + "'");
+    return fail(name, "true or false", v);
 }
 
-Result<bool> parse_choice(const std::string& key, const std::string& v, std::initializer_list<const char*> choices) {
+// A length > 0 (pinhole, film distance).
+Result<double> parse_size(const std::string& name, const std::string& v) {
+    auto l = parse_length(v, name);
+    if (l.ok() && !(l.value > 0)) return Result<double>::failure(fail(name, "a length > 0", v).error);
+    return l;
+}
+
+template <class E>
+Ok parse_choice(const std::string& name, const std::string& v, std::initializer_list<std::pair<const char*, E>> choices,
+                E& dst) {
     std::string list;
-    for (const char* c : choices) {
-        if (v == c) return Result<bool>::success(true);
-        list += (list.empty() ? "'" : ", '") + std::string(c) + "'";
+    for (const auto& [word, value] : choices) {
+        if (v == word) {
+            dst = value;
+            return Ok::success(true);
+        }
+        list += (list.empty() ? "'" : ", '") + std::string(word) + "'";
     }
-    return Result<bool>::failure(key + ": expected one of " + list + ", got '" + v + "'");
+    return fail(name, "one of " + list, v);
 }
 
-// "16" = that many wavelengths over the visible range; "450nm,550nm,650nm" = a list.
-Result<bool> parse_wavelengths(const std::string& text, DiffractOptions& o) {
+// "16" = that many wavelengths over the visible range; "450nm,550nm,650nm" = a list. Checked
+// here as the diffraction will sample them.
+Ok parse_wavelengths(const std::string& text, const std::string& name, DiffractOptions& o) {
+    o.wavelengths.clear();
     if (!text.empty() && text.find_first_not_of("0123456789") == std::string::npos) {
-        auto n = parse_whole_number(text, "wavelengths", 1, 1000);
-        if (!n.ok()) return Result<bool>::failure(n.error);
+        auto n = parse_whole_number(text, name, 1, 1000);
+        if (!n.ok()) return Ok::failure(n);
         o.wavelength_count = static_cast<int>(n.value);
-        return Result<bool>::success(true);
+        return Ok::success(true);
     }
     std::stringstream ss(text);
     std::string item;
     while (std::getline(ss, item, ',')) {
         item.erase(0, item.find_first_not_of(' '));
-        auto l = parse_length(item, "wavelengths");
-        if (!l.ok()) return Result<bool>::failure(l.error);
+        auto l = parse_length(item, name);
+        if (!l.ok()) return Ok::failure(l);
         o.wavelengths.push_back(l.value);
     }
-    if (o.wavelengths.empty()) return Result<bool>::failure("wavelengths: expected a count or a list, got ''");
-    return Result<bool>::success(true);
+    if (o.wavelengths.empty()) return fail(name, "a count or a list", text);
+    if (auto s = explicit_sampling(o.wavelengths); !s.ok())  // "wavelengths: expected ..."
+        return Ok::failure(name + s.error.substr(s.error.find(':')));
+    return Ok::success(true);
+}
+
+const std::vector<SettingKey> kKeys = {
+    {"pinhole", "0.25mm", "pinhole diameter, e.g. 0.25mm (default: the optimum 1.9 sqrt(f lambda) at 550nm)", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) { return take(parse_size(n, v), o.pinhole); }},
+    {"aperture", "polygon:6", "circle, square, polygon:N[:ROTATIONdeg] (vertex on +x at 0deg), mask:FILE (greyscale "
+     "amplitude transmission, width = pinhole), zoneplate:N (N zones, outer diameter = pinhole) or "
+     "sieve:N[:Kx][:FILL%][:SEED] (photon sieve: holes K zone widths wide, default 1.5x, covering FILL of each ring, "
+     "default 50%)", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) { return take(load_aperture(v, n), o.aperture); }},
+    {"film-distance", "50mm", "pinhole to film, e.g. 50mm", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return take(parse_size(n, v), o.film_distance);
+     }},
+    {"fov", "50deg", "the render's horizontal field of view, e.g. 50deg (default: from the file)", false,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         auto a = parse_angle(v, n);
+         if (a.ok() && !(a.value > 0 && a.value < M_PI)) return fail(n, "an angle between 0 and 180deg", v);
+         return take(a, o.read.fov_h);
+     }},
+    {"depth-channel", "ViewLayer.Depth.Z", "depth channel name (default Z; Blender: ViewLayer.Depth.Z)", true,
+     [](const std::string& v, const std::string&, DiffractOptions& o) {
+         o.read.depth_channel = v;
+         return Ok::success(true);
+     }},
+    {"depth", "planar", "depth meaning: planar (along the view axis) or ray", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return parse_choice(n, v, {{"planar", DepthMeaning::Planar}, {"ray", DepthMeaning::Ray}}, o.depth_meaning);
+     }},
+    {"wavelengths", "16", "a count over 400-700nm (e.g. 16) or a list: 450nm,550nm,650nm", true, parse_wavelengths},
+    {"monochrome", "true", "true: every channel diffracted with the same light (the wavelengths' mean PSF), grey in, "
+     "grey out; automatic for fewer than 3 wavelengths", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) { return take(parse_bool(n, v), o.monochrome); }},
+    {"runs", "8", "random-phase runs averaged; noise falls as 1/sqrt(runs)", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return take(parse_whole_number(v, n, 1, 100000), o.diffraction.runs);
+     }},
+    {"method", "exact", "fast (PSF-grid convolution, default), random-phase or its old name exact (the seed paper's "
+     "random-phase sum), or incoherent (the exact incoherent sum)",
+     true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return parse_choice(n, v,
+                             {{"fast", DiffractMethod::Fast}, {"exact", DiffractMethod::RandomPhase},
+                              {"random-phase", DiffractMethod::RandomPhase},
+                              {"incoherent", DiffractMethod::Incoherent}},
+                             o.method);
+     }},
+    {"seed", "7", "random seed: the same seed gives the same image", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return take(parse_whole_number(v, n, 0, 1L << 62), o.diffraction.seed);
+     }},
+    {"film-subsamples", "3", "n: each film pixel averages n x n points over its area (0 = enough to resolve the PSF)",
+     true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return take(parse_whole_number(v, n, 0, 16), o.diffraction.film_subsamples);
+     }},
+    {"jitter", "false", "true: move each source within its pixel every run", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return take(parse_bool(n, v), o.diffraction.jitter);
+     }},
+    {"vignetting", "false", "true: keep the natural cos^4 fall-off; false divides it out", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) { return take(parse_bool(n, v), o.vignetting); }},
+    {"colorconfig", "config.ocio", "OpenColorIO config (default: wavecam's own)", true,
+     [](const std::string& v, const std::string&, DiffractOptions& o) {
+         o.colorconfig = v;
+         return Ok::success(true);
+     }},
+    {"input-colorspace", "ACEScg", "colour space of the input (default: from the file, else lin_rec709)", false,
+     [](const std::string& v, const std::string&, DiffractOptions& o) {
+         o.input_colorspace = v;
+         return Ok::success(true);
+     }},
+    {"output-colorspace", "ACEScg", "colour space of the output (default: the input's)", true,
+     [](const std::string& v, const std::string&, DiffractOptions& o) {
+         o.output_colorspace = v;
+         return Ok::success(true);
+     }},
+    {"out-of-gamut", "keep", "desaturate (default): a colour the output space cannot hold (a negative channel) is "
+     "pulled toward the grey of the same luminance until that channel is 0; keep: written as it is", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         bool desaturate = true;
+         auto c = parse_choice(n, v, {{"desaturate", true}, {"keep", false}}, desaturate);
+         o.desaturate_out_of_gamut = desaturate;
+         return c;
+     }},
+    {"max-terms", "1e14", "refuse exact-method jobs (or shares) beyond this many terms (default 4e12); the estimate "
+     "and its time at the measured rate print before work", false,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         char* end = nullptr;
+         const double t = std::strtod(v.c_str(), &end);
+         if (v.empty() || *end != '\0' || !(t > 0)) return fail(n, "a positive number", v);
+         o.max_terms = t;
+         return Ok::success(true);
+     }},
+    {"max-memory", "32GiB", "refuse jobs estimated to need more memory, e.g. 16GiB (the default), 512MiB", false,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) { return take(parse_bytes(v, n), o.max_memory); }},
+    {"overscan", "32", "pixels of margin the render has on every side: light sources, cropped from the output "
+     "(the fov describes the whole input)", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return take(parse_whole_number(v, n, 0, 100000), o.overscan);
+     }},
+};
+
+const SettingKey* find_key(const std::string& key) {
+    for (const SettingKey& k : kKeys)
+        if (k.key == key) return &k;
+    return nullptr;
+}
+
+// A metadata value as the text a person would type: strings as they are, numbers printed.
+Result<std::string> attribute_text(const OIIO::ParamValue& p) {
+    const OIIO::TypeDesc t = p.type();
+    if (t == OIIO::TypeDesc::STRING) return Result<std::string>::success(p.get_string());
+    if (t.aggregate == OIIO::TypeDesc::SCALAR && t.arraylen == 0 && t.basetype >= OIIO::TypeDesc::UINT8 &&
+        t.basetype <= OIIO::TypeDesc::DOUBLE)
+        return Result<std::string>::success(t.is_floating_point() ? p.get_string() : std::to_string(p.get_int()));
+    return Result<std::string>::failure(p.name().string() + ": expected a string or a number, got a value of type " +
+                                        t.c_str());
 }
 
 }  // namespace
 
-Result<DiffractOptions> options_from_settings(const Settings& settings) {
-    DiffractOptions o;
-    auto fail = [](const std::string& m) { return Result<DiffractOptions>::failure(m); };
-    for (const auto& entry : settings) {
-        const std::string& key = entry.first;  // named, not bound: lambdas below capture it
-        const std::string& value = entry.second;
-        const auto& keys = setting_keys();
-        if (std::none_of(keys.begin(), keys.end(), [&](const auto& k) { return k.first == key; })) {
-            std::string known;
-            for (const auto& k : keys) known += (known.empty() ? "" : ", ") + k.first;
-            return fail(key + ": unknown key (known: " + known + ")");
-        }
-        std::string error;
-        auto take = [&error](const auto& r, auto& dst) {
-            if (!r.ok()) error = r.error;
-            else dst = r.value;
-        };
-        if (key == "pinhole") take(parse_length(value, key), o.pinhole);
-        else if (key == "aperture") take(load_aperture(value, key), o.aperture);
-        else if (key == "film-distance") take(parse_length(value, key), o.film_distance);
-        else if (key == "fov") take(parse_angle(value, key), o.read.fov_h);
-        else if (key == "depth-channel") o.read.depth_channel = value;
-        else if (key == "depth") {
-            auto c = parse_choice(key, value, {"planar", "ray"});
-            if (!c.ok()) error = c.error;
-            o.depth_meaning = value == "ray" ? DepthMeaning::Ray : DepthMeaning::Planar;
-        } else if (key == "wavelengths") {
-            auto w = parse_wavelengths(value, o);
-            if (!w.ok()) error = w.error;
-        } else if (key == "monochrome") take(parse_bool(key, value), o.monochrome);
-        else if (key == "runs") {
-            long n = 0;
-            take(parse_whole_number(value, key, 1, 100000), n);
-            o.diffraction.runs = static_cast<int>(n);
-        } else if (key == "method") {
-            auto c = parse_choice(key, value, {"fast", "exact", "random-phase", "incoherent"});
-            if (!c.ok()) error = c.error;
-            o.method = value == "fast"    ? DiffractMethod::Fast
-                       : value == "exact" || value == "random-phase" ? DiffractMethod::RandomPhase
-                                          : DiffractMethod::Incoherent;
-        } else if (key == "seed") {
-            long n = 0;
-            take(parse_whole_number(value, key, 0, 1L << 62), n);
-            o.diffraction.seed = static_cast<uint64_t>(n);
-        } else if (key == "film-subsamples") {
-            long n = 0;
-            take(parse_whole_number(value, key, 0, 16), n);
-            o.diffraction.film_subsamples = static_cast<int>(n);
-        } else if (key == "jitter") take(parse_bool(key, value), o.diffraction.jitter);
-        else if (key == "vignetting") take(parse_bool(key, value), o.vignetting);
-        else if (key == "colorconfig") o.colorconfig = value;
-        else if (key == "input-colorspace") o.input_colorspace = value;
-        else if (key == "output-colorspace") o.output_colorspace = value;
-        else if (key == "out-of-gamut") {
-            auto c = parse_choice(key, value, {"desaturate", "keep"});
-            if (!c.ok()) error = c.error;
-            o.desaturate_out_of_gamut = value == "desaturate";
-        }
-        else if (key == "max-terms") {
-            char* end = nullptr;
-            o.max_terms = std::strtod(value.c_str(), &end);
-            if (value.empty() || *end != '\0' || !(o.max_terms > 0))
-                error = "max-terms: expected a positive number, got '" + value + "'";
-        }
-        else if (key == "max-memory") take(parse_bytes(value, key), o.max_memory);
-        else if (key == "overscan") {
-            long n = 0;
-            take(parse_whole_number(value, key, 0, 100000), n);
-            o.overscan = static_cast<int>(n);
-        }
-        if (!error.empty()) return fail(error);
+const std::vector<SettingKey>& setting_keys() { return kKeys; }
+
+Result<ResolvedSettings> resolve_settings(const OIIO::ImageSpec& source, const SettingSources& sources) {
+    using R = Result<ResolvedSettings>;
+    struct Given {
+        std::string text, name;
+    };
+    std::map<std::string, Given> layers;  // each key from the highest layer that gives it
+    for (const OIIO::ParamValue& p : source.extra_attribs) {
+        const std::string attribute = p.name().string();
+        if (attribute.rfind("wavecam.", 0) != 0) continue;
+        const SettingKey* k = find_key(attribute.substr(8));
+        if (!k || !k->from_source) continue;
+        auto text = attribute_text(p);
+        if (!text.ok()) return R::failure(text);
+        layers[k->key] = {text.value, attribute};
     }
-    return Result<DiffractOptions>::success(o);
+    // A file wavecam wrote holds pixels in the space it names as its output-colorspace (OpenEXR
+    // keeps no oiio:ColorSpace): read back, that is its input's.
+    if (auto written = layers.find("output-colorspace"); written != layers.end())
+        layers["input-colorspace"] = {written->second.text, "wavecam.output-colorspace"};
+    for (const auto& [key, text] : sources.description)
+        layers[key] = {text, sources.description_path + ": " + key};
+    for (const auto& [key, text] : sources.given) layers[key] = {text, sources.given_name(key)};
+
+    ResolvedSettings r;
+    for (const auto& [key, given] : layers) {
+        const SettingKey* k = find_key(key);
+        if (!k) {
+            std::string known;
+            for (const SettingKey& s : kKeys) known += (known.empty() ? "" : ", ") + s.key;
+            return R::failure(given.name + ": unknown key (known: " + known + ")");
+        }
+        if (auto a = k->apply(given.text, given.name, r.options); !a.ok()) return R::failure(a);
+        r.text[key] = given.text;
+    }
+    if (auto fov = layers.find("fov"); fov != layers.end())
+        r.options.read.fov_from = sources.description.count("fov") && !sources.given.count("fov")
+                                      ? "fov in " + sources.description_path
+                                      : fov->second.name;
+    return R::success(std::move(r));
+}
+
+std::string word_failure(const Result<bool>& f, Front front) {
+    const bool command = front == Front::Command;
+    auto name = [command](const std::string& key) { return command ? "--" + key : "wavecam:" + key; };
+    auto give = [command](const std::string& key) {
+        const SettingKey* k = find_key(key);
+        const std::string example = k ? k->example : "VALUE";
+        return command ? "--" + key + " " + example
+                       : "--iconfig wavecam:" + key + " " + example + " or ?" + key + "=" + example + " in the name";
+    };
+    switch (f.kind) {
+        case ErrorKind::Missing: return f.error + "; give it with " + give(f.field);
+        case ErrorKind::TooLarge:
+            if (f.field == "max-memory")
+                return f.error + "; use a smaller image or pinhole, or raise " + name(f.field) + " (e.g. " + give(f.field) + ")";
+            return f.error + "; lower " + name("runs") + ", " + name("wavelengths") + " or the image size, raise " +
+                   name(f.field) + (command ? ", or share the work out (--part K/N, wavecam farm)" : "");
+        case ErrorKind::Invalid: return f.error + " (" + name(f.field) + ")";
+        default: return f.error;
+    }
 }
 
 }  // namespace wavecam::front

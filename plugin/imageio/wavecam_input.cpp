@@ -2,8 +2,8 @@
 // run wavecam as a post-process step. A thin front: all physics is in core.
 //
 //   shot.exr.wavecam         (no such file needed) shot.exr diffracted; settings from
-//                            `--iconfig wavecam:KEY VALUE` hints, else the source's own
-//                            `wavecam.KEY` metadata, else defaults
+//                            `--iconfig wavecam:KEY VALUE` hints over the source's own
+//                            `wavecam.KEY` metadata over defaults (front/settings.h's order)
 //   shot.exr.wavecam?runs=8  settings in the name, too
 //   shot.wavecam             a description file (front/description.h)
 //
@@ -33,8 +33,10 @@ bool ends_with(const std::string& s, const std::string& suffix) {
     return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
+using wavecam::front::Settings;
+
 // "a.exr.wavecam?runs=8&pinhole=0.2mm" -> path "a.exr.wavecam", settings {runs: 8, pinhole: 0.2mm}
-std::string split_query(const std::string& name, wavecam::front::Settings& settings) {
+std::string split_query(const std::string& name, Settings& settings) {
     const size_t q = name.find('?');
     if (q == std::string::npos) return name;
     std::string rest = name.substr(q + 1);
@@ -96,7 +98,7 @@ public:
     // A plain filesystem check: OIIO calls this holding its plugin mutex, so it must not
     // open anything through OIIO (that would deadlock).
     bool valid_file(const std::string& filename) const override {
-        wavecam::front::Settings ignored;
+        Settings ignored;
         const std::string path = split_query(filename, ignored);
         if (!ends_with(path, kExtension)) return false;
         return is_file(path) || is_file(path.substr(0, path.size() - std::strlen(kExtension)));
@@ -133,43 +135,45 @@ private:
 
     bool open_checked(const std::string& name, ImageSpec& newspec, const ImageSpec& config) {
         namespace front = wavecam::front;
-        front::Settings settings;
-        const std::string path = split_query(name, settings);
-        // where a fov setting came from, for the output's wavecam.fov-from
-        std::string fov_from = settings.count("fov") ? "?fov= in the name" : "";
-        // hints: --iconfig wavecam:KEY VALUE
+        Settings query;
+        const std::string path = split_query(name, query);
+        front::SettingSources sources;
+        sources.given = query;  // ?KEY=VALUE wins over --iconfig wavecam:KEY VALUE
         for (const ParamValue& p : config.extra_attribs) {
             const std::string n = p.name().string();
-            if (n.rfind("wavecam:", 0) == 0 && !settings.count(n.substr(8))) settings[n.substr(8)] = p.get_string();
+            if (n.rfind("wavecam:", 0) == 0) sources.given.emplace(n.substr(8), p.get_string());
         }
-        if (fov_from.empty() && settings.count("fov")) fov_from = "--iconfig wavecam:fov";
+        sources.given_name = [query](const std::string& key) {
+            return query.count(key) ? "?" + key + "= in the name" : "--iconfig wavecam:" + key;
+        };
         std::string source;
         if (is_file(path)) {  // a description file
             auto d = front::read_description(path);
             if (!d.ok()) return fail(d.error);
             source = d.value.source;
-            for (const auto& [k, v] : d.value.settings) settings.emplace(k, v);  // hints win
-            if (fov_from.empty() && settings.count("fov")) fov_from = "fov in " + path;
+            sources.description = d.value.settings;
+            sources.description_path = path;
         } else {
             source = path.substr(0, path.size() - std::strlen(kExtension));
         }
 
         // OIIO's words for a missing file name its ImageCache ("Invalid image file"); say it
         // plainly. A source that is itself a wavecam name need not exist on disk.
-        wavecam::front::Settings ignored;
+        Settings ignored;
         std::error_code ec;
         if (!std::filesystem::exists(source, ec) && !ends_with(split_query(source, ignored), kExtension))
             return fail(source + ": no such file, expected the render to diffract");
 
         std::string key = source;
-        for (const auto& [k, v] : settings) key += "\n" + k + "=" + v;
+        for (const Settings* layer : {&sources.given, &sources.description})
+            for (const auto& [k, v] : *layer) key += "\n" + k + "=" + v;
         {
             std::lock_guard<std::mutex> lock(g_cache_mutex);
             if (auto it = g_cache.find(key); it != g_cache.end()) return publish(it->second, newspec);
         }
         if (t_opening.count(source)) return fail(source + ": refers to itself through the wavecam plugin");
         t_opening.insert(source);
-        auto image = compute(source, settings, fov_from);
+        auto image = compute(source, sources);
         t_opening.erase(source);
         if (!image) return false;
         {
@@ -179,43 +183,32 @@ private:
         return publish(image, newspec);
     }
 
-    std::shared_ptr<const ImageBuf> compute(const std::string& source, wavecam::front::Settings settings,
-                                            const std::string& fov_from) {
+    std::shared_ptr<const ImageBuf> compute(const std::string& source, const wavecam::front::SettingSources& sources) {
         auto read = wavecam::read_image(source);
         if (!read.ok()) {
             fail(read.error);
             return nullptr;
         }
         const ImageBuf& src = read.value;
-        // the source's own wavecam.KEY metadata, where no hint gave the key (not its wavecam.fov:
-        // the diffraction reads that itself, in any type, and says it came from the file)
-        for (const auto& [key, help] : wavecam::front::setting_keys())
-            if (const ParamValue* p = src.spec().find_attribute("wavecam." + key, TypeDesc::STRING); p && key != "fov")
-                settings.emplace(key, p->get_string());
-        auto options = wavecam::front::options_from_settings(settings);
-        if (!options.ok()) {
-            fail(source + ": " + options.error);
+        auto settings = wavecam::front::resolve_settings(src.spec(), sources);
+        if (!settings.ok()) {
+            fail(source + ": " + settings.error);
             return nullptr;
         }
-        if (!fov_from.empty()) options.value.read.fov_from = fov_from;
         std::string plan_key;
-        for (const auto& [k, v] : settings) plan_key += k + "=" + v + "\n";
+        for (const auto& [k, v] : settings.value.text) plan_key += k + "=" + v + "\n";
+        plan_key += settings.value.options.read.fov_from;
         std::shared_ptr<wavecam::DiffractPlan> plan;
         {
             std::lock_guard<std::mutex> lock(g_cache_mutex);
             if (g_plans.size() >= kMaxPlans && !g_plans.count(plan_key)) g_plans.clear();
             auto& slot = g_plans[plan_key];
-            if (!slot) slot = std::make_shared<wavecam::DiffractPlan>(options.value);
+            if (!slot) slot = std::make_shared<wavecam::DiffractPlan>(settings.value.options);
             plan = slot;
         }
-        return compute_with(plan, src, source);
-    }
-
-    std::shared_ptr<const ImageBuf> compute_with(const std::shared_ptr<wavecam::DiffractPlan>& plan,
-                                                 const ImageBuf& src, const std::string& source) {
         auto dst = std::make_shared<ImageBuf>();
-        if (!plan->diffract(*dst, src, source)) {
-            fail(dst->geterror());
+        if (auto r = plan->diffract(*dst, src, source); !r.ok()) {
+            fail(wavecam::front::word_failure(r, wavecam::front::Front::Plugin));
             return nullptr;
         }
         return dst;

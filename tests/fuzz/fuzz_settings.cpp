@@ -13,8 +13,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const size_t eq = line.find('=');
         settings[line.substr(0, eq)] = eq == std::string::npos ? "" : line.substr(eq + 1);
     }
-    auto r = wavecam::front::options_from_settings(settings);
+    wavecam::front::SettingSources sources;
+    sources.given = settings;
+    sources.given_name = [](const std::string& key) { return "--" + key; };
+    auto r = wavecam::front::resolve_settings(OIIO::ImageSpec(), sources);
     if (!r.ok() && r.error.empty()) std::abort();
-    if (r.ok() && (r.value.diffraction.runs < 1 || r.value.wavelength_count < 1)) std::abort();
+    if (r.ok() && (r.value.options.diffraction.runs < 1 || r.value.options.wavelength_count < 1)) std::abort();
     return 0;
 }

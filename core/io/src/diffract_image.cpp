@@ -2,6 +2,7 @@
 
 #include <OpenImageIO/imagebufalgo.h>
 
+#include <atomic>
 #include <cmath>
 #include <sstream>
 
@@ -50,10 +51,8 @@ Result<SpectralBasis> job_basis(const DiffractOptions& opt, const std::string& f
     auto xyz_to_rgb = config.value.xyz_to_rgb_matrix(working_space(opt, config.value, file_colorspace));
     if (!xyz_to_rgb.ok()) return Result<SpectralBasis>::failure(xyz_to_rgb.error);
     auto sampling = sampling_for(opt);
-    if (!sampling.ok()) return Result<SpectralBasis>::failure("--" + sampling.error);
-    auto basis = make_spectral_basis(sampling.value, xyz_to_rgb.value, opt.monochrome);
-    if (!basis.ok()) return Result<SpectralBasis>::failure("--" + basis.error);
-    return basis;
+    if (!sampling.ok()) return Result<SpectralBasis>::failure(sampling.error, ErrorKind::Invalid, "wavelengths");
+    return make_spectral_basis(sampling.value, xyz_to_rgb.value, opt.monochrome);
 }
 
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
@@ -111,41 +110,47 @@ std::shared_ptr<const FastPlan> DiffractPlan::fast_plan_for(const FastPlanSpec& 
 bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, const DiffractOptions& opt,
               int nthreads) {
     DiffractPlan plan(opt);
-    return plan.diffract(dst, src, name, nthreads);
+    auto r = plan.diffract(dst, src, name, nthreads);
+    if (!r.ok()) dst.errorfmt("{}", r.field.empty() ? r.error : r.error + " (setting: " + r.field + ")");
+    return r.ok();
 }
 
-bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, int nthreads) {
-    const DiffractOptions& opt = opt_;
-    auto fail = [&dst](const std::string& m) {
-        dst.errorfmt("{}", m);
-        return false;
-    };
+Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name,
+                                    int nthreads) {
+    using Fail = Result<bool>;
+    // A stop asked for through the progress callback is a cancellation, whatever failed with it.
+    auto stopped = std::make_shared<std::atomic<bool>>(false);
+    DiffractOptions opt = opt_;
+    if (opt_.progress)
+        opt.progress = [stopped, progress = opt_.progress](double f) {
+            if (progress(f)) return true;
+            *stopped = true;
+            return false;
+        };
     auto input = load_render(src, name, opt.read);
-    if (!input.ok()) return fail(input.error);
+    if (!input.ok()) return Fail::failure(input);
     const RenderInput& in = input.value;
 
     const PinholeCamera camera = in.camera(opt.film_distance);
-    if (!(opt.film_distance > 0)) return fail("--film-distance: expected a distance > 0");
-    if (opt.pinhole < 0) return fail("--pinhole: expected a diameter > 0");
     const int o = opt.overscan, out_w = in.width - 2 * o, out_h = in.height - 2 * o;
     if (o < 0 || out_w < 1 || out_h < 1) {
         std::ostringstream m;
-        m << name << ": --overscan " << o << " leaves no image of " << in.width << "x" << in.height
+        m << name << ": an overscan of " << o << " pixels leaves no image of " << in.width << "x" << in.height
           << "; expected 0 to " << (std::min(in.width, in.height) - 1) / 2 << " pixels";
-        return fail(m.str());
+        return Fail::failure(m.str(), ErrorKind::Invalid, "overscan");
     }
 
     // Colour: the basis is calibrated against the input's working space as the config defines it.
     auto config = load_colour_config(opt.colorconfig);
-    if (!config.ok()) return fail(config.error);
+    if (!config.ok()) return Fail::failure(config);
     const std::string in_space = working_space(opt, config.value, in.colorspace);
     const std::string out_space = opt.output_colorspace.empty() ? in_space : opt.output_colorspace;
     auto xyz_to_rgb = config.value.xyz_to_rgb_matrix(in_space);
-    if (!xyz_to_rgb.ok()) return fail(xyz_to_rgb.error);
+    if (!xyz_to_rgb.ok()) return Fail::failure(xyz_to_rgb);
     auto sampling = sampling_for(opt);
-    if (!sampling.ok()) return fail("--" + sampling.error);
+    if (!sampling.ok()) return Fail::failure(sampling.error, ErrorKind::Invalid, "wavelengths");
     auto basis = make_spectral_basis(sampling.value, xyz_to_rgb.value, opt.monochrome);
-    if (!basis.ok()) return fail("--" + basis.error);
+    if (!basis.ok()) return Fail::failure(basis);
 
     DiffractionSettings s = opt.diffraction;
     s.aperture = resolved_aperture(opt);
@@ -162,10 +167,8 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
         m << name << ": " << job.str() << " = " << terms << " terms, about "
           << (seconds < 5400 ? std::to_string(long(std::ceil(seconds / 60))) + " min"
                              : std::to_string(long(std::round(seconds / 3600))) + " h")
-          << " at the " << rate << " terms/s measured here, beyond --max-terms " << opt.max_terms
-          << "; lower --runs, --wavelengths or the image size, raise --max-terms, or share the work out "
-             "(--part K/N, wavecam farm)";
-        return fail(m.str());
+          << " at the " << rate << " terms/s measured here, beyond the max-terms limit of " << opt.max_terms;
+        return Fail::failure(m.str(), ErrorKind::TooLarge, "max-terms");
     }
     if (opt.on_estimate && opt.method != DiffractMethod::Fast) opt.on_estimate(job.str(), terms);
 
@@ -174,7 +177,7 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     fs.settings.nthreads = nthreads;
     if (opt.method == DiffractMethod::Fast) {
         auto w = max_inverse_depth(scene);
-        if (!w.ok()) return fail(name + ": " + w.error);
+        if (!w.ok()) return Fail::failure(name + ": " + w.error);
         fs.max_inverse_depth = w.value;
     }
     const double bytes =
@@ -182,9 +185,8 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     if (bytes > opt.max_memory) {
         std::ostringstream m;
         m << name << ": " << in.width << "x" << in.height << " pixels need about " << bytes / (1 << 20)
-          << " MiB, beyond --max-memory " << opt.max_memory / (1 << 20)
-          << " MiB; use a smaller image or pinhole, or raise --max-memory (e.g. 32GiB)";
-        return fail(m.str());
+          << " MiB, beyond the max-memory limit of " << opt.max_memory / (1 << 20) << " MiB";
+        return Fail::failure(m.str(), ErrorKind::TooLarge, "max-memory");
     }
     std::vector<float> pixels(3 * size_t(out_w) * out_h);
     Result<bool> r = Result<bool>::success(true);
@@ -210,10 +212,11 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
         for (int j = 0; j < out_h; ++j)
             std::copy_n(&full[3 * (size_t(j + o) * in.width + o)], 3 * size_t(out_w), &pixels[3 * size_t(j) * out_w]);
     }
-    if (!r.ok()) return fail(r.error == "cancelled" ? name + ": interrupted" : name + ": " + r.error);
+    if (!r.ok() && *stopped) return Fail::failure(name + ": interrupted", ErrorKind::Cancelled);
+    if (!r.ok()) return Fail::failure(name + ": " + r.error);
     auto mapped = config.value.output_colour(pixels.data(), pixels.size() / 3, out_space, in_space,
                                              opt.desaturate_out_of_gamut);
-    if (!mapped.ok()) return fail(mapped.error);
+    if (!mapped.ok()) return Fail::failure(mapped);
 
     // Output: float R, G, B in the output space under the input's names, then its alpha and depth
     // unchanged; the input's header less what described the ideal camera (output_layout.h).
@@ -229,7 +232,7 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     spec.attribute("wavecam.film-width", with_unit(camera.pixel_pitch() * out_w, 1e-3, "mm"));
     // the output's own field of view: the cropped frame's when the input had an overscan
     spec.attribute("wavecam.fov", static_cast<float>(2 * std::atan(std::tan(0.5 * in.fov_h) * out_w / in.width) * 180 / M_PI));
-    if (o > 0) spec.attribute("wavecam.overscan", o);
+    if (o > 0) spec.attribute("wavecam.cropped-overscan", o);  // not wavecam.overscan: this frame has none
     spec.attribute("wavecam.fov-from", in.fov_from);
     spec.attribute("wavecam.depth", opt.depth_meaning == DepthMeaning::Planar ? "planar" : "ray");
     std::string wl;
@@ -242,9 +245,7 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     if (opt.method != DiffractMethod::Fast) {  // what only the exact sums use
         if (opt.method == DiffractMethod::RandomPhase) spec.attribute("wavecam.runs", s.runs);
         spec.attribute("wavecam.seed", std::to_string(s.seed));
-        spec.attribute("wavecam.film-subsamples",
-                       s.film_subsamples > 0 ? s.film_subsamples
-                                             : auto_film_subsamples(s.aperture, camera, sampling.value.wavelength[0]));
+        spec.attribute("wavecam.film-subsamples", s.film_subsamples);  // the setting: 0 = enough to resolve the PSF
         spec.attribute("wavecam.jitter", s.jitter ? "true" : "false");
     }
     spec.attribute("wavecam.vignetting", opt.vignetting ? "true" : "false");
@@ -267,8 +268,8 @@ bool DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, cons
     spec.attribute("wavecam.summary", summary.str());
 
     dst.reset(spec);
-    if (auto f = fill_output(dst, src, channels, o, pixels.data()); !f.ok()) return fail(name + ": " + f.error);
-    return true;
+    if (auto f = fill_output(dst, src, channels, o, pixels.data()); !f.ok()) return Fail::failure(name + ": " + f.error);
+    return Result<bool>::success(true);
 }
 
 }  // namespace wavecam

@@ -63,15 +63,16 @@ Result<double> header_fov(const OIIO::ImageSpec& spec) {
 }
 
 // What to do when the file carries no field of view; a Blender render is told how to get one.
+// The front says how its users give the fov (ErrorKind::Missing, field "fov").
 std::string missing_fov_message(const OIIO::ImageSpec& spec) {
     std::string m = std::string("no field of view: the file has no '") + kFovAttribute +
-                    "' attribute; give the render's horizontal field of view with --fov (e.g. --fov 50deg)";
+                    "' attribute, and no fov setting was given";
     const bool blender = spec.find_attribute("BlenderMultiChannel") || find_channel(spec, "Combined.R") >= 0;
     if (blender)
         m += ". For a Blender render: install and enable wavecam's Blender add-on "
              "(share/wavecam/blender/wavecam_blender.zip; it writes " + std::string(kFovAttribute) +
-             " into each frame and runs wavecam), or pass --fov 2*atan(x/z) in degrees with x, z of the widest corner "
-             "of camera.data.view_frame(scene=scene) (that is 2*atan(sensor_width/2/lens) only for a landscape "
+             " into each frame and runs wavecam), or set the fov to 2*atan(x/z) in degrees with x, z of the widest "
+             "corner of camera.data.view_frame(scene=scene) (that is 2*atan(sensor_width/2/lens) only for a landscape "
              "frame with sensor fit Auto or Horizontal and no shift)";
     return m;
 }
@@ -82,12 +83,14 @@ RenderChannels find_render_channels(const OIIO::ImageSpec& spec, const std::stri
     RenderChannels ch{find_channel(spec, "R"), find_channel(spec, "G"), find_channel(spec, "B"),
                       find_channel(spec, depth_channel)};
     ch.alpha = find_channel(spec, "A");
-    if (ch.alpha == ch.depth) ch.alpha = -1;  // --depth-channel A: depth, not alpha
+    if (ch.alpha == ch.depth) ch.alpha = -1;  // depth channel A: depth, not alpha
     return ch;
 }
 
 Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& name, const RenderReadOptions& opt) {
-    auto fail = [&name](const std::string& m) { return Result<RenderInput>::failure(name + ": " + m); };
+    auto fail = [&name](const std::string& m, ErrorKind kind = ErrorKind::Failed, const std::string& field = {}) {
+        return Result<RenderInput>::failure(name + ": " + m, kind, field);
+    };
     const OIIO::ImageSpec& spec = image.spec();
     if (spec.width < 2 || spec.height < 2)
         return fail("image is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
@@ -100,7 +103,7 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
                     "), expected linear RGB radiance");
     if (z < 0)
         return fail("channel '" + opt.depth_channel + "': not found (channels: " + channel_list(spec) +
-                    "), expected a depth channel; name it with --depth-channel");
+                    "), expected a depth channel", ErrorKind::Missing, "depth-channel");
 
     RenderInput in;
     in.width = spec.width;
@@ -140,7 +143,7 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
     } else {
         auto fov = header_fov(spec);
         if (!fov.ok()) return fail(fov.error);
-        if (fov.value == 0) return fail(missing_fov_message(spec));
+        if (fov.value == 0) return fail(missing_fov_message(spec), ErrorKind::Missing, "fov");
         in.fov_h = fov.value;
         in.fov_from = std::string("the file's ") + kFovAttribute + " attribute";
     }

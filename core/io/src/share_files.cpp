@@ -95,19 +95,19 @@ std::string job_fingerprint(const std::string& input_fingerprint, const Settings
     return f.hex();
 }
 
-bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::string& input_path,
-                    const DiffractOptions& opt, const SettingsText& settings, int index, int count, int nthreads) {
-    auto fail = [&part](const std::string& m) {
-        part.errorfmt("{}", m);
-        return false;
-    };
+Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::string& input_path,
+                            const DiffractOptions& opt, const SettingsText& settings, int index, int count,
+                            int nthreads) {
+    using Fail = Result<bool>;
+    auto fail = [](const std::string& m) { return Fail::failure(m); };
     if (opt.method == DiffractMethod::Fast)
-        return fail(input_path + ": --part shares the exact methods' work; use --method exact or incoherent");
+        return Fail::failure(input_path + ": shares are of the exact methods' work; expected method exact or incoherent",
+                             ErrorKind::Invalid, "method");
     auto input = load_render(src, input_path, opt.read);
-    if (!input.ok()) return fail(input.error);
+    if (!input.ok()) return Fail::failure(input);
     const RenderInput& in = input.value;
     auto sampling = opt.wavelengths.empty() ? visible_sampling(opt.wavelength_count) : explicit_sampling(opt.wavelengths);
-    if (!sampling.ok()) return fail("--" + sampling.error);
+    if (!sampling.ok()) return Fail::failure(sampling.error, ErrorKind::Invalid, "wavelengths");
     const int S = int(sampling.value.wavelength.size());
     // a unit is one wavelength and run: one propagation for colour, three (one per channel) for
     // monochrome light (spectrum.h)
@@ -117,7 +117,7 @@ bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::
     const bool incoherent = opt.method == DiffractMethod::Incoherent;
     const int R = incoherent ? 1 : opt.diffraction.runs;
     auto share = work_share(index, count, S, R, in.height);
-    if (!share.ok()) return fail("--" + share.error);
+    if (!share.ok()) return fail(share.error);
     const WorkShare sh = share.value;
     auto fingerprint = file_fingerprint(input_path);
     if (!fingerprint.ok()) return fail(fingerprint.error);
@@ -145,9 +145,9 @@ bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::
         << " wavelengths x " << R << " runs: " << describe_share(sh, R);
     if (terms > opt.max_terms) {
         std::ostringstream m;
-        m << input_path << ": " << job.str() << " = " << terms << " terms, beyond --max-terms " << opt.max_terms
-          << "; use more shares or raise --max-terms";
-        return fail(m.str());
+        m << input_path << ": " << job.str() << " = " << terms << " terms, beyond the max-terms limit of "
+          << opt.max_terms;
+        return Fail::failure(m.str(), ErrorKind::TooLarge, "max-terms");
     }
     if (opt.on_estimate) opt.on_estimate(job.str(), terms);
 
@@ -182,7 +182,8 @@ bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::
         return Result<bool>::success(true);
     };
     OIIO::ImageBuf whole;
-    if (!diffract(whole, src, input_path, run, nthreads)) return fail(whole.geterror());
+    DiffractPlan plan(run);
+    if (auto r = plan.diffract(whole, src, input_path, nthreads); !r.ok()) return r;
     std::vector<std::string> order;  // by name, as OpenEXR stores them
     for (const auto& unit : units) order.push_back(unit.first);
 
@@ -217,7 +218,7 @@ bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::
     if (!part.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, px.data()))
         return fail(input_path + ": cannot fill the part image: " + part.geterror());
     part.specmod().attribute("wavecam.part.checksum", pixel_checksum(part));
-    return true;
+    return Fail::success(true);
 }
 
 Result<PartFile> read_part(const std::string& path) {

@@ -21,7 +21,7 @@ enum class DiffractMethod { Fast, RandomPhase, Incoherent };
 
 struct DiffractOptions {
     DiffractMethod method = DiffractMethod::Fast;
-    RenderReadOptions read;                        // depth channel, --fov
+    RenderReadOptions read;                        // depth channel, fov
     DepthMeaning depth_meaning = DepthMeaning::Planar;
     double film_distance = 50e-3;                  // f, metres
     double pinhole = 0;                            // diameter (m); 0 = Rayleigh's optimum for f at 550 nm
@@ -79,7 +79,8 @@ public:
 
     // Diffracts `src`; `name` is used in error messages (the file name). dst gets float R, G, B
     // in the output colour space, the source's depth channel, and every parameter in its header.
-    bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, int nthreads = 0);
+    // A failure carries its kind and the setting it is about, for the front to word (result.h).
+    Result<bool> diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, int nthreads = 0);
 
 private:
     std::shared_ptr<const FastPlan> fast_plan_for(const FastPlanSpec& spec, const ProgressFn& progress, bool& reused,
@@ -89,7 +90,7 @@ private:
     std::shared_ptr<const FastPlan> fast_;
 };
 
-// One frame through a plan of its own.
+// One frame through a plan of its own; errors in dst.geterror(), naming the setting they are about.
 bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, const DiffractOptions& opt,
               int nthreads = 0);
 

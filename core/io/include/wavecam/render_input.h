@@ -12,7 +12,7 @@ namespace wavecam {
 struct RenderReadOptions {
     std::string depth_channel = "Z";  // also matches a layer prefix: "ViewLayer.Depth.Z"
     double fov_h = 0;                 // radians; 0 = from the file's metadata
-    std::string fov_from = "--fov";   // where fov_h came from, for the output's wavecam.fov-from
+    std::string fov_from = "the fov setting";  // where fov_h came from, for the output's wavecam.fov-from
 };
 
 // Radiance and depth as plain arrays, plus what the file says about itself.
@@ -21,7 +21,7 @@ struct RenderInput {
     std::vector<float> rgb;    // interleaved R, G, B
     std::vector<float> depth;  // metres
     double fov_h = 0;          // radians
-    std::string fov_from;      // "--fov" or the attribute it came from
+    std::string fov_from;      // the setting or the attribute it came from
     std::string colorspace;    // the radiance's colour space as the file names it ("" = unknown)
     std::string depth_channel; // the channel actually used
     OIIO::ImageSpec spec;      // the source's header, for carrying metadata through

@@ -25,11 +25,11 @@ Result<std::string> file_fingerprint(const std::string& path);
 std::string job_fingerprint(const std::string& input_fingerprint, const SettingsText& settings);
 
 // Computes share `index`/`count` of the exact job `diffract(src, opt)` describes into `part`
-// (errors in part.geterror(), as diffract). `input_path` and `settings` are recorded for the
+// (failures as DiffractPlan::diffract's). `input_path` and `settings` are recorded for the
 // merge; opt.on_estimate hears the share's own terms, opt.max_terms bounds them.
-bool diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::string& input_path,
-                    const DiffractOptions& opt, const SettingsText& settings, int index, int count,
-                    int nthreads = 0);
+Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::string& input_path,
+                            const DiffractOptions& opt, const SettingsText& settings, int index, int count,
+                            int nthreads = 0);
 
 struct PartFile {
     std::string path;
