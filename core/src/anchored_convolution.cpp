@@ -11,12 +11,16 @@
 
 namespace wavecam::detail {
 
-Result<AnchoredConvolution> AnchoredConvolution::create(PsfTable table, int tile, int nthreads,
+int convolution_fft_size(int tile, int radius, int width, int height) {
+    return fft_friendly_size(tile >= std::max(width, height) ? std::max(width, height) : tile + 2 * radius);
+}
+
+Result<AnchoredConvolution> AnchoredConvolution::create(PsfTable table, int tile, int width, int height, int nthreads,
                                                         const ProgressFn& progress) {
     AnchoredConvolution c;
     const int R = table.radius, kw = 2 * R + 1;
     c.tile_ = tile;
-    c.fft_size_ = fft_friendly_size(tile + 2 * R);
+    c.fft_size_ = convolution_fft_size(tile, R, width, height);
     c.nthreads_ = nthreads;
     c.table_ = std::move(table);
     const PsfTable& t = c.table_;

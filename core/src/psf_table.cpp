@@ -62,16 +62,20 @@ int AnchorAxis::cell_of(int pixel) const {
     return std::clamp(int(it - knots.begin()) - 1, 0, cells() - 1);
 }
 
+AnchorAxis anchor_axis(const PsfTableSpec& spec, bool vertical) {
+    const int length = vertical ? spec.domain_height : spec.domain_width;
+    const int cells = vertical ? std::max(1, int(std::lround(double(spec.anchor_cells) * length /
+                                                             std::max(spec.domain_width, spec.domain_height))))
+                               : spec.anchor_cells;
+    return AnchorAxis::across(length, spec.tile, cells, kMinCellRadii * spec.radius, spec.radius);
+}
+
 Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& progress) {
     PsfTable t;
     t.radius = spec.radius;
     t.layers = spec.layers;
-    t.ax = AnchorAxis::across(spec.domain_width, spec.tile, spec.anchor_cells, kMinCellRadii * spec.radius,
-                              spec.radius);
-    t.ay = AnchorAxis::across(spec.domain_height, spec.tile,
-                              std::max(1, int(std::lround(double(spec.anchor_cells) * spec.domain_height /
-                                                          std::max(spec.domain_width, spec.domain_height)))),
-                              kMinCellRadii * spec.radius, spec.radius);
+    t.ax = anchor_axis(spec, false);
+    t.ay = anchor_axis(spec, true);
     const int anchors = t.anchors(), S = spec.basis->size();
     const size_t ksize = t.kernel_size();
     t.weights.assign(size_t(t.layers.count) * anchors * 9 * ksize, 0.0f);

@@ -85,6 +85,10 @@ struct PsfTable {
     }
 };
 
+// The anchor axis build_psf_table lays out across (vertical: down) the spec's domain:
+// anchor_cells cells across, fewer down in proportion when the domain is wider than tall.
+AnchorAxis anchor_axis(const PsfTableSpec& spec, bool vertical);
+
 // Fails only when cancelled through `progress`.
 Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& progress);
 
