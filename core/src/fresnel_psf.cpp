@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <string>
 
 #include "real_fft2d.h"
 
@@ -37,6 +38,27 @@ FieldGeometry geometry_of(const FieldPsfRequest& q) {
     g.area = q.aperture.area();
     return g;
 }
+
+// The sampled pupils below depend on the aperture and the grid only, not on the wavelength
+// nor (for the transfer grid in image axes, or a round pupil) on the field angle: a table's
+// requests repeat them, so each thread keeps the last one it sampled under its key.
+template <class Grid>
+struct LastPupil {
+    std::vector<double> key;
+    std::string aperture;
+    const void* mask = nullptr;
+    Grid grid;
+    template <class Sample>
+    const Grid& get(const Aperture& a, std::vector<double> k, Sample sample) {
+        if (k != key || a.mask.get() != mask || a.name() != aperture) {
+            grid = sample();
+            key = std::move(k);
+            aperture = a.name();
+            mask = a.mask.get();
+        }
+        return grid;
+    }
+};
 
 // Film radius (m) holding kPsfKernelEnergy of the PSF: the shadow's radius plus the sharp
 // edge's tail, light beyond the rim by s being at most 2 lambda f / (pi^2 D s) of the power,
@@ -90,7 +112,10 @@ MftPlan plan_mft(const FieldPsfRequest& q, const FieldGeometry& g) {
     // near 0.3%), however many pixels that is.
     const double fringe = q.wavelength * q.film_distance / g.span;
     p.step = std::max(fringe / 16, std::min(q.pixel_pitch / q.subsamples, fringe / 2));
-    p.points = std::max(q.subsamples, int(std::ceil(q.pixel_pitch / p.step - 1e-6)));
+    // Where the grid is coarser than a pixel (small pinholes), the bilinear interpolant is one
+    // bilinear polynomial over most of a pixel, and its mean over the square pixel (at any
+    // rotation) is its value at the pixel's centre: one point per pixel then.
+    p.points = p.step >= q.pixel_pitch ? 1 : std::max(q.subsamples, int(std::ceil(q.pixel_pitch / p.step - 1e-6)));
     // The grid covers the kernel square rotated by any angle, or only the PSF's own
     // kPsfKernelEnergy radius where that is smaller (pixels far wider than the PSF): the
     // fringe-fine step over a kernel of such pixels would cost (pixel / fringe)^2.
@@ -220,6 +245,7 @@ std::vector<float> transform_power(const PupilGrid& pupil, const std::vector<flo
 struct FilmGrid {
     const MftPlan& plan;
     std::vector<float> density;  // grid x grid, rows radial
+    double inverse_step = 1 / plan.step;
     double at(double r, double t) const {
         const int m = plan.grid();
         if (plan.mirrored) {
@@ -227,9 +253,9 @@ struct FilmGrid {
             t = std::fabs(t);
         }
         const double offset = plan.mirrored ? 0 : plan.half;
-        const double fr = r / plan.step + offset, ft = t / plan.step + offset;
-        const int i0 = int(std::floor(fr)), j0 = int(std::floor(ft));
-        if (i0 < 0 || j0 < 0 || i0 + 1 >= m || j0 + 1 >= m) return 0.0;
+        const double fr = r * inverse_step + offset, ft = t * inverse_step + offset;
+        if (!(fr >= 0 && ft >= 0 && fr < m - 1 && ft < m - 1)) return 0.0;
+        const int i0 = int(fr), j0 = int(ft);
         const double a = fr - i0, b = ft - j0;
         auto I = [&](int i, int j) { return double(density[size_t(i) * m + j]); };
         return (1 - a) * ((1 - b) * I(i0, j0) + b * I(i0, j0 + 1)) + a * ((1 - b) * I(i0 + 1, j0) + b * I(i0 + 1, j0 + 1));
@@ -242,23 +268,33 @@ std::vector<float> average_over_pixels(const FieldPsfRequest& q, const FieldGeom
     const int w = 2 * q.radius + 1, sub = film.plan.points;
     std::vector<float> weight(size_t(w) * w, 0.0f);
     const double pixel_area = q.pixel_pitch * q.pixel_pitch;
-    for (int b = -q.radius; b <= q.radius; ++b)
-        for (int a = -q.radius; a <= q.radius; ++a) {
+    // the points' image offsets (column or row) in metres on the film, kernel pixel k's at
+    // [k sub, (k + 1) sub)
+    std::vector<double> offset(size_t(w) * sub);
+    for (int k = 0; k < w; ++k)
+        for (int s = 0; s < sub; ++s) offset[size_t(k) * sub + s] = (k - q.radius + (s + 0.5) / sub - 0.5) * q.pixel_pitch;
+    for (int b = 0; b < w; ++b)
+        for (int a = 0; a < w; ++a) {
             double s = 0;
-            for (int sb = 0; sb < sub; ++sb)
+            for (int sb = 0; sb < sub; ++sb) {
+                const double y = offset[size_t(b) * sub + sb];
                 for (int sa = 0; sa < sub; ++sa) {
-                    // image offset (column, row) in metres on the film
-                    const double x = (a + (sa + 0.5) / sub - 0.5) * q.pixel_pitch;
-                    const double y = (b + (sb + 0.5) / sub - 0.5) * q.pixel_pitch;
+                    const double x = offset[size_t(a) * sub + sa];
                     s += film.at(x * g.er_x + y * g.er_y, -x * g.er_y + y * g.er_x);
                 }
-            weight[size_t(b + q.radius) * w + (a + q.radius)] = float(s / (sub * sub) * pixel_area);
+            }
+            weight[size_t(b) * w + a] = float(s / (sub * sub) * pixel_area);
         }
     return weight;
 }
 
 std::vector<float> kernel_by_mft(const FieldPsfRequest& q, const FieldGeometry& g, const MftPlan& plan) {
-    const PupilGrid pupil = sample_pupil(q, g, plan);
+    thread_local LastPupil<PupilGrid> last;
+    const PupilGrid& pupil =
+        last.get(q.aperture,
+                 {q.aperture.diameter, double(plan.nr), double(plan.nt), double(plan.mirrored),
+                  plan.mirrored ? 0.0 : g.er_x, plan.mirrored ? 0.0 : g.er_y},
+                 [&] { return sample_pupil(q, g, plan); });
     const double c = g.c;
     std::vector<float> mr_re, mr_im, mt_re, mt_im;
     axis_matrix(pupil.xi_r, g.ar, q, plan, c * c * c, mr_re, mr_im);
@@ -329,21 +365,92 @@ TransferPlan plan_transfer(const FieldPsfRequest& q, const FieldGeometry& g) {
     return p;
 }
 
-// In-place 2D complex FFT (kissfft rows, then columns), unnormalised; rows outside
-// [row0, row1) are known to be zero on input and are skipped in the first pass.
-void fft2d(std::vector<std::complex<float>>& a, int n, bool inverse, int row0, int row1) {
-    kiss_fft_cfg cfg = kiss_fft_alloc(n, inverse ? 1 : 0, nullptr, nullptr);
-    std::vector<std::complex<float>> line(n);
-    auto cpx = [](std::complex<float>* p) { return reinterpret_cast<kiss_fft_cpx*>(p); };
-    for (int r = row0; r < row1; ++r) {
-        kiss_fft(cfg, cpx(&a[size_t(r) * n]), cpx(line.data()));
-        std::copy(line.begin(), line.end(), &a[size_t(r) * n]);
+// In-place 2D complex FFT, unnormalised. Forward: rows outside [row0, row1) are zero on input
+// and their transforms are skipped, then every column. Inverse: every column, then only the
+// rows [row0, row0 + count) (indices modulo n) that are read afterwards.
+class Fft2d {
+public:
+    Fft2d(int n, bool inverse) : n_(n), cfg_(kiss_fft_alloc(n, inverse ? 1 : 0, nullptr, nullptr)), line_(n) {}
+    ~Fft2d() { kiss_fft_free(cfg_); }
+    Fft2d(const Fft2d&) = delete;
+    Fft2d& operator=(const Fft2d&) = delete;
+    void rows(std::vector<std::complex<float>>& a, int row0, int count) {
+        for (int k = 0; k < std::min(count, n_); ++k) {
+            std::complex<float>* row = &a[size_t((row0 + k + n_) % n_) * n_];
+            kiss_fft(cfg_, cpx(row), cpx(line_.data()));
+            std::copy(line_.begin(), line_.end(), row);
+        }
     }
-    for (int k = 0; k < n; ++k) {
-        kiss_fft_stride(cfg, cpx(&a[k]), cpx(line.data()), n);
-        for (int r = 0; r < n; ++r) a[size_t(r) * n + k] = line[r];
+    void columns(std::vector<std::complex<float>>& a) {
+        for (int k = 0; k < n_; ++k) {
+            kiss_fft_stride(cfg_, cpx(&a[k]), cpx(line_.data()), n_);
+            for (int r = 0; r < n_; ++r) a[size_t(r) * n_ + k] = line_[r];
+        }
     }
-    kiss_fft_free(cfg);
+
+private:
+    static kiss_fft_cpx* cpx(std::complex<float>* p) { return reinterpret_cast<kiss_fft_cpx*>(p); }
+    int n_;
+    kiss_fft_cfg cfg_;
+    std::vector<std::complex<float>> line_;
+};
+
+// The transfer function with the pupil cells' box response divided out, on the FFT grid
+// (frequency nu = k / L, k taken in [-n/2, n/2)). In image axes the exponent is a quadratic
+// form, -pi lambda (A nx^2 + B ny^2 + 2 C nx ny) with A = zr ex^2 + zt ey^2, B = zr ey^2 +
+// zt ex^2, C = ex ey (zr - zt) (e the radial unit vector): a factor per axis times
+// exp(-2 pi i lambda C nx ny), which along a row is a geometric sequence in kx (one complex
+// multiplication per point instead of a sine and cosine).
+void apply_transfer(std::vector<std::complex<float>>& field, int n, double h, double wavelength,
+                    const FieldGeometry& g) {
+    const double L = n * h, zr = 1.0 / g.ar, zt = 1.0 / g.at;
+    const double A = zr * g.er_x * g.er_x + zt * g.er_y * g.er_y, B = zr * g.er_y * g.er_y + zt * g.er_x * g.er_x;
+    const double C = g.er_x * g.er_y * (zr - zt);
+    auto signed_index = [n](int k) { return k < n / 2 ? k : k - n; };
+    auto axis = [&](double rate) {
+        std::vector<std::complex<double>> f(n);
+        for (int k = 0; k < n; ++k) {
+            const double nu = signed_index(k) / L;
+            f[k] = std::polar(1.0 / box_response(nu * h), -M_PI * wavelength * rate * nu * nu);
+        }
+        return f;
+    };
+    const std::vector<std::complex<double>> fx = axis(A), fy = axis(B);
+    std::vector<std::complex<double>> cross(n);
+    for (int ky = 0; ky < n; ++ky) {
+        // exp(i beta kx') for kx' = -n/2 ... n/2 - 1, by repeated multiplication
+        const double beta = -2 * M_PI * wavelength * C * signed_index(ky) / (L * L);
+        const std::complex<double> w = std::polar(1.0, beta);
+        std::complex<double> z = std::polar(1.0, -beta * (n / 2));
+        for (int k = -n / 2; k < n - n / 2; ++k, z *= w) cross[(k + n) % n] = z;
+        std::complex<float>* row = &field[size_t(ky) * n];
+        for (int kx = 0; kx < n; ++kx) row[kx] *= std::complex<float>(fy[ky] * fx[kx] * cross[kx]);
+    }
+}
+
+// The pupil's open cells on a transfer grid of pitch h, cell (dx, dy) centred at ((dx + o) h,
+// (dy + o) h) in image axes, holding its open fraction.
+struct OpenCell {
+    int dx, dy;
+    float open;
+};
+
+std::vector<OpenCell> transfer_pupil(const Aperture& aperture, double span, double h, double o) {
+    std::vector<OpenCell> cells;
+    const int reach = int(std::ceil(0.5 * span / h)) + 2;
+    for (int dy = -reach; dy <= reach; ++dy) {
+        const double y = (dy + o) * h;
+        if (std::fabs(y) > 0.5 * span + h) continue;
+        for (int dx = -reach; dx <= reach; ++dx) {
+            const double x = (dx + o) * h;
+            if (std::fabs(x) > 0.5 * span + h) continue;
+            double cx, cy;
+            // (x, y): image (column, row); pupil +x lands at column -x (as in the matrix transform)
+            const double open = aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy);
+            if (open > 0) cells.push_back({dx, dy, float(open)});
+        }
+    }
+    return cells;
 }
 
 std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeometry& g, const TransferPlan& plan) {
@@ -352,37 +459,25 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
     // Grid index i sits at (i - n/2 + o) h, o = 1/2 for even sub, so that kernel pixel a's
     // sub points are indices n/2 + a sub - sub/2 + [0, sub).
     const double o = sub % 2 == 0 ? 0.5 : 0.0;
-    auto position = [&](int i) { return (i - n / 2 + o) * h; };
+    thread_local LastPupil<std::vector<OpenCell>> last;
+    const std::vector<OpenCell>& cells =
+        last.get(q.aperture, {q.aperture.diameter, h, o}, [&] { return transfer_pupil(q.aperture, g.span, h, o); });
     std::vector<std::complex<float>> field(size_t(n) * n, 0.0f);
     int row0 = n, row1 = 0;
-    for (int iy = 0; iy < n; ++iy) {
-        const double y = position(iy);
-        if (std::fabs(y) > 0.5 * g.span + h) continue;
-        for (int ix = 0; ix < n; ++ix) {
-            const double x = position(ix);
-            if (std::fabs(x) > 0.5 * g.span + h) continue;
-            double cx, cy;
-            // (x, y): image (column, row); pupil +x lands at column -x (as in the matrix transform)
-            const double open = q.aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy);
-            if (open <= 0) continue;
-            field[size_t(iy) * n + ix] = float(open);
-            row0 = std::min(row0, iy);
-            row1 = std::max(row1, iy + 1);
-        }
+    for (const OpenCell& cell : cells) {
+        const int ix = n / 2 + cell.dx, iy = n / 2 + cell.dy;
+        if (ix < 0 || iy < 0 || ix >= n || iy >= n) continue;
+        field[size_t(iy) * n + ix] = cell.open;
+        row0 = std::min(row0, iy);
+        row1 = std::max(row1, iy + 1);
     }
-    fft2d(field, n, false, row0, row1);
-    const double L = n * h, zr = 1.0 / g.ar, zt = 1.0 / g.at;
-    for (int ky = 0; ky < n; ++ky) {
-        const double ny = (ky < n / 2 ? ky : ky - n) / L;
-        for (int kx = 0; kx < n; ++kx) {
-            const double nx = (kx < n / 2 ? kx : kx - n) / L;
-            const double nr = nx * g.er_x + ny * g.er_y, nt = -nx * g.er_y + ny * g.er_x;
-            const double phase = -M_PI * q.wavelength * (zr * nr * nr + zt * nt * nt);
-            const double gain = 1.0 / (box_response(nx * h) * box_response(ny * h));
-            field[size_t(ky) * n + kx] *= std::complex<float>(float(gain * std::cos(phase)), float(gain * std::sin(phase)));
-        }
-    }
-    fft2d(field, n, true, 0, n);
+    Fft2d forward(n, false);
+    forward.rows(field, row0, row1 - row0);
+    forward.columns(field);
+    apply_transfer(field, n, h, q.wavelength, g);
+    Fft2d inverse(n, true);
+    inverse.columns(field);
+    inverse.rows(field, n / 2 - q.radius * sub - sub / 2, (2 * q.radius + 1) * sub);
     // Each pixel: sum of |U|^2 h^2 over its points / transmitted power (the aperture's area);
     // kissfft's forward-inverse pair scales by n^2.
     const double scale = h * h / (double(n) * n * double(n) * n) / g.area;

@@ -34,6 +34,14 @@ DepthLayers DepthLayers::spanning(double max_inverse_depth, double aperture_radi
     const int multiple = int(std::ceil(max_inverse_depth / (dw * (kMaxLayers - 1))));
     d.step = dw * multiple;
     d.count = int(std::ceil(max_inverse_depth / d.step)) + 1;
+    // One layer (the sky's) serves every depth where the defocus phase at the rim, pi a^2 (w +
+    // 1/f) / lambda, stays within kMaxDefocusStep even at the nearest source: a defocus phi
+    // rho^2 over a disc has phase variance phi^2 / 12, and by Marechal's rule the PSF then
+    // moves at most that share of its light (0.75% at 0.3 rad) - small pinholes, whose Airy
+    // disc no depth changes.
+    const double phase = M_PI * aperture_radius * aperture_radius * (max_inverse_depth + 1.0 / film_distance) /
+                         shortest_wavelength;
+    if (phase <= kMaxDefocusStep) d.count = 1;
     return d;
 }
 
