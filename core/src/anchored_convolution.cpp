@@ -11,12 +11,16 @@
 
 namespace wavecam::detail {
 
-Result<AnchoredConvolution> AnchoredConvolution::create(PsfTable table, int tile, int nthreads,
+int convolution_fft_size(int tile, int radius, int width, int height) {
+    return fft_friendly_size(tile >= std::max(width, height) ? std::max(width, height) : tile + 2 * radius);
+}
+
+Result<AnchoredConvolution> AnchoredConvolution::create(PsfTable table, int tile, int width, int height, int nthreads,
                                                         const ProgressFn& progress) {
     AnchoredConvolution c;
     const int R = table.radius, kw = 2 * R + 1;
     c.tile_ = tile;
-    c.fft_size_ = fft_friendly_size(tile + 2 * R);
+    c.fft_size_ = convolution_fft_size(tile, R, width, height);
     c.nthreads_ = nthreads;
     c.table_ = std::move(table);
     const PsfTable& t = c.table_;
@@ -43,7 +47,7 @@ Result<AnchoredConvolution> AnchoredConvolution::create(PsfTable table, int tile
             for (int b = -R; b <= R; ++b)
                 for (int a = -R; a <= R; ++a)
                     image[size_t((b + N) % N) * N + (a + N) % N] = w[size_t(b + R) * kw + (a + R)];
-            fft.forward(image.data(), &c.kernel_spectra_[size_t(k) * c.spectrum_size_]);
+            fft.forward(image.data(), &c.kernel_spectra_[size_t(k) * c.spectrum_size_], R + 1, N - R);
             for (int b = -R; b <= R; ++b)
                 for (int a = -R; a <= R; ++a) image[size_t((b + N) % N) * N + (a + N) % N] = 0.0f;
             ticker.advance(1, omp_get_thread_num() == 0);
@@ -121,7 +125,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, int out_x0, in
                                 for (int i = x0; i < x1; ++i)
                                     image[size_t(j - y0) * N + (i - x0)] =
                                         weight[size_t(j - y0) * T + (i - x0)] * src.rgb[3 * (size_t(j) * W + i) + p];
-                            fft.forward(image.data(), &in[p * spec]);
+                            fft.forward(image.data(), &in[p * spec], y1 - y0, N);
                         }
                         // acc_q += sum_p in_p K_{3p+q}, written on floats so that it vectorises
                         // (std::complex's operator* keeps a NaN-recovery branch)

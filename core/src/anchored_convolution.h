@@ -30,10 +30,18 @@ struct DomainSources {
     std::vector<float> upper_share;   // share of its light in the layer above
 };
 
+// FFT length for tiles of side `tile` on a width x height domain, kernels of radius R. Overlap-add
+// needs tile + 2R: a tile's light reaches R beyond it. One tile covering the whole domain needs
+// only the domain's side: the domain is the output widened by R on every side, so what wraps
+// round the period (at most R beyond the domain) lands in that margin, which is never read.
+int convolution_fft_size(int tile, int radius, int width, int height);
+
 class AnchoredConvolution {
 public:
-    // Transforms every kernel of `table` once, for tiles of side `tile` (>= 2 x the radius).
-    static Result<AnchoredConvolution> create(PsfTable table, int tile, int nthreads, const ProgressFn& progress);
+    // Transforms every kernel of `table` once, for tiles of side `tile` (>= 2 x the radius) on
+    // a source domain of width x height.
+    static Result<AnchoredConvolution> create(PsfTable table, int tile, int width, int height, int nthreads,
+                                              const ProgressFn& progress);
 
     // Adds to `xyz` (interleaved, out_width x out_height) the image of `sources` on the output
     // window whose top-left is domain pixel (out_x0, out_y0).

@@ -2,10 +2,98 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace wavecam::detail {
 
 namespace {
+
+// Sum of the cos^4 fall-off 1 / (1 + u^2 + v^2)^2 over pixels of tangent width `pitch` spanning
+// u0..u1 at fixed v, by its integral (the midpoint sum differs by about pitch^2 / 24 of its
+// second derivative: 1e-7 here): int du / (a^2 + u^2)^2 = u / (2 a^2 (a^2 + u^2)) +
+// atan(u / a) / (2 a^3), a^2 = 1 + v^2.
+double cos4_sum(double u0, double u1, double v, double pitch) {
+    const double a2 = 1 + v * v, a = std::sqrt(a2);
+    auto G = [&](double u) { return u / (2 * a2 * (a2 + u * u)) + std::atan(u / a) / (2 * a2 * a); };
+    return (G(u1) - G(u0)) / pitch;
+}
+
+// The sources as the far tail sees them: the frame's pixels, and beyond its edges the edge
+// continued (each missing pixel takes the nearest edge pixel's radiance and depth, at its own
+// field position, so with its own cos^4 fall-off).
+class FrameSources {
+public:
+    FrameSources(const PsfTable& t, const SpectralScene& scene)
+        : scene_(scene), c_(scene.camera), pitch_(c_.tan_pitch()) {
+        const size_t n = size_t(c_.width) * c_.height;
+        lower_.resize(n);
+        upper_.resize(n);
+        for (int j = 0; j < c_.height; ++j)
+            for (int i = 0; i < c_.width; ++i) {
+                const size_t q = size_t(j) * c_.width + i;
+                const double d = scene.depth[q];
+                const double w = d >= kInfiniteDepth ? 0.0 : 1.0 / c_.planar_depth(i, j, d, scene.depth_meaning);
+                int lower = 0;
+                t.layers.locate(w, lower, upper_[q]);
+                lower_[q] = uint8_t(lower);
+            }
+    }
+
+    // Adds to light[layer][primary] the light of the cell x cell block of camera pixels from
+    // (x0, y0), which may reach beyond the frame: inside it pixel by pixel, beyond it the edge
+    // pixel's light times the fall-off summed along the run of pixels that repeat it.
+    void add_block(int x0, int y0, int cell, std::vector<double>& light) const {
+        const int W = c_.width, H = c_.height;
+        // runs along each axis: before the frame, inside it, after it
+        const int xa_[3] = {x0, std::max(x0, 0), std::max(x0, W)};
+        const int xb_[3] = {std::min(x0 + cell, 0), std::min(x0 + cell, W), x0 + cell};
+        const int ya_[3] = {y0, std::max(y0, 0), std::max(y0, H)};
+        const int yb_[3] = {std::min(y0 + cell, 0), std::min(y0 + cell, H), y0 + cell};
+        for (int ry = 0; ry < 3; ++ry) {
+            const int ya = ya_[ry], yb = yb_[ry];
+            for (int rx = 0; rx < 3; ++rx) {
+                const int xa = xa_[rx], xb = xb_[rx];
+                if (xa >= xb || ya >= yb) continue;
+                if (rx != 1) {  // columns beyond the frame: per row, the edge pixel times the run's fall-off
+                    const int ci = rx == 0 ? 0 : W - 1;
+                    for (int y = ya; y < yb; ++y)
+                        add(ci, std::clamp(y, 0, H - 1), cos4_sum(u(xa), u(xb), v(y + 0.5), pitch_), light);
+                } else if (ry != 1) {  // rows beyond the frame: per column, likewise
+                    const int cj = ry == 0 ? 0 : H - 1;
+                    for (int x = xa; x < xb; ++x) add(x, cj, cos4_sum(v(yb), v(ya), u(x + 0.5), pitch_), light);
+                } else {
+                    for (int y = ya; y < yb; ++y) {
+                        const double vy = v(y + 0.5);
+                        for (int x = xa; x < xb; ++x) {
+                            const double ux = u(x + 0.5), c2 = 1.0 / (1.0 + ux * ux + vy * vy);
+                            add(x, y, c2 * c2, light);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+private:
+    double u(double x) const { return (x - 0.5 * c_.width) * pitch_; }
+    double v(double y) const { return (0.5 * c_.height - y) * pitch_; }
+    void add(int ci, int cj, double falloff, std::vector<double>& light) const {
+        const size_t q = size_t(cj) * c_.width + ci;
+        const int lower = lower_[q];
+        const double upper = upper_[q];
+        for (int p = 0; p < 3; ++p) {
+            const double x = falloff * scene_.rgb[3 * q + p];
+            light[size_t(lower) * 3 + p] += (1.0 - upper) * x;
+            if (upper > 0) light[size_t(lower + 1) * 3 + p] += upper * x;
+        }
+    }
+
+    const SpectralScene& scene_;
+    const PinholeCamera& c_;
+    double pitch_;  // tangent-plane width of a pixel
+    std::vector<uint8_t> lower_;
+    std::vector<float> upper_;
+};
 
 // The annulus R <= r <= reach with intensity ~ 1/r^3, integrated over cells of `cell` pixels,
 // holding 1 - R / reach (the share of a 1/r tail beyond R that lies within reach); (2 half + 1)^2 cells.
@@ -34,13 +122,13 @@ void add_far_tail(const PsfTable& t, const SpectralScene& scene, int origin, int
                   int out_h, float* xyz, int nthreads) {
     const int R = t.radius, reach = kTailReach * R;
     if (R < 2 || t.deficit.empty()) return;
-    const PinholeCamera& c = scene.camera;
     const int cell = std::max(1, R / 3), half = reach / cell + 1, L = t.layers.count;
     // the coarse grid covers the output widened by the tail's reach
     const int x0 = out_x0 - reach, y0 = out_y0 - reach;  // domain coordinates of coarse cell (0, 0)
     const int cw = (out_w + 2 * reach + cell - 1) / cell, ch = (out_h + 2 * reach + cell - 1) / cell;
     const int nkx = int(t.ax.knots.size()), anchors = t.anchors();
     std::vector<float> missing(3 * size_t(cw) * ch, 0.0f);
+    const FrameSources frame(t, scene);
 #pragma omp parallel num_threads(nthreads)
     {
         std::vector<double> light(size_t(L) * 3);  // a cell's light per layer and primary
@@ -48,26 +136,7 @@ void add_far_tail(const PsfTable& t, const SpectralScene& scene, int origin, int
         for (int J = 0; J < ch; ++J)
             for (int I = 0; I < cw; ++I) {
                 std::fill(light.begin(), light.end(), 0.0);
-                for (int y = y0 + J * cell; y < y0 + (J + 1) * cell; ++y)
-                    for (int x = x0 + I * cell; x < x0 + (I + 1) * cell; ++x) {
-                        // the source: the input where it reaches, its edge continued beyond
-                        const int ci = std::clamp(x - origin, 0, c.width - 1);
-                        const int cj = std::clamp(y - origin, 0, c.height - 1);
-                        const size_t q = size_t(cj) * c.width + ci;
-                        const double d = scene.depth[q];
-                        const double w =
-                            d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(ci, cj, d, scene.depth_meaning);
-                        int lower = 0;
-                        float upper = 0;
-                        t.layers.locate(w, lower, upper);
-                        double u, v;
-                        c.tangent(x - origin + 0.5, y - origin + 0.5, u, v);
-                        const double c4 = std::pow(1.0 / (1.0 + u * u + v * v), 2);
-                        for (int p = 0; p < 3; ++p) {
-                            light[size_t(lower) * 3 + p] += (1.0 - upper) * c4 * scene.rgb[3 * q + p];
-                            if (upper > 0) light[size_t(lower + 1) * 3 + p] += upper * c4 * scene.rgb[3 * q + p];
-                        }
-                    }
+                frame.add_block(x0 + I * cell - origin, y0 + J * cell - origin, cell, light);
                 // the kernels' missing shares at the cell's centre, interpolated as the kernels are
                 const int kx = std::clamp(x0 + I * cell + cell / 2, 0, t.ax.knots.back() - 1);
                 const int ky = std::clamp(y0 + J * cell + cell / 2, 0, t.ay.knots.back() - 1);

@@ -58,6 +58,16 @@ int tile_side(int requested, int radius, int domain) {
     return std::min(tile, domain);
 }
 
+// Transform work (points x log2 points) per depth layer of a plan tiled as `t` says: 9 kernel
+// spectra per anchor, and per tile 3 forward transforms for each of its 4 anchors and 3 inverse.
+double transform_work(const detail::PsfTableSpec& t) {
+    const int n = detail::convolution_fft_size(t.tile, t.radius, t.domain_width, t.domain_height);
+    const double tiles = double((t.domain_width + t.tile - 1) / t.tile) * ((t.domain_height + t.tile - 1) / t.tile);
+    const double anchors = double(detail::anchor_axis(t, false).knots.size()) * detail::anchor_axis(t, true).knots.size();
+    const double points = double(n) * n;
+    return (9 * anchors + 15 * tiles) * points * std::log2(points);
+}
+
 }  // namespace
 
 FastPlan::FastPlan(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -105,6 +115,18 @@ Result<detail::PsfTableSpec> plan_geometry(const FastPlanSpec& spec) {
     t.domain_height = out_h + 2 * radius;
     t.tile = tile_side(spec.settings.tile, radius, std::max(t.domain_width, t.domain_height));
     t.anchor_cells = std::max(1, spec.settings.anchor_cells);
+    if (spec.settings.tile <= 0) {
+        // one whole-domain tile needs a transform only the domain's side (no 2 R of padding):
+        // cheaper than tiles where the kernels are large against the frame. Its anchors are the
+        // domain's corners (knots lie on tile boundaries), so it is taken only where the tiles
+        // have no more (cells of kMinCellRadii kernel radii already span the frame).
+        detail::PsfTableSpec whole = t;
+        whole.tile = std::max(t.domain_width, t.domain_height);
+        auto anchors = [](const detail::PsfTableSpec& s) {
+            return detail::anchor_axis(s, false).knots.size() * detail::anchor_axis(s, true).knots.size();
+        };
+        if (anchors(whole) == anchors(t) && transform_work(whole) < transform_work(t)) t.tile = whole.tile;
+    }
     t.radius = radius;
     t.aperture = spec.aperture;
     t.basis = &spec.basis;
@@ -120,11 +142,10 @@ double FastPlan::estimate_bytes(const FastPlanSpec& spec) {
     auto g = plan_geometry(spec);
     if (!g.ok()) return 0;
     const detail::PsfTableSpec& t = g.value;
-    const int min_cell = detail::kMinCellRadii * t.radius;
     const double anchors =
-        double(detail::AnchorAxis::across(t.domain_width, t.tile, t.anchor_cells, min_cell, t.radius).knots.size()) *
-        (detail::AnchorAxis::across(t.domain_height, t.tile, t.anchor_cells, min_cell, t.radius).knots.size());
-    const double side = 2.0 * t.radius + 1, n = detail::fft_friendly_size(t.tile + 2 * t.radius);
+        double(detail::anchor_axis(t, false).knots.size()) * detail::anchor_axis(t, true).knots.size();
+    const double side = 2.0 * t.radius + 1,
+                 n = detail::convolution_fft_size(t.tile, t.radius, t.domain_width, t.domain_height);
     const double kernels = t.layers.count * anchors * 9 * (side * side * sizeof(float) + n * (n / 2 + 1) * 8);
     const double domain = double(t.domain_width) * t.domain_height * 17;  // radiance, layer, share
     const double tiles = t.nthreads * (n * n + 7 * n * (n / 2 + 1) * 2) * sizeof(float);
@@ -144,7 +165,8 @@ Result<std::shared_ptr<const FastPlan>> FastPlan::create(const FastPlanSpec& spe
     };
     auto table = detail::build_psf_table(t, part(0.0, 0.8));
     if (!table.ok()) return R::failure(table.error);
-    auto conv = detail::AnchoredConvolution::create(std::move(table.value), t.tile, threads, part(0.8, 1.0));
+    auto conv = detail::AnchoredConvolution::create(std::move(table.value), t.tile, t.domain_width, t.domain_height,
+                                                    threads, part(0.8, 1.0));
     if (!conv.ok()) return R::failure(conv.error);
     auto impl = std::make_unique<Impl>(Impl{spec, std::move(conv.value), t.origin});
     return R::success(std::shared_ptr<const FastPlan>(new FastPlan(std::move(impl))));

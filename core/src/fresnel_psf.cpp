@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <string>
 
 #include "real_fft2d.h"
 
@@ -38,6 +39,27 @@ FieldGeometry geometry_of(const FieldPsfRequest& q) {
     return g;
 }
 
+// The sampled pupils below depend on the aperture and the grid only, not on the wavelength
+// nor (for the transfer grid in image axes, or a round pupil) on the field angle: a table's
+// requests repeat them, so each thread keeps the last one it sampled under its key.
+template <class Grid>
+struct LastPupil {
+    std::vector<double> key;
+    std::string aperture;
+    const void* mask = nullptr;
+    Grid grid;
+    template <class Sample>
+    const Grid& get(const Aperture& a, std::vector<double> k, Sample sample) {
+        if (k != key || a.mask.get() != mask || a.name() != aperture) {
+            grid = sample();
+            key = std::move(k);
+            aperture = a.name();
+            mask = a.mask.get();
+        }
+        return grid;
+    }
+};
+
 // Film radius (m) holding kPsfKernelEnergy of the PSF: the shadow's radius plus the sharp
 // edge's tail, light beyond the rim by s being at most 2 lambda f / (pi^2 D s) of the power,
 // stretched 1/cos^3 off axis (see the header).
@@ -49,31 +71,39 @@ double psf_radius(const Aperture& aperture, double film_distance, double depth, 
 }
 
 // ---- Few zones: matrix Fourier transform of the sampled pupil ----------------------------
+//
+// The chirp exp(i pi/lambda (ar xi_r^2 + at xi_t^2)) is one factor per axis, so it rides in
+// each axis's transform matrix and the sampled pupil stays real (its open fraction):
+//   Q(mu_r, mu_t) = sum_r M_r[mu_r][xi_r] sum_t open[xi_r][xi_t] M_t[mu_t][xi_t],
+//   M[mu][xi] = exp(i pi a xi^2 / lambda) exp(-2 pi i xi mu)   (a = ar or at).
+// A rotationally symmetric pupil (circle, zone plate) is the same in the (r, t) axes of every
+// field azimuth and even in xi_r and in xi_t, so Q is even in mu_r and in mu_t: pairing +xi
+// with -xi turns M into 2 exp(i pi a xi^2 / lambda) cos(2 pi xi mu) over xi > 0, and only
+// mu >= 0 is evaluated: a quarter of the pupil onto a quarter of the grid, the same sums.
 
-// One axis of the matrix Fourier transform, split into real and imaginary parts:
-// E[o][p] = exp(-2 pi i xi_p mu_o).
-void transform_matrix(const std::vector<double>& xi, const std::vector<double>& mu, std::vector<float>& re,
-                      std::vector<float>& im) {
-    re.resize(mu.size() * xi.size());
-    im.resize(mu.size() * xi.size());
-    for (size_t o = 0; o < mu.size(); ++o)
-        for (size_t p = 0; p < xi.size(); ++p) {
-            const double phase = -2 * M_PI * std::remainder(xi[p] * mu[o], 1.0);
-            re[o * xi.size() + p] = float(std::cos(phase));
-            im[o * xi.size() + p] = float(std::sin(phase));
-        }
+bool mirror_symmetric(const Aperture& a) {
+    return a.shape == ApertureShape::Circle || a.shape == ApertureShape::ZonePlate;
 }
 
 struct MftPlan {
-    int n = 0;        // pupil samples across (r, t)
-    int half = 0;     // output grid half-width in steps
-    double step = 0;  // output grid spacing on the film (m)
-    int points = 0;   // points per kernel pixel side averaged from the grid
-    double cost() const { return 4.0 * (double(n) * n * (2 * half + 1) + double(n) * (2 * half + 1) * (2 * half + 1)); }
+    int nr = 0, nt = 0;      // pupil samples across, radial and tangential
+    int half = 0;            // output grid half-width in steps
+    double step = 0;         // output grid spacing on the film (m)
+    int points = 0;          // points per kernel pixel side averaged from the grid
+    bool mirrored = false;   // evaluated on the halves xi > 0 and mu >= 0 only
+    int kept(int n) const { return mirrored ? n / 2 : n; }
+    int grid() const { return mirrored ? half + 1 : 2 * half + 1; }
+    // real multiply-adds: open x M_t (real x complex), M_r x that (complex x complex), and
+    // the matrices' sines and cosines (about 20 each)
+    double cost() const {
+        const double pr = kept(nr), pt = kept(nt), m = grid();
+        return 2 * pr * pt * m + 4 * pr * m * m + 20 * (pr + pt) * m;
+    }
 };
 
 MftPlan plan_mft(const FieldPsfRequest& q, const FieldGeometry& g) {
     MftPlan p;
+    p.mirrored = mirror_symmetric(q.aperture);
     // The irradiance holds no frequency above span / (lambda f): its finest fringe is
     // lambda f / span. Output points a fraction of a pixel apart and at least two per finest
     // fringe, so that the sub-pixel points average fringes instead of aliasing them; where the
@@ -82,7 +112,10 @@ MftPlan plan_mft(const FieldPsfRequest& q, const FieldGeometry& g) {
     // near 0.3%), however many pixels that is.
     const double fringe = q.wavelength * q.film_distance / g.span;
     p.step = std::max(fringe / 16, std::min(q.pixel_pitch / q.subsamples, fringe / 2));
-    p.points = std::max(q.subsamples, int(std::ceil(q.pixel_pitch / p.step - 1e-6)));
+    // Where the grid is coarser than a pixel (small pinholes), the bilinear interpolant is one
+    // bilinear polynomial over most of a pixel, and its mean over the square pixel (at any
+    // rotation) is its value at the pixel's centre: one point per pixel then.
+    p.points = p.step >= q.pixel_pitch ? 1 : std::max(q.subsamples, int(std::ceil(q.pixel_pitch / p.step - 1e-6)));
     // The grid covers the kernel square rotated by any angle, or only the PSF's own
     // kPsfKernelEnergy radius where that is smaller (pixels far wider than the PSF): the
     // fringe-fine step over a kernel of such pixels would cost (pixel / fringe)^2.
@@ -90,87 +123,116 @@ MftPlan plan_mft(const FieldPsfRequest& q, const FieldGeometry& g) {
     const double cover = std::min((q.radius + 1) * q.pixel_pitch, psf_extent) * std::sqrt(2.0);
     p.half = int(std::ceil(cover / p.step));
     const double extent = p.half * p.step;
-    // The quadratic phase spans N = (span/2)^2 alpha / lambda half-period zones; 8 N samples
-    // across keep its phase step below pi/2, and never fewer than 64. The sampled pupil's
-    // transform repeats every lambda f / (h cos) on the film: the output grid (half-width
-    // `extent`) must fit in one period, n >= 2 span extent cos / (lambda f); twice that keeps
-    // the cells' box filter (sinc(mu h) >= 0.9 at the grid's edge, where the far tail lands)
-    // from dimming the tail: 0.1% of the power at 0.08 mm, f = 50 mm, 99% kernel.
+    // Per axis (film offset d maps to mu = d c^3 / (lambda f) radially, d c / (lambda f)
+    // tangentially): the quadratic phase spans N = (span/2)^2 a / lambda half-period zones
+    // (a = ar or at); 8 N samples across keep its phase step below pi/2, and never fewer than
+    // 64. The sampled pupil's transform repeats every lambda f / (h c^3) (radially; lambda f /
+    // (h c) tangentially) on the film: the output grid (half-width `extent`) must fit in one
+    // period, n >= 2 span extent c^3 / (lambda f); twice that keeps the cells' box filter
+    // (sinc(mu h) >= 0.9 at the grid's edge, where the far tail lands) from dimming the tail:
+    // 0.1% of the power at 0.08 mm, f = 50 mm, 99% kernel.
     // Cells hold their open fraction at their centre, so an opening narrower than the pupil
     // (a zone plate's outer zone, a sieve's hole) needs kCellsAcrossFinest cells across it: with
     // 3.5 across sieve:8's smallest hole the focal core came out 6% dim, with 12 within 0.5%.
     constexpr double kCellsAcrossFinest = 12;
-    const double zones = 0.25 * g.span * g.span * g.alpha / q.wavelength;
-    p.n = q.pupil_samples > 0
-              ? q.pupil_samples
-              : std::clamp(2 * int(std::ceil(std::max({4 * zones, 2.2 * g.span * extent * g.c /
-                                                                      (q.wavelength * q.film_distance),
-                                                       0.5 * kCellsAcrossFinest * g.span / q.aperture.finest_width()}))),
-                           64, 2048);
+    const double finest = 0.5 * kCellsAcrossFinest * g.span / q.aperture.finest_width();
+    auto samples = [&](double rate, double stretch) {
+        if (q.pupil_samples > 0) return q.pupil_samples + (p.mirrored ? q.pupil_samples % 2 : 0);
+        const double zones = 0.25 * g.span * g.span * rate / q.wavelength;
+        const double period = 2.2 * g.span * extent * stretch / (q.wavelength * q.film_distance);
+        return std::clamp(2 * int(std::ceil(std::max({4 * zones, period, finest}))), 64, 2048);
+    };
+    p.nr = samples(g.ar, g.c * g.c * g.c);
+    p.nt = samples(g.at, g.c);
     return p;
 }
 
-std::vector<float> kernel_by_mft(const FieldPsfRequest& q, const FieldGeometry& g, const MftPlan& plan) {
-    const double f = q.film_distance, lambda = q.wavelength, c = g.c;
-    const int n = plan.n, half = plan.half, m = 2 * half + 1;
-    const double step = plan.step;
-    // Pupil on an n x n grid in (r, t) axes; cell weights from the aperture's coverage (the
-    // aperture's own x, y axes rotated by the field azimuth).
-    const double h = g.span / n;
-    std::vector<double> xi(n);
-    for (int k = 0; k < n; ++k) xi[k] = (k - 0.5 * (n - 1)) * h;
-    std::vector<float> pupil_re(size_t(n) * n), pupil_im(size_t(n) * n);
-    for (int ir = 0; ir < n; ++ir)
-        for (int it = 0; it < n; ++it) {
-            constexpr int kSub = 4;  // sub-sampled coverage of the rotated cell
+// The pupil's open fraction on an nr x nt grid of cells hr x ht in (r, t) axes (the
+// aperture's own x, y axes rotated by the field azimuth), from 4 x 4 points per cell; for a
+// mirrored plan only the cells at xi_r > 0, xi_t > 0.
+struct PupilGrid {
+    std::vector<double> xi_r, xi_t;  // cell centres kept (m)
+    double hr = 0, ht = 0;           // cell sides (m)
+    std::vector<float> open;         // xi_r.size() x xi_t.size()
+};
+
+PupilGrid sample_pupil(const FieldPsfRequest& q, const FieldGeometry& g, const MftPlan& plan) {
+    PupilGrid pupil;
+    pupil.hr = g.span / plan.nr;
+    pupil.ht = g.span / plan.nt;
+    auto centres = [&](int n, double h) {
+        std::vector<double> xi;
+        for (int k = n - plan.kept(n); k < n; ++k) xi.push_back((k - 0.5 * (n - 1)) * h);
+        return xi;
+    };
+    pupil.xi_r = centres(plan.nr, pupil.hr);
+    pupil.xi_t = centres(plan.nt, pupil.ht);
+    const size_t nr = pupil.xi_r.size(), nt = pupil.xi_t.size();
+    pupil.open.resize(nr * nt);
+    constexpr int kSub = 4;  // sub-sampled coverage of the rotated cell
+    for (size_t ir = 0; ir < nr; ++ir)
+        for (size_t it = 0; it < nt; ++it) {
             double open = 0;
             for (int s = 0; s < kSub * kSub; ++s) {
-                const double r = xi[ir] + ((s % kSub) + 0.5 - 0.5 * kSub) * h / kSub;
-                const double t = xi[it] + ((s / kSub) + 0.5 - 0.5 * kSub) * h / kSub;
+                const double r = pupil.xi_r[ir] + ((s % kSub) + 0.5 - 0.5 * kSub) * pupil.hr / kSub;
+                const double t = pupil.xi_t[it] + ((s / kSub) + 0.5 - 0.5 * kSub) * pupil.ht / kSub;
                 const double x = r * g.er_x - t * g.er_y, y = r * g.er_y + t * g.er_x;
                 open += q.aperture.transmission(-x, y);  // (x, y): image (column, row); pupil +x lands at column -x
             }
-            open /= kSub * kSub;
-            const double phase = M_PI / lambda * (g.ar * xi[ir] * xi[ir] + g.at * xi[it] * xi[it]);
-            pupil_re[size_t(ir) * n + it] = float(open * std::cos(phase));
-            pupil_im[size_t(ir) * n + it] = float(open * std::sin(phase));
+            pupil.open[ir * nt + it] = float(open / (kSub * kSub));
         }
+    return pupil;
+}
 
-    // Output grid in (r, t) film offsets, spacing `step`, covering the kernel square rotated by
-    // any angle.
-    std::vector<double> mu_r(m), mu_t(m);
+// One axis's matrix M[o][p] (see above), real and imaginary parts, for film offsets
+// d_o = (o - offset) step whose frequency is mu_o = d_o stretch / (lambda f).
+void axis_matrix(const std::vector<double>& xi, double rate, const FieldPsfRequest& q, const MftPlan& plan,
+                 double stretch, std::vector<float>& re, std::vector<float>& im) {
+    const int m = plan.grid(), offset = plan.mirrored ? 0 : plan.half;
+    const size_t n = xi.size();
+    re.resize(size_t(m) * n);
+    im.resize(size_t(m) * n);
+    std::vector<std::complex<double>> chirp(n);
+    for (size_t p = 0; p < n; ++p) chirp[p] = std::polar(1.0, M_PI * std::remainder(rate * xi[p] * xi[p] / q.wavelength, 2.0));
     for (int o = 0; o < m; ++o) {
-        const double d = (o - half) * step;
-        mu_r[o] = d * c * c * c / (lambda * f);
-        mu_t[o] = d * c / (lambda * f);
+        const double mu = (o - offset) * plan.step * stretch / (q.wavelength * q.film_distance);
+        for (size_t p = 0; p < n; ++p) {
+            const double turns = std::remainder(xi[p] * mu, 1.0);
+            const std::complex<double> e = plan.mirrored ? 2 * std::cos(2 * M_PI * turns) * chirp[p]
+                                                         : std::polar(1.0, -2 * M_PI * turns) * chirp[p];
+            re[size_t(o) * n + p] = float(e.real());
+            im[size_t(o) * n + p] = float(e.imag());
+        }
     }
-    std::vector<float> er_re, er_im, et_re, et_im;
-    transform_matrix(xi, mu_r, er_re, er_im);
-    transform_matrix(xi, mu_t, et_re, et_im);
-    // tmp[ir][o] = sum_it pupil[ir][it] et[o][it]
-    std::vector<float> tmp_re(size_t(n) * m), tmp_im(size_t(n) * m);
-    for (int ir = 0; ir < n; ++ir)
+}
+
+// |Q|^2 on the output grid (grid x grid, rows radial): tmp[ir][ot] = sum_it open[ir][it]
+// M_t[ot][it], then Q[or][ot] = sum_ir M_r[or][ir] tmp[ir][ot].
+std::vector<float> transform_power(const PupilGrid& pupil, const std::vector<float>& mr_re,
+                                   const std::vector<float>& mr_im, const std::vector<float>& mt_re,
+                                   const std::vector<float>& mt_im, int m) {
+    const int nr = int(pupil.xi_r.size()), nt = int(pupil.xi_t.size());
+    std::vector<float> tmp_re(size_t(nr) * m), tmp_im(size_t(nr) * m);
+    for (int ir = 0; ir < nr; ++ir)
         for (int o = 0; o < m; ++o) {
-            const float* pr = &pupil_re[size_t(ir) * n];
-            const float* pi = &pupil_im[size_t(ir) * n];
-            const float* qr = &et_re[size_t(o) * n];
-            const float* qi = &et_im[size_t(o) * n];
+            const float* a = &pupil.open[size_t(ir) * nt];
+            const float* br = &mt_re[size_t(o) * nt];
+            const float* bi = &mt_im[size_t(o) * nt];
             float sr = 0, si = 0;
 #pragma omp simd reduction(+ : sr, si)
-            for (int it = 0; it < n; ++it) {
-                sr += pr[it] * qr[it] - pi[it] * qi[it];
-                si += pr[it] * qi[it] + pi[it] * qr[it];
+            for (int it = 0; it < nt; ++it) {
+                sr += a[it] * br[it];
+                si += a[it] * bi[it];
             }
             tmp_re[size_t(ir) * m + o] = sr;
             tmp_im[size_t(ir) * m + o] = si;
         }
-    // field[or][ot] = sum_ir er[or][ir] tmp[ir][ot]; intensity = |field|^2
-    std::vector<float> intensity(size_t(m) * m), row_re(m), row_im(m);
+    std::vector<float> power(size_t(m) * m), row_re(m), row_im(m);
     for (int orr = 0; orr < m; ++orr) {
         std::fill(row_re.begin(), row_re.end(), 0.0f);
         std::fill(row_im.begin(), row_im.end(), 0.0f);
-        for (int ir = 0; ir < n; ++ir) {
-            const float ar = er_re[size_t(orr) * n + ir], ai = er_im[size_t(orr) * n + ir];
+        for (int ir = 0; ir < nr; ++ir) {
+            const float ar = mr_re[size_t(orr) * nr + ir], ai = mr_im[size_t(orr) * nr + ir];
             const float* br = &tmp_re[size_t(ir) * m];
             const float* bi = &tmp_im[size_t(ir) * m];
 #pragma omp simd
@@ -179,39 +241,77 @@ std::vector<float> kernel_by_mft(const FieldPsfRequest& q, const FieldGeometry& 
                 row_im[ot] += ar * bi[ot] + ai * br[ot];
             }
         }
-        for (int ot = 0; ot < m; ++ot) intensity[size_t(orr) * m + ot] = row_re[ot] * row_re[ot] + row_im[ot] * row_im[ot];
+        for (int ot = 0; ot < m; ++ot) power[size_t(orr) * m + ot] = row_re[ot] * row_re[ot] + row_im[ot] * row_im[ot];
     }
+    return power;
+}
 
-    // Power per film area. The transform above is Q(mu) = sum_p Q_p exp(-2 pi i xi_p mu) without
-    // its cell area h^2; Parseval gives int |Q|^2 d^2mu = aperture area, and d^2mu =
-    // c^4 / (lambda f)^2 d^2(film), so the fraction of the transmitted power per film area is
-    // |Q|^2 h^4 c^4 / ((lambda f)^2 area).
-    const double density = std::pow(h * h * c * c / (lambda * f), 2) / g.area;
-    // Area-average each kernel pixel from the (r, t) grid by bilinear interpolation.
-    const int w = 2 * q.radius + 1, sub = plan.points;
-    std::vector<float> weight(size_t(w) * w, 0.0f);
-    auto sample = [&](double r, double t) {
-        const double fr = r / step + half, ft = t / step + half;
-        const int i0 = int(std::floor(fr)), j0 = int(std::floor(ft));
-        if (i0 < 0 || j0 < 0 || i0 + 1 >= m || j0 + 1 >= m) return 0.0;
+// Power per film area on the (r, t) grid, read by bilinear interpolation (zero beyond it).
+struct FilmGrid {
+    const MftPlan& plan;
+    std::vector<float> density;  // grid x grid, rows radial
+    double inverse_step = 1 / plan.step;
+    double at(double r, double t) const {
+        const int m = plan.grid();
+        if (plan.mirrored) {
+            r = std::fabs(r);
+            t = std::fabs(t);
+        }
+        const double offset = plan.mirrored ? 0 : plan.half;
+        const double fr = r * inverse_step + offset, ft = t * inverse_step + offset;
+        if (!(fr >= 0 && ft >= 0 && fr < m - 1 && ft < m - 1)) return 0.0;
+        const int i0 = int(fr), j0 = int(ft);
         const double a = fr - i0, b = ft - j0;
-        auto I = [&](int i, int j) { return double(intensity[size_t(i) * m + j]); };
+        auto I = [&](int i, int j) { return double(density[size_t(i) * m + j]); };
         return (1 - a) * ((1 - b) * I(i0, j0) + b * I(i0, j0 + 1)) + a * ((1 - b) * I(i0 + 1, j0) + b * I(i0 + 1, j0 + 1));
-    };
+    }
+};
+
+// Each kernel pixel's power: the area average of the film grid over the pixel (points x
+// points bilinear samples) times the pixel's area.
+std::vector<float> average_over_pixels(const FieldPsfRequest& q, const FieldGeometry& g, const FilmGrid& film) {
+    const int w = 2 * q.radius + 1, sub = film.plan.points;
+    std::vector<float> weight(size_t(w) * w, 0.0f);
     const double pixel_area = q.pixel_pitch * q.pixel_pitch;
-    for (int b = -q.radius; b <= q.radius; ++b)
-        for (int a = -q.radius; a <= q.radius; ++a) {
+    // the points' image offsets (column or row) in metres on the film, kernel pixel k's at
+    // [k sub, (k + 1) sub)
+    std::vector<double> offset(size_t(w) * sub);
+    for (int k = 0; k < w; ++k)
+        for (int s = 0; s < sub; ++s) offset[size_t(k) * sub + s] = (k - q.radius + (s + 0.5) / sub - 0.5) * q.pixel_pitch;
+    for (int b = 0; b < w; ++b)
+        for (int a = 0; a < w; ++a) {
             double s = 0;
-            for (int sb = 0; sb < sub; ++sb)
+            for (int sb = 0; sb < sub; ++sb) {
+                const double y = offset[size_t(b) * sub + sb];
                 for (int sa = 0; sa < sub; ++sa) {
-                    // image offset (column, row) in metres on the film
-                    const double x = (a + (sa + 0.5) / sub - 0.5) * q.pixel_pitch;
-                    const double y = (b + (sb + 0.5) / sub - 0.5) * q.pixel_pitch;
-                    s += sample(x * g.er_x + y * g.er_y, -x * g.er_y + y * g.er_x);
+                    const double x = offset[size_t(a) * sub + sa];
+                    s += film.at(x * g.er_x + y * g.er_y, -x * g.er_y + y * g.er_x);
                 }
-            weight[size_t(b + q.radius) * w + (a + q.radius)] = float(s / (sub * sub) * pixel_area * density);
+            }
+            weight[size_t(b) * w + a] = float(s / (sub * sub) * pixel_area);
         }
     return weight;
+}
+
+std::vector<float> kernel_by_mft(const FieldPsfRequest& q, const FieldGeometry& g, const MftPlan& plan) {
+    thread_local LastPupil<PupilGrid> last;
+    const PupilGrid& pupil =
+        last.get(q.aperture,
+                 {q.aperture.diameter, double(plan.nr), double(plan.nt), double(plan.mirrored),
+                  plan.mirrored ? 0.0 : g.er_x, plan.mirrored ? 0.0 : g.er_y},
+                 [&] { return sample_pupil(q, g, plan); });
+    const double c = g.c;
+    std::vector<float> mr_re, mr_im, mt_re, mt_im;
+    axis_matrix(pupil.xi_r, g.ar, q, plan, c * c * c, mr_re, mr_im);
+    axis_matrix(pupil.xi_t, g.at, q, plan, c, mt_re, mt_im);
+    FilmGrid film{plan, transform_power(pupil, mr_re, mr_im, mt_re, mt_im, plan.grid())};
+    // Power per film area. The transform is Q(mu) = sum_p Q_p exp(-2 pi i xi_p mu) without
+    // its cell area hr ht; Parseval gives int |Q|^2 d^2mu = aperture area, and d^2mu =
+    // c^4 / (lambda f)^2 d^2(film), so the fraction of the transmitted power per film area is
+    // |Q|^2 (hr ht)^2 c^4 / ((lambda f)^2 area).
+    const double density = std::pow(pupil.hr * pupil.ht * c * c / (q.wavelength * q.film_distance), 2) / g.area;
+    for (float& x : film.density) x = float(x * density);
+    return average_over_pixels(q, g, film);
 }
 
 // ---- Many zones: Fresnel transfer function on a grid at a fraction of a film pixel ----------
@@ -270,21 +370,92 @@ TransferPlan plan_transfer(const FieldPsfRequest& q, const FieldGeometry& g) {
     return p;
 }
 
-// In-place 2D complex FFT (kissfft rows, then columns), unnormalised; rows outside
-// [row0, row1) are known to be zero on input and are skipped in the first pass.
-void fft2d(std::vector<std::complex<float>>& a, int n, bool inverse, int row0, int row1) {
-    kiss_fft_cfg cfg = kiss_fft_alloc(n, inverse ? 1 : 0, nullptr, nullptr);
-    std::vector<std::complex<float>> line(n);
-    auto cpx = [](std::complex<float>* p) { return reinterpret_cast<kiss_fft_cpx*>(p); };
-    for (int r = row0; r < row1; ++r) {
-        kiss_fft(cfg, cpx(&a[size_t(r) * n]), cpx(line.data()));
-        std::copy(line.begin(), line.end(), &a[size_t(r) * n]);
+// In-place 2D complex FFT, unnormalised. Forward: rows outside [row0, row1) are zero on input
+// and their transforms are skipped, then every column. Inverse: every column, then only the
+// rows [row0, row0 + count) (indices modulo n) that are read afterwards.
+class Fft2d {
+public:
+    Fft2d(int n, bool inverse) : n_(n), cfg_(kiss_fft_alloc(n, inverse ? 1 : 0, nullptr, nullptr)), line_(n) {}
+    ~Fft2d() { kiss_fft_free(cfg_); }
+    Fft2d(const Fft2d&) = delete;
+    Fft2d& operator=(const Fft2d&) = delete;
+    void rows(std::vector<std::complex<float>>& a, int row0, int count) {
+        for (int k = 0; k < std::min(count, n_); ++k) {
+            std::complex<float>* row = &a[size_t((row0 + k + n_) % n_) * n_];
+            kiss_fft(cfg_, cpx(row), cpx(line_.data()));
+            std::copy(line_.begin(), line_.end(), row);
+        }
     }
-    for (int k = 0; k < n; ++k) {
-        kiss_fft_stride(cfg, cpx(&a[k]), cpx(line.data()), n);
-        for (int r = 0; r < n; ++r) a[size_t(r) * n + k] = line[r];
+    void columns(std::vector<std::complex<float>>& a) {
+        for (int k = 0; k < n_; ++k) {
+            kiss_fft_stride(cfg_, cpx(&a[k]), cpx(line_.data()), n_);
+            for (int r = 0; r < n_; ++r) a[size_t(r) * n_ + k] = line_[r];
+        }
     }
-    kiss_fft_free(cfg);
+
+private:
+    static kiss_fft_cpx* cpx(std::complex<float>* p) { return reinterpret_cast<kiss_fft_cpx*>(p); }
+    int n_;
+    kiss_fft_cfg cfg_;
+    std::vector<std::complex<float>> line_;
+};
+
+// The transfer function with the pupil cells' box response divided out, on the FFT grid
+// (frequency nu = k / L, k taken in [-n/2, n/2)). In image axes the exponent is a quadratic
+// form, -pi lambda (A nx^2 + B ny^2 + 2 C nx ny) with A = zr ex^2 + zt ey^2, B = zr ey^2 +
+// zt ex^2, C = ex ey (zr - zt) (e the radial unit vector): a factor per axis times
+// exp(-2 pi i lambda C nx ny), which along a row is a geometric sequence in kx (one complex
+// multiplication per point instead of a sine and cosine).
+void apply_transfer(std::vector<std::complex<float>>& field, int n, double h, double wavelength,
+                    const FieldGeometry& g) {
+    const double L = n * h, zr = 1.0 / g.ar, zt = 1.0 / g.at;
+    const double A = zr * g.er_x * g.er_x + zt * g.er_y * g.er_y, B = zr * g.er_y * g.er_y + zt * g.er_x * g.er_x;
+    const double C = g.er_x * g.er_y * (zr - zt);
+    auto signed_index = [n](int k) { return k < n / 2 ? k : k - n; };
+    auto axis = [&](double rate) {
+        std::vector<std::complex<double>> f(n);
+        for (int k = 0; k < n; ++k) {
+            const double nu = signed_index(k) / L;
+            f[k] = std::polar(1.0 / box_response(nu * h), -M_PI * wavelength * rate * nu * nu);
+        }
+        return f;
+    };
+    const std::vector<std::complex<double>> fx = axis(A), fy = axis(B);
+    std::vector<std::complex<double>> cross(n);
+    for (int ky = 0; ky < n; ++ky) {
+        // exp(i beta kx') for kx' = -n/2 ... n/2 - 1, by repeated multiplication
+        const double beta = -2 * M_PI * wavelength * C * signed_index(ky) / (L * L);
+        const std::complex<double> w = std::polar(1.0, beta);
+        std::complex<double> z = std::polar(1.0, -beta * (n / 2));
+        for (int k = -n / 2; k < n - n / 2; ++k, z *= w) cross[(k + n) % n] = z;
+        std::complex<float>* row = &field[size_t(ky) * n];
+        for (int kx = 0; kx < n; ++kx) row[kx] *= std::complex<float>(fy[ky] * fx[kx] * cross[kx]);
+    }
+}
+
+// The pupil's open cells on a transfer grid of pitch h, cell (dx, dy) centred at ((dx + o) h,
+// (dy + o) h) in image axes, holding its open fraction.
+struct OpenCell {
+    int dx, dy;
+    float open;
+};
+
+std::vector<OpenCell> transfer_pupil(const Aperture& aperture, double span, double h, double o) {
+    std::vector<OpenCell> cells;
+    const int reach = int(std::ceil(0.5 * span / h)) + 2;
+    for (int dy = -reach; dy <= reach; ++dy) {
+        const double y = (dy + o) * h;
+        if (std::fabs(y) > 0.5 * span + h) continue;
+        for (int dx = -reach; dx <= reach; ++dx) {
+            const double x = (dx + o) * h;
+            if (std::fabs(x) > 0.5 * span + h) continue;
+            double cx, cy;
+            // (x, y): image (column, row); pupil +x lands at column -x (as in the matrix transform)
+            const double open = aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy);
+            if (open > 0) cells.push_back({dx, dy, float(open)});
+        }
+    }
+    return cells;
 }
 
 std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeometry& g, const TransferPlan& plan) {
@@ -293,37 +464,25 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
     // Grid index i sits at (i - n/2 + o) h, o = 1/2 for even sub, so that kernel pixel a's
     // sub points are indices n/2 + a sub - sub/2 + [0, sub).
     const double o = sub % 2 == 0 ? 0.5 : 0.0;
-    auto position = [&](int i) { return (i - n / 2 + o) * h; };
+    thread_local LastPupil<std::vector<OpenCell>> last;
+    const std::vector<OpenCell>& cells =
+        last.get(q.aperture, {q.aperture.diameter, h, o}, [&] { return transfer_pupil(q.aperture, g.span, h, o); });
     std::vector<std::complex<float>> field(size_t(n) * n, 0.0f);
     int row0 = n, row1 = 0;
-    for (int iy = 0; iy < n; ++iy) {
-        const double y = position(iy);
-        if (std::fabs(y) > 0.5 * g.span + h) continue;
-        for (int ix = 0; ix < n; ++ix) {
-            const double x = position(ix);
-            if (std::fabs(x) > 0.5 * g.span + h) continue;
-            double cx, cy;
-            // (x, y): image (column, row); pupil +x lands at column -x (as in the matrix transform)
-            const double open = q.aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy);
-            if (open <= 0) continue;
-            field[size_t(iy) * n + ix] = float(open);
-            row0 = std::min(row0, iy);
-            row1 = std::max(row1, iy + 1);
-        }
+    for (const OpenCell& cell : cells) {
+        const int ix = n / 2 + cell.dx, iy = n / 2 + cell.dy;
+        if (ix < 0 || iy < 0 || ix >= n || iy >= n) continue;
+        field[size_t(iy) * n + ix] = cell.open;
+        row0 = std::min(row0, iy);
+        row1 = std::max(row1, iy + 1);
     }
-    fft2d(field, n, false, row0, row1);
-    const double L = n * h, zr = 1.0 / g.ar, zt = 1.0 / g.at;
-    for (int ky = 0; ky < n; ++ky) {
-        const double ny = (ky < n / 2 ? ky : ky - n) / L;
-        for (int kx = 0; kx < n; ++kx) {
-            const double nx = (kx < n / 2 ? kx : kx - n) / L;
-            const double nr = nx * g.er_x + ny * g.er_y, nt = -nx * g.er_y + ny * g.er_x;
-            const double phase = -M_PI * q.wavelength * (zr * nr * nr + zt * nt * nt);
-            const double gain = 1.0 / (box_response(nx * h) * box_response(ny * h));
-            field[size_t(ky) * n + kx] *= std::complex<float>(float(gain * std::cos(phase)), float(gain * std::sin(phase)));
-        }
-    }
-    fft2d(field, n, true, 0, n);
+    Fft2d forward(n, false);
+    forward.rows(field, row0, row1 - row0);
+    forward.columns(field);
+    apply_transfer(field, n, h, q.wavelength, g);
+    Fft2d inverse(n, true);
+    inverse.columns(field);
+    inverse.rows(field, n / 2 - q.radius * sub - sub / 2, (2 * q.radius + 1) * sub);
     // Each pixel: sum of |U|^2 h^2 over its points / transmitted power (the aperture's area);
     // kissfft's forward-inverse pair scales by n^2.
     const double scale = h * h / (double(n) * n * double(n) * n) / g.area;

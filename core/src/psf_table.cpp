@@ -34,6 +34,14 @@ DepthLayers DepthLayers::spanning(double max_inverse_depth, double aperture_radi
     const int multiple = int(std::ceil(max_inverse_depth / (dw * (kMaxLayers - 1))));
     d.step = dw * multiple;
     d.count = int(std::ceil(max_inverse_depth / d.step)) + 1;
+    // One layer (the sky's) serves every depth where the defocus phase at the rim, pi a^2 (w +
+    // 1/f) / lambda, stays within kMaxDefocusStep even at the nearest source: a defocus phi
+    // rho^2 over a disc has phase variance phi^2 / 12, and by Marechal's rule the PSF then
+    // moves at most that share of its light (0.75% at 0.3 rad) - small pinholes, whose Airy
+    // disc no depth changes.
+    const double phase = M_PI * aperture_radius * aperture_radius * (max_inverse_depth + 1.0 / film_distance) /
+                         shortest_wavelength;
+    if (phase <= kMaxDefocusStep) d.count = 1;
     return d;
 }
 
@@ -62,16 +70,20 @@ int AnchorAxis::cell_of(int pixel) const {
     return std::clamp(int(it - knots.begin()) - 1, 0, cells() - 1);
 }
 
+AnchorAxis anchor_axis(const PsfTableSpec& spec, bool vertical) {
+    const int length = vertical ? spec.domain_height : spec.domain_width;
+    const int cells = vertical ? std::max(1, int(std::lround(double(spec.anchor_cells) * length /
+                                                             std::max(spec.domain_width, spec.domain_height))))
+                               : spec.anchor_cells;
+    return AnchorAxis::across(length, spec.tile, cells, kMinCellRadii * spec.radius, spec.radius);
+}
+
 Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& progress) {
     PsfTable t;
     t.radius = spec.radius;
     t.layers = spec.layers;
-    t.ax = AnchorAxis::across(spec.domain_width, spec.tile, spec.anchor_cells, kMinCellRadii * spec.radius,
-                              spec.radius);
-    t.ay = AnchorAxis::across(spec.domain_height, spec.tile,
-                              std::max(1, int(std::lround(double(spec.anchor_cells) * spec.domain_height /
-                                                          std::max(spec.domain_width, spec.domain_height)))),
-                              kMinCellRadii * spec.radius, spec.radius);
+    t.ax = anchor_axis(spec, false);
+    t.ay = anchor_axis(spec, true);
     const int anchors = t.anchors(), S = spec.basis->size();
     const size_t ksize = t.kernel_size();
     t.weights.assign(size_t(t.layers.count) * anchors * 9 * ksize, 0.0f);

@@ -18,7 +18,8 @@ namespace wavecam::detail {
 // interpolation between neighbouring layers' PSFs within the fast path's 2%. Large pinholes are
 // in the geometric regime, where the PSF is the blur disc of radius a (1 + f w), itself linear
 // in w: there steps that change the disc by at most half a pixel suffice (the larger step of
-// the two is taken; at most 16 layers).
+// the two is taken; at most 16 layers). Where the defocus phase stays within 0.3 rad even at
+// the nearest source (small pinholes), one layer serves every depth (psf_table.cpp says why).
 struct DepthLayers {
     int count = 1;
     double step = 1.0;  // in 1/m
@@ -84,6 +85,10 @@ struct PsfTable {
         return &weights[((size_t(layer) * anchors() + anchor) * 9 + m) * kernel_size()];
     }
 };
+
+// The anchor axis build_psf_table lays out across (vertical: down) the spec's domain:
+// anchor_cells cells across, fewer down in proportion when the domain is wider than tall.
+AnchorAxis anchor_axis(const PsfTableSpec& spec, bool vertical);
 
 // Fails only when cancelled through `progress`.
 Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& progress);

@@ -6,6 +6,7 @@
 #include <kiss_fft.h>
 #include <kiss_fftr.h>
 
+#include <algorithm>
 #include <complex>
 #include <vector>
 
@@ -35,9 +36,14 @@ public:
     int size() const { return n_; }
     size_t spectrum_size() const { return size_t(n_) * half_; }
 
-    // n x n real (row-major) -> n x (n/2 + 1) spectrum (row-major)
-    void forward(const float* image, std::complex<float>* spectrum) {
-        for (int r = 0; r < n_; ++r) kiss_fftr(row_forward_, image + size_t(r) * n_, cpx(spectrum + size_t(r) * half_));
+    // n x n real (row-major) -> n x (n/2 + 1) spectrum (row-major). Rows [zero_begin, zero_end)
+    // are known to be zero (a tile's padding, a wrapped kernel's middle): their transforms are skipped.
+    void forward(const float* image, std::complex<float>* spectrum, int zero_begin = 0, int zero_end = 0) {
+        for (int r = 0; r < n_; ++r)
+            if (r >= zero_begin && r < zero_end)
+                std::fill(spectrum + size_t(r) * half_, spectrum + size_t(r + 1) * half_, std::complex<float>(0));
+            else
+                kiss_fftr(row_forward_, image + size_t(r) * n_, cpx(spectrum + size_t(r) * half_));
         columns(spectrum, column_forward_);
     }
     // spectrum -> n x n real, scaled by n^2 (kissfft does not normalise); the spectrum is overwritten
