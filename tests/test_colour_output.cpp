@@ -109,7 +109,7 @@ TEST(OutOfGamut, SaturatedStarsGiveNoNegativePixelExactAtOneRunAndFast) {
         }
         const char* name = method == DiffractMethod::RandomPhase ? "exact K=1" : "fast";
         std::printf("%s: lowest channel %.4g of the brightest %.4g as computed, %.4g mapped; %s\n", name,
-                    lowest_kept, brightest, lowest_mapped, mapped.spec().get_string_attribute("wavecam.out-of-gamut").c_str());
+                    lowest_kept, brightest, lowest_mapped, mapped.spec().get_string_attribute("wavecam.out-of-gamut-mapped").c_str());
         EXPECT_GT(brightest, 0.0f) << name;
         EXPECT_GE(lowest_mapped, 0.0f) << name;
         EXPECT_LT(worst_luminance, 1e-5 * brightest) << name;

@@ -251,11 +251,12 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
     spec.attribute("wavecam.vignetting", opt.vignetting ? "true" : "false");
     spec.attribute("wavecam.input-colorspace", in_space);
     spec.attribute("wavecam.output-colorspace", out_space);
-    spec.attribute("wavecam.out-of-gamut",
-                   opt.desaturate_out_of_gamut
-                       ? "desaturated at constant luminance: " + std::to_string(mapped.value) + " of " +
-                             std::to_string(pixels.size() / 3) + " pixels"
-                       : std::string("kept (negative components)"));
+    // the setting (read back as one), and what it did
+    spec.attribute("wavecam.out-of-gamut", opt.desaturate_out_of_gamut ? "desaturate" : "keep");
+    if (opt.desaturate_out_of_gamut)
+        spec.attribute("wavecam.out-of-gamut-mapped", std::to_string(mapped.value) + " of " +
+                                                          std::to_string(pixels.size() / 3) +
+                                                          " pixels desaturated at constant luminance");
     spec.attribute("wavecam.colorconfig", config.value.path());
     spec.attribute("wavecam.fresnel-number",
                    static_cast<float>(fresnel_number(s.aperture.diameter / 2, opt.film_distance, INFINITY,
