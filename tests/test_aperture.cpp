@@ -115,7 +115,9 @@ TEST(Aperture, PolygonAndZonePlateWeightsAddUpToTheirAreas) {
         const double r1 = r / std::sqrt(double(zones));
         EXPECT_TRUE(zp.contains(0.999 * r1, 0));
         EXPECT_FALSE(zp.contains(1.001 * r1, 0));  // zone 2 shut, or outside when N = 1
-        if (zones >= 3) EXPECT_TRUE(zp.contains(r * std::sqrt(2.5 / zones), 0));
+        if (zones >= 3) {
+            EXPECT_TRUE(zp.contains(r * std::sqrt(2.5 / zones), 0));
+        }
     }
 }
 

@@ -180,7 +180,9 @@ TEST(ApertureOptics, LShapedMaskBlursAStarIntoAnLRotatedLikeAPrint) {
     const double shut = quad[0][1];  // image left, bottom
     for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 2; ++b)
-            if (!(a == 0 && b == 1)) EXPECT_GT(quad[a][b], 8 * shut) << "right " << a << " bottom " << b;
+            if (!(a == 0 && b == 1)) {
+                EXPECT_GT(quad[a][b], 8 * shut) << "right " << a << " bottom " << b;
+            }
     EXPECT_LT(outside / all, 0.03);  // the blur is the shadow's size, d (1 + f/z)
     // total light = open area (3/4 d^2) x (1 + f/z)^2 (energy result, paraxial)
     const double pixel = img.value.pixel_pitch * img.value.pixel_pitch;
@@ -264,7 +266,7 @@ TEST(ApertureOptics, ZonePlateFocusMovesAsOneOverWavelength) {
 // the L mask (N ~ 15, geometric) lights the shadow's quadrants except the image's left-bottom
 // one, as the exact PSF above does.
 TEST(ApertureOptics, FastPathTurnsTheLMaskLikeTheExactPsf) {
-    const double d = 0.4e-3, f = 5e-3, z = INFINITY;
+    const double d = 0.4e-3, f = 5e-3;
     Aperture ell{ApertureShape::Mask, d};
     ell.mask_file = "L";
     ASSERT_TRUE(set_aperture_mask(ell, 2, 2, {1, 0, 1, 1}, "aperture").ok());
@@ -291,7 +293,9 @@ TEST(ApertureOptics, FastPathTurnsTheLMaskLikeTheExactPsf) {
         }
     for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 2; ++b)
-            if (!(a == 0 && b == 1)) EXPECT_GT(quad[a][b], 8 * quad[0][1]) << "right " << a << " bottom " << b;
+            if (!(a == 0 && b == 1)) {
+                EXPECT_GT(quad[a][b], 8 * quad[0][1]) << "right " << a << " bottom " << b;
+            }
 }
 
 // ---- Photon sieve ------------------------------------------------------------------------

@@ -114,7 +114,9 @@ TEST(OutOfGamut, SaturatedStarsGiveNoNegativePixelExactAtOneRunAndFast) {
         EXPECT_GE(lowest_mapped, 0.0f) << name;
         EXPECT_LT(worst_luminance, 1e-5 * brightest) << name;
         // the exact method's single run does make out-of-gamut light here: the test bites
-        if (method == DiffractMethod::RandomPhase) EXPECT_LT(lowest_kept, -1e-3f * brightest) << name;
+        if (method == DiffractMethod::RandomPhase) {
+            EXPECT_LT(lowest_kept, -1e-3f * brightest) << name;
+        }
     }
 }
 
@@ -300,8 +302,14 @@ TEST(OutOfGamut, WhatEachOutputSpaceHoldsOfTheSpectralColours) {
         }
         std::printf("%s: %zu of %zu wavelengths (400-700 nm) outside, the deepest at %.3g of the largest component\n",
                     space.c_str(), outside, n, deepest);
-        if (space == "CIE-XYZ-D65") EXPECT_EQ(outside, 0u);
-        if (space == "ACES2065-1") EXPECT_GT(deepest, -0.012);
-        if (space == "lin_rec709") EXPECT_EQ(outside, n);
+        if (space == "CIE-XYZ-D65") {
+            EXPECT_EQ(outside, 0u);
+        }
+        if (space == "ACES2065-1") {
+            EXPECT_GT(deepest, -0.012);
+        }
+        if (space == "lin_rec709") {
+            EXPECT_EQ(outside, n);
+        }
     }
 }

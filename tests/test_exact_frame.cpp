@@ -172,7 +172,9 @@ TEST(ExactFrame, OverscanMarginLightsTheFrameAndIsNotFilm) {
     const auto irr = wall_rows(c, s, 0, kSide, power);
     for (int j = 0; j < kSide; ++j)
         for (int i = 0; i < kSide; ++i)
-            if (i < o || j < o || i >= kSide - o || j >= kSide - o) ASSERT_EQ(irr[size_t(j) * kSide + i], 0.0f);
+            if (i < o || j < o || i >= kSide - o || j >= kSide - o) {
+                ASSERT_EQ(irr[size_t(j) * kSide + i], 0.0f);
+            }
     double left = 0, right = 0;
     for (int j = 10; j < 14; ++j) {
         left += flattened(c, irr, o, j);

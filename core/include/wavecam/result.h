@@ -23,7 +23,7 @@ struct Result {
     std::string field;  // the setting the failure is about (a settings key such as "fov"), or empty
 
     bool ok() const { return error.empty(); }
-    static Result success(T v) { return Result{std::move(v), {}}; }
+    static Result success(T v) { return Result{std::move(v), {}, ErrorKind::Failed, {}}; }
     static Result failure(std::string message, ErrorKind kind = ErrorKind::Failed, std::string field = {}) {
         return Result{T{}, std::move(message), kind, std::move(field)};
     }
