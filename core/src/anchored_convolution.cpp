@@ -53,7 +53,7 @@ Result<AnchoredConvolution> AnchoredConvolution::create(PsfTable table, int tile
             ticker.advance(1, omp_get_thread_num() == 0);
         }
     }
-    if (ticker.cancelled()) return Result<AnchoredConvolution>::failure("cancelled");
+    if (ticker.cancelled()) return Result<AnchoredConvolution>::failure("cancelled", ErrorKind::Cancelled);
     return Result<AnchoredConvolution>::success(std::move(c));
 }
 
@@ -160,7 +160,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, int out_x0, in
             }
         }
     }
-    if (ticker.cancelled()) return Result<bool>::failure("cancelled");
+    if (ticker.cancelled()) return Result<bool>::failure("cancelled", ErrorKind::Cancelled);
     return Result<bool>::success(true);
 }
 

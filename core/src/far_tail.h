@@ -11,12 +11,13 @@
 // Computing that far tail at film resolution would cost (kTailReach)^2 times the kernel; it is
 // smooth, so it is summed on a grid coarser by about R/3 (the sources' light per cell, the
 // missing shares interpolated at the cell's centre) and interpolated back bilinearly.
-constexpr int kTailReach = 16;
 #pragma once
 #include "psf_table.h"
 #include "wavecam/spectral_diffraction.h"
 
 namespace wavecam::detail {
+
+constexpr int kTailReach = 16;
 
 // deficit(layer, anchor, m): the share of the power the kernel m = 3p + q does not hold.
 // Adds the far tail of `scene` to `xyz` (out_width x out_height), whose pixel (0, 0) is the

@@ -74,7 +74,7 @@ Result<PsfImage> compute_psf(const PsfParams& p, const ProgressFn& progress) {
     const double scale = 1.0 / free_irradiance_at_film_centre(source, p.film_distance);
     if (!accumulate_film_irradiance(samples, field, film, p.wavelength, scale, img.irradiance.data(), p.nthreads,
                                     progress))
-        return Result<PsfImage>::failure("cancelled");
+        return Result<PsfImage>::failure("cancelled", ErrorKind::Cancelled);
     for (float v : img.irradiance) img.peak = std::max(img.peak, double(v));
     img.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return Result<PsfImage>::success(std::move(img));

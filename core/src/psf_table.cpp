@@ -129,7 +129,7 @@ Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& pro
             ticker.advance(1, omp_get_thread_num() == 0);
         }
     }
-    if (ticker.cancelled()) return Result<PsfTable>::failure("cancelled");
+    if (ticker.cancelled()) return Result<PsfTable>::failure("cancelled", ErrorKind::Cancelled);
     return Result<PsfTable>::success(std::move(t));
 }
 

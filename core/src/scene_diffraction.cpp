@@ -294,7 +294,7 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
     };
     const uint64_t stream = wavelength_stream(wavelength);
     PinholeField field;
-    auto cancelled = [] { return Result<bool>::failure("cancelled"); };
+    auto cancelled = [] { return Result<bool>::failure("cancelled", ErrorKind::Cancelled); };
     auto centred = [&c](const Emitter& e, double phase) {
         return source_at(c, e.x + 0.5 * e.w, e.y + 0.5 * e.h, e.power, e.depth, e.meaning, phase);
     };

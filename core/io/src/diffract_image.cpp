@@ -212,7 +212,8 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
         for (int j = 0; j < out_h; ++j)
             std::copy_n(&full[3 * (size_t(j + o) * in.width + o)], 3 * size_t(out_w), &pixels[3 * size_t(j) * out_w]);
     }
-    if (!r.ok() && *stopped) return Fail::failure(name + ": interrupted", ErrorKind::Cancelled);
+    if (!r.ok() && (*stopped || r.kind == ErrorKind::Cancelled))
+        return Fail::failure(name + ": interrupted", ErrorKind::Cancelled);
     if (!r.ok()) return Fail::failure(name + ": " + r.error);
     auto mapped = config.value.output_colour(pixels.data(), pixels.size() / 3, out_space, in_space,
                                              opt.desaturate_out_of_gamut);
