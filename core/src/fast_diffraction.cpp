@@ -37,18 +37,6 @@ bool same_basis(const SpectralBasis& a, const SpectralBasis& b) {
     return true;
 }
 
-// Cosine of the widest field angle over a window of the camera's pixel plane.
-double cos_widest(const PinholeCamera& c, double x0, double y0, double x1, double y1) {
-    double widest = 0;
-    for (double x : {x0, x1})
-        for (double y : {y0, y1}) {
-            double u, v;
-            c.tangent(x, y, u, v);
-            widest = std::max(widest, u * u + v * v);
-        }
-    return 1.0 / std::sqrt(1.0 + widest);
-}
-
 // Tile side: at least twice the kernel radius (the overlap-add passes need it), and large
 // enough that the FFT's padding (2 R) costs less than the tile itself; never more than the
 // whole source domain (one tile is then a whole-frame FFT).
@@ -104,7 +92,7 @@ Result<detail::PsfTableSpec> plan_geometry(const FastPlanSpec& spec) {
     // radius: one refinement from the output frame's corners suffices (the radius only grows).
     int radius = 0;
     for (int pass = 0; pass < 2; ++pass) {
-        const double cmax = cos_widest(c, o - radius, o - radius, o + out_w + radius, o + out_h + radius);
+        const double cmax = c.cos_widest(o - radius, o - radius, o + out_w + radius, o + out_h + radius);
         radius = psf_kernel_radius(spec.aperture, c.film_distance, nearest, lambda_max, cmax, pitch,
                                    spec.settings.max_radius);
     }

@@ -9,18 +9,6 @@
 namespace wavecam::detail {
 namespace {
 
-// Cosine of the widest field angle at the corners of the camera-pixel window [x0, x1] x [y0, y1].
-double cos_widest(const PinholeCamera& c, double x0, double y0, double x1, double y1) {
-    double widest = 0;
-    for (double x : {x0, x1})
-        for (double y : {y0, y1}) {
-            double u, v;
-            c.tangent(x, y, u, v);
-            widest = std::max(widest, u * u + v * v);
-        }
-    return 1.0 / std::sqrt(1.0 + widest);
-}
-
 struct Interval {
     int begin, end;
 };
@@ -53,7 +41,7 @@ MarginRadii margin_radii(const Aperture& aperture, const PinholeCamera& c, int o
     // R as the fast path finds it: the kernel radius over the frame widened by R itself
     double cos_widened = 1;
     for (int pass = 0; pass < 2; ++pass) {
-        cos_widened = cos_widest(c, o - m.kernel, o - m.kernel, o + out_w + m.kernel, o + out_h + m.kernel);
+        cos_widened = c.cos_widest(o - m.kernel, o - m.kernel, o + out_w + m.kernel, o + out_h + m.kernel);
         m.kernel = psf_kernel_radius(aperture, c.film_distance, nearest, wavelength, cos_widened, pitch, side);
     }
     m.reach = std::min(kTailReach * m.kernel, side);

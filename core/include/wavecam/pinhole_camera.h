@@ -1,6 +1,7 @@
 // The ideal pinhole camera a render was made with, and the physical camera it becomes:
 // pixel rays, pixel solid angles, and the film position of each output pixel.
 #pragma once
+#include <algorithm>
 #include <cmath>
 
 namespace wavecam {
@@ -29,6 +30,19 @@ struct PinholeCamera {
         const double t = tan_pitch();
         u = (x - 0.5 * width) * t;
         v = (0.5 * height - y) * t;
+    }
+
+    // Cosine of the widest field angle over the window [x0, x1] x [y0, y1] of image positions
+    // (at its corners; the window may reach beyond the frame).
+    double cos_widest(double x0, double y0, double x1, double y1) const {
+        double widest = 0;
+        for (double x : {x0, x1})
+            for (double y : {y0, y1}) {
+                double u, v;
+                tangent(x, y, u, v);
+                widest = std::max(widest, u * u + v * v);
+            }
+        return 1.0 / std::sqrt(1.0 + widest);
     }
 
     // Solid angle of pixel (i, j) seen from the pinhole: t^2 / (1 + u^2 + v^2)^(3/2)
