@@ -85,6 +85,12 @@ bool mirror_symmetric(const Aperture& a) {
     return a.shape == ApertureShape::Circle || a.shape == ApertureShape::ZonePlate;
 }
 
+// t(-x, -y) = t(x, y): a regular polygon of even N, a square, or any mirror-symmetric pupil.
+bool point_symmetric(const Aperture& a) {
+    return mirror_symmetric(a) || a.shape == ApertureShape::Square ||
+           (a.shape == ApertureShape::Polygon && a.sides % 2 == 0);
+}
+
 struct MftPlan {
     int nr = 0, nt = 0;      // pupil samples across, radial and tangential
     int half = 0;            // output grid half-width in steps
@@ -352,16 +358,25 @@ constexpr int kMinCellsAcross = 64;
 double box_response(double nu_h) { return std::fabs(nu_h) < 1e-9 ? 1.0 : std::sin(M_PI * nu_h) / (M_PI * nu_h); }
 
 struct TransferPlan {
-    int sub = 0;   // grid points per kernel pixel side
-    int n = 0;     // grid size (FFT length)
-    double h = 0;  // pitch on the pupil plane (m)
-    double cost() const { return 2.0 * 5.0 * double(n) * n * std::log2(double(n)) + 8.0 * double(n) * n; }
+    int sub = 0;             // grid points per kernel pixel side
+    int n = 0;               // grid size (FFT length), at least
+    double h = 0;            // pitch on the pupil plane (m)
+    bool symmetric = false;  // the field is point-symmetric: half the inverse transform
+    // the inverse transform and the transfer function (the pupil's forward transform is
+    // shared by a table's requests at one depth, see PupilSpectrum)
+    double cost() const {
+        return (symmetric ? 0.5 : 1.0) * (5.0 * double(n) * n * std::log2(double(n)) + 8.0 * double(n) * n);
+    }
 };
 
 TransferPlan plan_transfer(const FieldPsfRequest& q, const FieldGeometry& g) {
     TransferPlan p;
     const double fa = q.film_distance * g.alpha;
     p.sub = std::max(q.subsamples, int(std::ceil(kMinCellsAcross * q.pixel_pitch / (g.span * fa))));
+    // a point-symmetric pupil on a grid with a point at the centre (odd sub) gives a
+    // point-symmetric field: half of the inverse transform is the other half mirrored
+    p.symmetric = point_symmetric(q.aperture);
+    if (p.symmetric && p.sub % 2 == 0) ++p.sub;
     p.h = q.pixel_pitch / (p.sub * fa);
     const double shift = q.wavelength / g.ar / (std::sqrt(2.0) * p.h);
     const double kernel_half = (q.radius + 0.5) * q.pixel_pitch / fa, pupil_half = 0.5 * g.span;
@@ -370,44 +385,35 @@ TransferPlan plan_transfer(const FieldPsfRequest& q, const FieldGeometry& g) {
     return p;
 }
 
-// In-place 2D complex FFT, unnormalised. Forward: rows outside [row0, row1) are zero on input
-// and their transforms are skipped, then every column. Inverse: every column, then only the
-// rows [row0, row0 + count) (indices modulo n) that are read afterwards.
-class Fft2d {
+// Unnormalised 1D complex FFTs (kissfft) of `count` consecutive lines of length n, out of
+// place (kissfft in place allocates per call). The 2D transforms below keep their arrays with
+// the transformed axis contiguous: the spectrum transposed (one line per kx), the image rows.
+class LineFft {
 public:
-    Fft2d(int n, bool inverse) : n_(n), cfg_(kiss_fft_alloc(n, inverse ? 1 : 0, nullptr, nullptr)), line_(n) {}
-    ~Fft2d() { kiss_fft_free(cfg_); }
-    Fft2d(const Fft2d&) = delete;
-    Fft2d& operator=(const Fft2d&) = delete;
-    void rows(std::vector<std::complex<float>>& a, int row0, int count) {
-        for (int k = 0; k < std::min(count, n_); ++k) {
-            std::complex<float>* row = &a[size_t((row0 + k + n_) % n_) * n_];
-            kiss_fft(cfg_, cpx(row), cpx(line_.data()));
-            std::copy(line_.begin(), line_.end(), row);
-        }
-    }
-    void columns(std::vector<std::complex<float>>& a) {
-        for (int k = 0; k < n_; ++k) {
-            kiss_fft_stride(cfg_, cpx(&a[k]), cpx(line_.data()), n_);
-            for (int r = 0; r < n_; ++r) a[size_t(r) * n_ + k] = line_[r];
-        }
+    LineFft(int n, bool inverse) : n_(n), cfg_(kiss_fft_alloc(n, inverse ? 1 : 0, nullptr, nullptr)) {}
+    ~LineFft() { kiss_fft_free(cfg_); }
+    LineFft(const LineFft&) = delete;
+    LineFft& operator=(const LineFft&) = delete;
+    void operator()(const std::complex<float>* in, std::complex<float>* out, int count) const {
+        for (int k = 0; k < count; ++k)
+            kiss_fft(cfg_, reinterpret_cast<const kiss_fft_cpx*>(in + size_t(k) * n_),
+                     reinterpret_cast<kiss_fft_cpx*>(out + size_t(k) * n_));
     }
 
 private:
-    static kiss_fft_cpx* cpx(std::complex<float>* p) { return reinterpret_cast<kiss_fft_cpx*>(p); }
     int n_;
     kiss_fft_cfg cfg_;
-    std::vector<std::complex<float>> line_;
 };
 
-// The transfer function with the pupil cells' box response divided out, on the FFT grid
-// (frequency nu = k / L, k taken in [-n/2, n/2)). In image axes the exponent is a quadratic
-// form, -pi lambda (A nx^2 + B ny^2 + 2 C nx ny) with A = zr ex^2 + zt ey^2, B = zr ey^2 +
-// zt ex^2, C = ex ey (zr - zt) (e the radial unit vector): a factor per axis times
-// exp(-2 pi i lambda C nx ny), which along a row is a geometric sequence in kx (one complex
-// multiplication per point instead of a sine and cosine).
-void apply_transfer(std::vector<std::complex<float>>& field, int n, double h, double wavelength,
-                    const FieldGeometry& g) {
+// The spectrum times the transfer function with the pupil cells' box response divided out,
+// for the first `lines` lines kx of the transposed grid (frequency nu = k / L, k taken in
+// [-n/2, n/2)). In image axes the exponent is a quadratic form, -pi lambda (A nx^2 + B ny^2 +
+// 2 C nx ny) with A = zr ex^2 + zt ey^2, B = zr ey^2 + zt ex^2, C = ex ey (zr - zt) (e the
+// radial unit vector): a factor per axis times exp(-2 pi i lambda C nx ny), which along a line
+// is a geometric sequence in ky (one complex multiplication per point instead of a sine and
+// cosine).
+void transfer(const std::vector<std::complex<float>>& spectrum, std::vector<std::complex<float>>& field, int n,
+              int lines, double h, double wavelength, const FieldGeometry& g) {
     const double L = n * h, zr = 1.0 / g.ar, zt = 1.0 / g.at;
     const double A = zr * g.er_x * g.er_x + zt * g.er_y * g.er_y, B = zr * g.er_y * g.er_y + zt * g.er_x * g.er_x;
     const double C = g.er_x * g.er_y * (zr - zt);
@@ -421,15 +427,17 @@ void apply_transfer(std::vector<std::complex<float>>& field, int n, double h, do
         return f;
     };
     const std::vector<std::complex<double>> fx = axis(A), fy = axis(B);
+    field.resize(size_t(lines) * n);
     std::vector<std::complex<double>> cross(n);
-    for (int ky = 0; ky < n; ++ky) {
-        // exp(i beta kx') for kx' = -n/2 ... n/2 - 1, by repeated multiplication
-        const double beta = -2 * M_PI * wavelength * C * signed_index(ky) / (L * L);
+    for (int kx = 0; kx < lines; ++kx) {
+        // exp(i beta ky') for ky' = -n/2 ... n/2 - 1, by repeated multiplication
+        const double beta = -2 * M_PI * wavelength * C * signed_index(kx) / (L * L);
         const std::complex<double> w = std::polar(1.0, beta);
         std::complex<double> z = std::polar(1.0, -beta * (n / 2));
         for (int k = -n / 2; k < n - n / 2; ++k, z *= w) cross[(k + n) % n] = z;
-        std::complex<float>* row = &field[size_t(ky) * n];
-        for (int kx = 0; kx < n; ++kx) row[kx] *= std::complex<float>(fy[ky] * fx[kx] * cross[kx]);
+        const std::complex<float>* in = &spectrum[size_t(kx) * n];
+        std::complex<float>* out = &field[size_t(kx) * n];
+        for (int ky = 0; ky < n; ++ky) out[ky] = in[ky] * std::complex<float>(fx[kx] * fy[ky] * cross[ky]);
     }
 }
 
@@ -458,43 +466,104 @@ std::vector<OpenCell> transfer_pupil(const Aperture& aperture, double span, doub
     return cells;
 }
 
-std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeometry& g, const TransferPlan& plan) {
-    const int n = plan.n, sub = plan.sub;
-    const double h = plan.h;
-    // Grid index i sits at (i - n/2 + o) h, o = 1/2 for even sub, so that kernel pixel a's
-    // sub points are indices n/2 + a sub - sub/2 + [0, sub).
-    const double o = sub % 2 == 0 ? 0.5 : 0.0;
+// The pupil's spectrum on an n x n grid of pitch h: it depends on neither the wavelength nor
+// the field angle (the chirp is all in the transfer function), so a table's requests at one
+// depth share it. Each thread keeps the last one; a request whose grid must be at least n
+// reuses a kept spectrum up to sqrt 2 n wide (a wider period only moves the wrap-around
+// farther away), which costs less than a new forward transform.
+struct PupilSpectrum {
+    std::string aperture;
+    const void* mask = nullptr;
+    double diameter = 0, h = 0, o = 0;
+    int n = 0;
+    std::vector<std::complex<float>> value;
+    bool serves(const Aperture& a, double hh, double oo, int n_min) const {
+        return a.name() == aperture && a.mask.get() == mask && a.diameter == diameter && hh == h && oo == o &&
+               n >= n_min && double(n) * n <= 2.0 * n_min * n_min;
+    }
+};
+
+const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometry& g, const TransferPlan& plan,
+                                    double o) {
+    thread_local PupilSpectrum kept;
+    if (kept.serves(q.aperture, plan.h, o, plan.n)) return kept;
     thread_local LastPupil<std::vector<OpenCell>> last;
-    const std::vector<OpenCell>& cells =
-        last.get(q.aperture, {q.aperture.diameter, h, o}, [&] { return transfer_pupil(q.aperture, g.span, h, o); });
-    std::vector<std::complex<float>> field(size_t(n) * n, 0.0f);
+    const std::vector<OpenCell>& cells = last.get(q.aperture, {q.aperture.diameter, plan.h, o},
+                                                  [&] { return transfer_pupil(q.aperture, g.span, plan.h, o); });
+    const int n = plan.n;
+    std::vector<std::complex<float>> pupil(size_t(n) * n, 0.0f), rows(size_t(n) * n, 0.0f);
     int row0 = n, row1 = 0;
     for (const OpenCell& cell : cells) {
         const int ix = n / 2 + cell.dx, iy = n / 2 + cell.dy;
         if (ix < 0 || iy < 0 || ix >= n || iy >= n) continue;
-        field[size_t(iy) * n + ix] = cell.open;
+        pupil[size_t(iy) * n + ix] = cell.open;
         row0 = std::min(row0, iy);
         row1 = std::max(row1, iy + 1);
     }
-    Fft2d forward(n, false);
-    forward.rows(field, row0, row1 - row0);
-    forward.columns(field);
-    apply_transfer(field, n, h, q.wavelength, g);
-    Fft2d inverse(n, true);
-    inverse.columns(field);
-    inverse.rows(field, n / 2 - q.radius * sub - sub / 2, (2 * q.radius + 1) * sub);
+    const LineFft forward(n, false);
+    if (row1 > row0) forward(&pupil[size_t(row0) * n], &rows[size_t(row0) * n], row1 - row0);
+    for (int y = 0; y < n; ++y)  // transposed: the columns' transforms run along lines
+        for (int x = 0; x < n; ++x) pupil[size_t(x) * n + y] = rows[size_t(y) * n + x];
+    kept.value.resize(size_t(n) * n);
+    forward(pupil.data(), kept.value.data(), n);
+    kept.aperture = q.aperture.name();
+    kept.mask = q.aperture.mask.get();
+    kept.diameter = q.aperture.diameter;
+    kept.h = plan.h;
+    kept.o = o;
+    kept.n = n;
+    return kept;
+}
+
+std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeometry& g, const TransferPlan& plan) {
+    const int sub = plan.sub, R = q.radius;
+    const double h = plan.h;
+    // Grid index i sits at (i - n/2 + o) h, o = 1/2 for even sub, so that kernel pixel a's
+    // sub points are indices n/2 + a sub - sub/2 + [0, sub).
+    const double o = sub % 2 == 0 ? 0.5 : 0.0;
+    const PupilSpectrum& spectrum = pupil_spectrum(q, g, plan, o);
+    const int n = spectrum.n;
+    // A point-symmetric pupil centred on index (0, 0) modulo n (odd sub) has a spectrum even in
+    // (kx, ky); so has the transfer function, so the field is even too: u(-x, -y) = u(x, y).
+    // Then column -kx is column kx upside down, only columns [0, n/2] are transformed, and only
+    // the kernel's lower half (rows b >= 0) is computed, its upper half being it turned 180deg.
+    const bool even = plan.symmetric && o == 0.0;
+    const int lines = even ? n / 2 + 1 : n;
+    std::vector<std::complex<float>> field, columns(size_t(lines) * n);
+    transfer(spectrum.value, field, n, lines, h, q.wavelength, g);
+    const LineFft inverse(n, true);
+    inverse(field.data(), columns.data(), lines);  // columns[kx][y]: image row y at frequency kx
+    // the image rows the kernel reads, frequency kx along each (kx >= lines: the mirror's)
+    const int b0 = even ? 0 : -R;
+    const int row0 = n / 2 + b0 * sub - sub / 2, rows = (R - b0 + 1) * sub;
+    auto wrap = [n](int i) { return ((i % n) + n) % n; };
+    field.assign(size_t(rows) * n, 0.0f);
+    for (int kx = 0; kx < n; ++kx)
+        for (int k = 0; k < rows; ++k) {
+            const int y = wrap(row0 + k);
+            field[size_t(k) * n + kx] = kx < lines ? columns[size_t(kx) * n + y] : columns[size_t(n - kx) * n + wrap(-y)];
+        }
     // Each pixel: sum of |U|^2 h^2 over its points / transmitted power (the aperture's area);
     // kissfft's forward-inverse pair scales by n^2.
+    const int w = 2 * R + 1;
+    std::vector<int> column_of(size_t(w) * sub);  // kernel column a's grid columns
+    for (int a = -R; a <= R; ++a)
+        for (int t = 0; t < sub; ++t) column_of[size_t(a + R) * sub + t] = wrap(n / 2 + a * sub - sub / 2 + t);
+    std::vector<double> sum(size_t(w) * w, 0.0);
+    std::vector<std::complex<float>> row(n);
+    for (int k = 0; k < rows; ++k) {
+        inverse(&field[size_t(k) * n], row.data(), 1);
+        double* dst = &sum[size_t(b0 + R + k / sub) * w];
+        for (int a = 0; a < w; ++a)
+            for (int t = 0; t < sub; ++t) dst[a] += std::norm(row[column_of[size_t(a) * sub + t]]);
+    }
     const double scale = h * h / (double(n) * n * double(n) * n) / g.area;
-    const int w = 2 * q.radius + 1;
-    std::vector<float> weight(size_t(w) * w, 0.0f);
-    for (int b = -q.radius; b <= q.radius; ++b)
-        for (int a = -q.radius; a <= q.radius; ++a) {
-            double s = 0;
-            const int i0 = n / 2 + a * sub - sub / 2, j0 = n / 2 + b * sub - sub / 2;
-            for (int j = j0; j < j0 + sub; ++j)
-                for (int i = i0; i < i0 + sub; ++i) s += std::norm(field[size_t((j + n) % n) * n + (i + n) % n]);
-            weight[size_t(b + q.radius) * w + (a + q.radius)] = float(s * scale);
+    std::vector<float> weight(size_t(w) * w);
+    for (int b = b0; b <= R; ++b)
+        for (int a = -R; a <= R; ++a) {
+            const float v = float(sum[size_t(b + R) * w + (a + R)] * scale);
+            weight[size_t(b + R) * w + (a + R)] = v;
+            if (even) weight[size_t(R - b) * w + (R - a)] = v;
         }
     return weight;
 }

@@ -104,7 +104,13 @@ Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& pro
         c.tangent(t.ax.knots[kx] - spec.origin, t.ay.knots[ky] - spec.origin, q.u, q.v);
         q.pixel_pitch = c.pixel_pitch();
         const double cos_anchor = 1.0 / std::sqrt(1.0 + q.u * q.u + q.v * q.v);
-        for (int s = 0; s < S; ++s) {
+        // longest wavelength first: its transfer grid is the widest, and the shorter ones then
+        // reuse its pupil spectrum (fresnel_psf.cpp, PupilSpectrum)
+        std::vector<int> order(S);
+        for (int s = 0; s < S; ++s) order[s] = s;
+        std::sort(order.begin(), order.end(),
+                  [&](int x, int y) { return spec.basis->wavelength(x) > spec.basis->wavelength(y); });
+        for (int s : order) {
             q.wavelength = spec.basis->wavelength(s);
             // each PSF only as large as its own depth, field angle and wavelength need (the cost
             // grows as its area), centred in the table's common size
