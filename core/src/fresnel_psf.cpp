@@ -428,16 +428,17 @@ void transfer(const std::vector<std::complex<float>>& spectrum, std::vector<std:
     };
     const std::vector<std::complex<double>> fx = axis(A), fy = axis(B);
     field.resize(size_t(lines) * n);
-    std::vector<std::complex<double>> cross(n);
+    std::vector<std::complex<float>> line(n);
     for (int kx = 0; kx < lines; ++kx) {
-        // exp(i beta ky') for ky' = -n/2 ... n/2 - 1, by repeated multiplication
+        // fx exp(i beta ky') fy for ky' = -n/2 ... n/2 - 1, the exponential by repeated
+        // multiplication (in double: n steps)
         const double beta = -2 * M_PI * wavelength * C * signed_index(kx) / (L * L);
         const std::complex<double> w = std::polar(1.0, beta);
-        std::complex<double> z = std::polar(1.0, -beta * (n / 2));
-        for (int k = -n / 2; k < n - n / 2; ++k, z *= w) cross[(k + n) % n] = z;
+        std::complex<double> z = fx[kx] * std::polar(1.0, -beta * (n / 2));
+        for (int k = -n / 2; k < n - n / 2; ++k, z *= w) line[(k + n) % n] = std::complex<float>(z * fy[(k + n) % n]);
         const std::complex<float>* in = &spectrum[size_t(kx) * n];
         std::complex<float>* out = &field[size_t(kx) * n];
-        for (int ky = 0; ky < n; ++ky) out[ky] = in[ky] * std::complex<float>(fx[kx] * fy[ky] * cross[ky]);
+        for (int ky = 0; ky < n; ++ky) out[ky] = in[ky] * line[ky];
     }
 }
 
@@ -529,20 +530,27 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
     // the kernel's lower half (rows b >= 0) is computed, its upper half being it turned 180deg.
     const bool even = plan.symmetric && o == 0.0;
     const int lines = even ? n / 2 + 1 : n;
-    std::vector<std::complex<float>> field, columns(size_t(lines) * n);
+    thread_local std::vector<std::complex<float>> field, columns;  // scratch, reused
     transfer(spectrum.value, field, n, lines, h, q.wavelength, g);
     const LineFft inverse(n, true);
+    columns.resize(size_t(lines) * n);
     inverse(field.data(), columns.data(), lines);  // columns[kx][y]: image row y at frequency kx
     // the image rows the kernel reads, frequency kx along each (kx >= lines: the mirror's)
     const int b0 = even ? 0 : -R;
     const int row0 = n / 2 + b0 * sub - sub / 2, rows = (R - b0 + 1) * sub;
     auto wrap = [n](int i) { return ((i % n) + n) % n; };
-    field.assign(size_t(rows) * n, 0.0f);
-    for (int kx = 0; kx < n; ++kx)
-        for (int k = 0; k < rows; ++k) {
-            const int y = wrap(row0 + k);
-            field[size_t(k) * n + kx] = kx < lines ? columns[size_t(kx) * n + y] : columns[size_t(n - kx) * n + wrap(-y)];
-        }
+    std::vector<int> y(rows), mirror_y(rows);
+    for (int k = 0; k < rows; ++k) {
+        y[k] = wrap(row0 + k);
+        mirror_y[k] = wrap(-y[k]);
+    }
+    field.resize(size_t(rows) * n);
+    for (int kx = 0; kx < n; ++kx) {
+        const bool own = kx < lines;
+        const std::complex<float>* column = &columns[size_t(own ? kx : n - kx) * n];
+        const int* from = own ? y.data() : mirror_y.data();
+        for (int k = 0; k < rows; ++k) field[size_t(k) * n + kx] = column[from[k]];
+    }
     // Each pixel: sum of |U|^2 h^2 over its points / transmitted power (the aperture's area);
     // kissfft's forward-inverse pair scales by n^2.
     const int w = 2 * R + 1;
