@@ -469,25 +469,39 @@ std::vector<OpenCell> transfer_pupil(const Aperture& aperture, double span, doub
 
 // The pupil's spectrum on an n x n grid of pitch h: it depends on neither the wavelength nor
 // the field angle (the chirp is all in the transfer function), so a table's requests at one
-// depth share it. Each thread keeps the last one; a request whose grid must be at least n
-// reuses a kept spectrum up to sqrt 2 n wide (a wider period only moves the wrap-around
-// farther away), which costs less than a new forward transform.
+// depth share it. Each thread keeps the last kSpectraKept; a request whose grid must be at
+// least n reuses the narrowest kept spectrum up to kWiderGrid n^2 in area (a wider period only
+// moves the wrap-around farther away): its inverse transform then costs at most that much
+// more, where a new forward transform would cost about twice the inverse one.
+constexpr int kSpectraKept = 4;
+constexpr double kWiderGrid = 1.25;
+
 struct PupilSpectrum {
     std::string aperture;
     const void* mask = nullptr;
     double diameter = 0, h = 0, o = 0;
     int n = 0;
+    long used = 0;  // when last used, for replacing the least recently used
     std::vector<std::complex<float>> value;
     bool serves(const Aperture& a, double hh, double oo, int n_min) const {
         return a.name() == aperture && a.mask.get() == mask && a.diameter == diameter && hh == h && oo == o &&
-               n >= n_min && double(n) * n <= 2.0 * n_min * n_min;
+               n >= n_min && double(n) * n <= kWiderGrid * n_min * n_min;
     }
 };
 
 const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometry& g, const TransferPlan& plan,
                                     double o) {
-    thread_local PupilSpectrum kept;
-    if (kept.serves(q.aperture, plan.h, o, plan.n)) return kept;
+    thread_local PupilSpectrum kept_spectra[kSpectraKept];
+    thread_local long clock = 0;
+    PupilSpectrum* best = nullptr;
+    for (PupilSpectrum& s : kept_spectra)
+        if (s.serves(q.aperture, plan.h, o, plan.n) && (!best || s.n < best->n)) best = &s;
+    if (best) {
+        best->used = ++clock;
+        return *best;
+    }
+    PupilSpectrum& kept = *std::min_element(std::begin(kept_spectra), std::end(kept_spectra),
+                                            [](const PupilSpectrum& x, const PupilSpectrum& y) { return x.used < y.used; });
     thread_local LastPupil<std::vector<OpenCell>> last;
     const std::vector<OpenCell>& cells = last.get(q.aperture, {q.aperture.diameter, plan.h, o},
                                                   [&] { return transfer_pupil(q.aperture, g.span, plan.h, o); });
@@ -513,6 +527,7 @@ const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometr
     kept.h = plan.h;
     kept.o = o;
     kept.n = n;
+    kept.used = ++clock;
     return kept;
 }
 
