@@ -39,9 +39,9 @@ FieldGeometry geometry_of(const FieldPsfRequest& q) {
     return g;
 }
 
-// The sampled pupils below depend on the aperture and the grid only, not on the wavelength
-// nor (for the transfer grid in image axes, or a round pupil) on the field angle: a table's
-// requests repeat them, so each thread keeps the last one it sampled under its key.
+// The matrix transform's sampled pupil depends on the aperture and the grid only, not on the
+// wavelength nor (for a round pupil) on the field angle: a table's requests repeat it, so each
+// thread keeps the last one it sampled under its key.
 template <class Grid>
 struct LastPupil {
     std::vector<double> key;
@@ -442,31 +442,6 @@ void transfer(const std::vector<std::complex<float>>& spectrum, std::vector<std:
     }
 }
 
-// The pupil's open cells on a transfer grid of pitch h, cell (dx, dy) centred at ((dx + o) h,
-// (dy + o) h) in image axes, holding its open fraction.
-struct OpenCell {
-    int dx, dy;
-    float open;
-};
-
-std::vector<OpenCell> transfer_pupil(const Aperture& aperture, double span, double h, double o) {
-    std::vector<OpenCell> cells;
-    const int reach = int(std::ceil(0.5 * span / h)) + 2;
-    for (int dy = -reach; dy <= reach; ++dy) {
-        const double y = (dy + o) * h;
-        if (std::fabs(y) > 0.5 * span + h) continue;
-        for (int dx = -reach; dx <= reach; ++dx) {
-            const double x = (dx + o) * h;
-            if (std::fabs(x) > 0.5 * span + h) continue;
-            double cx, cy;
-            // (x, y): image (column, row); pupil +x lands at column -x (as in the matrix transform)
-            const double open = aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy);
-            if (open > 0) cells.push_back({dx, dy, float(open)});
-        }
-    }
-    return cells;
-}
-
 // The pupil's spectrum on an n x n grid of pitch h: it depends on neither the wavelength nor
 // the field angle (the chirp is all in the transfer function), so a table's requests at one
 // depth share it. Each thread keeps the last kSpectraKept; a request whose grid must be at
@@ -502,21 +477,21 @@ const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometr
     }
     PupilSpectrum& kept = *std::min_element(std::begin(kept_spectra), std::end(kept_spectra),
                                             [](const PupilSpectrum& x, const PupilSpectrum& y) { return x.used < y.used; });
-    thread_local LastPupil<std::vector<OpenCell>> last;
-    const std::vector<OpenCell>& cells = last.get(q.aperture, {q.aperture.diameter, plan.h, o},
-                                                  [&] { return transfer_pupil(q.aperture, g.span, plan.h, o); });
+    // the pupil's open fractions, cell (ix, iy) centred at ((ix - n/2 + o) h, (iy - n/2 + o) h)
+    // in image axes; (x, y): image (column, row), pupil +x lands at column -x (as in the matrix
+    // transform)
     const int n = plan.n;
+    const double h = plan.h;
+    const int reach = std::min(n / 2 - 1, int(std::ceil(0.5 * g.span / h)) + 1), row0 = n / 2 - reach;
     std::vector<std::complex<float>> pupil(size_t(n) * n, 0.0f), rows(size_t(n) * n, 0.0f);
-    int row0 = n, row1 = 0;
-    for (const OpenCell& cell : cells) {
-        const int ix = n / 2 + cell.dx, iy = n / 2 + cell.dy;
-        if (ix < 0 || iy < 0 || ix >= n || iy >= n) continue;
-        pupil[size_t(iy) * n + ix] = cell.open;
-        row0 = std::min(row0, iy);
-        row1 = std::max(row1, iy + 1);
-    }
+    for (int iy = row0; iy <= n / 2 + reach; ++iy)
+        for (int ix = n / 2 - reach; ix <= n / 2 + reach; ++ix) {
+            const double x = (ix - n / 2 + o) * h, y = (iy - n / 2 + o) * h;
+            double cx, cy;
+            pupil[size_t(iy) * n + ix] = float(q.aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy));
+        }
     const LineFft forward(n, false);
-    if (row1 > row0) forward(&pupil[size_t(row0) * n], &rows[size_t(row0) * n], row1 - row0);
+    forward(&pupil[size_t(row0) * n], &rows[size_t(row0) * n], 2 * reach + 1);
     for (int y = 0; y < n; ++y)  // transposed: the columns' transforms run along lines
         for (int x = 0; x < n; ++x) pupil[size_t(x) * n + y] = rows[size_t(y) * n + x];
     kept.value.resize(size_t(n) * n);
@@ -524,7 +499,7 @@ const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometr
     kept.aperture = q.aperture.name();
     kept.mask = q.aperture.mask.get();
     kept.diameter = q.aperture.diameter;
-    kept.h = plan.h;
+    kept.h = h;
     kept.o = o;
     kept.n = n;
     kept.used = ++clock;
