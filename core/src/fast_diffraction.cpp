@@ -175,27 +175,15 @@ bool FastPlan::serves(const FastPlanSpec& s) const {
            g.value.layers.step == t.layers.step && g.value.tile == impl_->convolution.tile();
 }
 
-Result<double> max_inverse_depth(const SpectralScene& scene) {
+double max_inverse_depth(const SpectralScene& scene) {
     const PinholeCamera& c = scene.camera;
     double w_max = 0;
     for (int j = 0; j < c.height; ++j)
         for (int i = 0; i < c.width; ++i) {
-            const size_t p = size_t(j) * c.width + i;
-            for (int k = 0; k < 3; ++k)
-                if (!std::isfinite(scene.rgb[3 * p + k])) {
-                    std::ostringstream m;
-                    m << "radiance: pixel (" << i << ", " << j << ") is not finite";
-                    return Result<double>::failure(m.str());
-                }
-            const double d = scene.depth[p];
-            if (std::isnan(d) || !(d > 0)) {
-                std::ostringstream m;
-                m << "depth: pixel (" << i << ", " << j << ") expected a distance > 0 (inf or >= 1e9 for sky)";
-                return Result<double>::failure(m.str());
-            }
+            const double d = scene.depth[size_t(j) * c.width + i];
             if (d < kInfiniteDepth) w_max = std::max(w_max, 1.0 / c.planar_depth(i, j, d, scene.depth_meaning));
         }
-    return Result<double>::success(w_max);
+    return w_max;
 }
 
 Result<bool> FastPlan::apply(const SpectralScene& scene, bool vignetting, float* xyz, const ProgressFn& progress) const {
@@ -247,9 +235,9 @@ Result<bool> FastPlan::apply(const SpectralScene& scene, bool vignetting, float*
 
 Result<bool> diffract_fast(const SpectralScene& scene, const SpectralBasis& basis, const Aperture& aperture,
                            bool vignetting, float* xyz, const FastSettings& settings, const ProgressFn& progress) {
-    auto w = max_inverse_depth(scene);
-    if (!w.ok()) return Result<bool>::failure(w.error);
-    FastPlanSpec spec{scene.camera, 0, aperture, basis, w.value, settings};
+    if (!scene.checked)
+        if (auto v = check_pixels(scene.camera, scene.rgb, 3, false, scene.depth); !v.ok()) return v;
+    FastPlanSpec spec{scene.camera, 0, aperture, basis, max_inverse_depth(scene), settings};
     auto plan = FastPlan::create(spec, progress ? ProgressFn([&](double f) { return progress(0.5 * f); })
                                                 : ProgressFn());
     if (!plan.ok()) return Result<bool>::failure(plan.error);

@@ -12,9 +12,9 @@
 namespace wavecam {
 namespace {
 
-Result<bool> validate(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s) {
+// The settings one wavelength's sum needs (the pixels are check_pixels').
+Result<bool> check_settings(const PinholeCamera& c, double wavelength, const DiffractionSettings& s) {
     auto fail = [](const std::string& m) { return Result<bool>::failure(m); };
-    const PinholeCamera& c = scene.camera;
     if (!(s.aperture.diameter > 0)) return fail("pinhole: expected a diameter > 0");
     if (!(c.film_distance > 0)) return fail("film-distance: expected a distance > 0");
     if (!(c.fov_h > 0 && c.fov_h < M_PI * 0.999)) return fail("fov: expected a field of view in (0deg, 180deg)");
@@ -26,22 +26,6 @@ Result<bool> validate(const MonochromeScene& scene, double wavelength, const Dif
         m << "overscan: expected 0 to " << (std::min(c.width, c.height) - 1) / 2 << " pixels for a " << c.width
           << "x" << c.height << " image, got " << s.overscan;
         return fail(m.str());
-    }
-    if (!scene.power || !scene.depth) return fail("image: radiance and depth are required");
-    const long n = long(c.width) * c.height;
-    for (long p = 0; p < n; ++p) {
-        if (!std::isfinite(scene.power[p]) || scene.power[p] < 0) {
-            std::ostringstream m;
-            m << "radiance: pixel (" << p % c.width << ", " << p / c.width << ") is " << scene.power[p]
-              << ", expected a finite value >= 0";
-            return fail(m.str());
-        }
-        if (std::isnan(scene.depth[p]) || !(scene.depth[p] > 0)) {
-            std::ostringstream m;
-            m << "depth: pixel (" << p % c.width << ", " << p / c.width << ") is " << scene.depth[p]
-              << ", expected a distance > 0 (inf or >= 1e9 for sky)";
-            return fail(m.str());
-        }
     }
     return Result<bool>::success(true);
 }
@@ -180,6 +164,28 @@ uint64_t wavelength_stream(double wavelength) {
 
 }  // namespace
 
+Result<bool> check_pixels(const PinholeCamera& c, const float* radiance, int channels, bool non_negative,
+                          const float* depth) {
+    if (!radiance || !depth) return Result<bool>::failure("image: radiance and depth are required");
+    auto bad = [&c](const char* field, size_t p, float value, const char* expected) {
+        std::ostringstream m;
+        m << field << ": pixel (" << p % c.width << ", " << p / c.width << ") is " << value << ", expected "
+          << expected;
+        return Result<bool>::failure(m.str());
+    };
+    const size_t n = size_t(c.width) * c.height;
+    for (size_t p = 0; p < n; ++p) {
+        for (int k = 0; k < channels; ++k) {
+            const float v = radiance[channels * p + k];
+            if (!std::isfinite(v) || (non_negative && v < 0))
+                return bad("radiance", p, v, non_negative ? "a finite value >= 0" : "a finite value");
+        }
+        if (std::isnan(depth[p]) || !(depth[p] > 0))
+            return bad("depth", p, depth[p], "a distance > 0 (inf or >= 1e9 for sky)");
+    }
+    return Result<bool>::success(true);
+}
+
 double scene_sample_pitch(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength,
                           double nearest) {
     if (s.sin_theta_max > 0) return sample_pitch(wavelength, s.sin_theta_max);
@@ -263,8 +269,9 @@ SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const Diffra
 
 }  // namespace
 
-double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength, double nearest) {
+double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength) {
     const WorkRange w = work_range(s, camera.height);
+    const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
     const SceneSum sum = scene_sum({camera, nullptr, nullptr}, wavelength, s, nearest, w, false);
     const double samples = estimate_sample_count(s.aperture, sum.samples.pitch);
     const double sources = double(sum.emitters.size()), film = double(sum.film.size());
@@ -274,10 +281,14 @@ double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, do
 
 Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s,
                                  float* irradiance, const ProgressFn& progress) {
-    if (auto v = validate(scene, wavelength, s); !v.ok()) return v;
     const PinholeCamera& c = scene.camera;
+    if (auto v = check_settings(c, wavelength, s); !v.ok()) return v;
+    if (!scene.checked)
+        if (auto v = check_pixels(c, scene.power, 1, true, scene.depth); !v.ok()) return v;
     const WorkRange range = work_range(s, c.height);
-    const SceneSum sum = scene_sum(scene, wavelength, s, nearest_depth(c, scene.depth, scene.depth_meaning), range, true);
+    const double nearest =
+        std::isnan(s.nearest_depth) ? nearest_depth(c, scene.depth, scene.depth_meaning) : s.nearest_depth;
+    const SceneSum sum = scene_sum(scene, wavelength, s, nearest, range, true);
     const int sub = sum.subsamples, o = s.overscan;
     const std::vector<Emitter>& emitters = sum.emitters;
     // Irradiance at every film point; averaged into the output pixels after each run.

@@ -335,7 +335,7 @@ int submit(const FarmFlags& flags) {
         auto render = load_render(in.value.image, f.input, opt.read);
         if (!render.ok()) return fail(front::word_failure(Result<bool>::failure(render), front::Front::Command));
         const PinholeCamera camera = render.value.camera(opt.film_distance);
-        const double terms = estimate_terms(opt, camera, render.value.depth, opt.depth_meaning, render.value.colorspace);
+        const double terms = estimate_terms(opt, camera, render.value.depth, render.value.colorspace);
         const int wavelengths = opt.wavelengths.empty() ? opt.wavelength_count : int(opt.wavelengths.size());
         const int runs = opt.method == DiffractMethod::Incoherent ? 1 : opt.diffraction.runs;
         if (auto s = work_share(flags.tasks, flags.tasks, wavelengths, runs, camera.height); !s.ok())

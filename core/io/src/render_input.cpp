@@ -114,12 +114,18 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
     const size_t n = size_t(in.width) * in.height;
     in.rgb.resize(3 * n);
     in.depth.resize(n);
+    // each channel read once, straight into its place in the plain arrays
     const int order[3] = {r, g, b};
-    const OIIO::ImageBuf rgb = OIIO::ImageBufAlgo::channels(image, 3, OIIO::cspan<int>(order, 3));
-    const OIIO::ImageBuf depth = OIIO::ImageBufAlgo::channels(image, 1, OIIO::cspan<int>(&z, 1));
-    if (!rgb.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, in.rgb.data()) ||
-        !depth.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, in.depth.data()))
-        return fail("cannot read pixels: " + rgb.geterror() + depth.geterror());
+    auto read_channel = [&](int c, float* into, int stride) {
+        OIIO::ROI roi = image.roi();
+        roi.chbegin = c;
+        roi.chend = c + 1;
+        return image.get_pixels(roi, OIIO::TypeDesc::FLOAT, into, stride * sizeof(float),
+                                stride * sizeof(float) * in.width);
+    };
+    for (int c = 0; c < 3; ++c)
+        if (!read_channel(order[c], in.rgb.data() + c, 3)) return fail("cannot read pixels: " + image.geterror());
+    if (!read_channel(z, in.depth.data(), 1)) return fail("cannot read pixels: " + image.geterror());
 
     for (size_t p = 0; p < n; ++p) {
         auto where = [&](const std::string& channel) {

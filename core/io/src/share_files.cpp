@@ -122,22 +122,17 @@ Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, con
     auto fingerprint = file_fingerprint(input_path);
     if (!fingerprint.ok()) return fail(fingerprint.error);
 
-    // The same settings diffract() resolves, restricted to one unit at a time.
-    DiffractionSettings s = opt.diffraction;
-    s.aperture = resolved_aperture(opt);
-    s.method = incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
-    s.nthreads = nthreads;
+    // The settings diffract() resolves (exact_settings), restricted to one unit at a time.
+    const PinholeCamera camera = in.camera(opt.film_distance);
+    DiffractionSettings s = exact_settings(opt, camera, in.depth, nthreads);
     s.row_begin = sh.row_begin;
     s.row_end = sh.row_end;
-    s.overscan = opt.overscan;
-    const PinholeCamera camera = in.camera(opt.film_distance);
-    const double nearest = nearest_depth(camera, in.depth.data(), opt.depth_meaning);
     std::vector<double> unit_terms;
     double terms = 0;
     for (int u = sh.unit_begin; u < sh.unit_end; ++u) {
         s.run_begin = u % R;
         s.run_end = u % R + 1;
-        unit_terms.push_back(per_wavelength * scene_terms(s, camera, sampling.value.wavelength[u / R], nearest));
+        unit_terms.push_back(per_wavelength * scene_terms(s, camera, sampling.value.wavelength[u / R]));
         terms += unit_terms.back();
     }
     std::ostringstream job;
