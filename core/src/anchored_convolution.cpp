@@ -57,10 +57,6 @@ Result<AnchoredConvolution> AnchoredConvolution::create(PsfTable table, int tile
     return Result<AnchoredConvolution>::success(std::move(c));
 }
 
-double AnchoredConvolution::bytes() const {
-    return double(kernel_spectra_.size()) * sizeof(std::complex<float>) + double(table_.weights.size()) * sizeof(float);
-}
-
 Result<bool> AnchoredConvolution::apply(const DomainSources& src, int out_x0, int out_y0, int out_width,
                                         int out_height, float* xyz, const ProgressFn& progress) const {
     const PsfTable& t = table_;

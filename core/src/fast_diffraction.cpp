@@ -60,10 +60,7 @@ double transform_work(const detail::PsfTableSpec& t) {
 
 FastPlan::FastPlan(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 FastPlan::~FastPlan() = default;
-const FastPlanSpec& FastPlan::spec() const { return impl_->spec; }
 int FastPlan::kernel_radius() const { return impl_->convolution.table().radius; }
-int FastPlan::layer_count() const { return impl_->convolution.table().layers.count; }
-double FastPlan::bytes() const { return impl_->convolution.bytes(); }
 
 namespace {
 
@@ -147,14 +144,10 @@ Result<std::shared_ptr<const FastPlan>> FastPlan::create(const FastPlanSpec& spe
     detail::PsfTableSpec& t = geometry.value;
     const int threads = t.nthreads;
     // progress: the PSF table is most of the work, the kernels' transforms the rest
-    auto part = [&progress](double from, double to) -> ProgressFn {
-        if (!progress) return {};
-        return [&progress, from, to](double f) { return progress(from + (to - from) * f); };
-    };
-    auto table = detail::build_psf_table(t, part(0.0, 0.8));
+    auto table = detail::build_psf_table(t, progress_part(progress, 0.0, 0.8));
     if (!table.ok()) return R::failure(table.error);
     auto conv = detail::AnchoredConvolution::create(std::move(table.value), t.tile, t.domain_width, t.domain_height,
-                                                    threads, part(0.8, 1.0));
+                                                    threads, progress_part(progress, 0.8, 1.0));
     if (!conv.ok()) return R::failure(conv.error);
     auto impl = std::make_unique<Impl>(Impl{spec, std::move(conv.value), t.origin});
     return R::success(std::shared_ptr<const FastPlan>(new FastPlan(std::move(impl))));
@@ -238,11 +231,9 @@ Result<bool> diffract_fast(const SpectralScene& scene, const SpectralBasis& basi
     if (!scene.checked)
         if (auto v = check_pixels(scene.camera, scene.rgb, 3, false, scene.depth); !v.ok()) return v;
     FastPlanSpec spec{scene.camera, 0, aperture, basis, max_inverse_depth(scene), settings};
-    auto plan = FastPlan::create(spec, progress ? ProgressFn([&](double f) { return progress(0.5 * f); })
-                                                : ProgressFn());
+    auto plan = FastPlan::create(spec, progress_part(progress, 0.0, 0.5));
     if (!plan.ok()) return Result<bool>::failure(plan.error);
-    return plan.value->apply(scene, vignetting, xyz,
-                             progress ? ProgressFn([&](double f) { return progress(0.5 + 0.5 * f); }) : ProgressFn());
+    return plan.value->apply(scene, vignetting, xyz, progress_part(progress, 0.5, 1.0));
 }
 
 }  // namespace wavecam

@@ -279,6 +279,84 @@ double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, do
                                                    : samples * (sources + film) * (w.run_end - w.run_begin);
 }
 
+namespace {
+
+// The film points' irradiance of one sum, n x n points per output pixel averaged into the output
+// rows of `range` (within the overscan), then cleared for the next run.
+void average_into_output(std::vector<float>& points, const SceneSum& sum, const PinholeCamera& c, int overscan,
+                         const WorkRange& range, float* irradiance) {
+    const size_t n2 = size_t(sum.subsamples) * sum.subsamples, width = size_t(c.width - 2 * overscan);
+    for (size_t p = 0; p < points.size() / n2; ++p) {
+        double total = 0;
+        for (size_t k = 0; k < n2; ++k) total += points[p * n2 + k];
+        irradiance[(range.row_begin + p / width) * c.width + overscan + p % width] += static_cast<float>(total / n2);
+    }
+    std::fill(points.begin(), points.end(), 0.0f);
+}
+
+PointSource centred(const PinholeCamera& c, const Emitter& e, double phase) {
+    return source_at(c, e.x + 0.5 * e.w, e.y + 0.5 * e.h, e.power, e.depth, e.meaning, phase);
+}
+
+// One run's sources: each emitter with its own random phase, anywhere in its cell with jitter.
+std::vector<PointSource> run_sources(const PinholeCamera& c, const std::vector<Emitter>& emitters,
+                                     const DiffractionSettings& s, int run, uint64_t stream) {
+    std::vector<PointSource> sources;
+    sources.reserve(emitters.size());
+    for (const Emitter& e : emitters) {
+        const double phase = 2 * M_PI * detail::counter_uniform(s.seed ^ stream, run, e.key, 3);
+        if (!s.jitter) {
+            sources.push_back(centred(c, e, phase));
+            continue;
+        }
+        const double jx = detail::counter_uniform(s.seed, run, e.key, 1);
+        const double jy = detail::counter_uniform(s.seed, run, e.key, 2);
+        sources.push_back(source_at(c, e.x + jx * e.w, e.y + jy * e.h, e.power, e.depth, e.meaning, phase));
+    }
+    return sources;
+}
+
+Result<bool> cancelled() { return Result<bool>::failure("cancelled", ErrorKind::Cancelled); }
+
+// Incoherent: every source through the pinhole alone, the film's irradiances summed.
+Result<bool> incoherent_sum(const SceneSum& sum, const PinholeCamera& c, double wavelength,
+                            const DiffractionSettings& s, std::vector<float>& points, const ProgressFn& progress) {
+    PinholeField field;
+    const size_t n = sum.emitters.size();
+    for (size_t k = 0; k < n; ++k) {
+        illuminate_pinhole(sum.samples, {centred(c, sum.emitters[k], 0.0)}, wavelength, field, s.nthreads);
+        if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0, points.data(), s.nthreads,
+                                        progress_part(progress, double(k) / n, double(k + 1) / n)))
+            return cancelled();
+    }
+    return Result<bool>::success(true);
+}
+
+// Random phase (the seed paper): each run every source at once with its own phase, weighted
+// 1/runs and averaged into the output on its own, so a job equals the sum of its shares.
+Result<bool> random_phase_runs(const SceneSum& sum, const PinholeCamera& c, double wavelength,
+                               const DiffractionSettings& s, const WorkRange& range, std::vector<float>& points,
+                               float* irradiance, const ProgressFn& progress) {
+    const uint64_t stream = wavelength_stream(wavelength);
+    PinholeField field;
+    const int first = range.run_begin, runs = range.run_end - range.run_begin;
+    for (int run = first; run < range.run_end; ++run) {
+        const std::vector<PointSource> sources = run_sources(c, sum.emitters, s, run, stream);
+        // half of a run's terms go to the pinhole, half to the film
+        const double at = double(run - first) / runs, half = 0.5 / runs;
+        if (!illuminate_pinhole(sum.samples, sources, wavelength, field, s.nthreads,
+                                progress_part(progress, at, at + half)))
+            return cancelled();
+        if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0 / s.runs, points.data(),
+                                        s.nthreads, progress_part(progress, at + half, at + 2 * half)))
+            return cancelled();
+        average_into_output(points, sum, c, s.overscan, range, irradiance);
+    }
+    return Result<bool>::success(true);
+}
+
+}  // namespace
+
 Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s,
                                  float* irradiance, const ProgressFn& progress) {
     const PinholeCamera& c = scene.camera;
@@ -289,68 +367,12 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
     const double nearest =
         std::isnan(s.nearest_depth) ? nearest_depth(c, scene.depth, scene.depth_meaning) : s.nearest_depth;
     const SceneSum sum = scene_sum(scene, wavelength, s, nearest, range, true);
-    const int sub = sum.subsamples, o = s.overscan;
-    const std::vector<Emitter>& emitters = sum.emitters;
-    // Irradiance at every film point; averaged into the output pixels after each run.
-    std::vector<float> points(sum.film.size(), 0.0f);
-    auto average_into_output = [&] {
-        const size_t n2 = size_t(sub) * sub, width = size_t(c.width - 2 * o);
-        for (size_t p = 0; p < points.size() / n2; ++p) {
-            double total = 0;
-            for (size_t k = 0; k < n2; ++k) total += points[p * n2 + k];
-            irradiance[(range.row_begin + p / width) * c.width + o + p % width] += static_cast<float>(total / n2);
-        }
-        std::fill(points.begin(), points.end(), 0.0f);
-        return Result<bool>::success(true);
-    };
-    const uint64_t stream = wavelength_stream(wavelength);
-    PinholeField field;
-    auto cancelled = [] { return Result<bool>::failure("cancelled", ErrorKind::Cancelled); };
-    auto centred = [&c](const Emitter& e, double phase) {
-        return source_at(c, e.x + 0.5 * e.w, e.y + 0.5 * e.h, e.power, e.depth, e.meaning, phase);
-    };
-
-    if (s.method == CoherenceMethod::Incoherent) {
-        const size_t n = emitters.size();
-        for (size_t k = 0; k < n; ++k) {
-            illuminate_pinhole(sum.samples, {centred(emitters[k], 0.0)}, wavelength, field, s.nthreads);
-            const double done = double(k) / n;
-            ProgressFn report;
-            if (progress) report = [&](double f) { return progress(done + f / n); };
-            if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0, points.data(), s.nthreads,
-                                            report))
-                return cancelled();
-        }
-        return average_into_output();
-    }
-
-    for (int run = range.run_begin; run < range.run_end; ++run) {
-        std::vector<PointSource> sources;
-        sources.reserve(emitters.size());
-        for (const Emitter& e : emitters) {
-            const double phase = 2 * M_PI * detail::counter_uniform(s.seed ^ stream, run, e.key, 3);
-            if (!s.jitter) {
-                sources.push_back(centred(e, phase));
-                continue;
-            }
-            const double jx = detail::counter_uniform(s.seed, run, e.key, 1);
-            const double jy = detail::counter_uniform(s.seed, run, e.key, 2);
-            sources.push_back(source_at(c, e.x + jx * e.w, e.y + jy * e.h, e.power, e.depth, e.meaning, phase));
-        }
-        // Progress: half of a run's terms go to the pinhole, half to the film.
-        auto stage = [&](double offset) -> ProgressFn {
-            if (!progress) return {};
-            return [&progress, offset, first = range.run_begin, runs = range.run_end - range.run_begin, run](double f) {
-                return progress((run - first + offset + 0.5 * f) / runs);
-            };
-        };
-        if (!illuminate_pinhole(sum.samples, sources, wavelength, field, s.nthreads, stage(0.0))) return cancelled();
-        if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0 / s.runs, points.data(),
-                                        s.nthreads, stage(0.5)))
-            return cancelled();
-        average_into_output();
-    }
-    return Result<bool>::success(true);
+    std::vector<float> points(sum.film.size(), 0.0f);  // irradiance at every film point
+    if (s.method == CoherenceMethod::RandomPhase)
+        return random_phase_runs(sum, c, wavelength, s, range, points, irradiance, progress);
+    auto r = incoherent_sum(sum, c, wavelength, s, points, progress);
+    if (r.ok()) average_into_output(points, sum, c, s.overscan, range, irradiance);
+    return r;
 }
 
 }  // namespace wavecam

@@ -61,11 +61,7 @@ public:
     // and vignetted as diffract_spectral does. `scene.camera` must be the plan's camera.
     Result<bool> apply(const SpectralScene& scene, bool vignetting, float* xyz, const ProgressFn& progress = {}) const;
 
-    const FastPlanSpec& spec() const;
     int kernel_radius() const;
-    int layer_count() const;
-    // Bytes the plan holds (kernels and their spectra).
-    double bytes() const;
     // Bytes a plan for `spec` and one frame's work need at their peak, without building it.
     static double estimate_bytes(const FastPlanSpec& spec);
 

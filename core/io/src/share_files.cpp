@@ -95,6 +95,24 @@ std::string job_fingerprint(const std::string& input_fingerprint, const Settings
     return f.hex();
 }
 
+namespace {
+
+// Each unit's terms: unit u is wavelength u / R and run u % R, one propagation for colour and
+// three (one per channel) for monochrome light (spectrum.h).
+std::vector<double> share_unit_terms(DiffractionSettings s, const PinholeCamera& camera,
+                                     const std::vector<double>& wavelengths, const WorkShare& sh, int R,
+                                     int per_wavelength) {
+    std::vector<double> terms;
+    for (int u = sh.unit_begin; u < sh.unit_end; ++u) {
+        s.run_begin = u % R;
+        s.run_end = u % R + 1;
+        terms.push_back(per_wavelength * scene_terms(s, camera, wavelengths[u / R]));
+    }
+    return terms;
+}
+
+}  // namespace
+
 Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::string& input_path,
                             const DiffractOptions& opt, const SettingsText& settings, int index, int count,
                             int nthreads) {
@@ -127,14 +145,10 @@ Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, con
     DiffractionSettings s = exact_settings(opt, camera, in.depth, nthreads);
     s.row_begin = sh.row_begin;
     s.row_end = sh.row_end;
-    std::vector<double> unit_terms;
+    const std::vector<double> unit_terms =
+        share_unit_terms(s, camera, sampling.value.wavelength, sh, R, per_wavelength);
     double terms = 0;
-    for (int u = sh.unit_begin; u < sh.unit_end; ++u) {
-        s.run_begin = u % R;
-        s.run_end = u % R + 1;
-        unit_terms.push_back(per_wavelength * scene_terms(s, camera, sampling.value.wavelength[u / R]));
-        terms += unit_terms.back();
-    }
+    for (double t : unit_terms) terms += t;
     std::ostringstream job;
     job << "share " << index << "/" << count << " of " << in.width << "x" << in.height << " pixels x " << S
         << " wavelengths x " << R << " runs: " << describe_share(sh, R);
@@ -204,14 +218,13 @@ Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, con
     spec.attribute("wavecam.part.job", job_fingerprint(fingerprint.value, settings));
     for (const auto& [k, v] : settings) spec.attribute(kSettingPrefix + k, v);
     part.reset(spec);
-    const size_t W = size_t(in.width), rows = size_t(spec.height), C = order.size();
-    std::vector<float> px(W * rows * C);
-    for (size_t c = 0; c < C; ++c) {
-        const float* unit = units[order[c]].data() + size_t(sh.row_begin) * W;
-        for (size_t p = 0; p < W * rows; ++p) px[p * C + c] = unit[p];
-    }
-    if (!part.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, px.data()))
-        return fail(input_path + ": cannot fill the part image: " + part.geterror());
+    // each unit's rows written once, straight into its channel of the part
+    const OIIO::stride_t row = OIIO::stride_t(in.width) * sizeof(float);
+    for (int c = 0; c < spec.nchannels; ++c)
+        if (!part.set_pixels(OIIO::ROI(0, spec.width, spec.y, spec.y + spec.height, 0, 1, c, c + 1),
+                             OIIO::TypeDesc::FLOAT, units[order[c]].data() + size_t(sh.row_begin) * in.width,
+                             sizeof(float), row))
+            return fail(input_path + ": cannot fill the part image: " + part.geterror());
     part.specmod().attribute("wavecam.part.checksum", pixel_checksum(part));
     return Fail::success(true);
 }
