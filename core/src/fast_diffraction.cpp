@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "anchored_convolution.h"
 #include "far_tail.h"
@@ -69,13 +68,7 @@ Result<detail::PsfTableSpec> plan_geometry(const FastPlanSpec& spec) {
     using R = Result<detail::PsfTableSpec>;
     const PinholeCamera& c = spec.camera;
     const int o = spec.overscan;
-    if (c.width < 1 || c.height < 1) return R::failure("image: expected at least 1x1 pixels");
-    if (o < 0 || 2 * o >= c.width || 2 * o >= c.height) {
-        std::ostringstream m;
-        m << "overscan: expected 0 to " << (std::min(c.width, c.height) - 1) / 2 << " pixels for a " << c.width
-          << "x" << c.height << " image, got " << o;
-        return R::failure(m.str());
-    }
+    if (auto v = check_frame(c, o); !v.ok()) return R::failure(v);
     const SpectralBasis& basis = spec.basis;
     double lambda_min = basis.wavelength(0), lambda_max = basis.wavelength(0);
     for (int s = 0; s < basis.size(); ++s) {

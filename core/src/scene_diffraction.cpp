@@ -18,16 +18,9 @@ Result<bool> check_settings(const PinholeCamera& c, double wavelength, const Dif
     if (!(s.aperture.diameter > 0)) return fail("pinhole: expected a diameter > 0");
     if (!(c.film_distance > 0)) return fail("film-distance: expected a distance > 0");
     if (!(c.fov_h > 0 && c.fov_h < M_PI * 0.999)) return fail("fov: expected a field of view in (0deg, 180deg)");
-    if (c.width < 1 || c.height < 1) return fail("image: expected at least 1x1 pixels");
     if (!(wavelength > 0)) return fail("wavelengths: expected wavelengths > 0");
     if (s.runs < 1) return fail("runs: expected at least 1 run");
-    if (s.overscan < 0 || 2 * s.overscan >= std::min(c.width, c.height)) {
-        std::ostringstream m;
-        m << "overscan: expected 0 to " << (std::min(c.width, c.height) - 1) / 2 << " pixels for a " << c.width
-          << "x" << c.height << " image, got " << s.overscan;
-        return fail(m.str());
-    }
-    return Result<bool>::success(true);
+    return check_frame(c, s.overscan);
 }
 
 // A point source at image position (x, y) (camera pixels) with power `power_on_pinhole` =
@@ -163,6 +156,15 @@ uint64_t wavelength_stream(double wavelength) {
 }
 
 }  // namespace
+
+Result<bool> check_frame(const PinholeCamera& c, int overscan) {
+    if (c.width < 1 || c.height < 1) return Result<bool>::failure("image: expected at least 1x1 pixels");
+    if (overscan >= 0 && 2 * overscan < std::min(c.width, c.height)) return Result<bool>::success(true);
+    std::ostringstream m;
+    m << "overscan: expected 0 to " << (std::min(c.width, c.height) - 1) / 2 << " pixels for a " << c.width << "x"
+      << c.height << " image, got " << overscan;
+    return Result<bool>::failure(m.str());
+}
 
 Result<bool> check_pixels(const PinholeCamera& c, const float* radiance, int channels, bool non_negative,
                           const float* depth) {

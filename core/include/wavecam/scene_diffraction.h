@@ -49,6 +49,9 @@ struct MonochromeScene {
     bool checked = false;    // its pixels already checked, once for the job: not again here
 };
 
+// At least 1x1 pixels, and an overscan that leaves some.
+Result<bool> check_frame(const PinholeCamera& camera, int overscan);
+
 // Every radiance (`channels` interleaved per pixel) finite, and >= 0 where `non_negative`, and
 // every depth > 0: the first bad pixel is named with its field and what was expected.
 Result<bool> check_pixels(const PinholeCamera& camera, const float* radiance, int channels, bool non_negative,

@@ -87,16 +87,10 @@ double exact_terms(const DiffractionSettings& s, const PinholeCamera& camera, co
 }
 
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
-                      const SpectralBasis& basis) {
-    if (opt.method == DiffractMethod::Fast) return 0;  // PSF grid + FFTs: minutes at most
-    return exact_terms(exact_settings(opt, camera, depth), camera, basis);
-}
-
-double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
                       const std::string& file_colorspace) {
-    if (opt.method == DiffractMethod::Fast) return 0;
+    if (opt.method == DiffractMethod::Fast) return 0;  // PSF grid + FFTs: minutes at most
     auto basis = job_basis(opt, file_colorspace);
-    return basis.ok() ? estimate_terms(opt, camera, depth, basis.value) : 0;
+    return basis.ok() ? exact_terms(exact_settings(opt, camera, depth), camera, basis.value) : 0;
 }
 
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) {

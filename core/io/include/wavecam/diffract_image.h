@@ -68,10 +68,8 @@ DiffractionSettings exact_settings(const DiffractOptions& opt, const PinholeCame
 double exact_terms(const DiffractionSettings& s, const PinholeCamera& camera, const SpectralBasis& basis);
 
 // Terms the job costs for an image of this size, field of view and depth (for refusing and
-// reporting): exact_terms of exact_settings; 0 for the fast method.
-double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
-                      const SpectralBasis& basis);
-// The same with job_basis(opt, file_colorspace); 0 when that basis cannot be made.
+// reporting): exact_terms of exact_settings with job_basis(opt, file_colorspace); 0 for the fast
+// method or when that basis cannot be made.
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
                       const std::string& file_colorspace = "");
 
