@@ -233,6 +233,20 @@ std::string array_header(const fs::path& farm, const FarmFlags& flags, const std
            std::to_string(flags.cpus) + "\ncase \"$SLURM_ARRAY_TASK_ID\" in\n";
 }
 
+// Ends the array script, writes it, and submits its tasks `indices` ("0-3", "0,2,5"; "": none,
+// nothing submitted); the array's Slurm id, "" when none.
+Result<std::string> submit_array(const fs::path& farm, const FarmFlags& flags, std::ostringstream& array,
+                                 const std::string& indices) {
+    array << "*) echo \"wavecam farm: no task $SLURM_ARRAY_TASK_ID\" >&2; exit 1 ;;\nesac\n";
+    if (auto w = write_text_atomically(array.str(), farm / "array.sbatch"); !w.ok())
+        return Result<std::string>::failure(w);
+    if (indices.empty()) return Result<std::string>::success("");
+    std::vector<std::string> opts{"--array=" + indices};
+    if (!flags.partition.empty()) opts.push_back("--partition=" + flags.partition);
+    if (flags.hold) opts.push_back("--hold");
+    return sbatch((farm / "array.sbatch").string(), opts);
+}
+
 // The job record (job.txt): its head, and a line a frame.
 std::string record_head(const FarmFlags& flags, int tasks, const std::string& array_id) {
     return "input=" + absolute(flags.input) + "\noutput=" + absolute(flags.output) + "\ntasks=" +
@@ -274,20 +288,11 @@ int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::ve
                                   apply_arguments(flags);
         array << t << ") exec " << apply << (flags.frames.empty() ? "" : " --frames " + list) << " ;;\n";
     }
-    array << "*) echo \"wavecam farm: no task $SLURM_ARRAY_TASK_ID\" >&2; exit 1 ;;\nesac\n";
-    if (auto w = write_text_atomically(array.str(), farm / "array.sbatch"); !w.ok()) return fail(w.error);
-    std::string array_id;
-    if (tasks > 0) {
-        std::vector<std::string> opts{"--array=0-" + std::to_string(tasks - 1)};
-        if (!flags.partition.empty()) opts.push_back("--partition=" + flags.partition);
-        if (flags.hold) opts.push_back("--hold");
-        auto id = sbatch((farm / "array.sbatch").string(), opts);
-        if (!id.ok()) return fail(id.error);
-        array_id = id.value;
-        std::printf("farm: submitted array job %s: %zu tasks\n", array_id.c_str(), tasks);
-    } else {
-        std::printf("farm: every frame is made; nothing to compute\n");
-    }
+    auto id = submit_array(farm, flags, array, tasks > 0 ? "0-" + std::to_string(tasks - 1) : "");
+    if (!id.ok()) return fail(id.error);
+    const std::string array_id = id.value;
+    if (tasks > 0) std::printf("farm: submitted array job %s: %zu tasks\n", array_id.c_str(), tasks);
+    else std::printf("farm: every frame is made; nothing to compute\n");
     record << record_head(flags, 0, array_id);
     for (size_t i = 0; i < frames.size(); ++i) {
         record << frame_line(i, frames[i]);
@@ -429,24 +434,16 @@ int submit(const FarmFlags& flags) {
             }
         }
     }
-    array << "*) echo \"wavecam farm: no task $SLURM_ARRAY_TASK_ID\" >&2; exit 1 ;;\nesac\n";
-    if (auto w = write_text_atomically(array.str(), farm / "array.sbatch"); !w.ok()) return fail(w.error);
-
+    auto submitted = submit_array(farm, flags, array, pending.empty() ? "" : index_list(pending));
+    if (!submitted.ok()) return fail(submitted.error);
+    const std::string array_id = submitted.value;
     std::vector<std::string> common;
     if (!flags.partition.empty()) common.push_back("--partition=" + flags.partition);
-    std::string array_id;
-    if (!pending.empty()) {
-        auto opts = common;
-        opts.push_back("--array=" + index_list(pending));
-        if (flags.hold) opts.push_back("--hold");
-        auto id = sbatch((farm / "array.sbatch").string(), opts);
-        if (!id.ok()) return fail(id.error);
-        array_id = id.value;
+    if (!pending.empty())
         std::printf("farm: submitted array job %s: %zu of %zu tasks (the others are complete)\n", array_id.c_str(),
                     pending.size(), frames.size() * n);
-    } else {
+    else
         std::printf("farm: every share is complete; nothing to compute\n");
-    }
 
     std::ostringstream record;
     record << record_head(flags, n, array_id);

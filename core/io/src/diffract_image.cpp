@@ -51,13 +51,9 @@ Result<JobColour> resolve_colour(const DiffractOptions& opt, const std::string& 
 
 }  // namespace
 
-double resolved_pinhole(const DiffractOptions& opt) {
-    return opt.pinhole > 0 ? opt.pinhole : rayleigh_optimal_diameter(opt.film_distance, kDesignWavelength);
-}
-
 Aperture resolved_aperture(const DiffractOptions& opt) {
     Aperture a = opt.aperture;
-    a.diameter = resolved_pinhole(opt);
+    a.diameter = opt.pinhole > 0 ? opt.pinhole : rayleigh_optimal_diameter(opt.film_distance, kDesignWavelength);
     return a;
 }
 

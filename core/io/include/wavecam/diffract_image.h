@@ -48,9 +48,7 @@ struct DiffractOptions {
     MonochromePropagator exact_propagator;
 };
 
-// The pinhole diameter the options resolve to (the optimum when none is given).
-double resolved_pinhole(const DiffractOptions& opt);
-// The aperture with that diameter.
+// The aperture the options resolve to: its diameter `pinhole`, Rayleigh's optimum when none is given.
 Aperture resolved_aperture(const DiffractOptions& opt);
 
 // The spectral basis a job diffracts with, for an input whose file names `file_colorspace` ("" =
