@@ -354,6 +354,33 @@ Result<std::string> submit_merge(const fs::path& farm, const Frame& f, int n, co
     return sbatch(script.string(), opts);
 }
 
+// The share array's script: task i computes share (i % N) + 1 of frame i / N. Returns the tasks
+// still to compute (neither merged nor complete), frame by frame.
+std::vector<std::vector<int>> share_tasks(std::ostringstream& array, const fs::path& farm, const FarmFlags& flags,
+                                          const std::vector<Frame>& frames, const std::string& self) {
+    const int n = flags.tasks;
+    const std::string args = apply_arguments(flags);
+    std::error_code ec;
+    fs::create_directories(farm / "logs", ec);
+    array << array_header(farm, flags, "task i computes share (i % " + std::to_string(n) + ") + 1 of frame i / " +
+                                           std::to_string(n));
+    std::vector<std::vector<int>> pending_of(frames.size());
+    for (size_t i = 0; i < frames.size(); ++i) {
+        const Frame& f = frames[i];
+        fs::create_directories(farm / "parts" / f.tag, ec);
+        const bool merged = frame_merged(f);
+        for (int k = 1; k <= n; ++k) {
+            const int index = int(i) * n + k - 1;
+            const fs::path part = part_path(farm, f, k, n);
+            array << index << ") exec " << self << " apply " << shell_quote(f.input) << " -o "
+                  << shell_quote(part.string()) << " --part " << k << "/" << n << " --threads " << flags.cpus << args
+                  << " ;;\n";
+            if (!merged && !part_complete(part, f, k, n)) pending_of[i].push_back(index);
+        }
+    }
+    return pending_of;
+}
+
 int submit(const FarmFlags& flags) {
     if (flags.tasks < 1) return fail("--tasks: expected at least 1 share per frame", 2);
     front::Settings given = flags.given;
@@ -409,31 +436,12 @@ int submit(const FarmFlags& flags) {
     const fs::path farm = farm_dir(flags.output);
 
     // The array: every (frame, share) task in the script, only the incomplete ones submitted.
-    std::error_code ec;
-    fs::create_directories(farm / "logs", ec);
     const int n = flags.tasks;
-    const std::string self = shell_quote(self_path()), args = apply_arguments(flags);
+    const std::string self = shell_quote(self_path());
     std::ostringstream array;
-    array << array_header(farm, flags, "task i computes share (i % " + std::to_string(n) + ") + 1 of frame i / " +
-                                           std::to_string(n));
+    const std::vector<std::vector<int>> pending_of = share_tasks(array, farm, flags, frames, self);
     std::vector<int> pending;
-    std::vector<std::vector<int>> pending_of(frames.size());
-    for (size_t i = 0; i < frames.size(); ++i) {
-        const Frame& f = frames[i];
-        fs::create_directories(farm / "parts" / f.tag, ec);
-        const bool merged = frame_merged(f);
-        for (int k = 1; k <= n; ++k) {
-            const int index = int(i) * n + k - 1;
-            const fs::path part = part_path(farm, f, k, n);
-            array << index << ") exec " << self << " apply " << shell_quote(f.input) << " -o "
-                  << shell_quote(part.string()) << " --part " << k << "/" << n << " --threads " << flags.cpus << args
-                  << " ;;\n";
-            if (!merged && !part_complete(part, f, k, n)) {
-                pending.push_back(index);
-                pending_of[i].push_back(index);
-            }
-        }
-    }
+    for (const auto& p : pending_of) pending.insert(pending.end(), p.begin(), p.end());
     auto submitted = submit_array(farm, flags, array, pending.empty() ? "" : index_list(pending));
     if (!submitted.ok()) return fail(submitted.error);
     const std::string array_id = submitted.value;
