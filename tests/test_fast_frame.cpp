@@ -214,3 +214,26 @@ TEST(FastFrame, StarLightLandsWhereTheFresnelIntegralPutsIt) {
     std::printf("in the frame: fast %.5f, Fresnel integral %.5f\n", total_fast, total_ref);
     EXPECT_NEAR(total_fast, total_ref, 0.005 * total_ref);
 }
+
+// The pixels are checked once, before any work: a bad one is named by its field and pixel, by the
+// fast path and by the spectral sum before any wavelength is propagated.
+TEST(FastFrame, BadPixelsAreNamedBeforeAnyWork) {
+    Frame f = wall(8, 6, 40, 2.0, 0.5f);
+    std::vector<float> xyz(3 * 8 * 6);
+    int propagations = 0;
+    const MonochromePropagator counting = [&](const MonochromeScene&, double, float*, const ProgressFn&) {
+        ++propagations;
+        return Result<bool>::success(true);
+    };
+    const Aperture pinhole{ApertureShape::Circle, 0.3e-3};
+    f.rgb[3 * (2 * 8 + 5) + 1] = std::nanf("");
+    for (auto r : {diffract_fast(f.scene(), basis(3), pinhole, true, xyz.data()),
+                   diffract_spectral(f.scene(), basis(3), pinhole, counting, true, xyz.data())})
+        EXPECT_EQ(r.error.rfind("radiance: pixel (5, 2) is nan, expected a finite value", 0), 0u) << r.error;
+    f.rgb[3 * (2 * 8 + 5) + 1] = 0.5f;
+    f.depth[3 * 8 + 1] = -1;
+    for (auto r : {diffract_fast(f.scene(), basis(3), pinhole, true, xyz.data()),
+                   diffract_spectral(f.scene(), basis(3), pinhole, counting, true, xyz.data())})
+        EXPECT_EQ(r.error.rfind("depth: pixel (1, 3) is -1, expected a distance > 0", 0), 0u) << r.error;
+    EXPECT_EQ(propagations, 0);
+}

@@ -243,22 +243,22 @@ TEST(Shares, EstimateCountsMonochromeLightThreeTimes) {
     auto per_wavelength = [&](const std::vector<double>& wavelengths) {
         wavecam::DiffractionSettings s = opt.diffraction;
         s.aperture = wavecam::resolved_aperture(opt);
+        s.nearest_depth = wavecam::nearest_depth(camera, depth.data(), opt.depth_meaning);
         double sum = 0;
-        for (double l : wavelengths)
-            sum += wavecam::scene_terms(s, camera, l, wavecam::nearest_depth(camera, depth.data(), opt.depth_meaning));
+        for (double l : wavelengths) sum += wavecam::scene_terms(s, camera, l);
         return sum;
     };
     const std::vector<double> colour = {450e-9, 550e-9, 650e-9}, close = {549e-9, 550e-9, 551e-9};
     opt.wavelengths = colour;
-    const double terms_colour = estimate_terms(opt, camera, depth, opt.depth_meaning);
+    const double terms_colour = estimate_terms(opt, camera, depth);
     EXPECT_NEAR(terms_colour / per_wavelength(colour), 1.0, 1e-12);
     opt.monochrome = true;  // asked for
-    EXPECT_NEAR(estimate_terms(opt, camera, depth, opt.depth_meaning) / per_wavelength(colour), 3.0, 1e-12);
+    EXPECT_NEAR(estimate_terms(opt, camera, depth) / per_wavelength(colour), 3.0, 1e-12);
     opt.monochrome = false;
     opt.wavelengths = close;  // found
-    EXPECT_NEAR(estimate_terms(opt, camera, depth, opt.depth_meaning) / per_wavelength(close), 3.0, 1e-12);
+    EXPECT_NEAR(estimate_terms(opt, camera, depth) / per_wavelength(close), 3.0, 1e-12);
     opt.wavelengths = {550e-9};  // one wavelength
-    EXPECT_NEAR(estimate_terms(opt, camera, depth, opt.depth_meaning) / per_wavelength({550e-9}), 3.0, 1e-12);
+    EXPECT_NEAR(estimate_terms(opt, camera, depth) / per_wavelength({550e-9}), 3.0, 1e-12);
     // and the command refuses the job with those terms (kJob's render: 24 x 16, 30deg, depth 2 m)
     Fixture f("shares_estimate");
     auto r = run_command(kWavecam + " apply " + f.input + " -o " + f.path("x.exr") + kJob +

@@ -57,9 +57,80 @@ Result<AnchoredConvolution> AnchoredConvolution::create(PsfTable table, int tile
     return Result<AnchoredConvolution>::success(std::move(c));
 }
 
-double AnchoredConvolution::bytes() const {
-    return double(kernel_spectra_.size()) * sizeof(std::complex<float>) + double(table_.weights.size()) * sizeof(float);
+namespace {
+
+// A tile's source pixels [x0, x1) x [y0, y1) of the domain.
+struct TileBounds {
+    int x0, y0, x1, y1;
+};
+
+// The depth layers the tile's sources touch, [lo, hi] (hi < lo: none).
+void layer_span(const DomainSources& src, const TileBounds& b, int layers, int& lo, int& hi) {
+    lo = layers;
+    hi = -1;
+    for (int j = b.y0; j < b.y1; ++j)
+        for (int i = b.x0; i < b.x1; ++i) {
+            const size_t p = size_t(j) * src.width + i;
+            lo = std::min<int>(lo, src.lower[p]);
+            hi = std::max<int>(hi, src.lower[p] + (src.upper_share[p] > 0 ? 1 : 0));
+        }
 }
+
+// Layer l's and anchor corner (dx, dy)'s share of each source of the tile (cell cx, cy) into
+// `weight` (row stride T); whether any is lit.
+bool anchor_weights(const PsfTable& t, const DomainSources& src, const TileBounds& b, int l, int cx, int cy, int dx,
+                    int dy, int T, std::vector<float>& weight) {
+    bool any = false;
+    for (int j = b.y0; j < b.y1; ++j) {
+        const double by = t.ay.upper_weight(cy, j);
+        const float wy = float(dy ? by : 1 - by);
+        for (int i = b.x0; i < b.x1; ++i) {
+            const size_t q = size_t(j) * src.width + i;
+            const float share = src.lower[q] == l         ? 1.0f - src.upper_share[q]
+                                : src.lower[q] + 1 == l ? src.upper_share[q]
+                                                        : 0.0f;
+            const double bx = t.ax.upper_weight(cx, i);
+            const float w = share * wy * float(dx ? bx : 1 - bx);
+            weight[size_t(j - b.y0) * T + (i - b.x0)] = w;
+            any |= w > 0;
+        }
+    }
+    return any;
+}
+
+// acc_q += sum_p in_p K_{3p+q}, written on floats so that it vectorises (std::complex's
+// operator* keeps a NaN-recovery branch).
+void multiply_accumulate(const std::complex<float>* in, const std::complex<float>* const kernels[9],
+                         std::complex<float>* acc, size_t spec) {
+    for (int q = 0; q < 3; ++q) {
+        float* a = reinterpret_cast<float*>(&acc[q * spec]);
+        for (int p = 0; p < 3; ++p) {
+            const float* x = reinterpret_cast<const float*>(&in[p * spec]);
+            const float* k = reinterpret_cast<const float*>(kernels[3 * p + q]);
+#pragma omp simd
+            for (size_t e = 0; e < spec; ++e) {
+                a[2 * e] += x[2 * e] * k[2 * e] - x[2 * e + 1] * k[2 * e + 1];
+                a[2 * e + 1] += x[2 * e] * k[2 * e + 1] + x[2 * e + 1] * k[2 * e];
+            }
+        }
+    }
+}
+
+// Adds channel q of a tile's convolved image (its FFT frame, N x N, wrapped) to the output window.
+void add_to_output(const std::vector<float>& image, int N, int R, const TileBounds& b, int out_x0, int out_y0,
+                   int out_width, int out_height, float norm, int q, float* xyz) {
+    for (int r = -R; r < (b.y1 - b.y0) + R; ++r) {
+        const int j = b.y0 + r - out_y0;
+        if (j < 0 || j >= out_height) continue;
+        for (int s = -R; s < (b.x1 - b.x0) + R; ++s) {
+            const int i = b.x0 + s - out_x0;
+            if (i < 0 || i >= out_width) continue;
+            xyz[3 * (size_t(j) * out_width + i) + q] += norm * image[size_t((r + N) % N) * N + (s + N) % N];
+        }
+    }
+}
+
+}  // namespace
 
 Result<bool> AnchoredConvolution::apply(const DomainSources& src, int out_x0, int out_y0, int out_width,
                                         int out_height, float* xyz, const ProgressFn& progress) const {
@@ -82,79 +153,37 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, int out_x0, in
             for (long k = 0; k < long(ntx) * nty; ++k) {
                 const int tx = int(k % ntx), ty = int(k / ntx);
                 if ((tx % 2) + 2 * (ty % 2) != phase || ticker.cancelled()) continue;
-                const int x0 = tx * T, y0 = ty * T, x1 = std::min(W, x0 + T), y1 = std::min(H, y0 + T);
+                const TileBounds b{tx * T, ty * T, std::min(W, tx * T + T), std::min(H, ty * T + T)};
                 // skip tiles whose light cannot reach the output window
-                if (x1 + R <= out_x0 || x0 - R >= out_x0 + out_width || y1 + R <= out_y0 ||
-                    y0 - R >= out_y0 + out_height) {
+                if (b.x1 + R <= out_x0 || b.x0 - R >= out_x0 + out_width || b.y1 + R <= out_y0 ||
+                    b.y0 - R >= out_y0 + out_height) {
                     ticker.advance(1, omp_get_thread_num() == 0);
                     continue;
                 }
-                const int cx = t.ax.cell_of(x0), cy = t.ay.cell_of(y0);
-                int lo = t.layers.count, hi = -1;
-                for (int j = y0; j < y1; ++j)
-                    for (int i = x0; i < x1; ++i) {
-                        const size_t p = size_t(j) * W + i;
-                        lo = std::min<int>(lo, src.lower[p]);
-                        hi = std::max<int>(hi, src.lower[p] + (src.upper_share[p] > 0 ? 1 : 0));
-                    }
+                const int cx = t.ax.cell_of(b.x0), cy = t.ay.cell_of(b.y0);
+                int lo, hi;
+                layer_span(src, b, t.layers.count, lo, hi);
                 std::fill(acc.begin(), acc.end(), std::complex<float>(0));
                 std::fill(image.begin(), image.end(), 0.0f);
                 for (int l = lo; l <= hi; ++l)
                     for (int corner = 0; corner < 4; ++corner) {
-                        const int dx = corner & 1, dy = corner >> 1;
-                        const int anchor = (cy + dy) * nkx + (cx + dx);
-                        // this anchor's and layer's share of each source
-                        bool any = false;
-                        for (int j = y0; j < y1; ++j) {
-                            const double by = t.ay.upper_weight(cy, j);
-                            const float wy = float(dy ? by : 1 - by);
-                            for (int i = x0; i < x1; ++i) {
-                                const size_t q = size_t(j) * W + i;
-                                const float share = src.lower[q] == l         ? 1.0f - src.upper_share[q]
-                                                    : src.lower[q] + 1 == l ? src.upper_share[q]
-                                                                            : 0.0f;
-                                const double bx = t.ax.upper_weight(cx, i);
-                                const float w = share * wy * float(dx ? bx : 1 - bx);
-                                weight[size_t(j - y0) * T + (i - x0)] = w;
-                                any |= w > 0;
-                            }
-                        }
-                        if (!any) continue;
+                        const int dx = corner & 1, dy = corner >> 1, anchor = (cy + dy) * nkx + (cx + dx);
+                        if (!anchor_weights(t, src, b, l, cx, cy, dx, dy, T, weight)) continue;
                         for (int p = 0; p < 3; ++p) {
-                            for (int j = y0; j < y1; ++j)
-                                for (int i = x0; i < x1; ++i)
-                                    image[size_t(j - y0) * N + (i - x0)] =
-                                        weight[size_t(j - y0) * T + (i - x0)] * src.rgb[3 * (size_t(j) * W + i) + p];
-                            fft.forward(image.data(), &in[p * spec], y1 - y0, N);
+                            for (int j = b.y0; j < b.y1; ++j)
+                                for (int i = b.x0; i < b.x1; ++i)
+                                    image[size_t(j - b.y0) * N + (i - b.x0)] =
+                                        weight[size_t(j - b.y0) * T + (i - b.x0)] * src.rgb[3 * (size_t(j) * W + i) + p];
+                            fft.forward(image.data(), &in[p * spec], b.y1 - b.y0, N);
                         }
-                        // acc_q += sum_p in_p K_{3p+q}, written on floats so that it vectorises
-                        // (std::complex's operator* keeps a NaN-recovery branch)
-                        for (int q = 0; q < 3; ++q) {
-                            float* a = reinterpret_cast<float*>(&acc[q * spec]);
-                            for (int p = 0; p < 3; ++p) {
-                                const float* x = reinterpret_cast<const float*>(&in[p * spec]);
-                                const float* k = reinterpret_cast<const float*>(spectrum(l, anchor, 3 * p + q));
-#pragma omp simd
-                                for (size_t e = 0; e < spec; ++e) {
-                                    a[2 * e] += x[2 * e] * k[2 * e] - x[2 * e + 1] * k[2 * e + 1];
-                                    a[2 * e + 1] += x[2 * e] * k[2 * e + 1] + x[2 * e + 1] * k[2 * e];
-                                }
-                            }
-                        }
+                        const std::complex<float>* kernels[9];
+                        for (int m = 0; m < 9; ++m) kernels[m] = spectrum(l, anchor, m);
+                        multiply_accumulate(in.data(), kernels, acc.data(), spec);
                     }
                 if (hi >= lo)
                     for (int q = 0; q < 3; ++q) {
                         fft.inverse(&acc[q * spec], image.data());
-                        for (int r = -R; r < (y1 - y0) + R; ++r) {
-                            const int j = y0 + r - out_y0;
-                            if (j < 0 || j >= out_height) continue;
-                            for (int s = -R; s < (x1 - x0) + R; ++s) {
-                                const int i = x0 + s - out_x0;
-                                if (i < 0 || i >= out_width) continue;
-                                xyz[3 * (size_t(j) * out_width + i) + q] +=
-                                    norm * image[size_t((r + N) % N) * N + (s + N) % N];
-                            }
-                        }
+                        add_to_output(image, N, R, b, out_x0, out_y0, out_width, out_height, norm, q, xyz);
                     }
                 ticker.advance(1, omp_get_thread_num() == 0);
             }

@@ -50,7 +50,6 @@ public:
 
     const PsfTable& table() const { return table_; }
     int tile() const { return tile_; }
-    double bytes() const;
 
 private:
     PsfTable table_;

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "anchored_convolution.h"
 #include "far_tail.h"
@@ -60,10 +59,7 @@ double transform_work(const detail::PsfTableSpec& t) {
 
 FastPlan::FastPlan(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 FastPlan::~FastPlan() = default;
-const FastPlanSpec& FastPlan::spec() const { return impl_->spec; }
 int FastPlan::kernel_radius() const { return impl_->convolution.table().radius; }
-int FastPlan::layer_count() const { return impl_->convolution.table().layers.count; }
-double FastPlan::bytes() const { return impl_->convolution.bytes(); }
 
 namespace {
 
@@ -72,13 +68,7 @@ Result<detail::PsfTableSpec> plan_geometry(const FastPlanSpec& spec) {
     using R = Result<detail::PsfTableSpec>;
     const PinholeCamera& c = spec.camera;
     const int o = spec.overscan;
-    if (c.width < 1 || c.height < 1) return R::failure("image: expected at least 1x1 pixels");
-    if (o < 0 || 2 * o >= c.width || 2 * o >= c.height) {
-        std::ostringstream m;
-        m << "overscan: expected 0 to " << (std::min(c.width, c.height) - 1) / 2 << " pixels for a " << c.width
-          << "x" << c.height << " image, got " << o;
-        return R::failure(m.str());
-    }
+    if (auto v = check_frame(c, o); !v.ok()) return R::failure(v);
     const SpectralBasis& basis = spec.basis;
     double lambda_min = basis.wavelength(0), lambda_max = basis.wavelength(0);
     for (int s = 0; s < basis.size(); ++s) {
@@ -147,14 +137,10 @@ Result<std::shared_ptr<const FastPlan>> FastPlan::create(const FastPlanSpec& spe
     detail::PsfTableSpec& t = geometry.value;
     const int threads = t.nthreads;
     // progress: the PSF table is most of the work, the kernels' transforms the rest
-    auto part = [&progress](double from, double to) -> ProgressFn {
-        if (!progress) return {};
-        return [&progress, from, to](double f) { return progress(from + (to - from) * f); };
-    };
-    auto table = detail::build_psf_table(t, part(0.0, 0.8));
+    auto table = detail::build_psf_table(t, progress_part(progress, 0.0, 0.8));
     if (!table.ok()) return R::failure(table.error);
     auto conv = detail::AnchoredConvolution::create(std::move(table.value), t.tile, t.domain_width, t.domain_height,
-                                                    threads, part(0.8, 1.0));
+                                                    threads, progress_part(progress, 0.8, 1.0));
     if (!conv.ok()) return R::failure(conv.error);
     auto impl = std::make_unique<Impl>(Impl{spec, std::move(conv.value), t.origin});
     return R::success(std::shared_ptr<const FastPlan>(new FastPlan(std::move(impl))));
@@ -175,27 +161,15 @@ bool FastPlan::serves(const FastPlanSpec& s) const {
            g.value.layers.step == t.layers.step && g.value.tile == impl_->convolution.tile();
 }
 
-Result<double> max_inverse_depth(const SpectralScene& scene) {
+double max_inverse_depth(const SpectralScene& scene) {
     const PinholeCamera& c = scene.camera;
     double w_max = 0;
     for (int j = 0; j < c.height; ++j)
         for (int i = 0; i < c.width; ++i) {
-            const size_t p = size_t(j) * c.width + i;
-            for (int k = 0; k < 3; ++k)
-                if (!std::isfinite(scene.rgb[3 * p + k])) {
-                    std::ostringstream m;
-                    m << "radiance: pixel (" << i << ", " << j << ") is not finite";
-                    return Result<double>::failure(m.str());
-                }
-            const double d = scene.depth[p];
-            if (std::isnan(d) || !(d > 0)) {
-                std::ostringstream m;
-                m << "depth: pixel (" << i << ", " << j << ") expected a distance > 0 (inf or >= 1e9 for sky)";
-                return Result<double>::failure(m.str());
-            }
+            const double d = scene.depth[size_t(j) * c.width + i];
             if (d < kInfiniteDepth) w_max = std::max(w_max, 1.0 / c.planar_depth(i, j, d, scene.depth_meaning));
         }
-    return Result<double>::success(w_max);
+    return w_max;
 }
 
 Result<bool> FastPlan::apply(const SpectralScene& scene, bool vignetting, float* xyz, const ProgressFn& progress) const {
@@ -247,14 +221,12 @@ Result<bool> FastPlan::apply(const SpectralScene& scene, bool vignetting, float*
 
 Result<bool> diffract_fast(const SpectralScene& scene, const SpectralBasis& basis, const Aperture& aperture,
                            bool vignetting, float* xyz, const FastSettings& settings, const ProgressFn& progress) {
-    auto w = max_inverse_depth(scene);
-    if (!w.ok()) return Result<bool>::failure(w.error);
-    FastPlanSpec spec{scene.camera, 0, aperture, basis, w.value, settings};
-    auto plan = FastPlan::create(spec, progress ? ProgressFn([&](double f) { return progress(0.5 * f); })
-                                                : ProgressFn());
+    if (!scene.checked)
+        if (auto v = check_pixels(scene.camera, scene.rgb, 3, false, scene.depth); !v.ok()) return v;
+    FastPlanSpec spec{scene.camera, 0, aperture, basis, max_inverse_depth(scene), settings};
+    auto plan = FastPlan::create(spec, progress_part(progress, 0.0, 0.5));
     if (!plan.ok()) return Result<bool>::failure(plan.error);
-    return plan.value->apply(scene, vignetting, xyz,
-                             progress ? ProgressFn([&](double f) { return progress(0.5 + 0.5 * f); }) : ProgressFn());
+    return plan.value->apply(scene, vignetting, xyz, progress_part(progress, 0.5, 1.0));
 }
 
 }  // namespace wavecam

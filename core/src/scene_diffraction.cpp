@@ -12,38 +12,15 @@
 namespace wavecam {
 namespace {
 
-Result<bool> validate(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s) {
+// The settings one wavelength's sum needs (the pixels are check_pixels').
+Result<bool> check_settings(const PinholeCamera& c, double wavelength, const DiffractionSettings& s) {
     auto fail = [](const std::string& m) { return Result<bool>::failure(m); };
-    const PinholeCamera& c = scene.camera;
     if (!(s.aperture.diameter > 0)) return fail("pinhole: expected a diameter > 0");
     if (!(c.film_distance > 0)) return fail("film-distance: expected a distance > 0");
     if (!(c.fov_h > 0 && c.fov_h < M_PI * 0.999)) return fail("fov: expected a field of view in (0deg, 180deg)");
-    if (c.width < 1 || c.height < 1) return fail("image: expected at least 1x1 pixels");
     if (!(wavelength > 0)) return fail("wavelengths: expected wavelengths > 0");
     if (s.runs < 1) return fail("runs: expected at least 1 run");
-    if (s.overscan < 0 || 2 * s.overscan >= std::min(c.width, c.height)) {
-        std::ostringstream m;
-        m << "overscan: expected 0 to " << (std::min(c.width, c.height) - 1) / 2 << " pixels for a " << c.width
-          << "x" << c.height << " image, got " << s.overscan;
-        return fail(m.str());
-    }
-    if (!scene.power || !scene.depth) return fail("image: radiance and depth are required");
-    const long n = long(c.width) * c.height;
-    for (long p = 0; p < n; ++p) {
-        if (!std::isfinite(scene.power[p]) || scene.power[p] < 0) {
-            std::ostringstream m;
-            m << "radiance: pixel (" << p % c.width << ", " << p / c.width << ") is " << scene.power[p]
-              << ", expected a finite value >= 0";
-            return fail(m.str());
-        }
-        if (std::isnan(scene.depth[p]) || !(scene.depth[p] > 0)) {
-            std::ostringstream m;
-            m << "depth: pixel (" << p % c.width << ", " << p / c.width << ") is " << scene.depth[p]
-              << ", expected a distance > 0 (inf or >= 1e9 for sky)";
-            return fail(m.str());
-        }
-    }
-    return Result<bool>::success(true);
+    return check_frame(c, s.overscan);
 }
 
 // A point source at image position (x, y) (camera pixels) with power `power_on_pinhole` =
@@ -180,6 +157,37 @@ uint64_t wavelength_stream(double wavelength) {
 
 }  // namespace
 
+Result<bool> check_frame(const PinholeCamera& c, int overscan) {
+    if (c.width < 1 || c.height < 1) return Result<bool>::failure("image: expected at least 1x1 pixels");
+    if (overscan >= 0 && 2 * overscan < std::min(c.width, c.height)) return Result<bool>::success(true);
+    std::ostringstream m;
+    m << "overscan: expected 0 to " << (std::min(c.width, c.height) - 1) / 2 << " pixels for a " << c.width << "x"
+      << c.height << " image, got " << overscan;
+    return Result<bool>::failure(m.str());
+}
+
+Result<bool> check_pixels(const PinholeCamera& c, const float* radiance, int channels, bool non_negative,
+                          const float* depth) {
+    if (!radiance || !depth) return Result<bool>::failure("image: radiance and depth are required");
+    auto bad = [&c](const char* field, size_t p, float value, const char* expected) {
+        std::ostringstream m;
+        m << field << ": pixel (" << p % c.width << ", " << p / c.width << ") is " << value << ", expected "
+          << expected;
+        return Result<bool>::failure(m.str());
+    };
+    const size_t n = size_t(c.width) * c.height;
+    for (size_t p = 0; p < n; ++p) {
+        for (int k = 0; k < channels; ++k) {
+            const float v = radiance[channels * p + k];
+            if (!std::isfinite(v) || (non_negative && v < 0))
+                return bad("radiance", p, v, non_negative ? "a finite value >= 0" : "a finite value");
+        }
+        if (std::isnan(depth[p]) || !(depth[p] > 0))
+            return bad("depth", p, depth[p], "a distance > 0 (inf or >= 1e9 for sky)");
+    }
+    return Result<bool>::success(true);
+}
+
 double scene_sample_pitch(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength,
                           double nearest) {
     if (s.sin_theta_max > 0) return sample_pitch(wavelength, s.sin_theta_max);
@@ -263,8 +271,9 @@ SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const Diffra
 
 }  // namespace
 
-double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength, double nearest) {
+double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength) {
     const WorkRange w = work_range(s, camera.height);
+    const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
     const SceneSum sum = scene_sum({camera, nullptr, nullptr}, wavelength, s, nearest, w, false);
     const double samples = estimate_sample_count(s.aperture, sum.samples.pitch);
     const double sources = double(sum.emitters.size()), film = double(sum.film.size());
@@ -272,74 +281,100 @@ double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, do
                                                    : samples * (sources + film) * (w.run_end - w.run_begin);
 }
 
-Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s,
-                                 float* irradiance, const ProgressFn& progress) {
-    if (auto v = validate(scene, wavelength, s); !v.ok()) return v;
-    const PinholeCamera& c = scene.camera;
-    const WorkRange range = work_range(s, c.height);
-    const SceneSum sum = scene_sum(scene, wavelength, s, nearest_depth(c, scene.depth, scene.depth_meaning), range, true);
-    const int sub = sum.subsamples, o = s.overscan;
-    const std::vector<Emitter>& emitters = sum.emitters;
-    // Irradiance at every film point; averaged into the output pixels after each run.
-    std::vector<float> points(sum.film.size(), 0.0f);
-    auto average_into_output = [&] {
-        const size_t n2 = size_t(sub) * sub, width = size_t(c.width - 2 * o);
-        for (size_t p = 0; p < points.size() / n2; ++p) {
-            double total = 0;
-            for (size_t k = 0; k < n2; ++k) total += points[p * n2 + k];
-            irradiance[(range.row_begin + p / width) * c.width + o + p % width] += static_cast<float>(total / n2);
-        }
-        std::fill(points.begin(), points.end(), 0.0f);
-        return Result<bool>::success(true);
-    };
-    const uint64_t stream = wavelength_stream(wavelength);
-    PinholeField field;
-    auto cancelled = [] { return Result<bool>::failure("cancelled", ErrorKind::Cancelled); };
-    auto centred = [&c](const Emitter& e, double phase) {
-        return source_at(c, e.x + 0.5 * e.w, e.y + 0.5 * e.h, e.power, e.depth, e.meaning, phase);
-    };
+namespace {
 
-    if (s.method == CoherenceMethod::Incoherent) {
-        const size_t n = emitters.size();
-        for (size_t k = 0; k < n; ++k) {
-            illuminate_pinhole(sum.samples, {centred(emitters[k], 0.0)}, wavelength, field, s.nthreads);
-            const double done = double(k) / n;
-            ProgressFn report;
-            if (progress) report = [&](double f) { return progress(done + f / n); };
-            if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0, points.data(), s.nthreads,
-                                            report))
-                return cancelled();
-        }
-        return average_into_output();
+// The film points' irradiance of one sum, n x n points per output pixel averaged into the output
+// rows of `range` (within the overscan), then cleared for the next run.
+void average_into_output(std::vector<float>& points, const SceneSum& sum, const PinholeCamera& c, int overscan,
+                         const WorkRange& range, float* irradiance) {
+    const size_t n2 = size_t(sum.subsamples) * sum.subsamples, width = size_t(c.width - 2 * overscan);
+    for (size_t p = 0; p < points.size() / n2; ++p) {
+        double total = 0;
+        for (size_t k = 0; k < n2; ++k) total += points[p * n2 + k];
+        irradiance[(range.row_begin + p / width) * c.width + overscan + p % width] += static_cast<float>(total / n2);
     }
+    std::fill(points.begin(), points.end(), 0.0f);
+}
 
-    for (int run = range.run_begin; run < range.run_end; ++run) {
-        std::vector<PointSource> sources;
-        sources.reserve(emitters.size());
-        for (const Emitter& e : emitters) {
-            const double phase = 2 * M_PI * detail::counter_uniform(s.seed ^ stream, run, e.key, 3);
-            if (!s.jitter) {
-                sources.push_back(centred(e, phase));
-                continue;
-            }
-            const double jx = detail::counter_uniform(s.seed, run, e.key, 1);
-            const double jy = detail::counter_uniform(s.seed, run, e.key, 2);
-            sources.push_back(source_at(c, e.x + jx * e.w, e.y + jy * e.h, e.power, e.depth, e.meaning, phase));
+PointSource centred(const PinholeCamera& c, const Emitter& e, double phase) {
+    return source_at(c, e.x + 0.5 * e.w, e.y + 0.5 * e.h, e.power, e.depth, e.meaning, phase);
+}
+
+// One run's sources: each emitter with its own random phase, anywhere in its cell with jitter.
+std::vector<PointSource> run_sources(const PinholeCamera& c, const std::vector<Emitter>& emitters,
+                                     const DiffractionSettings& s, int run, uint64_t stream) {
+    std::vector<PointSource> sources;
+    sources.reserve(emitters.size());
+    for (const Emitter& e : emitters) {
+        const double phase = 2 * M_PI * detail::counter_uniform(s.seed ^ stream, run, e.key, 3);
+        if (!s.jitter) {
+            sources.push_back(centred(c, e, phase));
+            continue;
         }
-        // Progress: half of a run's terms go to the pinhole, half to the film.
-        auto stage = [&](double offset) -> ProgressFn {
-            if (!progress) return {};
-            return [&progress, offset, first = range.run_begin, runs = range.run_end - range.run_begin, run](double f) {
-                return progress((run - first + offset + 0.5 * f) / runs);
-            };
-        };
-        if (!illuminate_pinhole(sum.samples, sources, wavelength, field, s.nthreads, stage(0.0))) return cancelled();
-        if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0 / s.runs, points.data(),
-                                        s.nthreads, stage(0.5)))
+        const double jx = detail::counter_uniform(s.seed, run, e.key, 1);
+        const double jy = detail::counter_uniform(s.seed, run, e.key, 2);
+        sources.push_back(source_at(c, e.x + jx * e.w, e.y + jy * e.h, e.power, e.depth, e.meaning, phase));
+    }
+    return sources;
+}
+
+Result<bool> cancelled() { return Result<bool>::failure("cancelled", ErrorKind::Cancelled); }
+
+// Incoherent: every source through the pinhole alone, the film's irradiances summed.
+Result<bool> incoherent_sum(const SceneSum& sum, const PinholeCamera& c, double wavelength,
+                            const DiffractionSettings& s, std::vector<float>& points, const ProgressFn& progress) {
+    PinholeField field;
+    const size_t n = sum.emitters.size();
+    for (size_t k = 0; k < n; ++k) {
+        illuminate_pinhole(sum.samples, {centred(c, sum.emitters[k], 0.0)}, wavelength, field, s.nthreads);
+        if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0, points.data(), s.nthreads,
+                                        progress_part(progress, double(k) / n, double(k + 1) / n)))
             return cancelled();
-        average_into_output();
     }
     return Result<bool>::success(true);
+}
+
+// Random phase (the seed paper): each run every source at once with its own phase, weighted
+// 1/runs and averaged into the output on its own, so a job equals the sum of its shares.
+Result<bool> random_phase_runs(const SceneSum& sum, const PinholeCamera& c, double wavelength,
+                               const DiffractionSettings& s, const WorkRange& range, std::vector<float>& points,
+                               float* irradiance, const ProgressFn& progress) {
+    const uint64_t stream = wavelength_stream(wavelength);
+    PinholeField field;
+    const int first = range.run_begin, runs = range.run_end - range.run_begin;
+    for (int run = first; run < range.run_end; ++run) {
+        const std::vector<PointSource> sources = run_sources(c, sum.emitters, s, run, stream);
+        // half of a run's terms go to the pinhole, half to the film
+        const double at = double(run - first) / runs, half = 0.5 / runs;
+        if (!illuminate_pinhole(sum.samples, sources, wavelength, field, s.nthreads,
+                                progress_part(progress, at, at + half)))
+            return cancelled();
+        if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0 / s.runs, points.data(),
+                                        s.nthreads, progress_part(progress, at + half, at + 2 * half)))
+            return cancelled();
+        average_into_output(points, sum, c, s.overscan, range, irradiance);
+    }
+    return Result<bool>::success(true);
+}
+
+}  // namespace
+
+Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s,
+                                 float* irradiance, const ProgressFn& progress) {
+    const PinholeCamera& c = scene.camera;
+    if (auto v = check_settings(c, wavelength, s); !v.ok()) return v;
+    if (!scene.checked)
+        if (auto v = check_pixels(c, scene.power, 1, true, scene.depth); !v.ok()) return v;
+    const WorkRange range = work_range(s, c.height);
+    const double nearest =
+        std::isnan(s.nearest_depth) ? nearest_depth(c, scene.depth, scene.depth_meaning) : s.nearest_depth;
+    const SceneSum sum = scene_sum(scene, wavelength, s, nearest, range, true);
+    std::vector<float> points(sum.film.size(), 0.0f);  // irradiance at every film point
+    if (s.method == CoherenceMethod::RandomPhase)
+        return random_phase_runs(sum, c, wavelength, s, range, points, irradiance, progress);
+    auto r = incoherent_sum(sum, c, wavelength, s, points, progress);
+    if (r.ok()) average_into_output(points, sum, c, s.overscan, range, irradiance);
+    return r;
 }
 
 }  // namespace wavecam

@@ -18,6 +18,10 @@ Result<bool> diffract_spectral(const SpectralScene& scene, const SpectralBasis& 
                                const MonochromePropagator& propagate, bool vignetting, float* xyz,
                                const ProgressFn& progress) {
     const PinholeCamera& c = scene.camera;
+    // the pixels are checked once for every wavelength: each wavelength's parts of a finite
+    // radiance are finite and >= 0
+    if (!scene.checked)
+        if (auto v = check_pixels(c, scene.rgb, 3, false, scene.depth); !v.ok()) return v;
     const size_t n = size_t(c.width) * c.height;
     const int S = basis.size();
     std::vector<double> film_xyz(3 * n, 0.0);
@@ -36,7 +40,7 @@ Result<bool> diffract_spectral(const SpectralScene& scene, const SpectralBasis& 
             if (sign < 0 && !any_negative) continue;
             std::fill(irradiance.begin(), irradiance.end(), 0.0f);
             const MonochromeScene mono{c, sign > 0 ? positive.data() : negative.data(), scene.depth,
-                                       scene.depth_meaning, s, sign};
+                                       scene.depth_meaning, s, sign, true};
             ProgressFn report;
             if (progress)
                 report = [&progress, s, S, sign](double f) { return progress((s + (sign > 0 ? 0.0 : 0.5) + 0.5 * f) / S); };

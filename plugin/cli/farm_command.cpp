@@ -226,6 +226,37 @@ Result<bool> check_nothing_queued(const FarmFlags& flags, size_t frames) {
 
 std::string apply_arguments(const FarmFlags& flags);
 
+// The array script's head: its Slurm settings, then one case per task.
+std::string array_header(const fs::path& farm, const FarmFlags& flags, const std::string& what) {
+    return "#!/bin/bash\n# wavecam farm: " + what + "; written by `wavecam farm submit`.\n#SBATCH --job-name=wavecam\n" +
+           "#SBATCH --output=" + (farm / "logs" / "task-%a.log").string() + "\n#SBATCH --cpus-per-task=" +
+           std::to_string(flags.cpus) + "\ncase \"$SLURM_ARRAY_TASK_ID\" in\n";
+}
+
+// Ends the array script, writes it, and submits its tasks `indices` ("0-3", "0,2,5"; "": none,
+// nothing submitted); the array's Slurm id, "" when none.
+Result<std::string> submit_array(const fs::path& farm, const FarmFlags& flags, std::ostringstream& array,
+                                 const std::string& indices) {
+    array << "*) echo \"wavecam farm: no task $SLURM_ARRAY_TASK_ID\" >&2; exit 1 ;;\nesac\n";
+    if (auto w = write_text_atomically(array.str(), farm / "array.sbatch"); !w.ok())
+        return Result<std::string>::failure(w);
+    if (indices.empty()) return Result<std::string>::success("");
+    std::vector<std::string> opts{"--array=" + indices};
+    if (!flags.partition.empty()) opts.push_back("--partition=" + flags.partition);
+    if (flags.hold) opts.push_back("--hold");
+    return sbatch((farm / "array.sbatch").string(), opts);
+}
+
+// The job record (job.txt): its head, and a line a frame.
+std::string record_head(const FarmFlags& flags, int tasks, const std::string& array_id) {
+    return "input=" + absolute(flags.input) + "\noutput=" + absolute(flags.output) + "\ntasks=" +
+           std::to_string(tasks) + "\narray-job=" + array_id + "\n";
+}
+std::string frame_line(size_t i, const Frame& f) {
+    return "frame." + std::to_string(i) + "=" + f.tag + "|" + std::to_string(f.number) + "|" + f.input + "|" +
+           f.output + "|" + f.job + "\n";
+}
+
 // The fast method: the frames not yet made, in --tasks contiguous chunks of one array.
 int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::vector<Frame>& frames) {
     std::vector<size_t> todo;
@@ -244,10 +275,7 @@ int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::ve
     std::error_code ec;
     fs::create_directories(farm / "logs", ec);
     std::ostringstream array, record;
-    array << "#!/bin/bash\n# wavecam farm: fast method, task i makes one chunk of frames; written by `wavecam farm "
-             "submit`.\n#SBATCH --job-name=wavecam\n#SBATCH --output="
-          << (farm / "logs" / "task-%a.log").string() << "\n#SBATCH --cpus-per-task=" << flags.cpus << "\n"
-          << "case \"$SLURM_ARRAY_TASK_ID\" in\n";
+    array << array_header(farm, flags, "fast method, task i makes one chunk of frames");
     std::map<size_t, size_t> task_of;
     for (size_t t = 0; t < tasks; ++t) {
         std::string list;
@@ -260,26 +288,14 @@ int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::ve
                                   apply_arguments(flags);
         array << t << ") exec " << apply << (flags.frames.empty() ? "" : " --frames " + list) << " ;;\n";
     }
-    array << "*) echo \"wavecam farm: no task $SLURM_ARRAY_TASK_ID\" >&2; exit 1 ;;\nesac\n";
-    if (auto w = write_text_atomically(array.str(), farm / "array.sbatch"); !w.ok()) return fail(w.error);
-    std::string array_id;
-    if (tasks > 0) {
-        std::vector<std::string> opts{"--array=0-" + std::to_string(tasks - 1)};
-        if (!flags.partition.empty()) opts.push_back("--partition=" + flags.partition);
-        if (flags.hold) opts.push_back("--hold");
-        auto id = sbatch((farm / "array.sbatch").string(), opts);
-        if (!id.ok()) return fail(id.error);
-        array_id = id.value;
-        std::printf("farm: submitted array job %s: %zu tasks\n", array_id.c_str(), tasks);
-    } else {
-        std::printf("farm: every frame is made; nothing to compute\n");
-    }
-    record << "input=" << absolute(flags.input) << "\noutput=" << absolute(flags.output) << "\ntasks=0\narray-job="
-           << array_id << "\n";
+    auto id = submit_array(farm, flags, array, tasks > 0 ? "0-" + std::to_string(tasks - 1) : "");
+    if (!id.ok()) return fail(id.error);
+    const std::string array_id = id.value;
+    if (tasks > 0) std::printf("farm: submitted array job %s: %zu tasks\n", array_id.c_str(), tasks);
+    else std::printf("farm: every frame is made; nothing to compute\n");
+    record << record_head(flags, 0, array_id);
     for (size_t i = 0; i < frames.size(); ++i) {
-        const Frame& f = frames[i];
-        record << "frame." << i << "=" << f.tag << "|" << f.number << "|" << f.input << "|" << f.output << "|" << f.job
-               << "\n";
+        record << frame_line(i, frames[i]);
         if (task_of.count(i)) record << "task-of." << i << "=" << task_of[i] << "\n";
     }
     if (auto w = write_text_atomically(record.str(), farm / "job.txt"); !w.ok()) return fail(w.error);
@@ -295,6 +311,76 @@ std::string apply_arguments(const FarmFlags& flags) {
     return args;
 }
 
+// The frames: one image, or a range of patterns.
+Result<std::vector<Frame>> frame_list(const FarmFlags& flags) {
+    using R = Result<std::vector<Frame>>;
+    if (flags.frames.empty()) return R::success({{0, "image", absolute(flags.input), absolute(flags.output), {}}});
+    std::vector<int> numbers;
+    if (!OIIO::Filesystem::enumerate_sequence(flags.frames, numbers) || numbers.empty())
+        return R::failure("--frames: expected a frame range such as 1-100, 1-100x2 or 3,7,10-20, got '" + flags.frames +
+                          "'");
+    auto in = frame_files(flags.input, numbers);
+    if (!in.ok()) return R::failure(in);
+    auto out = frame_files(flags.output, numbers);
+    if (!out.ok()) return R::failure(out);
+    std::vector<Frame> frames;
+    for (size_t i = 0; i < numbers.size(); ++i) {
+        char tag[32];
+        std::snprintf(tag, sizeof tag, "%04d", numbers[i]);
+        frames.push_back({numbers[i], tag, absolute(in.value[i]), absolute(out.value[i]), {}});
+    }
+    return R::success(std::move(frames));
+}
+
+// One frame's merge job, after its pending shares (`after`, array task indices); its Slurm id.
+Result<std::string> submit_merge(const fs::path& farm, const Frame& f, int n, const std::string& self,
+                                 std::vector<std::string> opts, const std::vector<int>& after,
+                                 const std::string& array_id) {
+    const fs::path script = farm / ("merge-" + f.tag + ".sbatch");
+    std::ostringstream merge;
+    merge << "#!/bin/bash\n# wavecam farm: merges frame " << f.tag << "'s shares; written by `wavecam farm submit`.\n"
+          << "#SBATCH --job-name=wavecam-merge\n"
+          << "#SBATCH --output=" << (farm / "logs" / ("merge-" + f.tag + ".log")).string() << "\n"
+          << "exec " << self << " merge "
+          << shell_quote((farm / "parts" / f.tag / ("share-*-of-" + std::to_string(n) + ".exr")).string())
+          << " -o " << shell_quote(f.output) << "\n";
+    if (auto w = write_text_atomically(merge.str(), script); !w.ok()) return Result<std::string>::failure(w);
+    if (!after.empty()) {
+        std::string dep = "--dependency=afterok";
+        for (int index : after) dep += ":" + array_id + "_" + std::to_string(index);
+        opts.push_back(dep);
+        opts.push_back("--kill-on-invalid-dep=yes");
+    }
+    return sbatch(script.string(), opts);
+}
+
+// The share array's script: task i computes share (i % N) + 1 of frame i / N. Returns the tasks
+// still to compute (neither merged nor complete), frame by frame.
+std::vector<std::vector<int>> share_tasks(std::ostringstream& array, const fs::path& farm, const FarmFlags& flags,
+                                          const std::vector<Frame>& frames, const std::string& self) {
+    const int n = flags.tasks;
+    const std::string args = apply_arguments(flags);
+    std::error_code ec;
+    fs::create_directories(farm / "logs", ec);
+    array << array_header(farm, flags, "task i computes share (i % " + std::to_string(n) + ") + 1 of frame i / " +
+                                           std::to_string(n));
+    std::vector<std::vector<int>> pending_of(frames.size());
+    for (size_t i = 0; i < frames.size(); ++i) {
+        const Frame& f = frames[i];
+        fs::create_directories(farm / "parts" / f.tag, ec);
+        const bool merged = frame_merged(f);
+        for (int k = 1; k <= n; ++k) {
+            const int index = int(i) * n + k - 1;
+            const fs::path part = part_path(farm, f, k, n);
+            array << index << ") exec " << self << " apply " << shell_quote(f.input) << " -o "
+                  << shell_quote(part.string()) << " --part " << k << "/" << n << " --threads " << flags.cpus << args
+                  << " ;;\n";
+            if (!merged && !part_complete(part, f, k, n)) pending_of[i].push_back(index);
+        }
+    }
+    return pending_of;
+}
+
 int submit(const FarmFlags& flags) {
     if (flags.tasks < 1) return fail("--tasks: expected at least 1 share per frame", 2);
     front::Settings given = flags.given;
@@ -302,25 +388,9 @@ int submit(const FarmFlags& flags) {
     if (flags.no_jitter) given["jitter"] = "false";
     const front::Settings settings = recorded_settings(flags.given, flags.no_vignetting, flags.no_jitter);
 
-    // The frames: one image, or a range of patterns.
-    std::vector<Frame> frames;
-    if (flags.frames.empty()) {
-        frames.push_back({0, "image", absolute(flags.input), absolute(flags.output), {}});
-    } else {
-        std::vector<int> numbers;
-        if (!OIIO::Filesystem::enumerate_sequence(flags.frames, numbers) || numbers.empty())
-            return fail("--frames: expected a frame range such as 1-100, 1-100x2 or 3,7,10-20, got '" + flags.frames +
-                        "'", 2);
-        auto in = frame_files(flags.input, numbers);
-        if (!in.ok()) return fail(in.error, 2);
-        auto out = frame_files(flags.output, numbers);
-        if (!out.ok()) return fail(out.error, 2);
-        for (size_t i = 0; i < numbers.size(); ++i) {
-            char tag[32];
-            std::snprintf(tag, sizeof tag, "%04d", numbers[i]);
-            frames.push_back({numbers[i], tag, absolute(in.value[i]), absolute(out.value[i]), {}});
-        }
-    }
+    auto listed = frame_list(flags);
+    if (!listed.ok()) return fail(listed.error, 2);
+    std::vector<Frame>& frames = listed.value;
 
     // The estimate, before anything is submitted: each frame's settings resolved as its task will.
     double total = 0;
@@ -335,7 +405,7 @@ int submit(const FarmFlags& flags) {
         auto render = load_render(in.value.image, f.input, opt.read);
         if (!render.ok()) return fail(front::word_failure(Result<bool>::failure(render), front::Front::Command));
         const PinholeCamera camera = render.value.camera(opt.film_distance);
-        const double terms = estimate_terms(opt, camera, render.value.depth, opt.depth_meaning, render.value.colorspace);
+        const double terms = estimate_terms(opt, camera, render.value.depth, render.value.colorspace);
         const int wavelengths = opt.wavelengths.empty() ? opt.wavelength_count : int(opt.wavelengths.size());
         const int runs = opt.method == DiffractMethod::Incoherent ? 1 : opt.diffraction.runs;
         if (auto s = work_share(flags.tasks, flags.tasks, wavelengths, runs, camera.height); !s.ok())
@@ -366,81 +436,31 @@ int submit(const FarmFlags& flags) {
     const fs::path farm = farm_dir(flags.output);
 
     // The array: every (frame, share) task in the script, only the incomplete ones submitted.
-    std::error_code ec;
-    fs::create_directories(farm / "logs", ec);
     const int n = flags.tasks;
-    const std::string self = shell_quote(self_path()), args = apply_arguments(flags);
+    const std::string self = shell_quote(self_path());
     std::ostringstream array;
-    array << "#!/bin/bash\n"
-          << "# wavecam farm: task i computes share (i % " << n << ") + 1 of frame i / " << n
-          << "; written by `wavecam farm submit`.\n"
-          << "#SBATCH --job-name=wavecam\n"
-          << "#SBATCH --output=" << (farm / "logs" / "task-%a.log").string() << "\n"
-          << "#SBATCH --cpus-per-task=" << flags.cpus << "\n"
-          << "case \"$SLURM_ARRAY_TASK_ID\" in\n";
+    const std::vector<std::vector<int>> pending_of = share_tasks(array, farm, flags, frames, self);
     std::vector<int> pending;
-    std::vector<std::vector<int>> pending_of(frames.size());
-    for (size_t i = 0; i < frames.size(); ++i) {
-        const Frame& f = frames[i];
-        fs::create_directories(farm / "parts" / f.tag, ec);
-        const bool merged = frame_merged(f);
-        for (int k = 1; k <= n; ++k) {
-            const int index = int(i) * n + k - 1;
-            const fs::path part = part_path(farm, f, k, n);
-            array << index << ") exec " << self << " apply " << shell_quote(f.input) << " -o "
-                  << shell_quote(part.string()) << " --part " << k << "/" << n << " --threads " << flags.cpus << args
-                  << " ;;\n";
-            if (!merged && !part_complete(part, f, k, n)) {
-                pending.push_back(index);
-                pending_of[i].push_back(index);
-            }
-        }
-    }
-    array << "*) echo \"wavecam farm: no task $SLURM_ARRAY_TASK_ID\" >&2; exit 1 ;;\nesac\n";
-    if (auto w = write_text_atomically(array.str(), farm / "array.sbatch"); !w.ok()) return fail(w.error);
-
+    for (const auto& p : pending_of) pending.insert(pending.end(), p.begin(), p.end());
+    auto submitted = submit_array(farm, flags, array, pending.empty() ? "" : index_list(pending));
+    if (!submitted.ok()) return fail(submitted.error);
+    const std::string array_id = submitted.value;
     std::vector<std::string> common;
     if (!flags.partition.empty()) common.push_back("--partition=" + flags.partition);
-    std::string array_id;
-    if (!pending.empty()) {
-        auto opts = common;
-        opts.push_back("--array=" + index_list(pending));
-        if (flags.hold) opts.push_back("--hold");
-        auto id = sbatch((farm / "array.sbatch").string(), opts);
-        if (!id.ok()) return fail(id.error);
-        array_id = id.value;
+    if (!pending.empty())
         std::printf("farm: submitted array job %s: %zu of %zu tasks (the others are complete)\n", array_id.c_str(),
                     pending.size(), frames.size() * n);
-    } else {
+    else
         std::printf("farm: every share is complete; nothing to compute\n");
-    }
 
     std::ostringstream record;
-    record << "input=" << absolute(flags.input) << "\noutput=" << absolute(flags.output) << "\ntasks=" << n
-           << "\narray-job=" << array_id << "\n";
+    record << record_head(flags, n, array_id);
     std::vector<std::string> waiting = array_id.empty() ? std::vector<std::string>{} : std::vector<std::string>{array_id};
     for (size_t i = 0; i < frames.size(); ++i) {
         const Frame& f = frames[i];
-        record << "frame." << i << "=" << f.tag << "|" << f.number << "|" << f.input << "|" << f.output << "|" << f.job
-               << "\n";
+        record << frame_line(i, f);
         if (frame_merged(f)) continue;
-        const fs::path script = farm / ("merge-" + f.tag + ".sbatch");
-        std::ostringstream merge;
-        merge << "#!/bin/bash\n# wavecam farm: merges frame " << f.tag << "'s shares; written by `wavecam farm submit`.\n"
-              << "#SBATCH --job-name=wavecam-merge\n"
-              << "#SBATCH --output=" << (farm / "logs" / ("merge-" + f.tag + ".log")).string() << "\n"
-              << "exec " << self << " merge "
-              << shell_quote((farm / "parts" / f.tag / ("share-*-of-" + std::to_string(n) + ".exr")).string())
-              << " -o " << shell_quote(f.output) << "\n";
-        if (auto w = write_text_atomically(merge.str(), script); !w.ok()) return fail(w.error);
-        auto opts = common;
-        if (!pending_of[i].empty()) {
-            std::string dep = "--dependency=afterok";
-            for (int index : pending_of[i]) dep += ":" + array_id + "_" + std::to_string(index);
-            opts.push_back(dep);
-            opts.push_back("--kill-on-invalid-dep=yes");
-        }
-        auto id = sbatch(script.string(), opts);
+        auto id = submit_merge(farm, f, n, self, common, pending_of[i], array_id);
         if (!id.ok()) return fail(id.error);
         record << "merge-job." << i << "=" << id.value << "\n";
         waiting.push_back(id.value);

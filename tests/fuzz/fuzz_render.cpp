@@ -31,7 +31,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     cam.film_distance = 50e-3;
     wavecam::DiffractOptions opt;
     opt.method = wavecam::DiffractMethod::RandomPhase;
-    const double terms = wavecam::estimate_terms(opt, cam, r.value.depth, wavecam::DepthMeaning::Planar);
+    const double terms = wavecam::estimate_terms(opt, cam, r.value.depth);
     if (!(terms >= 0)) std::abort();
     return 0;
 }

@@ -61,11 +61,7 @@ public:
     // and vignetted as diffract_spectral does. `scene.camera` must be the plan's camera.
     Result<bool> apply(const SpectralScene& scene, bool vignetting, float* xyz, const ProgressFn& progress = {}) const;
 
-    const FastPlanSpec& spec() const;
     int kernel_radius() const;
-    int layer_count() const;
-    // Bytes the plan holds (kernels and their spectra).
-    double bytes() const;
     // Bytes a plan for `spec` and one frame's work need at their peak, without building it.
     static double estimate_bytes(const FastPlanSpec& spec);
 
@@ -77,11 +73,10 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-// Largest planar inverse depth in a frame (0 when all is sky); checks every pixel and reports
-// the first non-finite radiance or non-positive depth.
-Result<double> max_inverse_depth(const SpectralScene& scene);
+// Largest planar inverse depth in a frame (0 when all is sky), of pixels already checked.
+double max_inverse_depth(const SpectralScene& scene);
 
-// One frame, one plan: create then apply (tests and one-off calls).
+// One frame, one plan: check its pixels (unless scene.checked), create, apply (tests and one-off calls).
 Result<bool> diffract_fast(const SpectralScene& scene, const SpectralBasis& basis, const Aperture& aperture,
                            bool vignetting, float* xyz, const FastSettings& settings = {},
                            const ProgressFn& progress = {});

@@ -2,6 +2,7 @@
 // its depth, the seed paper's random-phase method (or the exact incoherent sum) carries the
 // light through the sampled pinhole to every film pixel.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include "wavecam/aperture.h"
 #include "wavecam/pinhole_camera.h"
@@ -32,6 +33,9 @@ struct DiffractionSettings {
     // Pixels of margin on every side of the input: light sources, not film (cropped by the
     // caller). Beyond the input the scene is its edge continued (frame_margin.h).
     int overscan = 0;
+    // The scene's nearest planar depth (m; inf: all sky), found once per job (nearest_depth()) so
+    // that the estimate and every wavelength's sum derive the same lattice; NaN: each call finds it.
+    double nearest_depth = NAN;
 };
 
 // Per-pixel inputs at one wavelength, row-major width x height.
@@ -42,7 +46,16 @@ struct MonochromeScene {
     DepthMeaning depth_meaning = DepthMeaning::Planar;
     int spectral_index = 0;  // which wavelength sample of a spectral job this is
     int sign = +1;           // +1: the positive part of the spectral power, -1: the negative part
+    bool checked = false;    // its pixels already checked, once for the job: not again here
 };
+
+// At least 1x1 pixels, and an overscan that leaves some.
+Result<bool> check_frame(const PinholeCamera& camera, int overscan);
+
+// Every radiance (`channels` interleaved per pixel) finite, and >= 0 where `non_negative`, and
+// every depth > 0: the first bad pixel is named with its field and what was expected.
+Result<bool> check_pixels(const PinholeCamera& camera, const float* radiance, int channels, bool non_negative,
+                          const float* depth);
 
 // The aperture sampling pitch used for this camera at this wavelength, its sources and film
 // points both within the frame: lambda/2, or wider when every ray between a pinhole sample and a
@@ -55,9 +68,8 @@ double scene_sample_pitch(const DiffractionSettings& s, const PinholeCamera& cam
                           double nearest_depth);
 
 // Work estimate: terms (pinhole samples x (sources + film points)) over the runs and rows set,
-// the margin beyond the frame counted as lit.
-double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength,
-                   double nearest_depth);
+// the margin beyond the frame counted as lit, for s.nearest_depth (NaN counts as all sky).
+double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength);
 
 // Film points per pixel side so that the points are closer than the irradiance's finest
 // fringe, lambda f / span (span: the aperture's largest width): then a pixel's points average

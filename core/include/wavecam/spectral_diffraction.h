@@ -13,6 +13,7 @@ struct SpectralScene {
     const float* rgb = nullptr;    // interleaved linear RGB in the basis's working space
     const float* depth = nullptr;  // metres
     DepthMeaning depth_meaning = DepthMeaning::Planar;
+    bool checked = false;          // its pixels already checked, once for the job (load_render)
 };
 
 // One wavelength's propagation: adds film irradiance for `scene` to `irradiance`.

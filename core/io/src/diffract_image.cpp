@@ -1,7 +1,6 @@
 #include "wavecam/diffract_image.h"
 
-#include <OpenImageIO/imagebufalgo.h>
-
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <sstream>
@@ -10,7 +9,6 @@
 #include "wavecam/output_layout.h"
 #include "wavecam/pinhole_design.h"
 #include "wavecam/source.h"
-#include "wavecam/spectral_diffraction.h"
 #include "wavecam/term_rate.h"
 #include "wavecam/units.h"
 
@@ -20,66 +18,80 @@ namespace {
 constexpr double kDesignWavelength = 550e-9;
 constexpr const char* kDefaultWorkingSpace = "lin_rec709";
 
-Result<SpectralSampling> sampling_for(const DiffractOptions& opt) {
-    return opt.wavelengths.empty() ? visible_sampling(opt.wavelength_count) : explicit_sampling(opt.wavelengths);
+// A job's colour, resolved once: the config, the input's linear working space (named by the
+// options, else by the file, else Rec.709), the output's, and the spectral basis calibrated
+// against the working space as the config defines it.
+struct JobColour {
+    ColourConfig config;
+    std::string in_space, out_space;
+    SpectralSampling sampling;
+    SpectralBasis basis;
+};
+
+Result<JobColour> resolve_colour(const DiffractOptions& opt, const std::string& file_colorspace) {
+    using R = Result<JobColour>;
+    JobColour c;
+    auto config = load_colour_config(opt.colorconfig);
+    if (!config.ok()) return R::failure(config);
+    c.config = std::move(config.value);
+    c.in_space = !opt.input_colorspace.empty()                                          ? opt.input_colorspace
+                 : !file_colorspace.empty() && c.config.has_colorspace(file_colorspace) ? file_colorspace
+                                                                                          : kDefaultWorkingSpace;
+    c.out_space = opt.output_colorspace.empty() ? c.in_space : opt.output_colorspace;
+    auto xyz_to_rgb = c.config.xyz_to_rgb_matrix(c.in_space);
+    if (!xyz_to_rgb.ok()) return R::failure(xyz_to_rgb);
+    auto sampling = opt.wavelengths.empty() ? visible_sampling(opt.wavelength_count) : explicit_sampling(opt.wavelengths);
+    if (!sampling.ok()) return R::failure(sampling.error, ErrorKind::Invalid, "wavelengths");
+    c.sampling = std::move(sampling.value);
+    auto basis = make_spectral_basis(c.sampling, xyz_to_rgb.value, opt.monochrome);
+    if (!basis.ok()) return R::failure(basis);
+    c.basis = std::move(basis.value);
+    return R::success(std::move(c));
 }
 
 }  // namespace
-
-double resolved_pinhole(const DiffractOptions& opt) {
-    return opt.pinhole > 0 ? opt.pinhole : rayleigh_optimal_diameter(opt.film_distance, kDesignWavelength);
-}
 
 Aperture resolved_aperture(const DiffractOptions& opt) {
     Aperture a = opt.aperture;
-    a.diameter = resolved_pinhole(opt);
+    a.diameter = opt.pinhole > 0 ? opt.pinhole : rayleigh_optimal_diameter(opt.film_distance, kDesignWavelength);
     return a;
 }
 
-namespace {
-// The input's linear working space: named by the options, else by the file, else Rec.709.
-std::string working_space(const DiffractOptions& opt, const ColourConfig& config, const std::string& file_colorspace) {
-    return !opt.input_colorspace.empty()                                          ? opt.input_colorspace
-           : !file_colorspace.empty() && config.has_colorspace(file_colorspace) ? file_colorspace
-                                                                                  : kDefaultWorkingSpace;
-}
-}  // namespace
-
 Result<SpectralBasis> job_basis(const DiffractOptions& opt, const std::string& file_colorspace) {
-    auto config = load_colour_config(opt.colorconfig);
-    if (!config.ok()) return Result<SpectralBasis>::failure(config.error);
-    auto xyz_to_rgb = config.value.xyz_to_rgb_matrix(working_space(opt, config.value, file_colorspace));
-    if (!xyz_to_rgb.ok()) return Result<SpectralBasis>::failure(xyz_to_rgb.error);
-    auto sampling = sampling_for(opt);
-    if (!sampling.ok()) return Result<SpectralBasis>::failure(sampling.error, ErrorKind::Invalid, "wavelengths");
-    return make_spectral_basis(sampling.value, xyz_to_rgb.value, opt.monochrome);
+    auto colour = resolve_colour(opt, file_colorspace);
+    if (!colour.ok()) return Result<SpectralBasis>::failure(colour);
+    return Result<SpectralBasis>::success(std::move(colour.value.basis));
 }
 
-double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
-                      DepthMeaning meaning, const SpectralBasis& basis) {
-    if (opt.method == DiffractMethod::Fast) return 0;  // PSF grid + FFTs: minutes at most
+DiffractionSettings exact_settings(const DiffractOptions& opt, const PinholeCamera& camera,
+                                   const std::vector<float>& depth, int nthreads) {
     DiffractionSettings s = opt.diffraction;
     s.aperture = resolved_aperture(opt);
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     s.overscan = opt.overscan;
-    const double nearest = nearest_depth(camera, depth.data(), meaning);
+    s.nthreads = nthreads;
+    s.nearest_depth = nearest_depth(camera, depth.data(), opt.depth_meaning);
+    return s;
+}
+
+double exact_terms(const DiffractionSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
     // one propagation per basis sample: monochrome light has three per wavelength, one per
     // channel (spectrum.h), whether asked for or found (wavelengths too close to carry colour)
     double terms = 0;
-    for (int k = 0; k < basis.size(); ++k) terms += scene_terms(s, camera, basis.wavelength(k), nearest);
+    for (int k = 0; k < basis.size(); ++k) terms += scene_terms(s, camera, basis.wavelength(k));
     return terms;
 }
 
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
-                      DepthMeaning meaning, const std::string& file_colorspace) {
-    if (opt.method == DiffractMethod::Fast) return 0;
+                      const std::string& file_colorspace) {
+    if (opt.method == DiffractMethod::Fast) return 0;  // PSF grid + FFTs: minutes at most
     auto basis = job_basis(opt, file_colorspace);
-    return basis.ok() ? estimate_terms(opt, camera, depth, meaning, basis.value) : 0;
+    return basis.ok() ? exact_terms(exact_settings(opt, camera, depth), camera, basis.value) : 0;
 }
 
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) {
     const double pixels = double(camera.width) * camera.height;
-    const double images = pixels * 4 * sizeof(float) * 6;  // source, input arrays, XYZ, output, written copy
+    const double images = pixels * 4 * sizeof(float) * 4;  // source, its plain arrays, XYZ, output
     if (opt.method == DiffractMethod::Fast) return images;  // + FastPlan::estimate_bytes, once the frame is known
     const double lambda = 400e-9;  // the shortest wavelength sampled: the densest pinhole grid
     const Aperture ap = resolved_aperture(opt);
@@ -88,23 +100,188 @@ double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) 
     return images + samples * 5 * sizeof(float) + film * 3 * sizeof(float) + pixels * sizeof(PointSource);
 }
 
+// One frame resolved before any work, once: its render (read and checked by load_render), the
+// camera, the colours, and what its method derives from the options. The estimate, the run and
+// the output's header all read this one value.
+namespace detail {
+struct ResolvedFrame {
+    RenderInput in;
+    PinholeCamera camera;
+    int overscan = 0, out_w = 0, out_h = 0;
+    Aperture aperture;
+    JobColour colour;
+    DiffractionSettings exact;  // exact methods: the estimate's and the run's settings
+    FastPlanSpec fast;          // fast method: what its plan is built for
+    double terms = 0;           // exact methods: the sums' cost
+    std::string job;            // "24x16 pixels x 3 wavelengths x 2 runs"
+
+    SpectralScene scene(DepthMeaning meaning) const {
+        return {camera, in.rgb.data(), in.depth.data(), meaning, true};
+    }
+};
+}  // namespace detail
+
 DiffractPlan::DiffractPlan(DiffractOptions options) : opt_(std::move(options)) {}
 
-std::shared_ptr<const FastPlan> DiffractPlan::fast_plan_for(const FastPlanSpec& spec, const ProgressFn& progress,
-                                                            bool& reused, std::string& error) {
+namespace {
+using detail::ResolvedFrame;
+
+Result<ResolvedFrame> resolve_frame(const DiffractOptions& opt, const OIIO::ImageBuf& src, const std::string& name,
+                                    int nthreads) {
+    using R = Result<ResolvedFrame>;
+    auto input = load_render(src, name, opt.read);
+    if (!input.ok()) return R::failure(input);
+    ResolvedFrame f;
+    f.in = std::move(input.value);
+    const RenderInput& in = f.in;
+    f.camera = in.camera(opt.film_distance);
+    const int o = f.overscan = opt.overscan;
+    f.out_w = in.width - 2 * o;
+    f.out_h = in.height - 2 * o;
+    if (o < 0 || f.out_w < 1 || f.out_h < 1) {
+        std::ostringstream m;
+        m << name << ": an overscan of " << o << " pixels leaves no image of " << in.width << "x" << in.height
+          << "; expected 0 to " << (std::min(in.width, in.height) - 1) / 2 << " pixels";
+        return R::failure(m.str(), ErrorKind::Invalid, "overscan");
+    }
+    auto colour = resolve_colour(opt, in.colorspace);
+    if (!colour.ok()) return R::failure(colour);
+    f.colour = std::move(colour.value);
+    f.aperture = resolved_aperture(opt);
+    if (opt.method == DiffractMethod::Fast) {
+        f.fast = {f.camera, o, f.aperture, f.colour.basis, max_inverse_depth(f.scene(opt.depth_meaning)),
+                   opt.fast};
+        f.fast.settings.nthreads = nthreads;
+        return R::success(std::move(f));
+    }
+    f.exact = exact_settings(opt, f.camera, in.depth, nthreads);
+    f.terms = exact_terms(f.exact, f.camera, f.colour.basis);
+    std::ostringstream job;
+    job << in.width << "x" << in.height << " pixels x " << f.colour.sampling.wavelength.size() << " wavelengths x "
+        << (f.exact.method == CoherenceMethod::Incoherent ? 1 : f.exact.runs) << " runs";
+    f.job = job.str();
+    return R::success(std::move(f));
+}
+
+// The job's terms and bytes against the max-terms and max-memory limits.
+Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, const std::string& name,
+                          int nthreads) {
+    if (f.terms > opt.max_terms) {
+        const double rate = measured_term_rate(nthreads);
+        std::ostringstream m;
+        const double seconds = f.terms / rate;
+        m << name << ": " << f.job << " = " << f.terms << " terms, about "
+          << (seconds < 5400 ? std::to_string(long(std::ceil(seconds / 60))) + " min"
+                             : std::to_string(long(std::round(seconds / 3600))) + " h")
+          << " at the " << rate << " terms/s measured here, beyond the max-terms limit of " << opt.max_terms;
+        return Result<bool>::failure(m.str(), ErrorKind::TooLarge, "max-terms");
+    }
+    const double bytes =
+        estimate_memory(opt, f.camera) + (opt.method == DiffractMethod::Fast ? FastPlan::estimate_bytes(f.fast) : 0.0);
+    if (bytes > opt.max_memory) {
+        std::ostringstream m;
+        m << name << ": " << f.in.width << "x" << f.in.height << " pixels need about " << bytes / (1 << 20)
+          << " MiB, beyond the max-memory limit of " << opt.max_memory / (1 << 20) << " MiB";
+        return Result<bool>::failure(m.str(), ErrorKind::TooLarge, "max-memory");
+    }
+    return Result<bool>::success(true);
+}
+
+// The exact sums light the film within the overscan from every input pixel and the scene beyond
+// the input (frame_margin.h); the output frame is then moved to the front of the same buffer.
+Result<bool> run_exact(const DiffractOptions& opt, const ResolvedFrame& f, std::vector<float>& xyz) {
+    const int width = f.in.width, o = f.overscan;
+    xyz.assign(3 * size_t(width) * f.in.height, 0.0f);
+    auto r = diffract_spectral(f.scene(opt.depth_meaning), f.colour.basis, f.aperture,
+                               opt.exact_propagator ? opt.exact_propagator : wave_propagator(f.exact), opt.vignetting,
+                               xyz.data(), opt.progress);
+    if (!r.ok()) return r;
+    if (o > 0)  // each row moves to a place before its own: a forward copy in place
+        for (int j = 0; j < f.out_h; ++j) {
+            const float* row = &xyz[3 * (size_t(j + o) * width + o)];
+            std::copy(row, row + 3 * size_t(f.out_w), &xyz[3 * size_t(j) * f.out_w]);
+        }
+    xyz.resize(3 * size_t(f.out_w) * f.out_h);
+    return r;
+}
+
+// The output's header: the input's less what described the ideal camera (output_layout.h), the
+// frame without its overscan, and every parameter of this run.
+OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& channels, const DiffractOptions& opt,
+                            const ResolvedFrame& f, size_t mapped) {
+    const RenderInput& in = f.in;
+    const DiffractionSettings& s = f.exact;
+    OIIO::ImageSpec spec = output_header(input, channels);
+    spec.width = spec.full_width = f.out_w;
+    spec.height = spec.full_height = f.out_h;
+    spec.x = spec.y = spec.full_x = spec.full_y = 0;
+    spec.attribute("oiio:ColorSpace", f.colour.out_space);
+    spec.attribute("wavecam.pinhole", with_unit(f.aperture.diameter, 1e-3, "mm"));
+    spec.attribute("wavecam.aperture", f.aperture.name());
+    spec.attribute("wavecam.film-distance", with_unit(opt.film_distance, 1e-3, "mm"));
+    spec.attribute("wavecam.film-width", with_unit(f.camera.pixel_pitch() * f.out_w, 1e-3, "mm"));
+    // the output's own field of view: the cropped frame's when the input had an overscan
+    spec.attribute("wavecam.fov",
+                   static_cast<float>(2 * std::atan(std::tan(0.5 * in.fov_h) * f.out_w / in.width) * 180 / M_PI));
+    if (f.overscan > 0) spec.attribute("wavecam.cropped-overscan", f.overscan);  // not wavecam.overscan: none here
+    spec.attribute("wavecam.fov-from", in.fov_from);
+    spec.attribute("wavecam.depth", opt.depth_meaning == DepthMeaning::Planar ? "planar" : "ray");
+    std::string wl;
+    for (double l : f.colour.sampling.wavelength) wl += (wl.empty() ? "" : ",") + with_unit(l, 1e-9, "nm");
+    spec.attribute("wavecam.wavelengths", wl);
+    spec.attribute("wavecam.light", f.colour.basis.description());
+    spec.attribute("wavecam.method", opt.method == DiffractMethod::Fast          ? "fast"
+                                     : opt.method == DiffractMethod::RandomPhase ? "exact"
+                                                                                 : "incoherent");
+    if (opt.method != DiffractMethod::Fast) {  // what only the exact sums use
+        if (opt.method == DiffractMethod::RandomPhase) spec.attribute("wavecam.runs", s.runs);
+        spec.attribute("wavecam.seed", std::to_string(s.seed));
+        spec.attribute("wavecam.film-subsamples", s.film_subsamples);  // the setting: 0 = enough to resolve the PSF
+        spec.attribute("wavecam.jitter", s.jitter ? "true" : "false");
+    }
+    spec.attribute("wavecam.vignetting", opt.vignetting ? "true" : "false");
+    spec.attribute("wavecam.input-colorspace", f.colour.in_space);
+    spec.attribute("wavecam.output-colorspace", f.colour.out_space);
+    // the setting (read back as one), and what it did
+    spec.attribute("wavecam.out-of-gamut", opt.desaturate_out_of_gamut ? "desaturate" : "keep");
+    if (opt.desaturate_out_of_gamut)
+        spec.attribute("wavecam.out-of-gamut-mapped", std::to_string(mapped) + " of " +
+                                                          std::to_string(size_t(f.out_w) * f.out_h) +
+                                                          " pixels desaturated at constant luminance");
+    spec.attribute("wavecam.colorconfig", f.colour.config.path());
+    spec.attribute("wavecam.fresnel-number", static_cast<float>(fresnel_number(f.aperture.diameter / 2, opt.film_distance,
+                                                                               INFINITY, kDesignWavelength)));
+    std::ostringstream summary;
+    summary << f.colour.sampling.wavelength.size() << " wavelengths"
+            << (f.colour.basis.monochrome() ? " (monochrome), " : ", ");
+    if (opt.method == DiffractMethod::Fast) summary << "fast method";
+    else if (opt.method == DiffractMethod::RandomPhase) summary << s.runs << " runs, " << f.terms << " terms";
+    else summary << "incoherent sum, " << f.terms << " terms";
+    spec.attribute("wavecam.summary", summary.str());
+    return spec;
+}
+
+}  // namespace
+
+// The fast path through the kept plan when it serves this frame, else a new one: the table costs
+// about as much as applying it, so a new plan's building is the first 60% of the bar.
+Result<bool> DiffractPlan::run_fast(const DiffractOptions& opt, const ResolvedFrame& f, std::vector<float>& xyz) {
+    xyz.resize(3 * size_t(f.out_w) * f.out_h);
+    std::shared_ptr<const FastPlan> plan;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        reused = fast_ && fast_->serves(spec);
-        if (reused) return fast_;
+        if (fast_ && fast_->serves(f.fast)) plan = fast_;
     }
-    auto plan = FastPlan::create(spec, progress);
-    if (!plan.ok()) {
-        error = plan.error;
-        return nullptr;
+    const bool reused = plan != nullptr;
+    if (!reused) {
+        auto made = FastPlan::create(f.fast, progress_part(opt.progress, 0.0, 0.6));
+        if (!made.ok()) return Result<bool>::failure(made);
+        plan = made.value;
+        std::lock_guard<std::mutex> lock(mutex_);
+        fast_ = plan;
     }
-    std::lock_guard<std::mutex> lock(mutex_);
-    fast_ = plan.value;
-    return fast_;
+    return plan->apply(f.scene(opt.depth_meaning), opt.vignetting, xyz.data(),
+                       progress_part(opt.progress, reused ? 0.0 : 0.6, 1.0));
 }
 
 bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, const DiffractOptions& opt,
@@ -115,6 +292,7 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
     return r.ok();
 }
 
+// Resolve the frame once, check its limits, run its method, map its colours, write the output.
 Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name,
                                     int nthreads) {
     using Fail = Result<bool>;
@@ -127,151 +305,27 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
             *stopped = true;
             return false;
         };
-    auto input = load_render(src, name, opt.read);
-    if (!input.ok()) return Fail::failure(input);
-    const RenderInput& in = input.value;
+    auto frame = resolve_frame(opt, src, name, nthreads);
+    if (!frame.ok()) return Fail::failure(frame);
+    const ResolvedFrame& f = frame.value;
+    if (auto r = check_limits(opt, f, name, nthreads); !r.ok()) return r;
+    if (opt.on_estimate && opt.method != DiffractMethod::Fast) opt.on_estimate(f.job, f.terms);
 
-    const PinholeCamera camera = in.camera(opt.film_distance);
-    const int o = opt.overscan, out_w = in.width - 2 * o, out_h = in.height - 2 * o;
-    if (o < 0 || out_w < 1 || out_h < 1) {
-        std::ostringstream m;
-        m << name << ": an overscan of " << o << " pixels leaves no image of " << in.width << "x" << in.height
-          << "; expected 0 to " << (std::min(in.width, in.height) - 1) / 2 << " pixels";
-        return Fail::failure(m.str(), ErrorKind::Invalid, "overscan");
-    }
-
-    // Colour: the basis is calibrated against the input's working space as the config defines it.
-    auto config = load_colour_config(opt.colorconfig);
-    if (!config.ok()) return Fail::failure(config);
-    const std::string in_space = working_space(opt, config.value, in.colorspace);
-    const std::string out_space = opt.output_colorspace.empty() ? in_space : opt.output_colorspace;
-    auto xyz_to_rgb = config.value.xyz_to_rgb_matrix(in_space);
-    if (!xyz_to_rgb.ok()) return Fail::failure(xyz_to_rgb);
-    auto sampling = sampling_for(opt);
-    if (!sampling.ok()) return Fail::failure(sampling.error, ErrorKind::Invalid, "wavelengths");
-    auto basis = make_spectral_basis(sampling.value, xyz_to_rgb.value, opt.monochrome);
-    if (!basis.ok()) return Fail::failure(basis);
-
-    DiffractionSettings s = opt.diffraction;
-    s.aperture = resolved_aperture(opt);
-    s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
-    s.nthreads = nthreads;
-    const double terms = estimate_terms(opt, camera, in.depth, opt.depth_meaning, basis.value);
-    std::ostringstream job;
-    job << in.width << "x" << in.height << " pixels x " << sampling.value.wavelength.size() << " wavelengths x "
-        << (s.method == CoherenceMethod::Incoherent ? 1 : s.runs) << " runs";
-    if (terms > opt.max_terms) {
-        const double rate = measured_term_rate(nthreads);
-        std::ostringstream m;
-        const double seconds = terms / rate;
-        m << name << ": " << job.str() << " = " << terms << " terms, about "
-          << (seconds < 5400 ? std::to_string(long(std::ceil(seconds / 60))) + " min"
-                             : std::to_string(long(std::round(seconds / 3600))) + " h")
-          << " at the " << rate << " terms/s measured here, beyond the max-terms limit of " << opt.max_terms;
-        return Fail::failure(m.str(), ErrorKind::TooLarge, "max-terms");
-    }
-    if (opt.on_estimate && opt.method != DiffractMethod::Fast) opt.on_estimate(job.str(), terms);
-
-    const SpectralScene scene{camera, in.rgb.data(), in.depth.data(), opt.depth_meaning};
-    FastPlanSpec fs{camera, o, s.aperture, basis.value, 0.0, opt.fast};
-    fs.settings.nthreads = nthreads;
-    if (opt.method == DiffractMethod::Fast) {
-        auto w = max_inverse_depth(scene);
-        if (!w.ok()) return Fail::failure(name + ": " + w.error);
-        fs.max_inverse_depth = w.value;
-    }
-    const double bytes =
-        estimate_memory(opt, camera) + (opt.method == DiffractMethod::Fast ? FastPlan::estimate_bytes(fs) : 0.0);
-    if (bytes > opt.max_memory) {
-        std::ostringstream m;
-        m << name << ": " << in.width << "x" << in.height << " pixels need about " << bytes / (1 << 20)
-          << " MiB, beyond the max-memory limit of " << opt.max_memory / (1 << 20) << " MiB";
-        return Fail::failure(m.str(), ErrorKind::TooLarge, "max-memory");
-    }
-    std::vector<float> pixels(3 * size_t(out_w) * out_h);
-    Result<bool> r = Result<bool>::success(true);
-    if (opt.method == DiffractMethod::Fast) {
-        std::string error;
-        // the table costs about as much as applying it: the first 60% of the bar when built
-        bool reused = false;
-        auto part = [&opt](double from, double to) -> ProgressFn {
-            if (!opt.progress) return {};
-            return [&opt, from, to](double f) { return opt.progress(from + (to - from) * f); };
-        };
-        auto plan = fast_plan_for(fs, part(0.0, 0.6), reused, error);
-        r = plan ? plan->apply(scene, opt.vignetting, pixels.data(), part(reused ? 0.0 : 0.6, 1.0))
-                 : Result<bool>::failure(error);
-    } else {
-        // the exact methods light the film within the overscan from every input pixel and the
-        // scene beyond the input (frame_margin.h), then crop
-        s.overscan = o;
-        std::vector<float> full(3 * size_t(in.width) * in.height);
-        r = diffract_spectral(scene, basis.value, s.aperture,
-                              opt.exact_propagator ? opt.exact_propagator : wave_propagator(s), opt.vignetting,
-                              full.data(), opt.progress);
-        for (int j = 0; j < out_h; ++j)
-            std::copy_n(&full[3 * (size_t(j + o) * in.width + o)], 3 * size_t(out_w), &pixels[3 * size_t(j) * out_w]);
-    }
+    std::vector<float> xyz;
+    const Result<bool> r = opt.method == DiffractMethod::Fast ? run_fast(opt, f, xyz) : run_exact(opt, f, xyz);
     if (!r.ok() && (*stopped || r.kind == ErrorKind::Cancelled))
         return Fail::failure(name + ": interrupted", ErrorKind::Cancelled);
     if (!r.ok()) return Fail::failure(name + ": " + r.error);
-    auto mapped = config.value.output_colour(pixels.data(), pixels.size() / 3, out_space, in_space,
-                                             opt.desaturate_out_of_gamut);
+    auto mapped = f.colour.config.output_colour(xyz.data(), xyz.size() / 3, f.colour.out_space, f.colour.in_space,
+                                                opt.desaturate_out_of_gamut);
     if (!mapped.ok()) return Fail::failure(mapped);
 
-    // Output: float R, G, B in the output space under the input's names, then its alpha and depth
-    // unchanged; the input's header less what described the ideal camera (output_layout.h).
+    // float R, G, B in the output space under the input's names, then its alpha and depth unchanged
     const RenderChannels channels = find_render_channels(src.spec(), opt.read.depth_channel);
-    OIIO::ImageSpec spec = output_header(src.spec(), channels);
-    spec.width = spec.full_width = out_w;  // the frame without its overscan margin
-    spec.height = spec.full_height = out_h;
-    spec.x = spec.y = spec.full_x = spec.full_y = 0;
-    spec.attribute("oiio:ColorSpace", out_space);
-    spec.attribute("wavecam.pinhole", with_unit(s.aperture.diameter, 1e-3, "mm"));
-    spec.attribute("wavecam.aperture", s.aperture.name());
-    spec.attribute("wavecam.film-distance", with_unit(opt.film_distance, 1e-3, "mm"));
-    spec.attribute("wavecam.film-width", with_unit(camera.pixel_pitch() * out_w, 1e-3, "mm"));
-    // the output's own field of view: the cropped frame's when the input had an overscan
-    spec.attribute("wavecam.fov", static_cast<float>(2 * std::atan(std::tan(0.5 * in.fov_h) * out_w / in.width) * 180 / M_PI));
-    if (o > 0) spec.attribute("wavecam.cropped-overscan", o);  // not wavecam.overscan: this frame has none
-    spec.attribute("wavecam.fov-from", in.fov_from);
-    spec.attribute("wavecam.depth", opt.depth_meaning == DepthMeaning::Planar ? "planar" : "ray");
-    std::string wl;
-    for (double l : sampling.value.wavelength) wl += (wl.empty() ? "" : ",") + with_unit(l, 1e-9, "nm");
-    spec.attribute("wavecam.wavelengths", wl);
-    spec.attribute("wavecam.light", basis.value.description());
-    spec.attribute("wavecam.method", opt.method == DiffractMethod::Fast    ? "fast"
-                                     : opt.method == DiffractMethod::RandomPhase ? "exact"
-                                                                           : "incoherent");
-    if (opt.method != DiffractMethod::Fast) {  // what only the exact sums use
-        if (opt.method == DiffractMethod::RandomPhase) spec.attribute("wavecam.runs", s.runs);
-        spec.attribute("wavecam.seed", std::to_string(s.seed));
-        spec.attribute("wavecam.film-subsamples", s.film_subsamples);  // the setting: 0 = enough to resolve the PSF
-        spec.attribute("wavecam.jitter", s.jitter ? "true" : "false");
-    }
-    spec.attribute("wavecam.vignetting", opt.vignetting ? "true" : "false");
-    spec.attribute("wavecam.input-colorspace", in_space);
-    spec.attribute("wavecam.output-colorspace", out_space);
-    // the setting (read back as one), and what it did
-    spec.attribute("wavecam.out-of-gamut", opt.desaturate_out_of_gamut ? "desaturate" : "keep");
-    if (opt.desaturate_out_of_gamut)
-        spec.attribute("wavecam.out-of-gamut-mapped", std::to_string(mapped.value) + " of " +
-                                                          std::to_string(pixels.size() / 3) +
-                                                          " pixels desaturated at constant luminance");
-    spec.attribute("wavecam.colorconfig", config.value.path());
-    spec.attribute("wavecam.fresnel-number",
-                   static_cast<float>(fresnel_number(s.aperture.diameter / 2, opt.film_distance, INFINITY,
-                                                     kDesignWavelength)));
-    std::ostringstream summary;
-    summary << sampling.value.wavelength.size() << " wavelengths" << (basis.value.monochrome() ? " (monochrome), " : ", ");
-    if (opt.method == DiffractMethod::Fast) summary << "fast method";
-    else if (opt.method == DiffractMethod::RandomPhase) summary << s.runs << " runs, " << terms << " terms";
-    else summary << "incoherent sum, " << terms << " terms";
-    spec.attribute("wavecam.summary", summary.str());
-
-    dst.reset(spec);
-    if (auto f = fill_output(dst, src, channels, o, pixels.data()); !f.ok()) return Fail::failure(name + ": " + f.error);
-    return Result<bool>::success(true);
+    dst.reset(output_spec(src.spec(), channels, opt, f, mapped.value));
+    if (auto w = fill_output(dst, src, channels, f.overscan, xyz.data()); !w.ok())
+        return Fail::failure(name + ": " + w.error);
+    return Fail::success(true);
 }
 
 }  // namespace wavecam

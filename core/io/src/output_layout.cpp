@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <vector>
 
 namespace wavecam {
 
@@ -42,28 +41,21 @@ OIIO::ImageSpec output_header(const OIIO::ImageSpec& input, const RenderChannels
 
 Result<bool> fill_output(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const RenderChannels& ch, int margin,
                          const float* rgb) {
+    // each channel written once, straight into dst: R, G, B from `rgb`, then alpha and depth
+    // from the same pixels of the source, inside its overscan margin
     const OIIO::ImageSpec& spec = dst.spec();
-    const size_t n = size_t(spec.width) * spec.height;
-    const int nc = spec.nchannels;
-    // alpha and depth from the source, in the output's channel order
-    std::vector<int> passed = {ch.depth};
-    if (ch.alpha >= 0) passed.insert(passed.begin(), ch.alpha);
-    const int np = int(passed.size());
-    std::vector<float> kept(n * np);
-    const OIIO::ImageBuf src_kept = OIIO::ImageBufAlgo::channels(src, np, passed);
-    // the output's pixels in the source: inside its overscan margin
-    const OIIO::ImageSpec& in = src.spec();
-    const OIIO::ROI region(in.x + margin, in.x + margin + spec.width, in.y + margin, in.y + margin + spec.height, 0, 1,
-                           0, np);
-    if (!src_kept.get_pixels(region, OIIO::TypeDesc::FLOAT, kept.data()))
-        return Result<bool>::failure("cannot read the alpha and depth channels: " + src_kept.geterror());
-    std::vector<float> out(n * nc);
-    for (size_t p = 0; p < n; ++p) {
-        for (int k = 0; k < 3; ++k) out[nc * p + k] = rgb[3 * p + k];
-        for (int k = 0; k < np; ++k) out[nc * p + 3 + k] = kept[np * p + k];
-    }
-    if (!dst.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, out.data()))
+    const OIIO::stride_t pixel = spec.nchannels * sizeof(float), row = pixel * spec.width;
+    if (!dst.set_pixels(OIIO::ROI(0, spec.width, 0, spec.height, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, rgb))
         return Result<bool>::failure("cannot fill the output image: " + dst.geterror());
+    const OIIO::ImageSpec& in = src.spec();
+    int to = 3;
+    for (int from : {ch.alpha, ch.depth}) {
+        if (from < 0) continue;
+        const OIIO::ROI region(in.x + margin, in.x + margin + spec.width, in.y + margin, in.y + margin + spec.height,
+                               0, 1, from, from + 1);
+        if (!src.get_pixels(region, OIIO::TypeDesc::FLOAT, dst.pixeladdr(spec.x, spec.y, 0, to++), pixel, row))
+            return Result<bool>::failure("cannot read the alpha and depth channels: " + src.geterror());
+    }
     return Result<bool>::success(true);
 }
 

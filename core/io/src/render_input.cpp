@@ -1,7 +1,5 @@
 #include "wavecam/render_input.h"
 
-#include <OpenImageIO/imagebufalgo.h>
-
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -87,6 +85,47 @@ RenderChannels find_render_channels(const OIIO::ImageSpec& spec, const std::stri
     return ch;
 }
 
+namespace {
+
+// Each channel read once, straight into its place in the plain arrays.
+bool read_channels(const OIIO::ImageBuf& image, const int rgb[3], int depth, RenderInput& in) {
+    auto read = [&](int c, float* into, int stride) {
+        OIIO::ROI roi = image.roi();
+        roi.chbegin = c;
+        roi.chend = c + 1;
+        return image.get_pixels(roi, OIIO::TypeDesc::FLOAT, into, stride * sizeof(float),
+                                stride * sizeof(float) * in.width);
+    };
+    const size_t n = size_t(in.width) * in.height;
+    in.rgb.resize(3 * n);
+    in.depth.resize(n);
+    return read(rgb[0], in.rgb.data(), 3) && read(rgb[1], in.rgb.data() + 1, 3) && read(rgb[2], in.rgb.data() + 2, 3) &&
+           read(depth, in.depth.data(), 1);
+}
+
+// The job's one check of the pixels: radiance finite, depth > 0; the first bad one named by its
+// channel and pixel ("" when all are good).
+std::string bad_pixel(const RenderInput& in, const OIIO::ImageSpec& spec, const int rgb[3]) {
+    for (size_t p = 0; p < in.depth.size(); ++p) {
+        auto where = [&](const std::string& channel) {
+            std::ostringstream m;
+            m << "channel '" << channel << "' at pixel (" << p % in.width << ", " << p / in.width << ")";
+            return m.str();
+        };
+        for (int c = 0; c < 3; ++c)
+            if (!std::isfinite(in.rgb[3 * p + c]))
+                return where(spec.channelnames[rgb[c]]) + " is " + std::to_string(in.rgb[3 * p + c]) +
+                       ", expected finite radiance";
+        const float d = in.depth[p];
+        if (std::isnan(d) || d <= 0)
+            return where(in.depth_channel) + " is " + std::to_string(d) +
+                   ", expected a distance > 0 (inf or >= 1e9 for sky)";
+    }
+    return {};
+}
+
+}  // namespace
+
 Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& name, const RenderReadOptions& opt) {
     auto fail = [&name](const std::string& m, ErrorKind kind = ErrorKind::Failed, const std::string& field = {}) {
         return Result<RenderInput>::failure(name + ": " + m, kind, field);
@@ -97,45 +136,21 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
                     ", expected at least 2x2 pixels");
     if (spec.depth > 1) return fail("volume images are not supported, expected a 2D image");
     const RenderChannels ch = find_render_channels(spec, opt.depth_channel);
-    const int r = ch.r, g = ch.g, b = ch.b, z = ch.depth;
-    if (r < 0 || g < 0 || b < 0)
+    if (ch.r < 0 || ch.g < 0 || ch.b < 0)
         return fail("channels R, G, B: not found (channels: " + channel_list(spec) +
                     "), expected linear RGB radiance");
-    if (z < 0)
+    if (ch.depth < 0)
         return fail("channel '" + opt.depth_channel + "': not found (channels: " + channel_list(spec) +
                     "), expected a depth channel", ErrorKind::Missing, "depth-channel");
 
     RenderInput in;
     in.width = spec.width;
     in.height = spec.height;
-    in.spec = spec;
-    in.depth_channel = spec.channelnames[z];
+    in.depth_channel = spec.channelnames[ch.depth];
     in.colorspace = spec.get_string_attribute("oiio:ColorSpace");
-    const size_t n = size_t(in.width) * in.height;
-    in.rgb.resize(3 * n);
-    in.depth.resize(n);
-    const int order[3] = {r, g, b};
-    const OIIO::ImageBuf rgb = OIIO::ImageBufAlgo::channels(image, 3, OIIO::cspan<int>(order, 3));
-    const OIIO::ImageBuf depth = OIIO::ImageBufAlgo::channels(image, 1, OIIO::cspan<int>(&z, 1));
-    if (!rgb.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, in.rgb.data()) ||
-        !depth.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, in.depth.data()))
-        return fail("cannot read pixels: " + rgb.geterror() + depth.geterror());
-
-    for (size_t p = 0; p < n; ++p) {
-        auto where = [&](const std::string& channel) {
-            std::ostringstream m;
-            m << "channel '" << channel << "' at pixel (" << p % in.width << ", " << p / in.width << ")";
-            return m.str();
-        };
-        for (int c = 0; c < 3; ++c)
-            if (!std::isfinite(in.rgb[3 * p + c]))
-                return fail(where(spec.channelnames[order[c]]) + " is " + std::to_string(in.rgb[3 * p + c]) +
-                            ", expected finite radiance");
-        const float d = in.depth[p];
-        if (std::isnan(d) || d <= 0)
-            return fail(where(in.depth_channel) + " is " + std::to_string(d) +
-                        ", expected a distance > 0 (inf or >= 1e9 for sky)");
-    }
+    const int rgb[3] = {ch.r, ch.g, ch.b};
+    if (!read_channels(image, rgb, ch.depth, in)) return fail("cannot read pixels: " + image.geterror());
+    if (const std::string bad = bad_pixel(in, spec, rgb); !bad.empty()) return fail(bad);
 
     if (opt.fov_h > 0) {
         in.fov_h = opt.fov_h;

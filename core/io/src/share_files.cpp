@@ -95,130 +95,166 @@ std::string job_fingerprint(const std::string& input_fingerprint, const Settings
     return f.hex();
 }
 
-Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::string& input_path,
-                            const DiffractOptions& opt, const SettingsText& settings, int index, int count,
-                            int nthreads) {
-    using Fail = Result<bool>;
-    auto fail = [](const std::string& m) { return Fail::failure(m); };
-    if (opt.method == DiffractMethod::Fast)
-        return Fail::failure(input_path + ": shares are of the exact methods' work; expected method exact or incoherent",
-                             ErrorKind::Invalid, "method");
-    auto input = load_render(src, input_path, opt.read);
-    if (!input.ok()) return Fail::failure(input);
-    const RenderInput& in = input.value;
-    auto sampling = opt.wavelengths.empty() ? visible_sampling(opt.wavelength_count) : explicit_sampling(opt.wavelengths);
-    if (!sampling.ok()) return Fail::failure(sampling.error, ErrorKind::Invalid, "wavelengths");
-    const int S = int(sampling.value.wavelength.size());
-    // a unit is one wavelength and run: one propagation for colour, three (one per channel) for
-    // monochrome light (spectrum.h)
-    auto basis = job_basis(opt, in.colorspace);
-    if (!basis.ok()) return fail(basis.error);
-    const int per_wavelength = basis.value.size() / S;
-    const bool incoherent = opt.method == DiffractMethod::Incoherent;
-    const int R = incoherent ? 1 : opt.diffraction.runs;
-    auto share = work_share(index, count, S, R, in.height);
-    if (!share.ok()) return fail(share.error);
-    const WorkShare sh = share.value;
-    auto fingerprint = file_fingerprint(input_path);
-    if (!fingerprint.ok()) return fail(fingerprint.error);
+namespace {
 
-    // The same settings diffract() resolves, restricted to one unit at a time.
-    DiffractionSettings s = opt.diffraction;
-    s.aperture = resolved_aperture(opt);
-    s.method = incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
-    s.nthreads = nthreads;
-    s.row_begin = sh.row_begin;
-    s.row_end = sh.row_end;
-    s.overscan = opt.overscan;
-    const PinholeCamera camera = in.camera(opt.film_distance);
-    const double nearest = nearest_depth(camera, in.depth.data(), opt.depth_meaning);
-    std::vector<double> unit_terms;
-    double terms = 0;
+// Each unit's terms: unit u is wavelength u / R and run u % R, one propagation for colour and
+// three (one per channel) for monochrome light (spectrum.h).
+std::vector<double> share_unit_terms(DiffractionSettings s, const PinholeCamera& camera,
+                                     const std::vector<double>& wavelengths, const WorkShare& sh, int R,
+                                     int per_wavelength) {
+    std::vector<double> terms;
     for (int u = sh.unit_begin; u < sh.unit_end; ++u) {
         s.run_begin = u % R;
         s.run_end = u % R + 1;
-        unit_terms.push_back(per_wavelength * scene_terms(s, camera, sampling.value.wavelength[u / R], nearest));
-        terms += unit_terms.back();
+        terms.push_back(per_wavelength * scene_terms(s, camera, wavelengths[u / R]));
     }
-    std::ostringstream job;
-    job << "share " << index << "/" << count << " of " << in.width << "x" << in.height << " pixels x " << S
-        << " wavelengths x " << R << " runs: " << describe_share(sh, R);
-    if (terms > opt.max_terms) {
-        std::ostringstream m;
-        m << input_path << ": " << job.str() << " = " << terms << " terms, beyond the max-terms limit of "
-          << opt.max_terms;
-        return Fail::failure(m.str(), ErrorKind::TooLarge, "max-terms");
-    }
-    if (opt.on_estimate) opt.on_estimate(job.str(), terms);
+    return terms;
+}
 
-    // Each unit of the share, computed on its own into a zeroed image and kept by name.
+}  // namespace
+
+namespace {
+
+// One share resolved once: the render, its units (unit u is wavelength u / R and run u % R), and
+// the settings every unit derives from.
+struct Share {
+    RenderInput in;
+    int S = 0, R = 1, per_wavelength = 1;  // wavelengths, runs, propagations per unit (3: monochrome)
+    WorkShare sh;
+    DiffractionSettings s;  // exact_settings, on the share's rows
+    std::vector<double> unit_terms;
+    double terms = 0;
+    std::string fingerprint;
+    std::string job;  // "share 2/8 of 24x16 pixels x 3 wavelengths x 2 runs: ..."
+};
+
+Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_path, const DiffractOptions& opt,
+                            int index, int count, int nthreads) {
+    using R = Result<Share>;
+    if (opt.method == DiffractMethod::Fast)
+        return R::failure(input_path + ": shares are of the exact methods' work; expected method exact or incoherent",
+                          ErrorKind::Invalid, "method");
+    auto input = load_render(src, input_path, opt.read);
+    if (!input.ok()) return R::failure(input);
+    Share j;
+    j.in = std::move(input.value);
+    auto sampling = opt.wavelengths.empty() ? visible_sampling(opt.wavelength_count) : explicit_sampling(opt.wavelengths);
+    if (!sampling.ok()) return R::failure(sampling.error, ErrorKind::Invalid, "wavelengths");
+    j.S = int(sampling.value.wavelength.size());
+    auto basis = job_basis(opt, j.in.colorspace);
+    if (!basis.ok()) return R::failure(basis.error);
+    j.per_wavelength = basis.value.size() / j.S;
+    j.R = opt.method == DiffractMethod::Incoherent ? 1 : opt.diffraction.runs;
+    auto share = work_share(index, count, j.S, j.R, j.in.height);
+    if (!share.ok()) return R::failure(share.error);
+    j.sh = share.value;
+    auto fingerprint = file_fingerprint(input_path);
+    if (!fingerprint.ok()) return R::failure(fingerprint.error);
+    j.fingerprint = fingerprint.value;
+    // the settings diffract() resolves (exact_settings), restricted to one unit at a time
+    const PinholeCamera camera = j.in.camera(opt.film_distance);
+    j.s = exact_settings(opt, camera, j.in.depth, nthreads);
+    j.s.row_begin = j.sh.row_begin;
+    j.s.row_end = j.sh.row_end;
+    j.unit_terms = share_unit_terms(j.s, camera, sampling.value.wavelength, j.sh, j.R, j.per_wavelength);
+    for (double t : j.unit_terms) j.terms += t;
+    std::ostringstream job;
+    job << "share " << index << "/" << count << " of " << j.in.width << "x" << j.in.height << " pixels x " << j.S
+        << " wavelengths x " << j.R << " runs: " << describe_share(j.sh, j.R);
+    j.job = job.str();
+    if (j.terms > opt.max_terms) {
+        std::ostringstream m;
+        m << input_path << ": " << j.job << " = " << j.terms << " terms, beyond the max-terms limit of "
+          << opt.max_terms;
+        return R::failure(m.str(), ErrorKind::TooLarge, "max-terms");
+    }
+    return R::success(std::move(j));
+}
+
+// Each unit of the share computed on its own into a zeroed image and kept by name; progress by
+// each unit's share of the estimated terms.
+MonochromePropagator unit_propagator(const Share& j, const ProgressFn& progress,
+                                     std::map<std::string, std::vector<float>>& units, double& done) {
+    return [&j, progress, &units, &done](const MonochromeScene& mono, double wavelength, float*, const ProgressFn&) {
+        for (int r = 0; r < j.R; ++r) {
+            const int u = mono.spectral_index / j.per_wavelength * j.R + r;
+            if (u < j.sh.unit_begin || u >= j.sh.unit_end) continue;
+            DiffractionSettings unit = j.s;
+            unit.run_begin = r;
+            unit.run_end = r + 1;
+            // A wavelength's negative part (rare) is not in the estimate: count it at no weight;
+            // monochrome light's three channels share their unit's weight.
+            const double weight = mono.sign > 0 ? j.unit_terms[u - j.sh.unit_begin] / j.terms / j.per_wavelength : 0;
+            const double before = done;
+            ProgressFn report;
+            if (progress)
+                report = [&progress, before, weight](double f) { return progress(std::min(1.0, before + weight * f)); };
+            std::vector<float> irradiance(size_t(j.in.width) * j.in.height, 0.0f);
+            if (auto rr = diffract_monochrome(mono, wavelength, unit, irradiance.data(), report); !rr.ok()) return rr;
+            done += weight;
+            units[channel_name(mono.spectral_index, r, mono.sign)] = std::move(irradiance);
+        }
+        return Result<bool>::success(true);
+    };
+}
+
+// The part's header: the whole job's (`spec`), its channels the units by name, its rows the
+// share's, and what was summed.
+OIIO::ImageSpec part_spec(OIIO::ImageSpec spec, const Share& j, const std::vector<std::string>& order, int index,
+                          int count, const std::string& input_path, const SettingsText& settings) {
+    spec.nchannels = int(order.size());
+    spec.channelnames = order;
+    spec.alpha_channel = -1;
+    spec.z_channel = -1;
+    spec.y = j.sh.row_begin;
+    spec.height = j.sh.row_end - j.sh.row_begin;
+    spec.full_y = 0;
+    spec.full_height = j.in.height;
+    spec.attribute("wavecam.part.share", std::to_string(index) + "/" + std::to_string(count));
+    spec.attribute("wavecam.part.units", range_text(j.sh.unit_begin, j.sh.unit_end));
+    spec.attribute("wavecam.part.rows", range_text(j.sh.row_begin, j.sh.row_end));
+    spec.attribute("wavecam.part.summed", describe_share(j.sh, j.R));
+    spec.attribute("wavecam.part.wavelength-count", j.S);
+    spec.attribute("wavecam.part.runs", j.R);
+    spec.attribute("wavecam.part.terms", float(j.terms));
+    spec.attribute("wavecam.part.input", input_path);
+    spec.attribute("wavecam.part.input-fingerprint", j.fingerprint);
+    spec.attribute("wavecam.part.job", job_fingerprint(j.fingerprint, settings));
+    for (const auto& [k, v] : settings) spec.attribute(kSettingPrefix + k, v);
+    return spec;
+}
+
+}  // namespace
+
+Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::string& input_path,
+                            const DiffractOptions& opt, const SettingsText& settings, int index, int count,
+                            int nthreads) {
+    auto share = resolve_share(src, input_path, opt, index, count, nthreads);
+    if (!share.ok()) return Result<bool>::failure(share);
+    const Share& j = share.value;
+    if (opt.on_estimate) opt.on_estimate(j.job, j.terms);
     std::map<std::string, std::vector<float>> units;
     double done = 0;
     DiffractOptions run = opt;
     run.max_terms = INFINITY;  // bounded above, by the share's own terms
     run.on_estimate = {};
     run.progress = {};
-    run.exact_propagator = [&](const MonochromeScene& mono, double wavelength, float*, const ProgressFn&) {
-        for (int r = 0; r < R; ++r) {
-            const int u = mono.spectral_index / per_wavelength * R + r;
-            if (u < sh.unit_begin || u >= sh.unit_end) continue;
-            DiffractionSettings unit = s;
-            unit.run_begin = r;
-            unit.run_end = r + 1;
-            const double weight = unit_terms[u - sh.unit_begin] / terms;
-            // A wavelength's negative part (rare) is not in the estimate: count it at no weight;
-            // monochrome light's three channels share their unit's weight.
-            const double before = done;
-            ProgressFn report;
-            if (opt.progress)
-                report = [&, before, weight, sign = mono.sign](double f) {
-                    return opt.progress(std::min(1.0, before + (sign > 0 ? weight / per_wavelength * f : 0.0)));
-                };
-            std::vector<float> irradiance(size_t(in.width) * in.height, 0.0f);
-            if (auto rr = diffract_monochrome(mono, wavelength, unit, irradiance.data(), report); !rr.ok()) return rr;
-            if (mono.sign > 0) done += weight / per_wavelength;
-            units[channel_name(mono.spectral_index, r, mono.sign)] = std::move(irradiance);
-        }
-        return Result<bool>::success(true);
-    };
+    run.exact_propagator = unit_propagator(j, opt.progress, units, done);
     OIIO::ImageBuf whole;
-    DiffractPlan plan(run);
-    if (auto r = plan.diffract(whole, src, input_path, nthreads); !r.ok()) return r;
+    if (auto r = DiffractPlan(run).diffract(whole, src, input_path, nthreads); !r.ok()) return r;
     std::vector<std::string> order;  // by name, as OpenEXR stores them
     for (const auto& unit : units) order.push_back(unit.first);
-
-    // The part: the share's rows of every unit, and the whole job's header plus what was summed.
-    OIIO::ImageSpec spec = whole.spec();
-    spec.nchannels = int(order.size());
-    spec.channelnames = order;
-    spec.alpha_channel = -1;
-    spec.z_channel = -1;
-    spec.y = sh.row_begin;
-    spec.height = sh.row_end - sh.row_begin;
-    spec.full_y = 0;
-    spec.full_height = in.height;
-    spec.attribute("wavecam.part.share", std::to_string(index) + "/" + std::to_string(count));
-    spec.attribute("wavecam.part.units", range_text(sh.unit_begin, sh.unit_end));
-    spec.attribute("wavecam.part.rows", range_text(sh.row_begin, sh.row_end));
-    spec.attribute("wavecam.part.summed", describe_share(sh, R));
-    spec.attribute("wavecam.part.wavelength-count", S);
-    spec.attribute("wavecam.part.runs", R);
-    spec.attribute("wavecam.part.terms", float(terms));
-    spec.attribute("wavecam.part.input", input_path);
-    spec.attribute("wavecam.part.input-fingerprint", fingerprint.value);
-    spec.attribute("wavecam.part.job", job_fingerprint(fingerprint.value, settings));
-    for (const auto& [k, v] : settings) spec.attribute(kSettingPrefix + k, v);
+    const OIIO::ImageSpec spec = part_spec(whole.spec(), j, order, index, count, input_path, settings);
     part.reset(spec);
-    const size_t W = size_t(in.width), rows = size_t(spec.height), C = order.size();
-    std::vector<float> px(W * rows * C);
-    for (size_t c = 0; c < C; ++c) {
-        const float* unit = units[order[c]].data() + size_t(sh.row_begin) * W;
-        for (size_t p = 0; p < W * rows; ++p) px[p * C + c] = unit[p];
-    }
-    if (!part.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, px.data()))
-        return fail(input_path + ": cannot fill the part image: " + part.geterror());
+    // each unit's rows written once, straight into its channel of the part
+    const OIIO::stride_t row = OIIO::stride_t(j.in.width) * sizeof(float);
+    for (int c = 0; c < spec.nchannels; ++c)
+        if (!part.set_pixels(OIIO::ROI(0, spec.width, spec.y, spec.y + spec.height, 0, 1, c, c + 1),
+                             OIIO::TypeDesc::FLOAT, units[order[c]].data() + size_t(j.sh.row_begin) * j.in.width,
+                             sizeof(float), row))
+            return Result<bool>::failure(input_path + ": cannot fill the part image: " + part.geterror());
     part.specmod().attribute("wavecam.part.checksum", pixel_checksum(part));
-    return Fail::success(true);
+    return Result<bool>::success(true);
 }
 
 Result<PartFile> read_part(const std::string& path) {

@@ -48,9 +48,7 @@ struct DiffractOptions {
     MonochromePropagator exact_propagator;
 };
 
-// The pinhole diameter the options resolve to (the optimum when none is given).
-double resolved_pinhole(const DiffractOptions& opt);
-// The aperture with that diameter.
+// The aperture the options resolve to: its diameter `pinhole`, Rayleigh's optimum when none is given.
 Aperture resolved_aperture(const DiffractOptions& opt);
 
 // The spectral basis a job diffracts with, for an input whose file names `file_colorspace` ("" =
@@ -58,16 +56,27 @@ Aperture resolved_aperture(const DiffractOptions& opt);
 // wavelengths cannot carry colour.
 Result<SpectralBasis> job_basis(const DiffractOptions& opt, const std::string& file_colorspace = "");
 
-// Terms the job costs for an image of this size and field of view (for refusing and reporting):
-// one propagation per sample of `basis` (three per wavelength for monochrome light).
+// The exact methods' settings as a job resolves them, once: the options' diffraction settings with
+// the resolved aperture, the method, the overscan and the scene's nearest depth. The estimate, the
+// run and each share of it all derive from this one value, so they cannot drift apart.
+DiffractionSettings exact_settings(const DiffractOptions& opt, const PinholeCamera& camera,
+                                   const std::vector<float>& depth, int nthreads = 0);
+// Terms the exact sums of `s` cost: one propagation per sample of `basis` (three per wavelength
+// for monochrome light).
+double exact_terms(const DiffractionSettings& s, const PinholeCamera& camera, const SpectralBasis& basis);
+
+// Terms the job costs for an image of this size, field of view and depth (for refusing and
+// reporting): exact_terms of exact_settings with job_basis(opt, file_colorspace); 0 for the fast
+// method or when that basis cannot be made.
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
-                      DepthMeaning meaning, const SpectralBasis& basis);
-// The same with job_basis(opt, file_colorspace); 0 when that basis cannot be made.
-double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
-                      DepthMeaning meaning, const std::string& file_colorspace = "");
+                      const std::string& file_colorspace = "");
 
 // Bytes the job needs at its peak (images, pinhole samples or PSF kernels), an upper estimate.
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera);
+
+namespace detail {
+struct ResolvedFrame;  // one frame's render, camera, colours and method settings (diffract_image.cpp)
+}
 
 // Options resolved once and the fast path's plan (PSF table, kernel spectra) kept for the next
 // frame that shares its camera, pinhole, colours and depth range: a sequence, or an OIIO host
@@ -83,8 +92,7 @@ public:
     Result<bool> diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, int nthreads = 0);
 
 private:
-    std::shared_ptr<const FastPlan> fast_plan_for(const FastPlanSpec& spec, const ProgressFn& progress, bool& reused,
-                                                  std::string& error);
+    Result<bool> run_fast(const DiffractOptions& opt, const detail::ResolvedFrame& frame, std::vector<float>& xyz);
     DiffractOptions opt_;
     std::mutex mutex_;
     std::shared_ptr<const FastPlan> fast_;

@@ -24,7 +24,6 @@ struct RenderInput {
     std::string fov_from;      // the setting or the attribute it came from
     std::string colorspace;    // the radiance's colour space as the file names it ("" = unknown)
     std::string depth_channel; // the channel actually used
-    OIIO::ImageSpec spec;      // the source's header, for carrying metadata through
 
     // The ideal camera the render was made with, its film `film_distance` behind the pinhole.
     PinholeCamera camera(double film_distance) const { return {width, height, fov_h, film_distance}; }
