@@ -112,6 +112,26 @@ TEST(Shares, MergeEqualsTheSingleMachineRun) {
     EXPECT_GT(max_difference(f.path("single.exr"), f.input), 1e-3f);
 }
 
+// An input rendered with overscan: the parts hold the input's rows (the margin's film is not
+// summed), and the merge crops the margin as the single run does.
+TEST(Shares, OverscanSharesMergeEqualToTheSingleRun) {
+    Fixture f("shares_overscan");
+    const std::string overscan = " --overscan 3";
+    auto single = run_command(kWavecam + " apply " + f.input + " -o " + f.path("single.exr") + kJob + overscan);
+    ASSERT_EQ(single.status, 0) << single.output;
+    for (int k = 1; k <= 3; ++k) {
+        auto r = f.part(k, 3, "part" + std::to_string(k) + ".exr", overscan);
+        ASSERT_EQ(r.status, 0) << r.output;
+    }
+    auto m = f.merge("'part*.exr'", "merged.exr");
+    ASSERT_EQ(m.status, 0) << m.output;
+    OIIO::ImageBuf merged(f.path("merged.exr"));
+    ASSERT_TRUE(merged.read());
+    EXPECT_EQ(merged.spec().width, 24 - 2 * 3);
+    EXPECT_EQ(merged.spec().height, 16 - 2 * 3);
+    EXPECT_EQ(max_difference(f.path("single.exr"), f.path("merged.exr")), 0.0f);
+}
+
 TEST(Shares, BadSetsAreRefusedNamingTheShareAndNothingIsWritten) {
     Fixture f("shares_bad");
     for (int k = 1; k <= 3; ++k) ASSERT_EQ(f.part(k, 3, "p" + std::to_string(k) + ".exr").status, 0);

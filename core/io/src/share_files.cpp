@@ -198,14 +198,17 @@ MonochromePropagator unit_propagator(const Share& j, const ProgressFn& progress,
     };
 }
 
-// The part's header: the whole job's (`spec`), its channels the units by name, its rows the
-// share's, and what was summed.
+// The part's header: the whole job's (`spec`), its channels the units by name, its window the
+// share's rows of the input (an overscan margin included: the merge crops it, as a single run
+// does), and what was summed.
 OIIO::ImageSpec part_spec(OIIO::ImageSpec spec, const Share& j, const std::vector<std::string>& order, int index,
                           int count, const std::string& input_path, const SettingsText& settings) {
     spec.nchannels = int(order.size());
     spec.channelnames = order;
     spec.alpha_channel = -1;
     spec.z_channel = -1;
+    spec.x = spec.full_x = 0;
+    spec.width = spec.full_width = j.in.width;
     spec.y = j.sh.row_begin;
     spec.height = j.sh.row_end - j.sh.row_begin;
     spec.full_y = 0;
