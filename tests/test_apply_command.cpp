@@ -119,6 +119,8 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
         nan.write((dir / "nan.exr").string());
         nan.setpixel(3, 2, std::vector<float>{0.5f, std::numeric_limits<float>::infinity(), 0, 2}.data());
         nan.write((dir / "inf.exr").string());
+        nan.setpixel(3, 2, std::vector<float>{0.5f, 0.5f, 3e38f, 2}.data());  // finite; its sums overflow
+        nan.write((dir / "huge.exr").string());
         nan.setpixel(3, 2, std::vector<float>{0.5f, 0.5f, 0.5f, bad}.data());
         nan.write((dir / "nandepth.exr").string());
     }
@@ -135,6 +137,7 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
         {"negative.exr", "", "expected a distance > 0"},
         {"nan.exr", "", "pixel (3, 2)"},
         {"inf.exr", "", "expected finite radiance"},
+        {"huge.exr", "", "channel 'B' at pixel (3, 2) is 3e+38, expected finite radiance within +-1e30"},
         {"nandepth.exr", "", "channel 'Z' at pixel (3, 2)"},
         {"zero.exr", "", "expected a distance > 0"},
         {"widefov.exr", "", "between 0 and 180"},

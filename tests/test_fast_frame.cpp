@@ -230,6 +230,12 @@ TEST(FastFrame, BadPixelsAreNamedBeforeAnyWork) {
     for (auto r : {diffract_fast(f.scene(), basis(3), pinhole, true, xyz.data()),
                    diffract_spectral(f.scene(), basis(3), pinhole, counting, true, xyz.data())})
         EXPECT_EQ(r.error.rfind("radiance: pixel (5, 2) is nan, expected a finite value", 0), 0u) << r.error;
+    // finite, but its sums would overflow single precision (the image came back NaN)
+    f.rgb[3 * (2 * 8 + 5) + 1] = 3e38f;
+    for (auto r : {diffract_fast(f.scene(), basis(3), pinhole, true, xyz.data()),
+                   diffract_spectral(f.scene(), basis(3), pinhole, counting, true, xyz.data())})
+        EXPECT_EQ(r.error.rfind("radiance: pixel (5, 2) is 3e+38, expected a finite value within +-1e30", 0), 0u)
+            << r.error;
     f.rgb[3 * (2 * 8 + 5) + 1] = 0.5f;
     f.depth[3 * 8 + 1] = -1;
     for (auto r : {diffract_fast(f.scene(), basis(3), pinhole, true, xyz.data()),

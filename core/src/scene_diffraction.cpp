@@ -179,8 +179,9 @@ Result<bool> check_pixels(const PinholeCamera& c, const float* radiance, int cha
     for (size_t p = 0; p < n; ++p) {
         for (int k = 0; k < channels; ++k) {
             const float v = radiance[channels * p + k];
-            if (!std::isfinite(v) || (non_negative && v < 0))
-                return bad("radiance", p, v, non_negative ? "a finite value >= 0" : "a finite value");
+            if (!(std::fabs(v) <= kMaxRadiance) || (non_negative && v < 0))
+                return bad("radiance", p, v,
+                           non_negative ? "a finite value from 0 to 1e30" : "a finite value within +-1e30");
         }
         if (std::isnan(depth[p]) || !(depth[p] > 0))
             return bad("depth", p, depth[p], "a distance > 0 (inf or >= 1e9 for sky)");

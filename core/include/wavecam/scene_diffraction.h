@@ -52,8 +52,11 @@ struct MonochromeScene {
 // At least 1x1 pixels, and an overscan that leaves some.
 Result<bool> check_frame(const PinholeCamera& camera, int overscan);
 
-// Every radiance (`channels` interleaved per pixel) finite, and >= 0 where `non_negative`, and
-// every depth > 0: the first bad pixel is named with its field and what was expected.
+// Every radiance (`channels` interleaved per pixel) within +-kMaxRadiance, and >= 0 where
+// `non_negative`, and every depth > 0: the first bad pixel is named with its field and what was
+// expected. The bound keeps the single-precision sums finite: a frame's worth of such sources
+// (1e30 x 1e7 pixels x the spectral basis's weights) stays below float's 3.4e38.
+constexpr float kMaxRadiance = 1e30f;
 Result<bool> check_pixels(const PinholeCamera& camera, const float* radiance, int channels, bool non_negative,
                           const float* depth);
 

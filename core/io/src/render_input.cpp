@@ -1,5 +1,7 @@
 #include "wavecam/render_input.h"
 
+#include "wavecam/scene_diffraction.h"
+
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -113,9 +115,11 @@ std::string bad_pixel(const RenderInput& in, const OIIO::ImageSpec& spec, const 
             return m.str();
         };
         for (int c = 0; c < 3; ++c)
-            if (!std::isfinite(in.rgb[3 * p + c]))
-                return where(spec.channelnames[rgb[c]]) + " is " + std::to_string(in.rgb[3 * p + c]) +
-                       ", expected finite radiance";
+            if (const float v = in.rgb[3 * p + c]; !(std::fabs(v) <= kMaxRadiance)) {
+                std::ostringstream m;
+                m << where(spec.channelnames[rgb[c]]) << " is " << v << ", expected finite radiance within +-1e30";
+                return m.str();
+            }
         const float d = in.depth[p];
         if (std::isnan(d) || d <= 0)
             return where(in.depth_channel) + " is " + std::to_string(d) +
