@@ -126,13 +126,11 @@ DiffractPlan::DiffractPlan(DiffractOptions options) : opt_(std::move(options)) {
 namespace {
 using detail::ResolvedFrame;
 
-Result<ResolvedFrame> resolve_frame(const DiffractOptions& opt, const OIIO::ImageBuf& src, const std::string& name,
+Result<ResolvedFrame> resolve_frame(const DiffractOptions& opt, RenderInput input, const std::string& name,
                                     int nthreads) {
     using R = Result<ResolvedFrame>;
-    auto input = load_render(src, name, opt.read);
-    if (!input.ok()) return R::failure(input);
     ResolvedFrame f;
-    f.in = std::move(input.value);
+    f.in = std::move(input);
     const RenderInput& in = f.in;
     f.camera = in.camera(opt.film_distance);
     const int o = f.overscan = opt.overscan;
@@ -292,9 +290,16 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
     return r.ok();
 }
 
-// Resolve the frame once, check its limits, run its method, map its colours, write the output.
 Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name,
                                     int nthreads) {
+    auto input = load_render(src, name, opt_.read);
+    if (!input.ok()) return Result<bool>::failure(input);
+    return diffract(dst, src, std::move(input.value), name, nthreads);
+}
+
+// Resolve the frame once, check its limits, run its method, map its colours, write the output.
+Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, RenderInput input,
+                                    const std::string& name, int nthreads) {
     using Fail = Result<bool>;
     // A stop asked for through the progress callback is a cancellation, whatever failed with it.
     auto stopped = std::make_shared<std::atomic<bool>>(false);
@@ -305,7 +310,7 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
             *stopped = true;
             return false;
         };
-    auto frame = resolve_frame(opt, src, name, nthreads);
+    auto frame = resolve_frame(opt, std::move(input), name, nthreads);
     if (!frame.ok()) return Fail::failure(frame);
     const ResolvedFrame& f = frame.value;
     if (auto r = check_limits(opt, f, name, nthreads); !r.ok()) return r;

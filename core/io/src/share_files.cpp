@@ -115,10 +115,11 @@ std::vector<double> share_unit_terms(DiffractionSettings s, const PinholeCamera&
 
 namespace {
 
-// One share resolved once: the render, its units (unit u is wavelength u / R and run u % R), and
-// the settings every unit derives from.
+// One share resolved once: the render (read and checked here, then handed to the run), its units
+// (unit u is wavelength u / R and run u % R), and the settings every unit derives from.
 struct Share {
     RenderInput in;
+    int width = 0, height = 0;  // the render's, kept once `in` has gone to the run
     int S = 0, R = 1, per_wavelength = 1;  // wavelengths, runs, propagations per unit (3: monochrome)
     WorkShare sh;
     DiffractionSettings s;  // exact_settings, on the share's rows
@@ -138,6 +139,8 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
     if (!input.ok()) return R::failure(input);
     Share j;
     j.in = std::move(input.value);
+    j.width = j.in.width;
+    j.height = j.in.height;
     auto sampling = opt.wavelengths.empty() ? visible_sampling(opt.wavelength_count) : explicit_sampling(opt.wavelengths);
     if (!sampling.ok()) return R::failure(sampling.error, ErrorKind::Invalid, "wavelengths");
     j.S = int(sampling.value.wavelength.size());
@@ -145,7 +148,7 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
     if (!basis.ok()) return R::failure(basis.error);
     j.per_wavelength = basis.value.size() / j.S;
     j.R = opt.method == DiffractMethod::Incoherent ? 1 : opt.diffraction.runs;
-    auto share = work_share(index, count, j.S, j.R, j.in.height);
+    auto share = work_share(index, count, j.S, j.R, j.height);
     if (!share.ok()) return R::failure(share.error);
     j.sh = share.value;
     auto fingerprint = file_fingerprint(input_path);
@@ -159,7 +162,7 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
     j.unit_terms = share_unit_terms(j.s, camera, sampling.value.wavelength, j.sh, j.R, j.per_wavelength);
     for (double t : j.unit_terms) j.terms += t;
     std::ostringstream job;
-    job << "share " << index << "/" << count << " of " << j.in.width << "x" << j.in.height << " pixels x " << j.S
+    job << "share " << index << "/" << count << " of " << j.width << "x" << j.height << " pixels x " << j.S
         << " wavelengths x " << j.R << " runs: " << describe_share(j.sh, j.R);
     j.job = job.str();
     if (j.terms > opt.max_terms) {
@@ -189,7 +192,7 @@ MonochromePropagator unit_propagator(const Share& j, const ProgressFn& progress,
             ProgressFn report;
             if (progress)
                 report = [&progress, before, weight](double f) { return progress(std::min(1.0, before + weight * f)); };
-            std::vector<float> irradiance(size_t(j.in.width) * j.in.height, 0.0f);
+            std::vector<float> irradiance(size_t(j.width) * j.height, 0.0f);
             if (auto rr = diffract_monochrome(mono, wavelength, unit, irradiance.data(), report); !rr.ok()) return rr;
             done += weight;
             units[channel_name(mono.spectral_index, r, mono.sign)] = std::move(irradiance);
@@ -208,11 +211,11 @@ OIIO::ImageSpec part_spec(OIIO::ImageSpec spec, const Share& j, const std::vecto
     spec.alpha_channel = -1;
     spec.z_channel = -1;
     spec.x = spec.full_x = 0;
-    spec.width = spec.full_width = j.in.width;
+    spec.width = spec.full_width = j.width;
     spec.y = j.sh.row_begin;
     spec.height = j.sh.row_end - j.sh.row_begin;
     spec.full_y = 0;
-    spec.full_height = j.in.height;
+    spec.full_height = j.height;
     spec.attribute("wavecam.part.share", std::to_string(index) + "/" + std::to_string(count));
     spec.attribute("wavecam.part.units", range_text(j.sh.unit_begin, j.sh.unit_end));
     spec.attribute("wavecam.part.rows", range_text(j.sh.row_begin, j.sh.row_end));
@@ -234,7 +237,7 @@ Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, con
                             int nthreads) {
     auto share = resolve_share(src, input_path, opt, index, count, nthreads);
     if (!share.ok()) return Result<bool>::failure(share);
-    const Share& j = share.value;
+    Share& j = share.value;
     if (opt.on_estimate) opt.on_estimate(j.job, j.terms);
     std::map<std::string, std::vector<float>> units;
     double done = 0;
@@ -244,16 +247,16 @@ Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, con
     run.progress = {};
     run.exact_propagator = unit_propagator(j, opt.progress, units, done);
     OIIO::ImageBuf whole;
-    if (auto r = DiffractPlan(run).diffract(whole, src, input_path, nthreads); !r.ok()) return r;
+    if (auto r = DiffractPlan(run).diffract(whole, src, std::move(j.in), input_path, nthreads); !r.ok()) return r;
     std::vector<std::string> order;  // by name, as OpenEXR stores them
     for (const auto& unit : units) order.push_back(unit.first);
     const OIIO::ImageSpec spec = part_spec(whole.spec(), j, order, index, count, input_path, settings);
     part.reset(spec);
     // each unit's rows written once, straight into its channel of the part
-    const OIIO::stride_t row = OIIO::stride_t(j.in.width) * sizeof(float);
+    const OIIO::stride_t row = OIIO::stride_t(j.width) * sizeof(float);
     for (int c = 0; c < spec.nchannels; ++c)
         if (!part.set_pixels(OIIO::ROI(0, spec.width, spec.y, spec.y + spec.height, 0, 1, c, c + 1),
-                             OIIO::TypeDesc::FLOAT, units[order[c]].data() + size_t(j.sh.row_begin) * j.in.width,
+                             OIIO::TypeDesc::FLOAT, units[order[c]].data() + size_t(j.sh.row_begin) * j.width,
                              sizeof(float), row))
             return Result<bool>::failure(input_path + ": cannot fill the part image: " + part.geterror());
     part.specmod().attribute("wavecam.part.checksum", pixel_checksum(part));

@@ -90,6 +90,10 @@ public:
     // in the output colour space, the source's depth channel, and every parameter in its header.
     // A failure carries its kind and the setting it is about, for the front to word (result.h).
     Result<bool> diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, int nthreads = 0);
+    // The same, for a caller that has read `src` already: `in` is load_render(src, name,
+    // options().read)'s value (shares read and check the render once, for their estimate and run).
+    Result<bool> diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, RenderInput in, const std::string& name,
+                          int nthreads = 0);
 
 private:
     Result<bool> run_fast(const DiffractOptions& opt, const detail::ResolvedFrame& frame, std::vector<float>& xyz);
