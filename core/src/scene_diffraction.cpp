@@ -179,11 +179,11 @@ Result<bool> check_pixels(const PinholeCamera& c, const float* radiance, int cha
     for (size_t p = 0; p < n; ++p) {
         for (int k = 0; k < channels; ++k) {
             const float v = radiance[channels * p + k];
-            if (!(std::fabs(v) <= kMaxRadiance) || (non_negative && v < 0))
+            if (!radiance_in_range(v) || (non_negative && v < 0))
                 return bad("radiance", p, v,
                            non_negative ? "a finite value from 0 to 1e30" : "a finite value within +-1e30");
         }
-        if (std::isnan(depth[p]) || !(depth[p] > 0))
+        if (!depth_in_range(depth[p]))
             return bad("depth", p, depth[p], "a distance > 0 (inf or >= 1e9 for sky)");
     }
     return Result<bool>::success(true);

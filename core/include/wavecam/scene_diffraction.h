@@ -57,6 +57,9 @@ Result<bool> check_frame(const PinholeCamera& camera, int overscan);
 // expected. The bound keeps the single-precision sums finite: a frame's worth of such sources
 // (1e30 x 1e7 pixels x the spectral basis's weights) stays below float's 3.4e38.
 constexpr float kMaxRadiance = 1e30f;
+// One pixel's values as check_pixels (and the render reader, which names channels) accept them.
+inline bool radiance_in_range(float v) { return std::fabs(v) <= kMaxRadiance; }  // NaN: false
+inline bool depth_in_range(float d) { return d > 0; }                            // NaN: false; inf: sky
 Result<bool> check_pixels(const PinholeCamera& camera, const float* radiance, int channels, bool non_negative,
                           const float* depth);
 

@@ -115,13 +115,13 @@ std::string bad_pixel(const RenderInput& in, const OIIO::ImageSpec& spec, const 
             return m.str();
         };
         for (int c = 0; c < 3; ++c)
-            if (const float v = in.rgb[3 * p + c]; !(std::fabs(v) <= kMaxRadiance)) {
+            if (const float v = in.rgb[3 * p + c]; !radiance_in_range(v)) {
                 std::ostringstream m;
                 m << where(spec.channelnames[rgb[c]]) << " is " << v << ", expected finite radiance within +-1e30";
                 return m.str();
             }
         const float d = in.depth[p];
-        if (std::isnan(d) || d <= 0)
+        if (!depth_in_range(d))
             return where(in.depth_channel) + " is " + std::to_string(d) +
                    ", expected a distance > 0 (inf or >= 1e9 for sky)";
     }
