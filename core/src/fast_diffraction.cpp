@@ -161,17 +161,6 @@ bool FastPlan::serves(const FastPlanSpec& s) const {
            g.value.layers.step == t.layers.step && g.value.tile == impl_->convolution.tile();
 }
 
-double max_inverse_depth(const SpectralScene& scene) {
-    const PinholeCamera& c = scene.camera;
-    double w_max = 0;
-    for (int j = 0; j < c.height; ++j)
-        for (int i = 0; i < c.width; ++i) {
-            const double d = scene.depth[size_t(j) * c.width + i];
-            if (d < kInfiniteDepth) w_max = std::max(w_max, 1.0 / c.planar_depth(i, j, d, scene.depth_meaning));
-        }
-    return w_max;
-}
-
 Result<bool> FastPlan::apply(const SpectralScene& scene, bool vignetting, float* xyz, const ProgressFn& progress) const {
     const FastPlanSpec& spec = impl_->spec;
     const PinholeCamera& c = spec.camera;
@@ -223,7 +212,8 @@ Result<bool> diffract_fast(const SpectralScene& scene, const SpectralBasis& basi
                            bool vignetting, float* xyz, const FastSettings& settings, const ProgressFn& progress) {
     if (!scene.checked)
         if (auto v = check_pixels(scene.camera, scene.rgb, 3, false, scene.depth); !v.ok()) return v;
-    FastPlanSpec spec{scene.camera, 0, aperture, basis, max_inverse_depth(scene), settings};
+    const double nearest = nearest_depth(scene.camera, scene.depth, scene.depth_meaning);
+    FastPlanSpec spec{scene.camera, 0, aperture, basis, 1.0 / nearest, settings};
     auto plan = FastPlan::create(spec, progress_part(progress, 0.0, 0.5));
     if (!plan.ok()) return Result<bool>::failure(plan.error);
     return plan.value->apply(scene, vignetting, xyz, progress_part(progress, 0.5, 1.0));

@@ -73,9 +73,6 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-// Largest planar inverse depth in a frame (0 when all is sky), of pixels already checked.
-double max_inverse_depth(const SpectralScene& scene);
-
 // One frame, one plan: check its pixels (unless scene.checked), create, apply (tests and one-off calls).
 Result<bool> diffract_fast(const SpectralScene& scene, const SpectralBasis& basis, const Aperture& aperture,
                            bool vignetting, float* xyz, const FastSettings& settings = {},

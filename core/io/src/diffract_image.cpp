@@ -5,7 +5,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "wavecam/colour_pipeline.h"
+#include "resolved_frame.h"
 #include "wavecam/output_layout.h"
 #include "wavecam/pinhole_design.h"
 #include "wavecam/source.h"
@@ -14,19 +14,11 @@
 
 namespace wavecam {
 namespace {
+using detail::JobColour;
+using detail::ResolvedFrame;
 
 constexpr double kDesignWavelength = 550e-9;
 constexpr const char* kDefaultWorkingSpace = "lin_rec709";
-
-// A job's colour, resolved once: the config, the input's linear working space (named by the
-// options, else by the file, else Rec.709), the output's, and the spectral basis calibrated
-// against the working space as the config defines it.
-struct JobColour {
-    ColourConfig config;
-    std::string in_space, out_space;
-    SpectralSampling sampling;
-    SpectralBasis basis;
-};
 
 Result<JobColour> resolve_colour(const DiffractOptions& opt, const std::string& file_colorspace) {
     using R = Result<JobColour>;
@@ -49,22 +41,8 @@ Result<JobColour> resolve_colour(const DiffractOptions& opt, const std::string& 
     return R::success(std::move(c));
 }
 
-}  // namespace
-
-Aperture resolved_aperture(const DiffractOptions& opt) {
-    Aperture a = opt.aperture;
-    a.diameter = opt.pinhole > 0 ? opt.pinhole : rayleigh_optimal_diameter(opt.film_distance, kDesignWavelength);
-    return a;
-}
-
-Result<SpectralBasis> job_basis(const DiffractOptions& opt, const std::string& file_colorspace) {
-    auto colour = resolve_colour(opt, file_colorspace);
-    if (!colour.ok()) return Result<SpectralBasis>::failure(colour);
-    return Result<SpectralBasis>::success(std::move(colour.value.basis));
-}
-
 DiffractionSettings exact_settings(const DiffractOptions& opt, const PinholeCamera& camera,
-                                   const std::vector<float>& depth, int nthreads) {
+                                   const std::vector<float>& depth, int nthreads = 0) {
     DiffractionSettings s = opt.diffraction;
     s.aperture = resolved_aperture(opt);
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
@@ -82,11 +60,19 @@ double exact_terms(const DiffractionSettings& s, const PinholeCamera& camera, co
     return terms;
 }
 
+}  // namespace
+
+Aperture resolved_aperture(const DiffractOptions& opt) {
+    Aperture a = opt.aperture;
+    a.diameter = opt.pinhole > 0 ? opt.pinhole : rayleigh_optimal_diameter(opt.film_distance, kDesignWavelength);
+    return a;
+}
+
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
                       const std::string& file_colorspace) {
     if (opt.method == DiffractMethod::Fast) return 0;  // PSF grid + FFTs: minutes at most
-    auto basis = job_basis(opt, file_colorspace);
-    return basis.ok() ? exact_terms(exact_settings(opt, camera, depth), camera, basis.value) : 0;
+    auto colour = resolve_colour(opt, file_colorspace);
+    return colour.ok() ? exact_terms(exact_settings(opt, camera, depth), camera, colour.value.basis) : 0;
 }
 
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) {
@@ -100,34 +86,10 @@ double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) 
     return images + samples * 5 * sizeof(float) + film * 3 * sizeof(float) + pixels * sizeof(PointSource);
 }
 
-// One frame resolved before any work, once: its render (read and checked by load_render), the
-// camera, the colours, and what its method derives from the options. The estimate, the run and
-// the output's header all read this one value.
-namespace detail {
-struct ResolvedFrame {
-    RenderInput in;
-    PinholeCamera camera;
-    int overscan = 0, out_w = 0, out_h = 0;
-    Aperture aperture;
-    JobColour colour;
-    DiffractionSettings exact;  // exact methods: the estimate's and the run's settings
-    FastPlanSpec fast;          // fast method: what its plan is built for
-    double terms = 0;           // exact methods: the sums' cost
-    std::string job;            // "24x16 pixels x 3 wavelengths x 2 runs"
-
-    SpectralScene scene(DepthMeaning meaning) const {
-        return {camera, in.rgb.data(), in.depth.data(), meaning, true};
-    }
-};
-}  // namespace detail
-
 DiffractPlan::DiffractPlan(DiffractOptions options) : opt_(std::move(options)) {}
 
-namespace {
-using detail::ResolvedFrame;
-
-Result<ResolvedFrame> resolve_frame(const DiffractOptions& opt, RenderInput input, const std::string& name,
-                                    int nthreads) {
+Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderInput input, const std::string& name,
+                                            int nthreads) {
     using R = Result<ResolvedFrame>;
     ResolvedFrame f;
     f.in = std::move(input);
@@ -147,8 +109,8 @@ Result<ResolvedFrame> resolve_frame(const DiffractOptions& opt, RenderInput inpu
     f.colour = std::move(colour.value);
     f.aperture = resolved_aperture(opt);
     if (opt.method == DiffractMethod::Fast) {
-        f.fast = {f.camera, o, f.aperture, f.colour.basis, max_inverse_depth(f.scene(opt.depth_meaning)),
-                   opt.fast};
+        f.fast = {f.camera, o, f.aperture, f.colour.basis,
+                  1.0 / nearest_depth(f.camera, in.depth.data(), opt.depth_meaning), opt.fast};
         f.fast.settings.nthreads = nthreads;
         return R::success(std::move(f));
     }
@@ -160,6 +122,8 @@ Result<ResolvedFrame> resolve_frame(const DiffractOptions& opt, RenderInput inpu
     f.job = job.str();
     return R::success(std::move(f));
 }
+
+namespace {
 
 // The job's terms and bytes against the max-terms and max-memory limits.
 Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, const std::string& name,
@@ -294,11 +258,13 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
                                     int nthreads) {
     auto input = load_render(src, name, opt_.read);
     if (!input.ok()) return Result<bool>::failure(input);
-    return diffract(dst, src, std::move(input.value), name, nthreads);
+    auto frame = detail::resolve_frame(opt_, std::move(input.value), name, nthreads);
+    if (!frame.ok()) return Result<bool>::failure(frame);
+    return diffract(dst, src, frame.value, name, nthreads);
 }
 
-// Resolve the frame once, check its limits, run its method, map its colours, write the output.
-Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, RenderInput input,
+// Check the frame's limits, run its method, map its colours, write the output.
+Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ResolvedFrame& f,
                                     const std::string& name, int nthreads) {
     using Fail = Result<bool>;
     // A stop asked for through the progress callback is a cancellation, whatever failed with it.
@@ -310,9 +276,6 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
             *stopped = true;
             return false;
         };
-    auto frame = resolve_frame(opt, std::move(input), name, nthreads);
-    if (!frame.ok()) return Fail::failure(frame);
-    const ResolvedFrame& f = frame.value;
     if (auto r = check_limits(opt, f, name, nthreads); !r.ok()) return r;
     if (opt.on_estimate && opt.method != DiffractMethod::Fast) opt.on_estimate(f.job, f.terms);
 

@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "resolved_frame.h"
 #include "wavecam/render_input.h"
 #include "wavecam/spectrum.h"
 
@@ -97,32 +98,14 @@ std::string job_fingerprint(const std::string& input_fingerprint, const Settings
 
 namespace {
 
-// Each unit's terms: unit u is wavelength u / R and run u % R, one propagation for colour and
-// three (one per channel) for monochrome light (spectrum.h).
-std::vector<double> share_unit_terms(DiffractionSettings s, const PinholeCamera& camera,
-                                     const std::vector<double>& wavelengths, const WorkShare& sh, int R,
-                                     int per_wavelength) {
-    std::vector<double> terms;
-    for (int u = sh.unit_begin; u < sh.unit_end; ++u) {
-        s.run_begin = u % R;
-        s.run_end = u % R + 1;
-        terms.push_back(per_wavelength * scene_terms(s, camera, wavelengths[u / R]));
-    }
-    return terms;
-}
-
-}  // namespace
-
-namespace {
-
-// One share resolved once: the render (read and checked here, then handed to the run), its units
-// (unit u is wavelength u / R and run u % R), and the settings every unit derives from.
+// One share resolved once: the frame (resolve_frame, as the run sees it), its units (unit u is
+// wavelength u / R and run u % R, one propagation for colour and three, one per channel, for
+// monochrome light: spectrum.h) and each unit's terms.
 struct Share {
-    RenderInput in;
-    int width = 0, height = 0;  // the render's, kept once `in` has gone to the run
-    int S = 0, R = 1, per_wavelength = 1;  // wavelengths, runs, propagations per unit (3: monochrome)
+    detail::ResolvedFrame f;
+    int S = 0, R = 1, per_wavelength = 1;  // wavelengths, runs, propagations per unit
     WorkShare sh;
-    DiffractionSettings s;  // exact_settings, on the share's rows
+    DiffractionSettings s;  // the frame's exact settings, on the share's rows
     std::vector<double> unit_terms;
     double terms = 0;
     std::string fingerprint;
@@ -137,32 +120,32 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
                           ErrorKind::Invalid, "method");
     auto input = load_render(src, input_path, opt.read);
     if (!input.ok()) return R::failure(input);
+    auto frame = detail::resolve_frame(opt, std::move(input.value), input_path, nthreads);
+    if (!frame.ok()) return R::failure(frame);
     Share j;
-    j.in = std::move(input.value);
-    j.width = j.in.width;
-    j.height = j.in.height;
-    auto sampling = opt.wavelengths.empty() ? visible_sampling(opt.wavelength_count) : explicit_sampling(opt.wavelengths);
-    if (!sampling.ok()) return R::failure(sampling.error, ErrorKind::Invalid, "wavelengths");
-    j.S = int(sampling.value.wavelength.size());
-    auto basis = job_basis(opt, j.in.colorspace);
-    if (!basis.ok()) return R::failure(basis.error);
-    j.per_wavelength = basis.value.size() / j.S;
+    j.f = std::move(frame.value);
+    const std::vector<double>& wavelengths = j.f.colour.sampling.wavelength;
+    j.S = int(wavelengths.size());
+    j.per_wavelength = j.f.colour.basis.size() / j.S;
     j.R = opt.method == DiffractMethod::Incoherent ? 1 : opt.diffraction.runs;
-    auto share = work_share(index, count, j.S, j.R, j.height);
+    auto share = work_share(index, count, j.S, j.R, j.f.in.height);
     if (!share.ok()) return R::failure(share.error);
     j.sh = share.value;
     auto fingerprint = file_fingerprint(input_path);
     if (!fingerprint.ok()) return R::failure(fingerprint.error);
     j.fingerprint = fingerprint.value;
-    // the settings diffract() resolves (exact_settings), restricted to one unit at a time
-    const PinholeCamera camera = j.in.camera(opt.film_distance);
-    j.s = exact_settings(opt, camera, j.in.depth, nthreads);
+    j.s = j.f.exact;
     j.s.row_begin = j.sh.row_begin;
     j.s.row_end = j.sh.row_end;
-    j.unit_terms = share_unit_terms(j.s, camera, sampling.value.wavelength, j.sh, j.R, j.per_wavelength);
-    for (double t : j.unit_terms) j.terms += t;
+    for (int u = j.sh.unit_begin; u < j.sh.unit_end; ++u) {
+        DiffractionSettings unit = j.s;
+        unit.run_begin = u % j.R;
+        unit.run_end = u % j.R + 1;
+        j.unit_terms.push_back(j.per_wavelength * scene_terms(unit, j.f.camera, wavelengths[u / j.R]));
+        j.terms += j.unit_terms.back();
+    }
     std::ostringstream job;
-    job << "share " << index << "/" << count << " of " << j.width << "x" << j.height << " pixels x " << j.S
+    job << "share " << index << "/" << count << " of " << j.f.in.width << "x" << j.f.in.height << " pixels x " << j.S
         << " wavelengths x " << j.R << " runs: " << describe_share(j.sh, j.R);
     j.job = job.str();
     if (j.terms > opt.max_terms) {
@@ -192,7 +175,7 @@ MonochromePropagator unit_propagator(const Share& j, const ProgressFn& progress,
             ProgressFn report;
             if (progress)
                 report = [&progress, before, weight](double f) { return progress(std::min(1.0, before + weight * f)); };
-            std::vector<float> irradiance(size_t(j.width) * j.height, 0.0f);
+            std::vector<float> irradiance(size_t(j.f.in.width) * j.f.in.height, 0.0f);
             if (auto rr = diffract_monochrome(mono, wavelength, unit, irradiance.data(), report); !rr.ok()) return rr;
             done += weight;
             units[channel_name(mono.spectral_index, r, mono.sign)] = std::move(irradiance);
@@ -211,11 +194,11 @@ OIIO::ImageSpec part_spec(OIIO::ImageSpec spec, const Share& j, const std::vecto
     spec.alpha_channel = -1;
     spec.z_channel = -1;
     spec.x = spec.full_x = 0;
-    spec.width = spec.full_width = j.width;
+    spec.width = spec.full_width = j.f.in.width;
     spec.y = j.sh.row_begin;
     spec.height = j.sh.row_end - j.sh.row_begin;
     spec.full_y = 0;
-    spec.full_height = j.height;
+    spec.full_height = j.f.in.height;
     spec.attribute("wavecam.part.share", std::to_string(index) + "/" + std::to_string(count));
     spec.attribute("wavecam.part.units", range_text(j.sh.unit_begin, j.sh.unit_end));
     spec.attribute("wavecam.part.rows", range_text(j.sh.row_begin, j.sh.row_end));
@@ -247,16 +230,16 @@ Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, con
     run.progress = {};
     run.exact_propagator = unit_propagator(j, opt.progress, units, done);
     OIIO::ImageBuf whole;
-    if (auto r = DiffractPlan(run).diffract(whole, src, std::move(j.in), input_path, nthreads); !r.ok()) return r;
+    if (auto r = DiffractPlan(run).diffract(whole, src, j.f, input_path, nthreads); !r.ok()) return r;
     std::vector<std::string> order;  // by name, as OpenEXR stores them
     for (const auto& unit : units) order.push_back(unit.first);
     const OIIO::ImageSpec spec = part_spec(whole.spec(), j, order, index, count, input_path, settings);
     part.reset(spec);
     // each unit's rows written once, straight into its channel of the part
-    const OIIO::stride_t row = OIIO::stride_t(j.width) * sizeof(float);
+    const OIIO::stride_t row = OIIO::stride_t(j.f.in.width) * sizeof(float);
     for (int c = 0; c < spec.nchannels; ++c)
         if (!part.set_pixels(OIIO::ROI(0, spec.width, spec.y, spec.y + spec.height, 0, 1, c, c + 1),
-                             OIIO::TypeDesc::FLOAT, units[order[c]].data() + size_t(j.sh.row_begin) * j.width,
+                             OIIO::TypeDesc::FLOAT, units[order[c]].data() + size_t(j.sh.row_begin) * j.f.in.width,
                              sizeof(float), row))
             return Result<bool>::failure(input_path + ": cannot fill the part image: " + part.geterror());
     part.specmod().attribute("wavecam.part.checksum", pixel_checksum(part));

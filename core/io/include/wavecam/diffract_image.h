@@ -51,23 +51,9 @@ struct DiffractOptions {
 // The aperture the options resolve to: its diameter `pinhole`, Rayleigh's optimum when none is given.
 Aperture resolved_aperture(const DiffractOptions& opt);
 
-// The spectral basis a job diffracts with, for an input whose file names `file_colorspace` ("" =
-// none): the working space as diffract() resolves it, monochrome when asked or when the
-// wavelengths cannot carry colour.
-Result<SpectralBasis> job_basis(const DiffractOptions& opt, const std::string& file_colorspace = "");
-
-// The exact methods' settings as a job resolves them, once: the options' diffraction settings with
-// the resolved aperture, the method, the overscan and the scene's nearest depth. The estimate, the
-// run and each share of it all derive from this one value, so they cannot drift apart.
-DiffractionSettings exact_settings(const DiffractOptions& opt, const PinholeCamera& camera,
-                                   const std::vector<float>& depth, int nthreads = 0);
-// Terms the exact sums of `s` cost: one propagation per sample of `basis` (three per wavelength
-// for monochrome light).
-double exact_terms(const DiffractionSettings& s, const PinholeCamera& camera, const SpectralBasis& basis);
-
 // Terms the job costs for an image of this size, field of view and depth (for refusing and
-// reporting): exact_terms of exact_settings with job_basis(opt, file_colorspace); 0 for the fast
-// method or when that basis cannot be made.
+// reporting): the exact sums' terms with the job's spectral basis (three propagations per
+// wavelength for monochrome light); 0 for the fast method or when that basis cannot be made.
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
                       const std::string& file_colorspace = "");
 
@@ -75,7 +61,7 @@ double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, c
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera);
 
 namespace detail {
-struct ResolvedFrame;  // one frame's render, camera, colours and method settings (diffract_image.cpp)
+struct ResolvedFrame;  // one frame's render, camera, colours and method settings (core/io/src/resolved_frame.h)
 }
 
 // Options resolved once and the fast path's plan (PSF table, kernel spectra) kept for the next
@@ -90,10 +76,10 @@ public:
     // in the output colour space, the source's depth channel, and every parameter in its header.
     // A failure carries its kind and the setting it is about, for the front to word (result.h).
     Result<bool> diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, int nthreads = 0);
-    // The same, for a caller that has read `src` already: `in` is load_render(src, name,
-    // options().read)'s value (shares read and check the render once, for their estimate and run).
-    Result<bool> diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, RenderInput in, const std::string& name,
-                          int nthreads = 0);
+    // The same, for a caller that has resolved the frame already under options() but for their
+    // callbacks and limits (a share resolves it once, for its estimate and its run).
+    Result<bool> diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const detail::ResolvedFrame& frame,
+                          const std::string& name, int nthreads = 0);
 
 private:
     Result<bool> run_fast(const DiffractOptions& opt, const detail::ResolvedFrame& frame, std::vector<float>& xyz);

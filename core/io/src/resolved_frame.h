@@ -1,0 +1,42 @@
+// One frame resolved before any work, once: its render (read and checked by load_render), the
+// camera, the colours, and what its method derives from the options. The estimate, the run, the
+// output's header and a share of the job (share_files.cpp) all read this one value. Internal to
+// wavecam_io.
+#pragma once
+#include <string>
+#include "wavecam/colour_pipeline.h"
+#include "wavecam/diffract_image.h"
+
+namespace wavecam::detail {
+
+// A job's colour: the config, the input's linear working space (named by the options, else by
+// the file, else Rec.709), the output's, and the spectral basis calibrated against the working
+// space as the config defines it.
+struct JobColour {
+    ColourConfig config;
+    std::string in_space, out_space;
+    SpectralSampling sampling;
+    SpectralBasis basis;
+};
+
+struct ResolvedFrame {
+    RenderInput in;
+    PinholeCamera camera;
+    int overscan = 0, out_w = 0, out_h = 0;
+    Aperture aperture;
+    JobColour colour;
+    DiffractionSettings exact;  // exact methods: the estimate's and the run's settings
+    FastPlanSpec fast;          // fast method: what its plan is built for
+    double terms = 0;           // exact methods: the sums' cost
+    std::string job;            // "24x16 pixels x 3 wavelengths x 2 runs"
+
+    SpectralScene scene(DepthMeaning meaning) const {
+        return {camera, in.rgb.data(), in.depth.data(), meaning, true};
+    }
+};
+
+// `input` (load_render's value) under `opt`; errors name `name`.
+Result<ResolvedFrame> resolve_frame(const DiffractOptions& opt, RenderInput input, const std::string& name,
+                                    int nthreads);
+
+}  // namespace wavecam::detail
