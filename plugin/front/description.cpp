@@ -1,8 +1,8 @@
 #include "description.h"
 
+#include <OpenImageIO/filesystem.h>
+
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <toml++/toml.h>
 
 namespace wavecam::front {
@@ -39,9 +39,8 @@ bool inside(const std::filesystem::path& folder, const std::filesystem::path& in
 }  // namespace
 
 Result<Description> read_description(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return Result<Description>::failure(path + ": cannot be read");
-    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    std::string text;
+    if (!OIIO::Filesystem::read_text_file(path, text)) return Result<Description>::failure(path + ": cannot be read");
     return parse_description(text, path);
 }
 
