@@ -2,7 +2,6 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 
-#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -20,8 +19,7 @@ namespace {
 
 struct ApplyFlags {
     std::string input, output, compare, png, frames, part;
-    front::Settings given;  // the settings flags that were given, by key
-    bool no_vignetting = false, no_jitter = false;
+    front::Settings given;  // the settings flags that were given, by key (--no-jitter as jitter=false)
     int threads = 0;
 };
 
@@ -31,11 +29,7 @@ int fail(const std::string& message, int status = 1) {
     return status;
 }
 
-bool is_exr(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext == ".exr";
-}
+bool is_exr(const std::string& path) { return OIIO::Strutil::iequals(OIIO::Filesystem::extension(path), ".exr"); }
 
 // Output names are checked before any work: OpenEXR, or a display-referred PNG, JPEG or TIFF.
 std::string unsupported_output(const ApplyFlags& flags) {
@@ -73,11 +67,12 @@ Result<ResolvedInput> read_and_resolve(const std::string& input, const front::Se
 
 namespace {
 
-front::Settings given_settings(const ApplyFlags& flags) {
-    front::Settings settings = flags.given;
-    if (flags.no_vignetting) settings["vignetting"] = "false";
-    if (flags.no_jitter) settings["jitter"] = "false";
-    return settings;
+// A resolved input's options, with this run's progress and its estimates printed before work.
+DiffractOptions run_options(const ResolvedInput& in, const ProgressFn& progress, int threads) {
+    DiffractOptions o = in.settings.options;
+    o.progress = progress;
+    o.on_estimate = [threads](const std::string& job, double terms) { print_estimate("apply", job, terms, threads); };
+    return o;
 }
 
 int fail_with(const Result<bool>& r) {
@@ -90,7 +85,7 @@ int run_share(const ApplyFlags& flags, const std::string& input, const std::stri
     auto k = parse_share(flags.part);
     if (!k.ok()) return fail(k.error, 2);
     const std::string input_path = std::filesystem::absolute(input).lexically_normal().string();
-    const front::Settings settings = recorded_settings(flags.given, flags.no_vignetting, flags.no_jitter);
+    const front::Settings settings = recorded_settings(flags.given, false, false);
     if (std::filesystem::exists(output)) {
         auto have = read_part(output);
         auto fingerprint = file_fingerprint(input_path);
@@ -100,13 +95,9 @@ int run_share(const ApplyFlags& flags, const std::string& input, const std::stri
             return 0;
         }
     }
-    auto in = read_and_resolve(input, given_settings(flags));
+    auto in = read_and_resolve(input, flags.given);
     if (!in.ok()) return fail(in.error, 2);
-    DiffractOptions o = in.value.settings.options;
-    o.on_estimate = [threads = flags.threads](const std::string& job, double terms) {
-        print_estimate("apply", job, terms, threads);
-    };
-    o.progress = terminal_progress("apply share " + flags.part);
+    const DiffractOptions o = run_options(in.value, terminal_progress("apply share " + flags.part), flags.threads);
     OIIO::ImageBuf part;
     if (auto r = diffract_share(part, in.value.image, input_path, o, settings, k.value.index, k.value.count,
                                 flags.threads);
@@ -129,16 +120,11 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
     if (fs::exists(output) && fs::equivalent(input, output, ec))
         return fail(output + ": the output would overwrite the input; choose another -o", 2);
     if (!flags.part.empty()) return run_share(flags, input, output);
-    auto in = read_and_resolve(input, given_settings(flags));
+    auto in = read_and_resolve(input, flags.given);
     if (!in.ok()) return fail(in.error, 2);
     const OIIO::ImageBuf& src = in.value.image;
     if (!plan || plan_settings != in.value.settings.text) {
-        DiffractOptions o = in.value.settings.options;
-        o.progress = progress;
-        o.on_estimate = [threads = flags.threads](const std::string& job, double terms) {
-            print_estimate("apply", job, terms, threads);
-        };
-        plan = std::make_unique<DiffractPlan>(std::move(o));
+        plan = std::make_unique<DiffractPlan>(run_options(in.value, progress, flags.threads));
         plan_settings = in.value.settings.text;
     }
     OIIO::ImageBuf dst;
@@ -147,8 +133,8 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
     finish_progress();
     // the job this image is (input bytes and settings): `wavecam farm` skips frames already made
     if (auto fingerprint = file_fingerprint(input); fingerprint.ok())
-        dst.specmod().attribute("wavecam.job", job_fingerprint(fingerprint.value, recorded_settings(
-                                                                   flags.given, flags.no_vignetting, flags.no_jitter)));
+        dst.specmod().attribute("wavecam.job",
+                                job_fingerprint(fingerprint.value, recorded_settings(flags.given, false, false)));
     // OpenEXR: scene-linear float, every channel; .png/.jpg/.tif: RGB through the display view
     auto written = is_exr(output) ? write_image_atomically(dst, output, OIIO::TypeDesc::FLOAT)
                                   : write_display_image(dst, opt, output);
@@ -236,8 +222,10 @@ void add_apply_command(CLI::App& app, int& status) {
                                               k.help)
             ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     }
-    cmd->add_flag("--no-jitter", f->no_jitter, "Keep each source at its pixel centre");
-    cmd->add_flag("--no-vignetting", f->no_vignetting, "Divide out the natural cos^4 fall-off");
+    cmd->add_flag_callback("--no-jitter", [f] { f->given["jitter"] = "false"; },
+                           "Keep each source at its pixel centre");
+    cmd->add_flag_callback("--no-vignetting", [f] { f->given["vignetting"] = "false"; },
+                           "Divide out the natural cos^4 fall-off");
     cmd->add_option("--compare", f->compare, "Write input | output | difference as a PNG through the display view");
     cmd->add_option("--png", f->png, "Also write the output as a display-referred PNG");
     cmd->add_option("--frames", f->frames,
