@@ -15,6 +15,40 @@
 #include "../front/settings.h"
 
 namespace wavecam::cli {
+
+front::Settings recorded_settings(const front::Settings& given, bool no_vignetting, bool no_jitter) {
+    front::Settings settings = given;
+    if (no_vignetting) settings["vignetting"] = "false";
+    if (no_jitter) settings["jitter"] = "false";
+    settings.erase("max-terms");
+    settings.erase("max-memory");
+    return settings;
+}
+
+Result<ResolvedInput> read_and_resolve(const std::string& input, const front::Settings& given) {
+    auto image = read_image(input);
+    if (!image.ok()) return Result<ResolvedInput>::failure(image);
+    ResolvedInput r{std::move(image.value), {}};
+    front::SettingSources sources;
+    sources.given = given;
+    sources.given_name = [](const std::string& key) { return "--" + key; };
+    auto settings = front::resolve_settings(r.image.spec(), sources);
+    if (!settings.ok()) return Result<ResolvedInput>::failure(input + ": " + settings.error);
+    r.settings = std::move(settings.value);
+    return Result<ResolvedInput>::success(std::move(r));
+}
+
+Result<std::vector<std::string>> frame_files(const std::string& pattern, const std::vector<int>& frames) {
+    std::string normalized, ignored;
+    std::vector<std::string> files;
+    if (!OIIO::Filesystem::parse_pattern(pattern.c_str(), 0, normalized, ignored) ||
+        !OIIO::Filesystem::enumerate_file_sequence(normalized, frames, files) ||
+        (frames.size() > 1 && files.front() == files.back()))
+        return Result<std::vector<std::string>>::failure(
+            "--frames: '" + pattern + "' has no frame number pattern; expected #, @ or %04d in the name");
+    return Result<std::vector<std::string>>::success(files);
+}
+
 namespace {
 
 struct ApplyFlags {
@@ -40,32 +74,6 @@ std::string unsupported_output(const ApplyFlags& flags) {
         return "--png " + flags.png + ": expected a .png, .jpg or .tif name";
     return {};
 }
-
-}  // namespace
-
-front::Settings recorded_settings(const front::Settings& given, bool no_vignetting, bool no_jitter) {
-    front::Settings settings = given;
-    if (no_vignetting) settings["vignetting"] = "false";
-    if (no_jitter) settings["jitter"] = "false";
-    settings.erase("max-terms");
-    settings.erase("max-memory");
-    return settings;
-}
-
-Result<ResolvedInput> read_and_resolve(const std::string& input, const front::Settings& given) {
-    auto image = read_image(input);
-    if (!image.ok()) return Result<ResolvedInput>::failure(image);
-    ResolvedInput r{std::move(image.value), {}};
-    front::SettingSources sources;
-    sources.given = given;
-    sources.given_name = [](const std::string& key) { return "--" + key; };
-    auto settings = front::resolve_settings(r.image.spec(), sources);
-    if (!settings.ok()) return Result<ResolvedInput>::failure(input + ": " + settings.error);
-    r.settings = std::move(settings.value);
-    return Result<ResolvedInput>::success(std::move(r));
-}
-
-namespace {
 
 // A resolved input's options, with this run's progress and its estimates printed before work.
 DiffractOptions run_options(const ResolvedInput& in, const ProgressFn& progress, int threads) {
@@ -149,21 +157,6 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
     return 0;
 }
 
-}  // namespace
-
-Result<std::vector<std::string>> frame_files(const std::string& pattern, const std::vector<int>& frames) {
-    std::string normalized, ignored;
-    std::vector<std::string> files;
-    if (!OIIO::Filesystem::parse_pattern(pattern.c_str(), 0, normalized, ignored) ||
-        !OIIO::Filesystem::enumerate_file_sequence(normalized, frames, files) ||
-        (frames.size() > 1 && files.front() == files.back()))
-        return Result<std::vector<std::string>>::failure(
-            "--frames: '" + pattern + "' has no frame number pattern; expected #, @ or %04d in the name");
-    return Result<std::vector<std::string>>::success(files);
-}
-
-namespace {
-
 int run(const ApplyFlags& flags) {
     if (const std::string bad = unsupported_output(flags); !bad.empty()) return fail(bad, 2);
     if (!flags.part.empty() && (!flags.compare.empty() || !flags.png.empty()))
@@ -181,10 +174,8 @@ int run(const ApplyFlags& flags) {
     std::vector<std::string> lists[4];
     const std::string* patterns[4] = {&flags.input, &flags.output, &flags.compare, &flags.png};
     for (int k = 0; k < 4; ++k) {
-        if (patterns[k]->empty()) {
-            lists[k].assign(frames.size(), "");
-            continue;
-        }
+        lists[k].assign(frames.size(), "");
+        if (patterns[k]->empty()) continue;
         auto files = frame_files(*patterns[k], frames);
         if (!files.ok()) return fail(files.error, 2);
         lists[k] = files.value;
