@@ -2,7 +2,6 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 
-#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -16,38 +15,6 @@
 #include "../front/settings.h"
 
 namespace wavecam::cli {
-namespace {
-
-struct ApplyFlags {
-    std::string input, output, compare, png, frames, part;
-    front::Settings given;  // the settings flags that were given, by key
-    bool no_vignetting = false, no_jitter = false;
-    int threads = 0;
-};
-
-int fail(const std::string& message, int status = 1) {
-    finish_progress();
-    std::fprintf(stderr, "wavecam apply: %s\n", message.c_str());
-    return status;
-}
-
-bool is_exr(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext == ".exr";
-}
-
-// Output names are checked before any work: OpenEXR, or a display-referred PNG, JPEG or TIFF.
-std::string unsupported_output(const ApplyFlags& flags) {
-    if (!is_exr(flags.output) && display_format(flags.output) == OIIO::TypeDesc::UNKNOWN)
-        return flags.output + ": unsupported output format; expected .exr (scene-linear float, alpha and depth "
-                              "kept) or a display-referred .png, .jpg (8-bit) or .tif (16-bit), RGB only";
-    if (!flags.png.empty() && display_format(flags.png) == OIIO::TypeDesc::UNKNOWN)
-        return "--png " + flags.png + ": expected a .png, .jpg or .tif name";
-    return {};
-}
-
-}  // namespace
 
 front::Settings recorded_settings(const front::Settings& given, bool no_vignetting, bool no_jitter) {
     front::Settings settings = given;
@@ -71,13 +38,49 @@ Result<ResolvedInput> read_and_resolve(const std::string& input, const front::Se
     return Result<ResolvedInput>::success(std::move(r));
 }
 
+Result<std::vector<std::string>> frame_files(const std::string& pattern, const std::vector<int>& frames) {
+    std::string normalized, ignored;
+    std::vector<std::string> files;
+    if (!OIIO::Filesystem::parse_pattern(pattern.c_str(), 0, normalized, ignored) ||
+        !OIIO::Filesystem::enumerate_file_sequence(normalized, frames, files) ||
+        (frames.size() > 1 && files.front() == files.back()))
+        return Result<std::vector<std::string>>::failure(
+            "--frames: '" + pattern + "' has no frame number pattern; expected #, @ or %04d in the name");
+    return Result<std::vector<std::string>>::success(files);
+}
+
 namespace {
 
-front::Settings given_settings(const ApplyFlags& flags) {
-    front::Settings settings = flags.given;
-    if (flags.no_vignetting) settings["vignetting"] = "false";
-    if (flags.no_jitter) settings["jitter"] = "false";
-    return settings;
+struct ApplyFlags {
+    std::string input, output, compare, png, frames, part;
+    front::Settings given;  // the settings flags that were given, by key (--no-jitter as jitter=false)
+    int threads = 0;
+};
+
+int fail(const std::string& message, int status = 1) {
+    finish_progress();
+    std::fprintf(stderr, "wavecam apply: %s\n", message.c_str());
+    return status;
+}
+
+bool is_exr(const std::string& path) { return OIIO::Strutil::iequals(OIIO::Filesystem::extension(path), ".exr"); }
+
+// Output names are checked before any work: OpenEXR, or a display-referred PNG, JPEG or TIFF.
+std::string unsupported_output(const ApplyFlags& flags) {
+    if (!is_exr(flags.output) && display_format(flags.output) == OIIO::TypeDesc::UNKNOWN)
+        return flags.output + ": unsupported output format; expected .exr (scene-linear float, alpha and depth "
+                              "kept) or a display-referred .png, .jpg (8-bit) or .tif (16-bit), RGB only";
+    if (!flags.png.empty() && display_format(flags.png) == OIIO::TypeDesc::UNKNOWN)
+        return "--png " + flags.png + ": expected a .png, .jpg or .tif name";
+    return {};
+}
+
+// A resolved input's options, with this run's progress and its estimates printed before work.
+DiffractOptions run_options(const ResolvedInput& in, const ProgressFn& progress, int threads) {
+    DiffractOptions o = in.settings.options;
+    o.progress = progress;
+    o.on_estimate = [threads](const std::string& job, double terms) { print_estimate("apply", job, terms, threads); };
+    return o;
 }
 
 int fail_with(const Result<bool>& r) {
@@ -90,7 +93,7 @@ int run_share(const ApplyFlags& flags, const std::string& input, const std::stri
     auto k = parse_share(flags.part);
     if (!k.ok()) return fail(k.error, 2);
     const std::string input_path = std::filesystem::absolute(input).lexically_normal().string();
-    const front::Settings settings = recorded_settings(flags.given, flags.no_vignetting, flags.no_jitter);
+    const front::Settings settings = recorded_settings(flags.given, false, false);
     if (std::filesystem::exists(output)) {
         auto have = read_part(output);
         auto fingerprint = file_fingerprint(input_path);
@@ -100,13 +103,9 @@ int run_share(const ApplyFlags& flags, const std::string& input, const std::stri
             return 0;
         }
     }
-    auto in = read_and_resolve(input, given_settings(flags));
+    auto in = read_and_resolve(input, flags.given);
     if (!in.ok()) return fail(in.error, 2);
-    DiffractOptions o = in.value.settings.options;
-    o.on_estimate = [threads = flags.threads](const std::string& job, double terms) {
-        print_estimate("apply", job, terms, threads);
-    };
-    o.progress = terminal_progress("apply share " + flags.part);
+    const DiffractOptions o = run_options(in.value, terminal_progress("apply share " + flags.part), flags.threads);
     OIIO::ImageBuf part;
     if (auto r = diffract_share(part, in.value.image, input_path, o, settings, k.value.index, k.value.count,
                                 flags.threads);
@@ -129,16 +128,11 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
     if (fs::exists(output) && fs::equivalent(input, output, ec))
         return fail(output + ": the output would overwrite the input; choose another -o", 2);
     if (!flags.part.empty()) return run_share(flags, input, output);
-    auto in = read_and_resolve(input, given_settings(flags));
+    auto in = read_and_resolve(input, flags.given);
     if (!in.ok()) return fail(in.error, 2);
     const OIIO::ImageBuf& src = in.value.image;
     if (!plan || plan_settings != in.value.settings.text) {
-        DiffractOptions o = in.value.settings.options;
-        o.progress = progress;
-        o.on_estimate = [threads = flags.threads](const std::string& job, double terms) {
-            print_estimate("apply", job, terms, threads);
-        };
-        plan = std::make_unique<DiffractPlan>(std::move(o));
+        plan = std::make_unique<DiffractPlan>(run_options(in.value, progress, flags.threads));
         plan_settings = in.value.settings.text;
     }
     OIIO::ImageBuf dst;
@@ -147,8 +141,8 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
     finish_progress();
     // the job this image is (input bytes and settings): `wavecam farm` skips frames already made
     if (auto fingerprint = file_fingerprint(input); fingerprint.ok())
-        dst.specmod().attribute("wavecam.job", job_fingerprint(fingerprint.value, recorded_settings(
-                                                                   flags.given, flags.no_vignetting, flags.no_jitter)));
+        dst.specmod().attribute("wavecam.job",
+                                job_fingerprint(fingerprint.value, recorded_settings(flags.given, false, false)));
     // OpenEXR: scene-linear float, every channel; .png/.jpg/.tif: RGB through the display view
     auto written = is_exr(output) ? write_image_atomically(dst, output, OIIO::TypeDesc::FLOAT)
                                   : write_display_image(dst, opt, output);
@@ -162,21 +156,6 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
     std::printf("wrote %s\n", output.c_str());
     return 0;
 }
-
-}  // namespace
-
-Result<std::vector<std::string>> frame_files(const std::string& pattern, const std::vector<int>& frames) {
-    std::string normalized, ignored;
-    std::vector<std::string> files;
-    if (!OIIO::Filesystem::parse_pattern(pattern.c_str(), 0, normalized, ignored) ||
-        !OIIO::Filesystem::enumerate_file_sequence(normalized, frames, files) ||
-        (frames.size() > 1 && files.front() == files.back()))
-        return Result<std::vector<std::string>>::failure(
-            "--frames: '" + pattern + "' has no frame number pattern; expected #, @ or %04d in the name");
-    return Result<std::vector<std::string>>::success(files);
-}
-
-namespace {
 
 int run(const ApplyFlags& flags) {
     if (const std::string bad = unsupported_output(flags); !bad.empty()) return fail(bad, 2);
@@ -195,10 +174,8 @@ int run(const ApplyFlags& flags) {
     std::vector<std::string> lists[4];
     const std::string* patterns[4] = {&flags.input, &flags.output, &flags.compare, &flags.png};
     for (int k = 0; k < 4; ++k) {
-        if (patterns[k]->empty()) {
-            lists[k].assign(frames.size(), "");
-            continue;
-        }
+        lists[k].assign(frames.size(), "");
+        if (patterns[k]->empty()) continue;
         auto files = frame_files(*patterns[k], frames);
         if (!files.ok()) return fail(files.error, 2);
         lists[k] = files.value;
@@ -236,8 +213,10 @@ void add_apply_command(CLI::App& app, int& status) {
                                               k.help)
             ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     }
-    cmd->add_flag("--no-jitter", f->no_jitter, "Keep each source at its pixel centre");
-    cmd->add_flag("--no-vignetting", f->no_vignetting, "Divide out the natural cos^4 fall-off");
+    cmd->add_flag_callback("--no-jitter", [f] { f->given["jitter"] = "false"; },
+                           "Keep each source at its pixel centre");
+    cmd->add_flag_callback("--no-vignetting", [f] { f->given["vignetting"] = "false"; },
+                           "Divide out the natural cos^4 fall-off");
     cmd->add_option("--compare", f->compare, "Write input | output | difference as a PNG through the display view");
     cmd->add_option("--png", f->png, "Also write the output as a display-referred PNG");
     cmd->add_option("--frames", f->frames,

@@ -104,29 +104,22 @@ Result<bool> write_png(const OIIO::ImageBuf& psf, double peak, const std::string
     return write_image_atomically(display, path, OIIO::TypeDesc::UINT8);
 }
 
+int fail(const std::string& message, int status = 1) {
+    std::fprintf(stderr, "wavecam psf: %s\n", message.c_str());
+    return status;
+}
+
 int run(const PsfFlags& flags) {
     auto params = parse_flags(flags);
-    if (!params.ok()) {
-        std::fprintf(stderr, "wavecam psf: %s\n", params.error.c_str());
-        return 2;
-    }
+    if (!params.ok()) return fail(params.error, 2);
     const PsfParams& p = params.value;
     auto img = compute_psf(p, terminal_progress("psf"));
     finish_progress();
-    if (!img.ok()) {
-        std::fprintf(stderr, "wavecam psf: %s\n", img.error.c_str());
-        return interrupted() ? 130 : 1;
-    }
+    if (!img.ok()) return fail(img.error, interrupted() ? 130 : 1);
     const OIIO::ImageBuf buf = to_imagebuf(img.value, p);
-    if (auto w = write_image_atomically(buf, flags.output, OIIO::TypeDesc::FLOAT); !w.ok()) {
-        std::fprintf(stderr, "wavecam psf: %s\n", w.error.c_str());
-        return 1;
-    }
+    if (auto w = write_image_atomically(buf, flags.output, OIIO::TypeDesc::FLOAT); !w.ok()) return fail(w.error);
     if (!flags.png.empty())
-        if (auto w = write_png(buf, img.value.peak, flags.png); !w.ok()) {
-            std::fprintf(stderr, "wavecam psf: %s\n", w.error.c_str());
-            return 1;
-        }
+        if (auto w = write_png(buf, img.value.peak, flags.png); !w.ok()) return fail(w.error);
     std::printf("Fresnel number  %.4g\n", img.value.fresnel_number);
     if (has_zone_focus(p.aperture))
         std::printf("%s first focus r1^2/lambda = %.4g mm at %.4g nm (film at %.4g mm)\n",

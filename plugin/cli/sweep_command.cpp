@@ -96,36 +96,30 @@ OIIO::ImageBuf plot(const std::vector<SweepPoint>& pts, double rayleigh, double 
     return img;
 }
 
+int fail(const std::string& message, int status = 1) {
+    std::fprintf(stderr, "wavecam sweep: %s\n", message.c_str());
+    return status;
+}
+
 int run(const SweepFlags& f) {
     SweepParams p;
     std::string error;
-    auto length = [&error](const std::string& text, const char* flag, double& dst) {
+    auto take = [&error](const auto& r, auto& dst) {
         if (!error.empty()) return;
-        auto r = parse_length(text, flag);
         if (!r.ok()) error = "--" + r.error;
         else dst = r.value;
     };
-    length(f.film_distance, "film-distance", p.film_distance);
-    length(f.wavelength, "wavelength", p.wavelength);
-    if (error.empty()) {
-        auto a = load_aperture(f.aperture, "aperture");
-        if (!a.ok()) error = "--" + a.error;
-        else p.aperture = a.value;
-    }
+    take(parse_length(f.film_distance, "film-distance"), p.film_distance);
+    take(parse_length(f.wavelength, "wavelength"), p.wavelength);
+    take(load_aperture(f.aperture, "aperture"), p.aperture);
     if (error.empty() && (f.count < 3 || f.count > 64)) error = "--count: expected 3 to 64 diameters";
     if (error.empty() && (f.resolution < 21 || f.resolution > 1001)) error = "--resolution: expected 21 to 1001";
-    if (!error.empty()) {
-        std::fprintf(stderr, "wavecam sweep: %s\n", error.c_str());
-        return 2;
-    }
+    if (!error.empty()) return fail(error, 2);
     p.count = f.count;
     p.resolution = f.resolution;
     auto r = sweep_pinholes(p, terminal_progress("sweep"));
     finish_progress();
-    if (!r.ok()) {
-        std::fprintf(stderr, "wavecam sweep: %s\n", r.error.c_str());
-        return interrupted() ? 130 : 1;
-    }
+    if (!r.ok()) return fail(r.error, interrupted() ? 130 : 1);
     const auto& pts = r.value;
     const double unit = std::sqrt(p.film_distance * p.wavelength);
     const double best = optimal_diameter(pts), rayleigh = rayleigh_optimal_diameter(p.film_distance, p.wavelength);
@@ -136,16 +130,10 @@ int run(const SweepFlags& f) {
     for (const auto& pt : pts)
         table << pt.diameter * 1e3 << "," << pt.diameter / unit << "," << pt.psf.fresnel_number << "," << pt.r50 * 1e6
               << "," << pt.r80 * 1e6 << "\n";
-    if (auto w = write_text_atomically(table.str(), csv); !w.ok()) {
-        std::fprintf(stderr, "wavecam sweep: %s\n", w.error.c_str());
-        return 1;
-    }
+    if (auto w = write_text_atomically(table.str(), csv); !w.ok()) return fail(w.error);
     for (auto [img, path] : {std::pair{contact_sheet(pts), f.prefix + "_psfs.png"},
                              std::pair{plot(pts, rayleigh, nyquist, best), f.prefix + "_spot_size.png"}})
-        if (auto w = write_image_atomically(img, path, OIIO::TypeDesc::UINT8); !w.ok()) {
-            std::fprintf(stderr, "wavecam sweep: %s\n", w.error.c_str());
-            return 1;
-        }
+        if (auto w = write_image_atomically(img, path, OIIO::TypeDesc::UINT8); !w.ok()) return fail(w.error);
     std::printf("measured optimum (smallest r50): %.4g mm = %.3f sqrt(f lambda)\n", best * 1e3, best / unit);
     std::printf("Rayleigh 1.9 sqrt(f lambda):     %.4g mm\n", rayleigh * 1e3);
     std::printf("paper sqrt(D lambda / 2), D = 5f: %.4g mm\n", nyquist * 1e3);

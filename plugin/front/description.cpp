@@ -1,8 +1,9 @@
 #include "description.h"
 
+#include <OpenImageIO/filesystem.h>
+
+#include <algorithm>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <toml++/toml.h>
 
 namespace wavecam::front {
@@ -30,18 +31,14 @@ bool inside(const std::filesystem::path& folder, const std::filesystem::path& in
     namespace fs = std::filesystem;
     std::error_code ec;
     const fs::path a = fs::weakly_canonical(folder, ec), b = fs::weakly_canonical(inner, ec);
-    auto ai = a.begin(), bi = b.begin();
-    for (; ai != a.end(); ++ai, ++bi)
-        if (bi == b.end() || *ai != *bi) return false;
-    return true;
+    return std::mismatch(a.begin(), a.end(), b.begin(), b.end()).first == a.end();
 }
 
 }  // namespace
 
 Result<Description> read_description(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return Result<Description>::failure(path + ": cannot be read");
-    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    std::string text;
+    if (!OIIO::Filesystem::read_text_file(path, text)) return Result<Description>::failure(path + ": cannot be read");
     return parse_description(text, path);
 }
 
@@ -71,9 +68,8 @@ Result<Description> parse_description(std::string_view text, const std::string& 
     const fs::path source = folder / d.source;
     if (fs::path(d.source).is_absolute() || !inside(folder, source))
         return fail("source: '" + d.source + "' escapes the description's folder; expected a path inside it");
-    std::error_code ec;
-    if (!fs::is_regular_file(source, ec)) return fail("source: '" + d.source + "' does not exist (looked for " +
-                                                      source.string() + ")");
+    if (!OIIO::Filesystem::is_regular(source.string()))
+        return fail("source: '" + d.source + "' does not exist (looked for " + source.string() + ")");
     d.source = source.string();
     // A mask image, like the source, is found beside this file and stays inside its folder.
     if (auto a = d.settings.find("aperture"); a != d.settings.end() && a->second.rfind("mask:", 0) == 0) {

@@ -36,6 +36,12 @@ Result<double> parse_size(const std::string& name, const std::string& v) {
     return l;
 }
 
+// A setting whose value is its text.
+Ok copy_text(const std::string& v, std::string& dst) {
+    dst = v;
+    return Ok::success(true);
+}
+
 template <class E>
 Ok parse_choice(const std::string& name, const std::string& v, std::initializer_list<std::pair<const char*, E>> choices,
                 E& dst) {
@@ -93,10 +99,7 @@ const std::vector<SettingKey> kKeys = {
          return take(a, o.read.fov_h);
      }},
     {"depth-channel", "ViewLayer.Depth.Z", "depth channel name (default Z; Blender: ViewLayer.Depth.Z)", true,
-     [](const std::string& v, const std::string&, DiffractOptions& o) {
-         o.read.depth_channel = v;
-         return Ok::success(true);
-     }},
+     [](const std::string& v, const std::string&, DiffractOptions& o) { return copy_text(v, o.read.depth_channel); }},
     {"depth", "planar", "depth meaning: planar (along the view axis) or ray", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          return parse_choice(n, v, {{"planar", DepthMeaning::Planar}, {"ray", DepthMeaning::Ray}}, o.depth_meaning);
@@ -135,20 +138,11 @@ const std::vector<SettingKey> kKeys = {
     {"vignetting", "false", "true: keep the natural cos^4 fall-off; false divides it out", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) { return take(parse_bool(n, v), o.vignetting); }},
     {"colorconfig", "config.ocio", "OpenColorIO config (default: wavecam's own)", true,
-     [](const std::string& v, const std::string&, DiffractOptions& o) {
-         o.colorconfig = v;
-         return Ok::success(true);
-     }},
+     [](const std::string& v, const std::string&, DiffractOptions& o) { return copy_text(v, o.colorconfig); }},
     {"input-colorspace", "ACEScg", "colour space of the input (default: from the file, else lin_rec709)", false,
-     [](const std::string& v, const std::string&, DiffractOptions& o) {
-         o.input_colorspace = v;
-         return Ok::success(true);
-     }},
+     [](const std::string& v, const std::string&, DiffractOptions& o) { return copy_text(v, o.input_colorspace); }},
     {"output-colorspace", "ACEScg", "colour space of the output (default: the input's)", true,
-     [](const std::string& v, const std::string&, DiffractOptions& o) {
-         o.output_colorspace = v;
-         return Ok::success(true);
-     }},
+     [](const std::string& v, const std::string&, DiffractOptions& o) { return copy_text(v, o.output_colorspace); }},
     {"out-of-gamut", "keep", "desaturate (default): a colour the output space cannot hold (a negative channel) is "
      "pulled toward the grey of the same luminance until that channel is 0; keep: written as it is", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {

@@ -9,12 +9,12 @@
 //
 // No exception leaves this file; errors go through OIIO's error reporting (and, for the one
 // host that drops them, to stderr as well: see report_where_the_host_drops_it).
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cerrno>
 #include <cstdio>
-#include <filesystem>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -29,31 +29,17 @@ namespace {
 
 constexpr const char* kExtension = ".wavecam";
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 using wavecam::front::Settings;
 
 // "a.exr.wavecam?runs=8&pinhole=0.2mm" -> path "a.exr.wavecam", settings {runs: 8, pinhole: 0.2mm}
 std::string split_query(const std::string& name, Settings& settings) {
     const size_t q = name.find('?');
     if (q == std::string::npos) return name;
-    std::string rest = name.substr(q + 1);
-    size_t start = 0;
-    while (start <= rest.size()) {
-        const size_t amp = std::min(rest.find('&', start), rest.size());
-        const std::string item = rest.substr(start, amp - start);
+    for (const std::string& item : Strutil::splits(name.substr(q + 1), "&")) {
         const size_t eq = item.find('=');
         if (!item.empty()) settings[item.substr(0, eq)] = eq == std::string::npos ? "" : item.substr(eq + 1);
-        start = amp + 1;
     }
     return name.substr(0, q);
-}
-
-bool is_file(const std::string& path) {
-    std::error_code ec;
-    return std::filesystem::is_regular_file(path, ec);
 }
 
 // oiiotool (2.4.7 and 3.x, oiiotool.cpp's input_file) opens an input through its ImageCache
@@ -69,7 +55,7 @@ void report_where_the_host_drops_it(const std::string& name, const ImageSpec& co
 #else
     const bool host_is_oiiotool = false;
 #endif
-    if (!host_is_oiiotool || is_file(name)) return;
+    if (!host_is_oiiotool || Filesystem::is_regular(name)) return;
     for (const ParamValue& p : config.extra_attribs)
         if (p.name() != "oiio:UnassociatedAlpha") return;  // --iconfig given: oiiotool reports it
     static std::mutex printed_mutex;
@@ -98,10 +84,10 @@ public:
     // A plain filesystem check: OIIO calls this holding its plugin mutex, so it must not
     // open anything through OIIO (that would deadlock).
     bool valid_file(const std::string& filename) const override {
-        Settings ignored;
-        const std::string path = split_query(filename, ignored);
-        if (!ends_with(path, kExtension)) return false;
-        return is_file(path) || is_file(path.substr(0, path.size() - std::strlen(kExtension)));
+        const std::string path = filename.substr(0, filename.find('?'));
+        if (!Strutil::ends_with(path, kExtension)) return false;
+        return Filesystem::is_regular(path) ||
+               Filesystem::is_regular(path.substr(0, path.size() - std::strlen(kExtension)));
     }
 
     bool open(const std::string& name, ImageSpec& newspec) override { return open(name, newspec, ImageSpec()); }
@@ -147,7 +133,7 @@ private:
             return query.count(key) ? "?" + key + "= in the name" : "--iconfig wavecam:" + key;
         };
         std::string source;
-        if (is_file(path)) {  // a description file
+        if (Filesystem::is_regular(path)) {  // a description file
             auto d = front::read_description(path);
             if (!d.ok()) return fail(d.error);
             source = d.value.source;
@@ -159,9 +145,7 @@ private:
 
         // OIIO's words for a missing file name its ImageCache ("Invalid image file"); say it
         // plainly. A source that is itself a wavecam name need not exist on disk.
-        Settings ignored;
-        std::error_code ec;
-        if (!std::filesystem::exists(source, ec) && !ends_with(split_query(source, ignored), kExtension))
+        if (!Filesystem::exists(source) && !Strutil::ends_with(source.substr(0, source.find('?')), kExtension))
             return fail(source + ": no such file, expected the render to diffract");
 
         std::string key = source;
@@ -175,26 +159,21 @@ private:
         t_opening.insert(source);
         auto image = compute(source, sources);
         t_opening.erase(source);
-        if (!image) return false;
+        if (!image.ok()) return fail(image.error);
         {
             std::lock_guard<std::mutex> lock(g_cache_mutex);
-            g_cache[key] = image;
+            g_cache[key] = image.value;
         }
-        return publish(image, newspec);
+        return publish(image.value, newspec);
     }
 
-    std::shared_ptr<const ImageBuf> compute(const std::string& source, const wavecam::front::SettingSources& sources) {
+    using Computed = wavecam::Result<std::shared_ptr<const ImageBuf>>;
+    Computed compute(const std::string& source, const wavecam::front::SettingSources& sources) {
         auto read = wavecam::read_image(source);
-        if (!read.ok()) {
-            fail(read.error);
-            return nullptr;
-        }
+        if (!read.ok()) return Computed::failure(read);
         const ImageBuf& src = read.value;
         auto settings = wavecam::front::resolve_settings(src.spec(), sources);
-        if (!settings.ok()) {
-            fail(source + ": " + settings.error);
-            return nullptr;
-        }
+        if (!settings.ok()) return Computed::failure(source + ": " + settings.error);
         std::string plan_key;
         for (const auto& [k, v] : settings.value.text) plan_key += k + "=" + v + "\n";
         plan_key += settings.value.options.read.fov_from;
@@ -207,11 +186,9 @@ private:
             plan = slot;
         }
         auto dst = std::make_shared<ImageBuf>();
-        if (auto r = plan->diffract(*dst, src, source); !r.ok()) {
-            fail(wavecam::front::word_failure(r, wavecam::front::Front::Plugin));
-            return nullptr;
-        }
-        return dst;
+        if (auto r = plan->diffract(*dst, src, source); !r.ok())
+            return Computed::failure(wavecam::front::word_failure(r, wavecam::front::Front::Plugin));
+        return Computed::success(dst);
     }
 
     bool publish(const std::shared_ptr<const ImageBuf>& image, ImageSpec& newspec) {
