@@ -4,21 +4,17 @@
 #include <cmath>
 #include <sstream>
 
+#include "counter_random.h"
+
 namespace wavecam {
 namespace {
 
-// SplitMix64 (Steele, Lea and Flood 2014): a counter-based hash, so hole j of zone n gets the
-// same random number on every machine without storing the holes.
-uint64_t mix(uint64_t z) {
-    z += 0x9e3779b97f4a7c15ull;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
-// Uniform in [0, 1) from the seed, the zone and an index.
+// Uniform in [0, 1) from the seed, the zone and an index: a counter-based hash (SplitMix64,
+// counter_random.h), so hole j of zone n gets the same random number on every machine without
+// storing the holes.
 double uniform(uint32_t seed, int zone, uint64_t index) {
-    return double(mix(mix(mix(seed) + uint64_t(zone)) + index) >> 11) * 0x1.0p-53;
+    using detail::splitmix64;
+    return double(splitmix64(splitmix64(splitmix64(seed) + uint64_t(zone)) + index) >> 11) * 0x1.0p-53;
 }
 
 // r_n = sqrt(n / N) in units of R.
