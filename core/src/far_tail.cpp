@@ -116,33 +116,32 @@ std::vector<double> tail_kernel(int radius, int reach, int cell, int half) {
     return k;
 }
 
-}  // namespace
+// The coarse grid the tail is gathered and spread on: cells of `cell` x `cell` pixels, cell
+// (0, 0) at domain pixel (x0, y0), covering the output widened by the tail's reach.
+struct CoarseGrid {
+    int cell, x0, y0, cw, ch;
+};
 
-void add_far_tail(const PsfTable& t, const SpectralScene& scene, int origin, int out_x0, int out_y0, int out_w,
-                  int out_h, float* xyz, int nthreads) {
-    const int R = t.radius, reach = kTailReach * R;
-    if (R < 2 || t.deficit.empty()) return;
-    const int cell = std::max(1, R / 3), half = reach / cell + 1, L = t.layers.count;
-    // the coarse grid covers the output widened by the tail's reach
-    const int x0 = out_x0 - reach, y0 = out_y0 - reach;  // domain coordinates of coarse cell (0, 0)
-    const int cw = (out_w + 2 * reach + cell - 1) / cell, ch = (out_h + 2 * reach + cell - 1) / cell;
-    const int nkx = int(t.ax.knots.size()), anchors = t.anchors();
-    std::vector<float> missing(3 * size_t(cw) * ch, 0.0f);
+// Per coarse cell, the light its sources send beyond their kernels: each layer's light times the
+// kernels' missing shares at the cell's centre, interpolated as the kernels are.
+std::vector<float> missing_light(const PsfTable& t, const SpectralScene& scene, int origin, const CoarseGrid& g,
+                                 int nthreads) {
+    const int L = t.layers.count, nkx = int(t.ax.knots.size()), anchors = t.anchors();
+    std::vector<float> missing(3 * size_t(g.cw) * g.ch, 0.0f);
     const FrameSources frame(t, scene);
 #pragma omp parallel num_threads(nthreads)
     {
         std::vector<double> light(size_t(L) * 3);  // a cell's light per layer and primary
 #pragma omp for
-        for (int J = 0; J < ch; ++J)
-            for (int I = 0; I < cw; ++I) {
+        for (int J = 0; J < g.ch; ++J)
+            for (int I = 0; I < g.cw; ++I) {
                 std::fill(light.begin(), light.end(), 0.0);
-                frame.add_block(x0 + I * cell - origin, y0 + J * cell - origin, cell, light);
-                // the kernels' missing shares at the cell's centre, interpolated as the kernels are
-                const int kx = std::clamp(x0 + I * cell + cell / 2, 0, t.ax.knots.back() - 1);
-                const int ky = std::clamp(y0 + J * cell + cell / 2, 0, t.ay.knots.back() - 1);
+                frame.add_block(g.x0 + I * g.cell - origin, g.y0 + J * g.cell - origin, g.cell, light);
+                const int kx = std::clamp(g.x0 + I * g.cell + g.cell / 2, 0, t.ax.knots.back() - 1);
+                const int ky = std::clamp(g.y0 + J * g.cell + g.cell / 2, 0, t.ay.knots.back() - 1);
                 const int cx = t.ax.cell_of(kx), cy = t.ay.cell_of(ky);
                 const double bx = t.ax.upper_weight(cx, kx), by = t.ay.upper_weight(cy, ky);
-                float* m = &missing[3 * (size_t(J) * cw + I)];
+                float* m = &missing[3 * (size_t(J) * g.cw + I)];
                 for (int corner = 0; corner < 4; ++corner) {
                     const int dx = corner & 1, dy = corner >> 1;
                     const double phi = (dx ? bx : 1 - bx) * (dy ? by : 1 - by);
@@ -156,28 +155,49 @@ void add_far_tail(const PsfTable& t, const SpectralScene& scene, int origin, int
                 }
             }
     }
-    // spread over the annulus (a direct sum: the coarse kernel is small), only where the output is
-    const std::vector<double> k = tail_kernel(R, reach, cell, half);
-    const int kw = 2 * half + 1;
-    const int I0 = std::max(0, reach / cell - 1), I1 = std::min(cw, (reach + out_w) / cell + 2);
-    const int J0 = std::max(0, reach / cell - 1), J1 = std::min(ch, (reach + out_h) / cell + 2);
-    std::vector<float> spread(3 * size_t(cw) * ch, 0.0f);
+    return missing;
+}
+
+// The missing light spread over the annulus R..reach by tail_kernel (a direct sum: the coarse
+// kernel is small), only in the cells [I0, I1) x [J0, J1) where the output is.
+std::vector<float> spread_over_annulus(const std::vector<float>& missing, const CoarseGrid& g, int R, int reach,
+                                       int I0, int I1, int J0, int J1, int nthreads) {
+    const int half = reach / g.cell + 1, kw = 2 * half + 1;
+    const std::vector<double> k = tail_kernel(R, reach, g.cell, half);
+    std::vector<float> spread(3 * size_t(g.cw) * g.ch, 0.0f);
 #pragma omp parallel for num_threads(nthreads)
     for (int J = J0; J < J1; ++J)
         for (int I = I0; I < I1; ++I) {
             double acc[3] = {0, 0, 0};
             for (int b = -half; b <= half; ++b) {
                 const int sj = J - b;
-                if (sj < 0 || sj >= ch) continue;
+                if (sj < 0 || sj >= g.ch) continue;
                 for (int a = -half; a <= half; ++a) {
                     const int si = I - a;
-                    if (si < 0 || si >= cw) continue;
+                    if (si < 0 || si >= g.cw) continue;
                     const double kk = k[size_t(b + half) * kw + (a + half)];
-                    for (int q = 0; q < 3; ++q) acc[q] += kk * missing[3 * (size_t(sj) * cw + si) + q];
+                    for (int q = 0; q < 3; ++q) acc[q] += kk * missing[3 * (size_t(sj) * g.cw + si) + q];
                 }
             }
-            for (int q = 0; q < 3; ++q) spread[3 * (size_t(J) * cw + I) + q] = float(acc[q]);
+            for (int q = 0; q < 3; ++q) spread[3 * (size_t(J) * g.cw + I) + q] = float(acc[q]);
         }
+    return spread;
+}
+
+}  // namespace
+
+void add_far_tail(const PsfTable& t, const SpectralScene& scene, int origin, int out_x0, int out_y0, int out_w,
+                  int out_h, float* xyz, int nthreads) {
+    const int R = t.radius, reach = kTailReach * R;
+    if (R < 2 || t.deficit.empty()) return;
+    const int cell = std::max(1, R / 3);
+    const CoarseGrid g{cell, out_x0 - reach, out_y0 - reach, (out_w + 2 * reach + cell - 1) / cell,
+                       (out_h + 2 * reach + cell - 1) / cell};
+    const int cw = g.cw, ch = g.ch;
+    const int I0 = std::max(0, reach / cell - 1), I1 = std::min(cw, (reach + out_w) / cell + 2);
+    const int J0 = std::max(0, reach / cell - 1), J1 = std::min(ch, (reach + out_h) / cell + 2);
+    const std::vector<float> spread =
+        spread_over_annulus(missing_light(t, scene, origin, g, nthreads), g, R, reach, I0, I1, J0, J1, nthreads);
     // back to pixels: each coarse cell's light over its cell x cell pixels, bilinearly
     const float per_pixel = 1.0f / float(cell * cell);
 #pragma omp parallel for num_threads(nthreads)

@@ -117,6 +117,30 @@ bool fit_sigmoid(const std::vector<double>& t, const std::vector<Vector3>& xyz, 
 
 Vector3 column(const Matrix3& m, int p) { return {m[0][p], m[1][p], m[2][p]}; }
 
+// Primary p's spectrum, continued from white (where a flat-ish sigmoid fits) out to the primary
+// in kPrimarySteps steps, warm-started, as Jakob & Hanika fill their table from the centre.
+// Returns the last step fitted (-1: none); `realised` is the working-space RGB it reached.
+constexpr int kPrimarySteps = 20;
+int fit_primary(int p, const std::vector<double>& t, const std::vector<Vector3>& xyz, const Matrix3& rgb_to_xyz,
+                SigmoidSpectrum& sp, Vector3& realised) {
+    const Vector3 white{1.0 / 3, 1.0 / 3, 1.0 / 3};
+    double y_white = 0;
+    for (const Vector3& s : xyz) y_white += 0.5 * s[1];
+    sp.log_scale = std::log(multiply(rgb_to_xyz, white)[1] / y_white);
+    int reached = -1;
+    for (int k = 0; k <= kPrimarySteps; ++k) {
+        const double alpha = 1.0 - double(k) / kPrimarySteps;  // share of white
+        Vector3 rgb = white;
+        for (int q = 0; q < 3; ++q) rgb[q] = alpha * white[q] + (1 - alpha) * (q == p ? 1.0 : 0.0);
+        SigmoidSpectrum trial = sp;
+        if (!fit_sigmoid(t, xyz, multiply(rgb_to_xyz, rgb), trial)) break;
+        sp = trial;
+        reached = k;
+        realised = rgb;
+    }
+    return reached;
+}
+
 }  // namespace
 
 std::string SpectralBasis::description() const {
@@ -151,36 +175,17 @@ Result<SpectralBasis> make_spectral_basis(const SpectralSampling& sampling, cons
     }
 
     SpectralBasis b;
-    // Colour: each primary's spectrum, continued from white (where a flat-ish sigmoid fits) out
-    // to the primary in steps, warm-started, as Jakob & Hanika fill their table from the centre.
     Matrix3 realised{};  // column p: working-space RGB of the realised primary p
     std::vector<SigmoidSpectrum> primaries(3);
     bool colour = !monochrome && n >= 3;
     for (int p = 0; p < 3 && colour; ++p) {
-        constexpr int kSteps = 20;
-        const Vector3 white{1.0 / 3, 1.0 / 3, 1.0 / 3};
-        SigmoidSpectrum sp;
-        double y_white = 0;
-        for (int s = 0; s < n; ++s) y_white += 0.5 * xyz[s][1];
-        sp.log_scale = std::log(multiply(rgb_to_xyz, white)[1] / y_white);
-        int reached = -1;
-        for (int k = 0; k <= kSteps; ++k) {
-            const double alpha = 1.0 - double(k) / kSteps;  // share of white
-            Vector3 rgb = white;
-            for (int q = 0; q < 3; ++q) rgb[q] = alpha * white[q] + (1 - alpha) * (q == p ? 1.0 : 0.0);
-            SigmoidSpectrum trial = sp;
-            if (!fit_sigmoid(t, xyz, multiply(rgb_to_xyz, rgb), trial)) break;
-            sp = trial;
-            reached = k;
-            for (int q = 0; q < 3; ++q) realised[q][p] = rgb[q];
-        }
+        Vector3 rgb{};
+        const int reached = fit_primary(p, t, xyz, rgb_to_xyz, primaries[p], rgb);
         // Colour needs each primary at least half way from white; otherwise the wavelengths are
         // too close together to carry it (e.g. 549, 550, 551 nm): monochrome.
-        if (reached < kSteps / 2) colour = false;
-        else {
-            primaries[p] = sp;
-            b.desaturation_[p] = 1.0 - double(reached) / kSteps;
-        }
+        if (reached < kPrimarySteps / 2) colour = false;
+        for (int q = 0; q < 3; ++q) realised[q][p] = rgb[q];
+        b.desaturation_[p] = 1.0 - double(reached) / kPrimarySteps;
     }
     if (colour && !(std::fabs(determinant(realised)) > 1e-6)) colour = false;
 
