@@ -119,12 +119,12 @@ std::vector<Frame> frames_of(const std::map<std::string, std::string>& job) {
     return frames;
 }
 
-// What is done, frame by frame; true when every frame is merged.
-Result<bool> report_status(const std::string& output) {
+// What is done, frame by frame; exit status 0 when every frame is merged.
+int report_status(const std::string& output) {
     const fs::path farm = farm_dir(output);
     if (!fs::exists(farm / "job.txt"))
-        return Result<bool>::failure(output + ": no farm job here (" + (farm / "job.txt").string() +
-                                     " is missing); submit one with `wavecam farm submit`");
+        return fail(output + ": no farm job here (" + (farm / "job.txt").string() +
+                    " is missing); submit one with `wavecam farm submit`");
     auto job = read_job_file(farm / "job.txt");
     const int n = std::atoi(job["tasks"].c_str());
     const auto states = squeue_states();
@@ -167,7 +167,7 @@ Result<bool> report_status(const std::string& output) {
     }
     if (!states.ok()) std::printf("(queue unknown: %s)\n", states.error.c_str());
     std::printf("%d of %zu frames %s\n", merged, frames.size(), n == 0 ? "done" : "merged");
-    return Result<bool>::success(merged == int(frames.size()));
+    return merged == int(frames.size()) ? 0 : 1;
 }
 
 // Waits until none of `jobs` is in the queue, then reports; exit status 0 when all is done.
@@ -181,9 +181,7 @@ int wait_and_report(const FarmFlags& flags, const std::vector<std::string>& jobs
         if (!any || interrupted()) break;
         std::this_thread::sleep_for(std::chrono::seconds(1));
     }
-    auto done = report_status(flags.output);
-    if (!done.ok()) return fail(done.error);
-    return done.value ? 0 : 1;
+    return report_status(flags.output);
 }
 
 // A submission of this farm folder still in the queue (it would compute the same work twice).
@@ -471,11 +469,7 @@ void add_farm_command(CLI::App& app, int& status) {
     auto out = std::make_shared<std::string>();
     CLI::App* st = farm->add_subcommand("status", "What is done: merged frames, complete shares, queued tasks");
     st->add_option("output", *out, "The -o given to submit")->required();
-    st->callback([out, &status] {
-        auto r = report_status(*out);
-        if (!r.ok()) status = fail(r.error);
-        else status = r.value ? 0 : 1;
-    });
+    st->callback([out, &status] { status = report_status(*out); });
 }
 
 }  // namespace wavecam::cli
