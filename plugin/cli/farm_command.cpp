@@ -201,13 +201,16 @@ Result<bool> check_nothing_queued(const FarmFlags& flags, size_t frames) {
     return Result<bool>::success(true);
 }
 
-std::string apply_arguments(const FarmFlags& flags) {
-    std::string args;
+// A task's `wavecam apply INPUT -o OUTPUT` with `part` (" --part K/N" or ""), its threads and the settings given.
+std::string apply_command(const FarmFlags& flags, const std::string& input, const std::string& output,
+                          const std::string& part) {
+    std::string cmd = shell_quote(self_path()) + " apply " + shell_quote(input) + " -o " + shell_quote(output) + part +
+                      " --threads " + std::to_string(flags.cpus);
     for (const auto& [key, value] : flags.given)
-        if (key != "jitter" && key != "vignetting") args += " --" + key + " " + shell_quote(value);
-    if (flags.given.count("jitter")) args += " --no-jitter";
-    if (flags.given.count("vignetting")) args += " --no-vignetting";
-    return args;
+        if (key != "jitter" && key != "vignetting") cmd += " --" + key + " " + shell_quote(value);
+    if (flags.given.count("jitter")) cmd += " --no-jitter";
+    if (flags.given.count("vignetting")) cmd += " --no-vignetting";
+    return cmd;
 }
 
 // Writes the array script (`what` it does, then `cases`, one a task) and submits its tasks
@@ -274,10 +277,8 @@ int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::ve
             list += (list.empty() ? "" : ",") + std::to_string(frames[todo[c]].number);
             task_of[todo[c]] = std::to_string(t);
         }
-        const std::string apply = shell_quote(self_path()) + " apply " + shell_quote(absolute(flags.input)) + " -o " +
-                                  shell_quote(absolute(flags.output)) + " --threads " + std::to_string(flags.cpus) +
-                                  apply_arguments(flags);
-        cases << t << ") exec " << apply << (flags.frames.empty() ? "" : " --frames " + list) << " ;;\n";
+        cases << t << ") exec " << apply_command(flags, absolute(flags.input), absolute(flags.output), "")
+              << (flags.frames.empty() ? "" : " --frames " + list) << " ;;\n";
     }
     auto id = submit_array(farm, flags, "fast method, task i makes one chunk of frames", cases.str(),
                            tasks > 0 ? "0-" + std::to_string(tasks - 1) : "");
@@ -333,9 +334,8 @@ Result<std::string> submit_merge(const fs::path& farm, const Frame& f, int n, co
 // The share array's cases: task i computes share (i % N) + 1 of frame i / N. Returns the tasks
 // still to compute (neither merged nor complete), frame by frame.
 std::vector<std::vector<int>> share_tasks(std::ostringstream& cases, const fs::path& farm, const FarmFlags& flags,
-                                          const std::vector<Frame>& frames, const std::string& self) {
+                                          const std::vector<Frame>& frames) {
     const int n = flags.tasks;
-    const std::string args = apply_arguments(flags);
     std::error_code ec;
     std::vector<std::vector<int>> pending_of(frames.size());
     for (size_t i = 0; i < frames.size(); ++i) {
@@ -345,9 +345,8 @@ std::vector<std::vector<int>> share_tasks(std::ostringstream& cases, const fs::p
         for (int k = 1; k <= n; ++k) {
             const int index = int(i) * n + k - 1;
             const fs::path part = part_path(farm, f, k, n);
-            cases << index << ") exec " << self << " apply " << shell_quote(f.input) << " -o "
-                  << shell_quote(part.string()) << " --part " << k << "/" << n << " --threads " << flags.cpus << args
-                  << " ;;\n";
+            const std::string share = " --part " + std::to_string(k) + "/" + std::to_string(n);
+            cases << index << ") exec " << apply_command(flags, f.input, part.string(), share) << " ;;\n";
             if (!merged && !part_complete(part, f, k, n)) pending_of[i].push_back(index);
         }
     }
@@ -409,7 +408,7 @@ int submit(const FarmFlags& flags) {
     const int n = flags.tasks;
     const std::string self = shell_quote(self_path());
     std::ostringstream cases;
-    const std::vector<std::vector<int>> pending_of = share_tasks(cases, farm, flags, frames, self);
+    const std::vector<std::vector<int>> pending_of = share_tasks(cases, farm, flags, frames);
     std::vector<int> pending;
     for (const auto& p : pending_of) pending.insert(pending.end(), p.begin(), p.end());
     const std::string what =
