@@ -62,15 +62,14 @@ ProgressFn terminal_progress(const std::string& label) {
             const int width = 30, full = static_cast<int>(fraction * width + 0.5);
             std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%  %-16s", label.c_str(), full, "##############################",
                          width - full, "", static_cast<int>(fraction * 100 + 0.5), left.c_str());
-            std::fflush(stderr);
             g_drawn = true;
         } else if (since >= 10 || (fraction - st->last_fraction >= 0.05 && since >= 1)) {
             std::fprintf(stderr, "%s: %d%% after %s, %s\n", label.c_str(), static_cast<int>(fraction * 100),
                          format_duration(elapsed).c_str(), (known ? "about " + left : left).c_str());
-            std::fflush(stderr);
             st->last_line = now;
             st->last_fraction = fraction;
         }
+        std::fflush(stderr);
         return !g_interrupted.load();
     };
 }
