@@ -301,11 +301,9 @@ Result<std::vector<Frame>> frame_list(const FarmFlags& flags) {
     auto out = frame_files(flags.output, numbers);
     if (!out.ok()) return R::failure(out);
     std::vector<Frame> frames;
-    for (size_t i = 0; i < numbers.size(); ++i) {
-        char tag[32];
-        std::snprintf(tag, sizeof tag, "%04d", numbers[i]);
-        frames.push_back({numbers[i], tag, absolute(in.value[i]), absolute(out.value[i]), {}});
-    }
+    for (size_t i = 0; i < numbers.size(); ++i)
+        frames.push_back({numbers[i], OIIO::Strutil::sprintf("%04d", numbers[i]), absolute(in.value[i]),
+                          absolute(out.value[i]), {}});
     return R::success(std::move(frames));
 }
 
