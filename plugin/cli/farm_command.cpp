@@ -9,7 +9,6 @@
 #include <OpenImageIO/strutil.h>
 
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -308,15 +307,14 @@ Result<std::vector<Frame>> frame_list(const FarmFlags& flags) {
 }
 
 // One frame's merge job, after its pending shares (`after`, array task indices); its Slurm id.
-Result<std::string> submit_merge(const fs::path& farm, const Frame& f, int n, const std::string& self,
-                                 std::vector<std::string> opts, const std::vector<int>& after,
-                                 const std::string& array_id) {
+Result<std::string> submit_merge(const fs::path& farm, const Frame& f, int n, std::vector<std::string> opts,
+                                 const std::vector<int>& after, const std::string& array_id) {
     const fs::path script = farm / ("merge-" + f.tag + ".sbatch");
     std::ostringstream merge;
     merge << "#!/bin/bash\n# wavecam farm: merges frame " << f.tag << "'s shares; written by `wavecam farm submit`.\n"
           << "#SBATCH --job-name=wavecam-merge\n"
           << "#SBATCH --output=" << (farm / "logs" / ("merge-" + f.tag + ".log")).string() << "\n"
-          << "exec " << self << " merge "
+          << "exec " << shell_quote(self_path()) << " merge "
           << shell_quote((farm / "parts" / f.tag / ("share-*-of-" + std::to_string(n) + ".exr")).string())
           << " -o " << shell_quote(f.output) << "\n";
     if (auto w = write_text_atomically(merge.str(), script); !w.ok()) return Result<std::string>::failure(w);
@@ -404,7 +402,6 @@ int submit(const FarmFlags& flags) {
 
     // The array: every (frame, share) task in the script, only the incomplete ones submitted.
     const int n = flags.tasks;
-    const std::string self = shell_quote(self_path());
     std::ostringstream cases;
     const std::vector<std::vector<int>> pending_of = share_tasks(cases, farm, flags, frames);
     std::vector<int> pending;
@@ -426,7 +423,7 @@ int submit(const FarmFlags& flags) {
     for (size_t i = 0; i < frames.size(); ++i) {
         const Frame& f = frames[i];
         if (frame_merged(f)) continue;
-        auto id = submit_merge(farm, f, n, self, common, pending_of[i], array_id);
+        auto id = submit_merge(farm, f, n, common, pending_of[i], array_id);
         if (!id.ok()) return fail(id.error);
         merge_job[i] = id.value;
         waiting.push_back(id.value);
