@@ -30,7 +30,7 @@ namespace fs = std::filesystem;
 
 struct FarmFlags {
     std::string input, output, frames, partition;
-    front::Settings given;
+    front::Settings given;  // the setting options; --no-jitter, --no-vignetting as jitter, vignetting = false
     bool wait = false, hold = false;
     int tasks = 0, cpus = 1;
 };
