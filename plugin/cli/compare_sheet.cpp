@@ -1,11 +1,11 @@
 #include "compare_sheet.h"
 
 #include <OpenImageIO/color.h>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/strutil.h>
 
 #include <algorithm>
-#include <cctype>
-#include <filesystem>
 
 #include "wavecam/atomic_write.h"
 #include "wavecam/colour_pipeline.h"
@@ -37,8 +37,7 @@ void label(OIIO::ImageBuf& img, int x, const std::string& text) {
 }  // namespace
 
 OIIO::TypeDesc display_format(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string ext = OIIO::Strutil::lower(OIIO::Filesystem::extension(path));
     if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") return OIIO::TypeDesc::UINT8;
     if (ext == ".tif" || ext == ".tiff") return OIIO::TypeDesc::UINT16;
     return OIIO::TypeDesc::UNKNOWN;

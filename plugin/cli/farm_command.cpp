@@ -6,12 +6,11 @@
 // through the array in chunks, one `wavecam apply --frames` per task.
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#include <OpenImageIO/strutil.h>
 
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <sstream>
 #include <thread>
@@ -31,8 +30,8 @@ namespace fs = std::filesystem;
 
 struct FarmFlags {
     std::string input, output, frames, partition;
-    front::Settings given;
-    bool no_vignetting = false, no_jitter = false, wait = false, hold = false;
+    front::Settings given;  // the setting options; --no-jitter, --no-vignetting as jitter, vignetting = false
+    bool wait = false, hold = false;
     int tasks = 0, cpus = 1;
 };
 
@@ -100,20 +99,11 @@ std::string self_path() {
 // job.txt: key=value lines.
 std::map<std::string, std::string> read_job_file(const fs::path& p) {
     std::map<std::string, std::string> kv;
-    std::ifstream in(p);
-    std::string line;
-    while (std::getline(in, line))
+    std::string text;
+    OIIO::Filesystem::read_text_file(p.string(), text);
+    for (const std::string& line : OIIO::Strutil::splits(text, "\n"))
         if (auto eq = line.find('='); eq != std::string::npos) kv[line.substr(0, eq)] = line.substr(eq + 1);
     return kv;
-}
-
-std::vector<std::string> split(const std::string& s, char sep) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, sep))
-        if (!item.empty()) out.push_back(item);
-    return out;
 }
 
 // The frames as job.txt lists them: "tag|number|input|output|job" per frame.
@@ -122,34 +112,26 @@ std::vector<Frame> frames_of(const std::map<std::string, std::string>& job) {
     for (int i = 0;; ++i) {
         auto it = job.find("frame." + std::to_string(i));
         if (it == job.end()) break;
-        const auto f = split(it->second, '|');
+        const auto f = OIIO::Strutil::splits(it->second, "|");
         if (f.size() == 5) frames.push_back({std::stoi(f[1]), f[0], f[2], f[3], f[4]});
     }
     return frames;
 }
 
-struct Progress {
-    int done = 0;
-    std::vector<int> missing;
-};
-
-Progress shares_done(const fs::path& farm, const Frame& f, int n) {
-    Progress p;
-    for (int k = 1; k <= n; ++k)
-        if (part_complete(part_path(farm, f, k, n), f, k, n)) ++p.done;
-        else p.missing.push_back(k);
-    return p;
-}
-
-// What is done, frame by frame; true when every frame is merged.
-Result<bool> report_status(const std::string& output) {
+// What is done, frame by frame; exit status 0 when every frame is merged.
+int report_status(const std::string& output) {
     const fs::path farm = farm_dir(output);
     if (!fs::exists(farm / "job.txt"))
-        return Result<bool>::failure(output + ": no farm job here (" + (farm / "job.txt").string() +
-                                     " is missing); submit one with `wavecam farm submit`");
+        return fail(output + ": no farm job here (" + (farm / "job.txt").string() +
+                    " is missing); submit one with `wavecam farm submit`");
     auto job = read_job_file(farm / "job.txt");
     const int n = std::atoi(job["tasks"].c_str());
-    auto states = squeue_states();
+    const auto states = squeue_states();
+    // a job's or array task's state in the queue; `absent` when it is not there or the queue is unknown
+    auto state = [&states](const std::string& id, const std::string& absent) {
+        auto it = states.value.find(id);
+        return it == states.value.end() ? absent : it->second;
+    };
     const std::string array = job["array-job"];
     int merged = 0;
     const auto frames = frames_of(job);
@@ -161,25 +143,21 @@ Result<bool> report_status(const std::string& output) {
             ++merged;
         } else if (n == 0) {  // fast method: the frame's chunk task
             const std::string task = array + "_" + job["task-of." + std::to_string(i)];
-            line += "not done; task " + task + " " +
-                    (states.ok() && states.value.count(task) ? states.value[task] : std::string("not queued"));
+            line += "not done; task " + task + " " + state(task, "not queued");
         } else {
-            const Progress p = shares_done(farm, f, n);
-            line += std::to_string(p.done) + " of " + std::to_string(n) + " shares done";
-            std::string queued;
-            for (int k : p.missing) {
-                std::string state = "not queued";
-                if (states.ok() && !array.empty()) {
-                    auto it = states.value.find(array + "_" + std::to_string(i * n + k - 1));
-                    if (it != states.value.end()) state = it->second;
-                }
-                queued += (queued.empty() ? "" : ", ") + std::to_string(k) + " " + state;
-            }
+            int done = 0;
+            std::string queued;  // the missing shares
+            for (int k = 1; k <= n; ++k)
+                if (part_complete(part_path(farm, f, k, n), f, k, n)) ++done;
+                else
+                    queued += (queued.empty() ? "" : ", ") + std::to_string(k) + " " +
+                              state(array + "_" + std::to_string(i * n + k - 1), "not queued");
+            line += std::to_string(done) + " of " + std::to_string(n) + " shares done";
             if (!queued.empty()) line += "; missing: " + queued;
             const std::string merge_id = job["merge-job." + std::to_string(i)];
-            if (states.ok() && !merge_id.empty() && states.value.count(merge_id))
-                line += "; merge job " + merge_id + " " + states.value[merge_id];
-            else if (p.missing.empty())
+            if (const std::string merge_state = state(merge_id, ""); !merge_state.empty())
+                line += "; merge job " + merge_id + " " + merge_state;
+            else if (queued.empty())
                 line += "; ready to merge";
             else
                 line += "; re-submit to run the missing shares";
@@ -188,7 +166,7 @@ Result<bool> report_status(const std::string& output) {
     }
     if (!states.ok()) std::printf("(queue unknown: %s)\n", states.error.c_str());
     std::printf("%d of %zu frames %s\n", merged, frames.size(), n == 0 ? "done" : "merged");
-    return Result<bool>::success(merged == int(frames.size()));
+    return merged == int(frames.size()) ? 0 : 1;
 }
 
 // Waits until none of `jobs` is in the queue, then reports; exit status 0 when all is done.
@@ -202,9 +180,7 @@ int wait_and_report(const FarmFlags& flags, const std::vector<std::string>& jobs
         if (!any || interrupted()) break;
         std::this_thread::sleep_for(std::chrono::seconds(1));
     }
-    auto done = report_status(flags.output);
-    if (!done.ok()) return fail(done.error);
-    return done.value ? 0 : 1;
+    return report_status(flags.output);
 }
 
 // A submission of this farm folder still in the queue (it would compute the same work twice).
@@ -224,21 +200,30 @@ Result<bool> check_nothing_queued(const FarmFlags& flags, size_t frames) {
     return Result<bool>::success(true);
 }
 
-std::string apply_arguments(const FarmFlags& flags);
-
-// The array script's head: its Slurm settings, then one case per task.
-std::string array_header(const fs::path& farm, const FarmFlags& flags, const std::string& what) {
-    return "#!/bin/bash\n# wavecam farm: " + what + "; written by `wavecam farm submit`.\n#SBATCH --job-name=wavecam\n" +
-           "#SBATCH --output=" + (farm / "logs" / "task-%a.log").string() + "\n#SBATCH --cpus-per-task=" +
-           std::to_string(flags.cpus) + "\ncase \"$SLURM_ARRAY_TASK_ID\" in\n";
+// A task's `wavecam apply INPUT -o OUTPUT` with `part` (" --part K/N" or ""), its threads and the settings given.
+std::string apply_command(const FarmFlags& flags, const std::string& input, const std::string& output,
+                          const std::string& part) {
+    std::string cmd = shell_quote(self_path()) + " apply " + shell_quote(input) + " -o " + shell_quote(output) + part +
+                      " --threads " + std::to_string(flags.cpus);
+    for (const auto& [key, value] : flags.given)
+        if (key != "jitter" && key != "vignetting") cmd += " --" + key + " " + shell_quote(value);
+    if (flags.given.count("jitter")) cmd += " --no-jitter";
+    if (flags.given.count("vignetting")) cmd += " --no-vignetting";
+    return cmd;
 }
 
-// Ends the array script, writes it, and submits its tasks `indices` ("0-3", "0,2,5"; "": none,
-// nothing submitted); the array's Slurm id, "" when none.
-Result<std::string> submit_array(const fs::path& farm, const FarmFlags& flags, std::ostringstream& array,
-                                 const std::string& indices) {
-    array << "*) echo \"wavecam farm: no task $SLURM_ARRAY_TASK_ID\" >&2; exit 1 ;;\nesac\n";
-    if (auto w = write_text_atomically(array.str(), farm / "array.sbatch"); !w.ok())
+// Writes the array script (`what` it does, then `cases`, one a task) and submits its tasks
+// `indices` ("0-3", "0,2,5"; "": none, nothing submitted); the array's Slurm id, "" when none.
+Result<std::string> submit_array(const fs::path& farm, const FarmFlags& flags, const std::string& what,
+                                 const std::string& cases, const std::string& indices) {
+    std::error_code ec;
+    fs::create_directories(farm / "logs", ec);
+    const std::string script =
+        "#!/bin/bash\n# wavecam farm: " + what + "; written by `wavecam farm submit`.\n#SBATCH --job-name=wavecam\n" +
+        "#SBATCH --output=" + (farm / "logs" / "task-%a.log").string() + "\n#SBATCH --cpus-per-task=" +
+        std::to_string(flags.cpus) + "\ncase \"$SLURM_ARRAY_TASK_ID\" in\n" + cases +
+        "*) echo \"wavecam farm: no task $SLURM_ARRAY_TASK_ID\" >&2; exit 1 ;;\nesac\n";
+    if (auto w = write_text_atomically(script, farm / "array.sbatch"); !w.ok())
         return Result<std::string>::failure(w);
     if (indices.empty()) return Result<std::string>::success("");
     std::vector<std::string> opts{"--array=" + indices};
@@ -247,14 +232,25 @@ Result<std::string> submit_array(const fs::path& farm, const FarmFlags& flags, s
     return sbatch((farm / "array.sbatch").string(), opts);
 }
 
-// The job record (job.txt): its head, and a line a frame.
-std::string record_head(const FarmFlags& flags, int tasks, const std::string& array_id) {
-    return "input=" + absolute(flags.input) + "\noutput=" + absolute(flags.output) + "\ntasks=" +
-           std::to_string(tasks) + "\narray-job=" + array_id + "\n";
-}
-std::string frame_line(size_t i, const Frame& f) {
-    return "frame." + std::to_string(i) + "=" + f.tag + "|" + std::to_string(f.number) + "|" + f.input + "|" +
-           f.output + "|" + f.job + "\n";
+// Records the submission in job.txt: its head, then a line a frame, each followed by its `key`
+// entry (its merge job, or the fast method's task) where `entry` has one. Then, with --wait,
+// waits for the array and `merge_jobs` and reports.
+int record_and_wait(const fs::path& farm, const FarmFlags& flags, int tasks, const std::string& array_id,
+                    const std::vector<Frame>& frames, const std::string& key, const std::vector<std::string>& entry,
+                    std::vector<std::string> merge_jobs) {
+    std::ostringstream record;
+    record << "input=" << absolute(flags.input) << "\noutput=" << absolute(flags.output) << "\ntasks=" << tasks
+           << "\narray-job=" << array_id << "\n";
+    for (size_t i = 0; i < frames.size(); ++i) {
+        const Frame& f = frames[i];
+        record << "frame." << i << "=" << f.tag << "|" << f.number << "|" << f.input << "|" << f.output << "|" << f.job
+               << "\n";
+        if (!entry[i].empty()) record << key << "." << i << "=" << entry[i] << "\n";
+    }
+    if (auto w = write_text_atomically(record.str(), farm / "job.txt"); !w.ok()) return fail(w.error);
+    if (!flags.wait) return 0;
+    if (!array_id.empty()) merge_jobs.push_back(array_id);
+    return wait_and_report(flags, merge_jobs);
 }
 
 // The fast method: the frames not yet made, in --tasks contiguous chunks of one array.
@@ -272,43 +268,23 @@ int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::ve
     std::fflush(stdout);
     if (auto q = check_nothing_queued(flags, frames.size()); !q.ok()) return fail(q.error);
     const fs::path farm = farm_dir(flags.output);
-    std::error_code ec;
-    fs::create_directories(farm / "logs", ec);
-    std::ostringstream array, record;
-    array << array_header(farm, flags, "fast method, task i makes one chunk of frames");
-    std::map<size_t, size_t> task_of;
+    std::ostringstream cases;
+    std::vector<std::string> task_of(frames.size());
     for (size_t t = 0; t < tasks; ++t) {
         std::string list;
         for (size_t c = t * todo.size() / tasks; c < (t + 1) * todo.size() / tasks; ++c) {
             list += (list.empty() ? "" : ",") + std::to_string(frames[todo[c]].number);
-            task_of[todo[c]] = t;
+            task_of[todo[c]] = std::to_string(t);
         }
-        const std::string apply = shell_quote(self_path()) + " apply " + shell_quote(absolute(flags.input)) + " -o " +
-                                  shell_quote(absolute(flags.output)) + " --threads " + std::to_string(flags.cpus) +
-                                  apply_arguments(flags);
-        array << t << ") exec " << apply << (flags.frames.empty() ? "" : " --frames " + list) << " ;;\n";
+        cases << t << ") exec " << apply_command(flags, absolute(flags.input), absolute(flags.output), "")
+              << (flags.frames.empty() ? "" : " --frames " + list) << " ;;\n";
     }
-    auto id = submit_array(farm, flags, array, tasks > 0 ? "0-" + std::to_string(tasks - 1) : "");
+    auto id = submit_array(farm, flags, "fast method, task i makes one chunk of frames", cases.str(),
+                           tasks > 0 ? "0-" + std::to_string(tasks - 1) : "");
     if (!id.ok()) return fail(id.error);
-    const std::string array_id = id.value;
-    if (tasks > 0) std::printf("farm: submitted array job %s: %zu tasks\n", array_id.c_str(), tasks);
+    if (tasks > 0) std::printf("farm: submitted array job %s: %zu tasks\n", id.value.c_str(), tasks);
     else std::printf("farm: every frame is made; nothing to compute\n");
-    record << record_head(flags, 0, array_id);
-    for (size_t i = 0; i < frames.size(); ++i) {
-        record << frame_line(i, frames[i]);
-        if (task_of.count(i)) record << "task-of." << i << "=" << task_of[i] << "\n";
-    }
-    if (auto w = write_text_atomically(record.str(), farm / "job.txt"); !w.ok()) return fail(w.error);
-    if (!flags.wait) return 0;
-    return wait_and_report(flags, array_id.empty() ? std::vector<std::string>{} : std::vector<std::string>{array_id});
-}
-
-std::string apply_arguments(const FarmFlags& flags) {
-    std::string args;
-    for (const auto& [key, value] : flags.given) args += " --" + key + " " + shell_quote(value);
-    if (flags.no_jitter) args += " --no-jitter";
-    if (flags.no_vignetting) args += " --no-vignetting";
-    return args;
+    return record_and_wait(farm, flags, 0, id.value, frames, "task-of", task_of, {});
 }
 
 // The frames: one image, or a range of patterns.
@@ -324,24 +300,21 @@ Result<std::vector<Frame>> frame_list(const FarmFlags& flags) {
     auto out = frame_files(flags.output, numbers);
     if (!out.ok()) return R::failure(out);
     std::vector<Frame> frames;
-    for (size_t i = 0; i < numbers.size(); ++i) {
-        char tag[32];
-        std::snprintf(tag, sizeof tag, "%04d", numbers[i]);
-        frames.push_back({numbers[i], tag, absolute(in.value[i]), absolute(out.value[i]), {}});
-    }
+    for (size_t i = 0; i < numbers.size(); ++i)
+        frames.push_back({numbers[i], OIIO::Strutil::sprintf("%04d", numbers[i]), absolute(in.value[i]),
+                          absolute(out.value[i]), {}});
     return R::success(std::move(frames));
 }
 
 // One frame's merge job, after its pending shares (`after`, array task indices); its Slurm id.
-Result<std::string> submit_merge(const fs::path& farm, const Frame& f, int n, const std::string& self,
-                                 std::vector<std::string> opts, const std::vector<int>& after,
-                                 const std::string& array_id) {
+Result<std::string> submit_merge(const fs::path& farm, const Frame& f, int n, std::vector<std::string> opts,
+                                 const std::vector<int>& after, const std::string& array_id) {
     const fs::path script = farm / ("merge-" + f.tag + ".sbatch");
     std::ostringstream merge;
     merge << "#!/bin/bash\n# wavecam farm: merges frame " << f.tag << "'s shares; written by `wavecam farm submit`.\n"
           << "#SBATCH --job-name=wavecam-merge\n"
           << "#SBATCH --output=" << (farm / "logs" / ("merge-" + f.tag + ".log")).string() << "\n"
-          << "exec " << self << " merge "
+          << "exec " << shell_quote(self_path()) << " merge "
           << shell_quote((farm / "parts" / f.tag / ("share-*-of-" + std::to_string(n) + ".exr")).string())
           << " -o " << shell_quote(f.output) << "\n";
     if (auto w = write_text_atomically(merge.str(), script); !w.ok()) return Result<std::string>::failure(w);
@@ -354,16 +327,12 @@ Result<std::string> submit_merge(const fs::path& farm, const Frame& f, int n, co
     return sbatch(script.string(), opts);
 }
 
-// The share array's script: task i computes share (i % N) + 1 of frame i / N. Returns the tasks
+// The share array's cases: task i computes share (i % N) + 1 of frame i / N. Returns the tasks
 // still to compute (neither merged nor complete), frame by frame.
-std::vector<std::vector<int>> share_tasks(std::ostringstream& array, const fs::path& farm, const FarmFlags& flags,
-                                          const std::vector<Frame>& frames, const std::string& self) {
+std::vector<std::vector<int>> share_tasks(std::ostringstream& cases, const fs::path& farm, const FarmFlags& flags,
+                                          const std::vector<Frame>& frames) {
     const int n = flags.tasks;
-    const std::string args = apply_arguments(flags);
     std::error_code ec;
-    fs::create_directories(farm / "logs", ec);
-    array << array_header(farm, flags, "task i computes share (i % " + std::to_string(n) + ") + 1 of frame i / " +
-                                           std::to_string(n));
     std::vector<std::vector<int>> pending_of(frames.size());
     for (size_t i = 0; i < frames.size(); ++i) {
         const Frame& f = frames[i];
@@ -372,9 +341,8 @@ std::vector<std::vector<int>> share_tasks(std::ostringstream& array, const fs::p
         for (int k = 1; k <= n; ++k) {
             const int index = int(i) * n + k - 1;
             const fs::path part = part_path(farm, f, k, n);
-            array << index << ") exec " << self << " apply " << shell_quote(f.input) << " -o "
-                  << shell_quote(part.string()) << " --part " << k << "/" << n << " --threads " << flags.cpus << args
-                  << " ;;\n";
+            const std::string share = " --part " + std::to_string(k) + "/" + std::to_string(n);
+            cases << index << ") exec " << apply_command(flags, f.input, part.string(), share) << " ;;\n";
             if (!merged && !part_complete(part, f, k, n)) pending_of[i].push_back(index);
         }
     }
@@ -383,10 +351,7 @@ std::vector<std::vector<int>> share_tasks(std::ostringstream& array, const fs::p
 
 int submit(const FarmFlags& flags) {
     if (flags.tasks < 1) return fail("--tasks: expected at least 1 share per frame", 2);
-    front::Settings given = flags.given;
-    if (flags.no_vignetting) given["vignetting"] = "false";
-    if (flags.no_jitter) given["jitter"] = "false";
-    const front::Settings settings = recorded_settings(flags.given, flags.no_vignetting, flags.no_jitter);
+    const front::Settings settings = recorded_settings(flags.given, false, false);  // the flags are in `given`
 
     auto listed = frame_list(flags);
     if (!listed.ok()) return fail(listed.error, 2);
@@ -395,7 +360,7 @@ int submit(const FarmFlags& flags) {
     // The estimate, before anything is submitted: each frame's settings resolved as its task will.
     double total = 0;
     for (auto& f : frames) {
-        auto in = read_and_resolve(f.input, given);
+        auto in = read_and_resolve(f.input, flags.given);
         if (!in.ok()) return fail(in.error, 2);
         const DiffractOptions& opt = in.value.settings.options;
         if (opt.method == DiffractMethod::Fast) {
@@ -437,12 +402,13 @@ int submit(const FarmFlags& flags) {
 
     // The array: every (frame, share) task in the script, only the incomplete ones submitted.
     const int n = flags.tasks;
-    const std::string self = shell_quote(self_path());
-    std::ostringstream array;
-    const std::vector<std::vector<int>> pending_of = share_tasks(array, farm, flags, frames, self);
+    std::ostringstream cases;
+    const std::vector<std::vector<int>> pending_of = share_tasks(cases, farm, flags, frames);
     std::vector<int> pending;
     for (const auto& p : pending_of) pending.insert(pending.end(), p.begin(), p.end());
-    auto submitted = submit_array(farm, flags, array, pending.empty() ? "" : index_list(pending));
+    const std::string what =
+        "task i computes share (i % " + std::to_string(n) + ") + 1 of frame i / " + std::to_string(n);
+    auto submitted = submit_array(farm, flags, what, cases.str(), index_list(pending));
     if (!submitted.ok()) return fail(submitted.error);
     const std::string array_id = submitted.value;
     std::vector<std::string> common;
@@ -453,22 +419,17 @@ int submit(const FarmFlags& flags) {
     else
         std::printf("farm: every share is complete; nothing to compute\n");
 
-    std::ostringstream record;
-    record << record_head(flags, n, array_id);
-    std::vector<std::string> waiting = array_id.empty() ? std::vector<std::string>{} : std::vector<std::string>{array_id};
+    std::vector<std::string> merge_job(frames.size()), waiting;
     for (size_t i = 0; i < frames.size(); ++i) {
         const Frame& f = frames[i];
-        record << frame_line(i, f);
         if (frame_merged(f)) continue;
-        auto id = submit_merge(farm, f, n, self, common, pending_of[i], array_id);
+        auto id = submit_merge(farm, f, n, common, pending_of[i], array_id);
         if (!id.ok()) return fail(id.error);
-        record << "merge-job." << i << "=" << id.value << "\n";
+        merge_job[i] = id.value;
         waiting.push_back(id.value);
         std::printf("farm: %s%s: merge job %s\n", f.tag == "image" ? "" : "frame ", f.tag.c_str(), id.value.c_str());
     }
-    if (auto w = write_text_atomically(record.str(), farm / "job.txt"); !w.ok()) return fail(w.error);
-    if (!flags.wait) return 0;
-    return wait_and_report(flags, waiting);
+    return record_and_wait(farm, flags, n, array_id, frames, "merge-job", merge_job, waiting);
 }
 
 }  // namespace
@@ -487,8 +448,10 @@ void add_farm_command(CLI::App& app, int& status) {
                                               k.help)
             ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     }
-    cmd->add_flag("--no-jitter", f->no_jitter, "Keep each source at its pixel centre");
-    cmd->add_flag("--no-vignetting", f->no_vignetting, "Divide out the natural cos^4 fall-off");
+    cmd->add_flag_callback("--no-jitter", [f] { f->given["jitter"] = "false"; },
+                           "Keep each source at its pixel centre");
+    cmd->add_flag_callback("--no-vignetting", [f] { f->given["vignetting"] = "false"; },
+                           "Divide out the natural cos^4 fall-off");
     cmd->add_option("--tasks", f->tasks, "Exact methods: shares per frame (array tasks per frame); fast method: tasks in all, each a chunk of frames")->required();
     cmd->add_option("--frames", f->frames, "Frame range, e.g. 1-100; input and -o are then patterns (#, @, %04d)");
     cmd->add_option("--partition", f->partition, "Slurm partition");
@@ -500,11 +463,7 @@ void add_farm_command(CLI::App& app, int& status) {
     auto out = std::make_shared<std::string>();
     CLI::App* st = farm->add_subcommand("status", "What is done: merged frames, complete shares, queued tasks");
     st->add_option("output", *out, "The -o given to submit")->required();
-    st->callback([out, &status] {
-        auto r = report_status(*out);
-        if (!r.ok()) status = fail(r.error);
-        else status = r.value ? 0 : 1;
-    });
+    st->callback([out, &status] { status = report_status(*out); });
 }
 
 }  // namespace wavecam::cli

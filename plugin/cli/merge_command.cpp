@@ -4,6 +4,7 @@
 #include <glob.h>
 
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/strutil.h>
 
 #include <cmath>
 #include <cstdio>
@@ -48,17 +49,6 @@ std::vector<std::string> expand(const std::vector<std::string>& args, std::vecto
     return files;
 }
 
-std::vector<std::string> split_lines(const std::string& text) {
-    std::vector<std::string> lines;
-    size_t a = 0;
-    while (a <= text.size()) {
-        const size_t b = std::min(text.find('\n', a), text.size());
-        lines.push_back(text.substr(a, b - a));
-        a = b + 1;
-    }
-    return lines;
-}
-
 int run(const MergeFlags& flags) {
     std::vector<std::string> problems;
     std::vector<PartFile> parts;
@@ -69,7 +59,7 @@ int run(const MergeFlags& flags) {
     }
     if (!parts.empty())
         if (auto set = check_part_set(parts); !set.ok())
-            for (const auto& line : split_lines(set.error)) problems.push_back(line);
+            for (const auto& line : OIIO::Strutil::splits(set.error, "\n")) problems.push_back(line);
     if (parts.empty() && problems.empty()) problems.push_back("no part files given");
     if (!problems.empty()) return refuse(problems);
 

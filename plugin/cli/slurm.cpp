@@ -9,7 +9,7 @@ namespace {
 
 struct Captured {
     int status = -1;
-    std::string output;
+    std::string output;  // stdout and stderr, without trailing newlines and spaces
 };
 
 Captured capture(const std::string& command) {
@@ -18,14 +18,10 @@ Captured capture(const std::string& command) {
     if (!p) return c;
     char buf[512];
     while (std::fgets(buf, sizeof buf, p)) c.output += buf;
+    c.output.erase(c.output.find_last_not_of("\n ") + 1);
     const int s = ::pclose(p);
     c.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
     return c;
-}
-
-std::string trimmed(std::string s) {
-    while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-    return s;
 }
 
 }  // namespace
@@ -40,11 +36,10 @@ Result<std::string> sbatch(const std::string& script, const std::vector<std::str
     std::string cmd = "sbatch --parsable";
     for (const auto& o : options) cmd += " " + shell_quote(o);
     const Captured c = capture(cmd + " " + shell_quote(script));
-    const std::string out = trimmed(c.output);
     // --parsable prints "JOBID" or "JOBID;CLUSTER"
-    const std::string id = out.substr(0, out.find(';'));
+    const std::string id = c.output.substr(0, c.output.find(';'));
     if (c.status != 0 || id.empty() || id.find_first_not_of("0123456789") != std::string::npos)
-        return Result<std::string>::failure("sbatch " + script + ": " + (out.empty() ? "failed" : out));
+        return Result<std::string>::failure("sbatch " + script + ": " + (c.output.empty() ? "failed" : c.output));
     return Result<std::string>::success(id);
 }
 
@@ -52,7 +47,7 @@ Result<std::map<std::string, std::string>> squeue_states() {
     const Captured c = capture("squeue --noheader --array --format='%i %T'");
     if (c.status != 0)
         return Result<std::map<std::string, std::string>>::failure("squeue: " +
-                                                                   (c.output.empty() ? "failed" : trimmed(c.output)));
+                                                                   (c.output.empty() ? "failed" : c.output));
     std::map<std::string, std::string> states;
     std::istringstream lines(c.output);
     std::string id, state;

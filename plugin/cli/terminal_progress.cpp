@@ -56,23 +56,20 @@ ProgressFn terminal_progress(const std::string& label) {
         const auto now = Clock::now();
         const double elapsed = std::chrono::duration<double>(now - st->start).count();
         const double since = std::chrono::duration<double>(now - st->last_line).count();
-        const std::string left = fraction > 0.001 && elapsed > 1
-                                     ? format_duration(elapsed / fraction * (1 - fraction)) + " left"
-                                     : "estimating";
+        const bool known = fraction > 0.001 && elapsed > 1;  // enough done to extrapolate
+        const std::string left = known ? format_duration(elapsed / fraction * (1 - fraction)) + " left" : "estimating";
         if (st->tty) {
             const int width = 30, full = static_cast<int>(fraction * width + 0.5);
             std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%  %-16s", label.c_str(), full, "##############################",
                          width - full, "", static_cast<int>(fraction * 100 + 0.5), left.c_str());
-            std::fflush(stderr);
             g_drawn = true;
         } else if (since >= 10 || (fraction - st->last_fraction >= 0.05 && since >= 1)) {
             std::fprintf(stderr, "%s: %d%% after %s, %s\n", label.c_str(), static_cast<int>(fraction * 100),
-                         format_duration(elapsed).c_str(), fraction > 0.001 && elapsed > 1 ? ("about " + left).c_str()
-                                                                                         : left.c_str());
-            std::fflush(stderr);
+                         format_duration(elapsed).c_str(), (known ? "about " + left : left).c_str());
             st->last_line = now;
             st->last_fraction = fraction;
         }
+        std::fflush(stderr);
         return !g_interrupted.load();
     };
 }
