@@ -16,13 +16,29 @@
 
 namespace wavecam::cli {
 
-front::Settings recorded_settings(const front::Settings& given, bool no_vignetting, bool no_jitter) {
+front::Settings recorded_settings(const front::Settings& given) {
     front::Settings settings = given;
-    if (no_vignetting) settings["vignetting"] = "false";
-    if (no_jitter) settings["jitter"] = "false";
     settings.erase("max-terms");
     settings.erase("max-memory");
     return settings;
+}
+
+void add_setting_options(CLI::App* cmd, front::Settings& given) {
+    for (const front::SettingKey& k : front::setting_keys()) {
+        const std::string& key = k.key;
+        if (key == "jitter" || key == "vignetting") continue;  // flags below
+        if (key == "monochrome") {
+            cmd->add_flag_callback("--monochrome", [&given] { given["monochrome"] = "true"; }, k.help);
+            continue;
+        }
+        cmd->add_option_function<std::string>("--" + key, [&given, key](const std::string& v) { given[key] = v; },
+                                              k.help)
+            ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    }
+    cmd->add_flag_callback("--no-jitter", [&given] { given["jitter"] = "false"; },
+                           "Keep each source at its pixel centre");
+    cmd->add_flag_callback("--no-vignetting", [&given] { given["vignetting"] = "false"; },
+                           "Divide out the natural cos^4 fall-off");
 }
 
 Result<ResolvedInput> read_and_resolve(const std::string& input, const front::Settings& given) {
@@ -93,7 +109,7 @@ int run_share(const ApplyFlags& flags, const std::string& input, const std::stri
     auto k = parse_share(flags.part);
     if (!k.ok()) return fail(k.error, 2);
     const std::string input_path = std::filesystem::absolute(input).lexically_normal().string();
-    const front::Settings settings = recorded_settings(flags.given, false, false);
+    const front::Settings settings = recorded_settings(flags.given);
     if (std::filesystem::exists(output)) {
         auto have = read_part(output);
         auto fingerprint = file_fingerprint(input_path);
@@ -142,7 +158,7 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
     // the job this image is (input bytes and settings): `wavecam farm` skips frames already made
     if (auto fingerprint = file_fingerprint(input); fingerprint.ok())
         dst.specmod().attribute("wavecam.job",
-                                job_fingerprint(fingerprint.value, recorded_settings(flags.given, false, false)));
+                                job_fingerprint(fingerprint.value, recorded_settings(flags.given)));
     // OpenEXR: scene-linear float, every channel; .png/.jpg/.tif: RGB through the display view
     auto written = is_exr(output) ? write_image_atomically(dst, output, OIIO::TypeDesc::FLOAT)
                                   : write_display_image(dst, opt, output);
@@ -202,21 +218,7 @@ void add_apply_command(CLI::App& app, int& status) {
     cmd->add_option("-o,--output", f->output,
                     "Output: .exr (float RGB, the input's alpha and depth, its channel names) or a display-referred "
                     ".png/.jpg (8-bit) or .tif (16-bit), RGB through the sRGB display's Standard view")->required();
-    for (const front::SettingKey& k : front::setting_keys()) {
-        const std::string& key = k.key;
-        if (key == "jitter" || key == "vignetting") continue;  // flags below
-        if (key == "monochrome") {
-            cmd->add_flag_callback("--monochrome", [f] { f->given["monochrome"] = "true"; }, k.help);
-            continue;
-        }
-        cmd->add_option_function<std::string>("--" + key, [f, key](const std::string& v) { f->given[key] = v; },
-                                              k.help)
-            ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-    }
-    cmd->add_flag_callback("--no-jitter", [f] { f->given["jitter"] = "false"; },
-                           "Keep each source at its pixel centre");
-    cmd->add_flag_callback("--no-vignetting", [f] { f->given["vignetting"] = "false"; },
-                           "Divide out the natural cos^4 fall-off");
+    add_setting_options(cmd, f->given);
     cmd->add_option("--compare", f->compare, "Write input | output | difference as a PNG through the display view");
     cmd->add_option("--png", f->png, "Also write the output as a display-referred PNG");
     cmd->add_option("--frames", f->frames,

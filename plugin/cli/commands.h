@@ -22,9 +22,14 @@ void add_farm_command(CLI::App& app, int& status);
 // "%04d" printf style) and sequence syntax ("1-100", "1-100x2", "3,7,10-20").
 Result<std::vector<std::string>> frame_files(const std::string& pattern, const std::vector<int>& frames);
 
-// The settings a part file records for its merge: every result-changing key as given (flags
-// --no-vignetting, --no-jitter as their keys; not the bounds --max-terms, --max-memory).
-front::Settings recorded_settings(const front::Settings& given, bool no_vignetting, bool no_jitter);
+// The setting options apply and farm submit share, one per settings key (front/settings.h), each
+// stored in `given` by its key: --monochrome, --no-jitter and --no-vignetting as flags
+// (monochrome = true, jitter = false, vignetting = false).
+void add_setting_options(CLI::App* cmd, front::Settings& given);
+
+// The settings a part file records for its merge: every result-changing key as given (not the
+// bounds --max-terms, --max-memory).
+front::Settings recorded_settings(const front::Settings& given);
 
 // A render read, and its settings resolved in the one order (front/settings.h): the source's
 // wavecam.KEY metadata under `given`, the command's flags. Errors name the file.

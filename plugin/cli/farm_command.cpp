@@ -206,7 +206,8 @@ std::string apply_command(const FarmFlags& flags, const std::string& input, cons
     std::string cmd = shell_quote(self_path()) + " apply " + shell_quote(input) + " -o " + shell_quote(output) + part +
                       " --threads " + std::to_string(flags.cpus);
     for (const auto& [key, value] : flags.given)
-        if (key != "jitter" && key != "vignetting") cmd += " --" + key + " " + shell_quote(value);
+        if (key == "monochrome") cmd += " --monochrome";
+        else if (key != "jitter" && key != "vignetting") cmd += " --" + key + " " + shell_quote(value);
     if (flags.given.count("jitter")) cmd += " --no-jitter";
     if (flags.given.count("vignetting")) cmd += " --no-vignetting";
     return cmd;
@@ -351,7 +352,7 @@ std::vector<std::vector<int>> share_tasks(std::ostringstream& cases, const fs::p
 
 int submit(const FarmFlags& flags) {
     if (flags.tasks < 1) return fail("--tasks: expected at least 1 share per frame", 2);
-    const front::Settings settings = recorded_settings(flags.given, false, false);  // the flags are in `given`
+    const front::Settings settings = recorded_settings(flags.given);
 
     auto listed = frame_list(flags);
     if (!listed.ok()) return fail(listed.error, 2);
@@ -441,17 +442,7 @@ void add_farm_command(CLI::App& app, int& status) {
     CLI::App* cmd = farm->add_subcommand("submit", "Submit the job array and the merge jobs (sbatch on PATH)");
     cmd->add_option("input", f->input, "Input EXR (or a pattern with --frames)")->required();
     cmd->add_option("-o,--output", f->output, "Output EXR (or a pattern with --frames)")->required();
-    for (const front::SettingKey& k : front::setting_keys()) {
-        const std::string& key = k.key;
-        if (key == "jitter" || key == "vignetting") continue;
-        cmd->add_option_function<std::string>("--" + key, [f, key](const std::string& v) { f->given[key] = v; },
-                                              k.help)
-            ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-    }
-    cmd->add_flag_callback("--no-jitter", [f] { f->given["jitter"] = "false"; },
-                           "Keep each source at its pixel centre");
-    cmd->add_flag_callback("--no-vignetting", [f] { f->given["vignetting"] = "false"; },
-                           "Divide out the natural cos^4 fall-off");
+    add_setting_options(cmd, f->given);
     cmd->add_option("--tasks", f->tasks, "Exact methods: shares per frame (array tasks per frame); fast method: tasks in all, each a chunk of frames")->required();
     cmd->add_option("--frames", f->frames, "Frame range, e.g. 1-100; input and -o are then patterns (#, @, %04d)");
     cmd->add_option("--partition", f->partition, "Slurm partition");
