@@ -96,11 +96,7 @@ public:
         }
     }
     const toml::table* subtable(const std::string& key) {
-        const toml::node* node = find(key, true);
-        if (!node) return nullptr;
-        if (const toml::table* t = node->as_table()) return t;
-        fail(key, "expected a table { ... }");
-        return nullptr;
+        return typed<toml::table>(key, true, "expected a table { ... }");
     }
     // Reports the first key that nothing asked for.
     void finish() {
@@ -122,11 +118,14 @@ private:
         if (!node && !optional) fail(key, "missing");
         return node;
     }
-    const toml::array* array_at(const std::string& key) {
-        const toml::node* node = find(key, false);
+    const toml::array* array_at(const std::string& key) { return typed<toml::array>(key, false, "expected a list"); }
+    // The node at `key` as a toml::table or toml::array, else the error "what".
+    template <class T>
+    const T* typed(const std::string& key, bool optional, const char* what) {
+        const toml::node* node = find(key, optional);
         if (!node) return nullptr;
-        if (const toml::array* a = node->as_array()) return a;
-        fail(key, "expected a list");
+        if (const T* t = node->as<T>()) return t;
+        fail(key, what);
         return nullptr;
     }
     static bool to_vec3(const toml::node& node, Vec3& v) {

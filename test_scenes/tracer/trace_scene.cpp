@@ -219,6 +219,13 @@ Vec3 smooth_normal(const SurfaceRecord& s, const RTCHit& hit) {
            s.vertex_normals[q[2]] * (u * v) + s.vertex_normals[q[3]] * ((1 - u) * v);
 }
 
+// Embree's ray o + t d for 0 < t < t_far, seeing every geometry (RTCRay's fields in order:
+// origin, tnear, direction, time, tfar, mask, id, flags).
+RTCRay embree_ray(Vec3 o, Vec3 d, float t_far) {
+    const auto f = [](double x) { return static_cast<float>(x); };
+    return {f(o.x), f(o.y), f(o.z), 0, f(d.x), f(d.y), f(d.z), 0, t_far, ~0u, 0, 0};
+}
+
 }  // namespace
 
 TraceScene::TraceScene() : embree_(std::make_unique<Embree>()) {}
@@ -250,13 +257,7 @@ std::optional<SurfaceHit> TraceScene::intersect(const Ray& ray) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh{};
-    rh.ray.org_x = static_cast<float>(ray.origin.x), rh.ray.org_y = static_cast<float>(ray.origin.y);
-    rh.ray.org_z = static_cast<float>(ray.origin.z);
-    rh.ray.dir_x = static_cast<float>(ray.direction.x), rh.ray.dir_y = static_cast<float>(ray.direction.y);
-    rh.ray.dir_z = static_cast<float>(ray.direction.z);
-    rh.ray.tnear = 0;
-    rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.mask = ~0u;
+    rh.ray = embree_ray(ray.origin, ray.direction, std::numeric_limits<float>::infinity());
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(embree_->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
@@ -281,14 +282,7 @@ std::optional<SurfaceHit> TraceScene::intersect(const Ray& ray) const {
 bool TraceScene::occluded(Vec3 origin, Vec3 direction, double t_max) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    RTCRay ray{};
-    ray.org_x = static_cast<float>(origin.x), ray.org_y = static_cast<float>(origin.y);
-    ray.org_z = static_cast<float>(origin.z);
-    ray.dir_x = static_cast<float>(direction.x), ray.dir_y = static_cast<float>(direction.y);
-    ray.dir_z = static_cast<float>(direction.z);
-    ray.tnear = 0;
-    ray.tfar = static_cast<float>(t_max);
-    ray.mask = ~0u;
+    RTCRay ray = embree_ray(origin, direction, static_cast<float>(t_max));
     rtcOccluded1(embree_->scene, &context, &ray);
     return ray.tfar < 0;
 }
