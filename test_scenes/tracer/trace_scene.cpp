@@ -35,8 +35,6 @@ struct TraceScene::Embree {
 
 namespace {
 
-Vec3 to_vec3(float x, float y, float z) { return {x, y, z}; }
-
 double analytic_t(const SurfaceRecord& s, Vec3 o, Vec3 d, double t_min, double t_max) {
     if (s.kind == SurfaceKind::Sphere) return intersect_sphere(o, d, s.sphere.centre, s.sphere.radius, t_min, t_max);
     return intersect_plane(o, d, s.plane.point, s.plane.normal, t_min, t_max);
@@ -58,7 +56,7 @@ void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
     const auto* s = static_cast<const SurfaceRecord*>(args->geometryUserPtr);
     auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
     RTCRay& ray = rh->ray;
-    const Vec3 o = to_vec3(ray.org_x, ray.org_y, ray.org_z), d = to_vec3(ray.dir_x, ray.dir_y, ray.dir_z);
+    const Vec3 o{ray.org_x, ray.org_y, ray.org_z}, d{ray.dir_x, ray.dir_y, ray.dir_z};
     const double t = analytic_t(*s, o, d, ray.tnear, ray.tfar);
     if (t < 0) return;
     const Vec3 n = s->kind == SurfaceKind::Sphere ? o + d * t - s->sphere.centre : s->plane.normal;
@@ -75,7 +73,7 @@ void analytic_occluded(const RTCOccludedFunctionNArguments* args) {
     if (!args->valid[0]) return;
     const auto* s = static_cast<const SurfaceRecord*>(args->geometryUserPtr);
     auto* ray = reinterpret_cast<RTCRay*>(args->ray);
-    const Vec3 o = to_vec3(ray->org_x, ray->org_y, ray->org_z), d = to_vec3(ray->dir_x, ray->dir_y, ray->dir_z);
+    const Vec3 o{ray->org_x, ray->org_y, ray->org_z}, d{ray->dir_x, ray->dir_y, ray->dir_z};
     if (analytic_t(*s, o, d, ray->tnear, ray->tfar) >= 0) ray->tfar = -std::numeric_limits<float>::infinity();
 }
 
@@ -266,7 +264,7 @@ std::optional<SurfaceHit> TraceScene::intersect(const Ray& ray) const {
     SurfaceHit h;
     h.t = rh.ray.tfar;
     h.position = ray.origin + ray.direction * h.t;
-    h.geometric = normalize(to_vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+    h.geometric = normalize(Vec3{rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z});
     if (dot(h.geometric, ray.direction) > 0) h.geometric = -h.geometric;  // two-sided
     h.normal = h.geometric;
     if (!s.vertex_normals.empty()) {
