@@ -91,9 +91,8 @@ bool read_channels(const OIIO::ImageBuf& image, const int rgb[3], int depth, Ren
 std::string bad_pixel(const RenderInput& in, const OIIO::ImageSpec& spec, const int rgb[3]) {
     for (size_t p = 0; p < in.depth.size(); ++p) {
         auto where = [&](const std::string& channel) {
-            std::ostringstream m;
-            m << "channel '" << channel << "' at pixel (" << p % in.width << ", " << p / in.width << ")";
-            return m.str();
+            return "channel '" + channel + "' at pixel (" + std::to_string(p % in.width) + ", " +
+                   std::to_string(p / in.width) + ")";
         };
         for (int c = 0; c < 3; ++c)
             if (const float v = in.rgb[3 * p + c]; !radiance_in_range(v)) {
