@@ -95,8 +95,14 @@ public:
             sizes.push_back(static_cast<int>(face->size()));
         }
     }
-    const toml::table* subtable(const std::string& key) {
-        return typed<toml::table>(key, true, "expected a table { ... }");
+    // The node at `key` as a toml::table or toml::array, else the error "what".
+    template <class T>
+    const T* typed(const std::string& key, bool optional, const char* what) {
+        const toml::node* node = find(key, optional);
+        if (!node) return nullptr;
+        if (const T* t = node->as<T>()) return t;
+        fail(key, what);
+        return nullptr;
     }
     // Reports the first key that nothing asked for.
     void finish() {
@@ -119,15 +125,6 @@ private:
         return node;
     }
     const toml::array* array_at(const std::string& key) { return typed<toml::array>(key, false, "expected a list"); }
-    // The node at `key` as a toml::table or toml::array, else the error "what".
-    template <class T>
-    const T* typed(const std::string& key, bool optional, const char* what) {
-        const toml::node* node = find(key, optional);
-        if (!node) return nullptr;
-        if (const T* t = node->as<T>()) return t;
-        fail(key, what);
-        return nullptr;
-    }
     static bool to_vec3(const toml::node& node, Vec3& v) {
         const toml::array* a = node.as_array();
         if (!a || a->size() != 3) return false;
@@ -233,7 +230,7 @@ Object read_object(TableReader& r, const std::filesystem::path& scene_dir, std::
         r.fail("type", "expected sphere, plane, quad, box, mesh or subdivision, not '" + type + "'");
     }
     o.material.albedo = r.colour("albedo", o.material.albedo);
-    if (const toml::table* t = r.subtable("texture")) {
+    if (const auto* t = r.typed<toml::table>("texture", true, "expected a table { ... }")) {
         TableReader tr(*t, r.where() + ": texture", error);
         o.material.texture = read_texture(tr);
         tr.finish();
