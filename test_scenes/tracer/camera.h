@@ -35,11 +35,8 @@ public:
     double planar_depth(Vec3 point) const { return dot(point - position_, forward_); }
 
     Vec3 position() const { return position_; }
-    Vec3 forward() const { return forward_; }     // unit D
     Vec3 right_unit() const { return right_; }    // unit R
     Vec3 up_unit() const { return up_; }          // unit U
-    double right_length() const { return right_length_; }  // |R| = 2 tan(fov/2)
-    double up_length() const { return up_length_; }        // |U| = |R| H / W
     double fov_deg() const { return fov_deg_; }
     int width() const { return width_; }
     int height() const { return height_; }

@@ -18,13 +18,9 @@ Result<bool> write_exr(const std::string& path, const RenderedImage& image, cons
     spec.attribute("worldToCamera", OIIO::TypeDesc::TypeMatrix44, header.world_to_camera.data());
     for (const auto& [name, value] : header.extra) spec.attribute(name, value);
 
-    std::vector<float> pixels(4 * image.depth.size());
-    for (std::size_t p = 0; p < image.depth.size(); ++p) {
-        for (int c = 0; c < 3; ++c) pixels[4 * p + c] = image.rgb[3 * p + c];
-        pixels[4 * p + 3] = image.depth[p];
-    }
-
-    const OIIO::ImageBuf buffer(spec, pixels.data());
+    OIIO::ImageBuf buffer(spec);
+    buffer.set_pixels(OIIO::ROI(0, image.width, 0, image.height, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, image.rgb.data());
+    buffer.set_pixels(OIIO::ROI(0, image.width, 0, image.height, 0, 1, 3, 4), OIIO::TypeDesc::FLOAT, image.depth.data());
     return write_image_atomically(buffer, path, OIIO::TypeDesc::FLOAT);
 }
 

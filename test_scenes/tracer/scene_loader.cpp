@@ -95,11 +95,13 @@ public:
             sizes.push_back(static_cast<int>(face->size()));
         }
     }
-    const toml::table* subtable(const std::string& key) {
-        const toml::node* node = find(key, true);
+    // The node at `key` as a toml::table or toml::array, else the error "what".
+    template <class T>
+    const T* typed(const std::string& key, bool optional, const char* what) {
+        const toml::node* node = find(key, optional);
         if (!node) return nullptr;
-        if (const toml::table* t = node->as_table()) return t;
-        fail(key, "expected a table { ... }");
+        if (const T* t = node->as<T>()) return t;
+        fail(key, what);
         return nullptr;
     }
     // Reports the first key that nothing asked for.
@@ -122,13 +124,7 @@ private:
         if (!node && !optional) fail(key, "missing");
         return node;
     }
-    const toml::array* array_at(const std::string& key) {
-        const toml::node* node = find(key, false);
-        if (!node) return nullptr;
-        if (const toml::array* a = node->as_array()) return a;
-        fail(key, "expected a list");
-        return nullptr;
-    }
+    const toml::array* array_at(const std::string& key) { return typed<toml::array>(key, false, "expected a list"); }
     static bool to_vec3(const toml::node& node, Vec3& v) {
         const toml::array* a = node.as_array();
         if (!a || a->size() != 3) return false;
@@ -234,7 +230,7 @@ Object read_object(TableReader& r, const std::filesystem::path& scene_dir, std::
         r.fail("type", "expected sphere, plane, quad, box, mesh or subdivision, not '" + type + "'");
     }
     o.material.albedo = r.colour("albedo", o.material.albedo);
-    if (const toml::table* t = r.subtable("texture")) {
+    if (const auto* t = r.typed<toml::table>("texture", true, "expected a table { ... }")) {
         TableReader tr(*t, r.where() + ": texture", error);
         o.material.texture = read_texture(tr);
         tr.finish();

@@ -35,8 +35,6 @@ struct TraceScene::Embree {
 
 namespace {
 
-Vec3 to_vec3(float x, float y, float z) { return {x, y, z}; }
-
 double analytic_t(const SurfaceRecord& s, Vec3 o, Vec3 d, double t_min, double t_max) {
     if (s.kind == SurfaceKind::Sphere) return intersect_sphere(o, d, s.sphere.centre, s.sphere.radius, t_min, t_max);
     return intersect_plane(o, d, s.plane.point, s.plane.normal, t_min, t_max);
@@ -58,7 +56,7 @@ void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
     const auto* s = static_cast<const SurfaceRecord*>(args->geometryUserPtr);
     auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
     RTCRay& ray = rh->ray;
-    const Vec3 o = to_vec3(ray.org_x, ray.org_y, ray.org_z), d = to_vec3(ray.dir_x, ray.dir_y, ray.dir_z);
+    const Vec3 o{ray.org_x, ray.org_y, ray.org_z}, d{ray.dir_x, ray.dir_y, ray.dir_z};
     const double t = analytic_t(*s, o, d, ray.tnear, ray.tfar);
     if (t < 0) return;
     const Vec3 n = s->kind == SurfaceKind::Sphere ? o + d * t - s->sphere.centre : s->plane.normal;
@@ -75,7 +73,7 @@ void analytic_occluded(const RTCOccludedFunctionNArguments* args) {
     if (!args->valid[0]) return;
     const auto* s = static_cast<const SurfaceRecord*>(args->geometryUserPtr);
     auto* ray = reinterpret_cast<RTCRay*>(args->ray);
-    const Vec3 o = to_vec3(ray->org_x, ray->org_y, ray->org_z), d = to_vec3(ray->dir_x, ray->dir_y, ray->dir_z);
+    const Vec3 o{ray->org_x, ray->org_y, ray->org_z}, d{ray->dir_x, ray->dir_y, ray->dir_z};
     if (analytic_t(*s, o, d, ray->tnear, ray->tfar) >= 0) ray->tfar = -std::numeric_limits<float>::infinity();
 }
 
@@ -219,6 +217,13 @@ Vec3 smooth_normal(const SurfaceRecord& s, const RTCHit& hit) {
            s.vertex_normals[q[2]] * (u * v) + s.vertex_normals[q[3]] * ((1 - u) * v);
 }
 
+// Embree's ray o + t d for 0 < t < t_far, seeing every geometry (RTCRay's fields in order:
+// origin, tnear, direction, time, tfar, mask, id, flags).
+RTCRay embree_ray(Vec3 o, Vec3 d, float t_far) {
+    const auto f = [](double x) { return static_cast<float>(x); };
+    return {f(o.x), f(o.y), f(o.z), 0, f(d.x), f(d.y), f(d.z), 0, t_far, ~0u, 0, 0};
+}
+
 }  // namespace
 
 TraceScene::TraceScene() : embree_(std::make_unique<Embree>()) {}
@@ -250,13 +255,7 @@ std::optional<SurfaceHit> TraceScene::intersect(const Ray& ray) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh{};
-    rh.ray.org_x = static_cast<float>(ray.origin.x), rh.ray.org_y = static_cast<float>(ray.origin.y);
-    rh.ray.org_z = static_cast<float>(ray.origin.z);
-    rh.ray.dir_x = static_cast<float>(ray.direction.x), rh.ray.dir_y = static_cast<float>(ray.direction.y);
-    rh.ray.dir_z = static_cast<float>(ray.direction.z);
-    rh.ray.tnear = 0;
-    rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.mask = ~0u;
+    rh.ray = embree_ray(ray.origin, ray.direction, std::numeric_limits<float>::infinity());
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(embree_->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
@@ -265,7 +264,7 @@ std::optional<SurfaceHit> TraceScene::intersect(const Ray& ray) const {
     SurfaceHit h;
     h.t = rh.ray.tfar;
     h.position = ray.origin + ray.direction * h.t;
-    h.geometric = normalize(to_vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+    h.geometric = normalize(Vec3{rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z});
     if (dot(h.geometric, ray.direction) > 0) h.geometric = -h.geometric;  // two-sided
     h.normal = h.geometric;
     if (!s.vertex_normals.empty()) {
@@ -281,14 +280,7 @@ std::optional<SurfaceHit> TraceScene::intersect(const Ray& ray) const {
 bool TraceScene::occluded(Vec3 origin, Vec3 direction, double t_max) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    RTCRay ray{};
-    ray.org_x = static_cast<float>(origin.x), ray.org_y = static_cast<float>(origin.y);
-    ray.org_z = static_cast<float>(origin.z);
-    ray.dir_x = static_cast<float>(direction.x), ray.dir_y = static_cast<float>(direction.y);
-    ray.dir_z = static_cast<float>(direction.z);
-    ray.tnear = 0;
-    ray.tfar = static_cast<float>(t_max);
-    ray.mask = ~0u;
+    RTCRay ray = embree_ray(origin, direction, static_cast<float>(t_max));
     rtcOccluded1(embree_->scene, &context, &ray);
     return ray.tfar < 0;
 }

@@ -1,22 +1,17 @@
 #include "wavecam/output_layout.h"
 
-#include <OpenImageIO/imagebufalgo.h>
-
-#include <algorithm>
-#include <cctype>
+#include <OpenImageIO/strutil.h>
 
 namespace wavecam {
+namespace Strutil = OIIO::Strutil;
 
 bool is_stale_camera_attribute(const std::string& name) {
-    std::string n = name;
-    std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    auto starts = [&n](const char* p) { return n.rfind(p, 0) == 0; };
-    if (starts("wavecam.")) return n != "wavecam.scene";
-    if (starts("cycles.") || n == "oiio:subimages") return true;
+    if (Strutil::istarts_with(name, "wavecam.")) return !Strutil::iequals(name, "wavecam.scene");
+    if (Strutil::istarts_with(name, "cycles.") || Strutil::iequals(name, "oiio:subimages")) return true;
     // lens and camera geometry under any naming: Blender's Lens, EXIF's FocalLength/FNumber/
     // LensModel/ApertureValue/SubjectDistance, OpenEXR's focus/aperture/worldToCamera/worldToNDC
     for (const char* part : {"lens", "focal", "aperture", "fnumber", "focus", "subjectdistance", "worldto"})
-        if (n.find(part) != std::string::npos) return true;
+        if (Strutil::icontains(name, part)) return true;
     return false;
 }
 

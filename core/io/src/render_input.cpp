@@ -2,6 +2,8 @@
 
 #include "wavecam/scene_diffraction.h"
 
+#include <OpenImageIO/strutil.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -11,10 +13,6 @@
 namespace wavecam {
 namespace {
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 // Index of channel `want`: the exact name, else the only/first "<layer>.want" (preferring a
 // "Combined" layer for colour, as Blender names its beauty pass).
 int find_channel(const OIIO::ImageSpec& spec, const std::string& want) {
@@ -22,15 +20,10 @@ int find_channel(const OIIO::ImageSpec& spec, const std::string& want) {
     for (int c = 0; c < spec.nchannels; ++c) {
         const std::string& n = spec.channelnames[c];
         if (n == want) return c;
-        if (ends_with(n, "." + want) && (suffixed < 0 || n.find("Combined") != std::string::npos)) suffixed = c;
+        if (OIIO::Strutil::ends_with(n, "." + want) && (suffixed < 0 || OIIO::Strutil::contains(n, "Combined")))
+            suffixed = c;
     }
     return suffixed;
-}
-
-std::string channel_list(const OIIO::ImageSpec& spec) {
-    std::string s;
-    for (int c = 0; c < spec.nchannels; ++c) s += (c ? ", " : "") + spec.channelnames[c];
-    return s;
 }
 
 // The header's horizontal field of view in radians (0 when the attribute is absent). Degrees as
@@ -77,18 +70,6 @@ std::string missing_fov_message(const OIIO::ImageSpec& spec) {
     return m;
 }
 
-}  // namespace
-
-RenderChannels find_render_channels(const OIIO::ImageSpec& spec, const std::string& depth_channel) {
-    RenderChannels ch{find_channel(spec, "R"), find_channel(spec, "G"), find_channel(spec, "B"),
-                      find_channel(spec, depth_channel)};
-    ch.alpha = find_channel(spec, "A");
-    if (ch.alpha == ch.depth) ch.alpha = -1;  // depth channel A: depth, not alpha
-    return ch;
-}
-
-namespace {
-
 // Each channel read once, straight into its place in the plain arrays.
 bool read_channels(const OIIO::ImageBuf& image, const int rgb[3], int depth, RenderInput& in) {
     auto read = [&](int c, float* into, int stride) {
@@ -110,9 +91,8 @@ bool read_channels(const OIIO::ImageBuf& image, const int rgb[3], int depth, Ren
 std::string bad_pixel(const RenderInput& in, const OIIO::ImageSpec& spec, const int rgb[3]) {
     for (size_t p = 0; p < in.depth.size(); ++p) {
         auto where = [&](const std::string& channel) {
-            std::ostringstream m;
-            m << "channel '" << channel << "' at pixel (" << p % in.width << ", " << p / in.width << ")";
-            return m.str();
+            return "channel '" + channel + "' at pixel (" + std::to_string(p % in.width) + ", " +
+                   std::to_string(p / in.width) + ")";
         };
         for (int c = 0; c < 3; ++c)
             if (const float v = in.rgb[3 * p + c]; !radiance_in_range(v)) {
@@ -130,6 +110,14 @@ std::string bad_pixel(const RenderInput& in, const OIIO::ImageSpec& spec, const 
 
 }  // namespace
 
+RenderChannels find_render_channels(const OIIO::ImageSpec& spec, const std::string& depth_channel) {
+    RenderChannels ch{find_channel(spec, "R"), find_channel(spec, "G"), find_channel(spec, "B"),
+                      find_channel(spec, depth_channel)};
+    ch.alpha = find_channel(spec, "A");
+    if (ch.alpha == ch.depth) ch.alpha = -1;  // depth channel A: depth, not alpha
+    return ch;
+}
+
 Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& name, const RenderReadOptions& opt) {
     auto fail = [&name](const std::string& m, ErrorKind kind = ErrorKind::Failed, const std::string& field = {}) {
         return Result<RenderInput>::failure(name + ": " + m, kind, field);
@@ -140,11 +128,11 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
                     ", expected at least 2x2 pixels");
     if (spec.depth > 1) return fail("volume images are not supported, expected a 2D image");
     const RenderChannels ch = find_render_channels(spec, opt.depth_channel);
+    const std::string channels = OIIO::Strutil::join(spec.channelnames, ", ");
     if (ch.r < 0 || ch.g < 0 || ch.b < 0)
-        return fail("channels R, G, B: not found (channels: " + channel_list(spec) +
-                    "), expected linear RGB radiance");
+        return fail("channels R, G, B: not found (channels: " + channels + "), expected linear RGB radiance");
     if (ch.depth < 0)
-        return fail("channel '" + opt.depth_channel + "': not found (channels: " + channel_list(spec) +
+        return fail("channel '" + opt.depth_channel + "': not found (channels: " + channels +
                     "), expected a depth channel", ErrorKind::Missing, "depth-channel");
 
     RenderInput in;
