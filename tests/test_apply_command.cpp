@@ -1,6 +1,7 @@
 // `wavecam apply` as a user runs it: outputs, header, and every bad input of issue 3.
 #include <gtest/gtest.h>
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 
 #include <chrono>
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <limits>
 
 #include "command_runner.h"
+#include "wavecam/diffract_image.h"
 
 namespace fs = std::filesystem;
 using namespace wavecam::test;
@@ -125,6 +127,16 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
         nan.write((dir / "nandepth.exr").string());
     }
     std::ofstream((dir / "text.exr").string()) << "not an image";
+    const std::string deep = (dir / "deep.exr").string();  // samples per pixel: crashed wavecam before
+    {
+        OIIO::ImageBuf samples = OIIO::ImageBufAlgo::deepen(OIIO::ImageBuf(good));
+        ASSERT_TRUE(samples.deep() && samples.write(deep)) << samples.geterror();
+        // an OIIO application handing the library a deep buffer gets the library's own error
+        OIIO::ImageBuf out;
+        EXPECT_FALSE(wavecam::diffract(out, samples, "deep.exr", {}));
+        EXPECT_NE(out.geterror().find("deep.exr: deep image (samples per pixel) is not supported"), std::string::npos)
+            << out.geterror();
+    }
     {
         const std::string bytes = file_bytes(good);
         std::ofstream((dir / "truncated.exr").string(), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
@@ -145,6 +157,8 @@ TEST(ApplyCommand, BadInputsGetAClearErrorAndNoOutput) {
         {"text.exr", "", "text.exr"},
         {"truncated.exr", "", "truncated.exr"},
         {"missing.exr", "", "missing.exr"},
+        {"deep.exr", "", "deep.exr: cannot be read as an image (a deep image; expected a flat one)"},
+        {"good.exr", "--aperture mask:" + deep, "deep.exr: cannot be read as an image (a deep image"},
         {"good.exr", "--pinhole 0.2", "--pinhole: expected a length"},
         {"good.exr", "--wavelengths 0", "--wavelengths"},
         {"good.exr", "--aperture polygon:2", "--aperture: expected the number of sides N"},

@@ -127,6 +127,7 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
         return fail("image is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                     ", expected at least 2x2 pixels");
     if (spec.depth > 1) return fail("volume images are not supported, expected a 2D image");
+    if (spec.deep) return fail("deep image (samples per pixel) is not supported, expected a flat image");
     const RenderChannels ch = find_render_channels(spec, opt.depth_channel);
     const std::string channels = OIIO::Strutil::join(spec.channelnames, ", ");
     if (ch.r < 0 || ch.g < 0 || ch.b < 0)
@@ -159,8 +160,10 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
 
 Result<OIIO::ImageBuf> read_image(const std::string& path) {
     OIIO::ImageBuf image(path);
-    if (image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) return Result<OIIO::ImageBuf>::success(std::move(image));
-    const std::string why = image.geterror();
+    const bool read = image.read(0, 0, true, OIIO::TypeDesc::FLOAT);
+    if (read && !image.deep()) return Result<OIIO::ImageBuf>::success(std::move(image));
+    // deep pixels hold lists of samples, not one value each: no pixel access wavecam makes fits them
+    const std::string why = read ? "a deep image; expected a flat one" : image.geterror();
     return Result<OIIO::ImageBuf>::failure(path + ": cannot be read as an image" + (why.empty() ? "" : " (" + why + ")"));
 }
 
