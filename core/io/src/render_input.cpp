@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <sstream>
 
 #include "wavecam/units.h"
 
@@ -50,7 +49,7 @@ Result<double> header_fov(const OIIO::ImageSpec& spec) {
         fov = Result<double>::success(p->get_int() * M_PI / 180.0);
     }
     if (fov.ok() && !(fov.value > 0 && fov.value < M_PI))
-        return Result<double>::failure(std::string(kFovAttribute) + " is " + std::to_string(fov.value * 180 / M_PI) +
+        return Result<double>::failure(std::string(kFovAttribute) + " is " + OIIO::Strutil::fmt::format("{:g}", fov.value * 180 / M_PI) +
                                        " degrees, expected a field of view between 0 and 180 degrees");
     return fov;
 }
@@ -95,14 +94,12 @@ std::string bad_pixel(const RenderInput& in, const OIIO::ImageSpec& spec, const 
                    std::to_string(p / in.width) + ")";
         };
         for (int c = 0; c < 3; ++c)
-            if (const float v = in.rgb[3 * p + c]; !radiance_in_range(v)) {
-                std::ostringstream m;
-                m << where(spec.channelnames[rgb[c]]) << " is " << v << ", expected finite radiance within +-1e30";
-                return m.str();
-            }
+            if (const float v = in.rgb[3 * p + c]; !radiance_in_range(v))
+                return where(spec.channelnames[rgb[c]]) + " is " + OIIO::Strutil::fmt::format("{:g}", v) +
+                       ", expected finite radiance within +-1e30";
         const float d = in.depth[p];
         if (!depth_in_range(d))
-            return where(in.depth_channel) + " is " + std::to_string(d) +
+            return where(in.depth_channel) + " is " + OIIO::Strutil::fmt::format("{:g}", d) +
                    ", expected a distance > 0 (inf or >= 1e9 for sky)";
     }
     return {};
