@@ -197,6 +197,7 @@ TEST(ExactNoise, PerChannelVarianceIsTheWavelengthSumAndFallsAsOneOverK) {
             s.runs = runs;
             s.seed = 1000 + seed;
             s.jitter = false;
+            s.coded_phases = false;  // the seed paper's independent phases: noise as 1/sqrt(K)
             s.film_subsamples = 1;
             // the pinhole sampled for rays up to 3 deg off axis (the frame's corner is at 1.9 deg),
             // not at the d/128 floor the image's accuracy needs: noise is what is measured here

@@ -206,6 +206,7 @@ TEST(SceneDiffraction, RandomPhaseAverageConvergesAsOneOverRootK) {
     DiffractionSettings s;
     s.aperture = {ApertureShape::Circle, 40e-6};
     s.jitter = false;  // jitter would change the expectation itself
+    s.coded_phases = false;  // the seed paper's independent phases: noise as 1/sqrt(K)
     s.film_subsamples = 1;
     s.method = CoherenceMethod::Incoherent;
     const auto exact = scene.diffract(lambda, s);

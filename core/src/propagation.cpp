@@ -70,16 +70,16 @@ void field_at_sample(const SourceArrays& a, float x, float y, float inv_lambda, 
     }, re, im);
 }
 
-// |U|^2 at one film point T = (tx, ty, -f), up to the constant 1/lambda already in the field.
+// U at one film point T = (tx, ty, -f), up to the constant 1/lambda already in the field.
 // Reference path |T| (a common phase per film point): r - |T| = (|xi|^2 - 2 xi.T) / (r + |T|);
 // amplitude obliquity f/r times 1/r (Goodman eq. 3-41).
 __attribute__((target_clones("arch=x86-64-v3", "default")))
-double irradiance_at_film_point(const ApertureSamples& smp, const PinholeField& field, float tx, float ty, float f,
-                                float r0sq, float inv_lambda) {
+void field_at_film_point(const ApertureSamples& smp, const PinholeField& field, float tx, float ty, float f,
+                         float r0sq, float inv_lambda, double& re, double& im) {
     const float r0 = std::sqrt(r0sq);
     const float* __restrict xs = smp.x.data();
     const float* __restrict ys = smp.y.data();
-    double re = 0, im = 0;
+    re = im = 0;
     detail::phasor_sum(smp.size(), field.re.data(), field.im.data(), [&](size_t j, float& turns, float& amp) {
         const float x = xs[j], y = ys[j];
         const float num = x * (x - 2.0f * tx) + y * (y - 2.0f * ty);
@@ -87,7 +87,6 @@ double irradiance_at_film_point(const ApertureSamples& smp, const PinholeField& 
         turns = num * inv_lambda / (std::sqrt(rsq) + r0);
         amp = f / rsq;
     }, re, im);
-    return re * re + im * im;
 }
 
 int threads(int nthreads) { return nthreads > 0 ? nthreads : omp_get_max_threads(); }
@@ -119,9 +118,8 @@ bool illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointS
     return !ticker.cancelled();
 }
 
-bool accumulate_film_irradiance(const ApertureSamples& samples, const PinholeField& field,
-                                const FilmPoints& film, double wavelength, double scale, float* irradiance,
-                                int nthreads, const ProgressFn& progress) {
+bool add_film_field(const ApertureSamples& samples, const PinholeField& field, const FilmPoints& film,
+                    double wavelength, std::complex<double>* film_field, int nthreads, const ProgressFn& progress) {
     const long n = static_cast<long>(film.size());
     const double f = film.film_distance;
     const float inv_lambda = static_cast<float>(1.0 / wavelength);
@@ -130,12 +128,22 @@ bool accumulate_film_irradiance(const ApertureSamples& samples, const PinholeFie
     for (long t = 0; t < n; ++t) {
         if (ticker.cancelled()) continue;
         const double tx = film.x[t], ty = film.y[t];
-        const double i = irradiance_at_film_point(samples, field, film.x[t], film.y[t], static_cast<float>(f),
-                                                  static_cast<float>(tx * tx + ty * ty + f * f), inv_lambda);
-        irradiance[t] += static_cast<float>(scale * i);
+        double re, im;
+        field_at_film_point(samples, field, film.x[t], film.y[t], static_cast<float>(f),
+                            static_cast<float>(tx * tx + ty * ty + f * f), inv_lambda, re, im);
+        film_field[t] += std::complex<double>(re, im);
         ticker.advance(1, omp_get_thread_num() == 0);
     }
     return !ticker.cancelled();
+}
+
+bool accumulate_film_irradiance(const ApertureSamples& samples, const PinholeField& field,
+                                const FilmPoints& film, double wavelength, double scale, float* irradiance,
+                                int nthreads, const ProgressFn& progress) {
+    std::vector<std::complex<double>> u(film.size(), 0.0);
+    if (!add_film_field(samples, field, film, wavelength, u.data(), nthreads, progress)) return false;
+    for (size_t t = 0; t < u.size(); ++t) irradiance[t] += static_cast<float>(scale * std::norm(u[t]));
+    return true;
 }
 
 }  // namespace wavecam

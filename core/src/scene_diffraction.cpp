@@ -7,6 +7,7 @@
 
 #include "counter_random.h"
 #include "frame_margin.h"
+#include "phase_codes.h"
 #include "wavecam/propagation.h"
 
 namespace wavecam {
@@ -230,6 +231,7 @@ struct SceneSum {
     ApertureSamples samples;
     FilmPoints film;
     int subsamples = 1;
+    Extent source_extent, film_extent;  // tangents of the widest source and film point
 };
 
 // With `scene.power` null every pixel and margin cell counts as lit (estimates).
@@ -262,6 +264,8 @@ SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const Diffra
         sum.emitters.resize(size_t(c.width) * c.height + cells.size());
     }
     const double pitch = lattice_pitch(s, c, wavelength, nearest, source, film);
+    sum.source_extent = source;
+    sum.film_extent = film;
     if (with_samples) sum.samples = sample_aperture(s.aperture, pitch);
     else sum.samples.pitch = pitch;
     sum.subsamples = s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, c, wavelength);
@@ -272,14 +276,48 @@ SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const Diffra
 
 }  // namespace
 
+namespace {
+
+// Directions within tangents |u| <= e.u, |v| <= e.v as in-plane direction components (sines).
+DirectionRange direction_range(const Extent& e, double rho0, double rho1) {
+    const double sx = e.u / std::sqrt(1 + e.u * e.u), sy = e.v / std::sqrt(1 + e.v * e.v);
+    return {-sx, sx, -sy, sy, rho0, rho1};
+}
+
+// One run's work (or one source's, `single`), in direct terms: sum 1 from the sources to the
+// pinhole, sum 2 to the film, each by the evaluator the settings pick (fast_summation.h).
+double run_work(const DiffractionSettings& s, const SceneSum& sum, double wavelength, double nearest, double f,
+                bool single) {
+    const double pitch = sum.samples.pitch, radius = s.aperture.bounding_radius();
+    const double samples = estimate_sample_count(s.aperture, pitch);
+    // Samples off the lattice: the rim's cells (about 1.3 per pitch of perimeter, twice for a
+    // zone plate's every zone edge); every sample of a grey mask or a sieve's holes.
+    const bool irregular = s.aperture.shape == ApertureShape::Mask || s.aperture.shape == ApertureShape::PhotonSieve;
+    const double rims = s.aperture.shape == ApertureShape::ZonePlate ? 2.0 * s.aperture.zones : 1.0;
+    const double off = irregular ? samples : std::min(samples, rims * 1.3 * 2 * M_PI * radius / pitch);
+    const int across = int(std::ceil(2 * radius / pitch)) + 1;
+    const SummationSettings set{s.summation, s.summation_tolerance, s.nthreads};
+    const double rho = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
+    const SummationWork in = summation_work(samples - off, across, off, single ? 1.0 : double(sum.emitters.size()),
+                                            direction_range(sum.source_extent, 0, rho), radius, wavelength, pitch,
+                                            false, s.summation_tolerance);
+    const SummationWork out = summation_work(samples - off, across, off, double(sum.film.size()),
+                                             direction_range(sum.film_extent, 1 / f, 1 / f), radius, wavelength,
+                                             pitch, true, s.summation_tolerance);
+    auto pick = [&](const SummationWork& w) { return use_fast(set, w) ? w.fast : w.direct; };
+    return pick(in) + pick(out);
+}
+
+}  // namespace
+
 double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength) {
     const WorkRange w = work_range(s, camera.height);
     const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
     const SceneSum sum = scene_sum({camera, nullptr, nullptr}, wavelength, s, nearest, w, false);
-    const double samples = estimate_sample_count(s.aperture, sum.samples.pitch);
-    const double sources = double(sum.emitters.size()), film = double(sum.film.size());
-    return s.method == CoherenceMethod::Incoherent ? samples * sources * (film + 1)
-                                                   : samples * (sources + film) * (w.run_end - w.run_begin);
+    const double f = camera.film_distance;
+    return s.method == CoherenceMethod::Incoherent
+               ? double(sum.emitters.size()) * run_work(s, sum, wavelength, nearest, f, true)
+               : run_work(s, sum, wavelength, nearest, f, false) * (w.run_end - w.run_begin);
 }
 
 namespace {
@@ -301,22 +339,34 @@ PointSource centred(const PinholeCamera& c, const Emitter& e, double phase) {
     return source_at(c, e.x + 0.5 * e.w, e.y + 0.5 * e.h, e.power, e.depth, e.meaning, phase);
 }
 
-// One run's sources: each emitter with its own random phase, anywhere in its cell with jitter.
+// One run's sources. Coded (phase_codes.h): each emitter's phase 2 pi (theta + k m / K), theta
+// uniform per emitter and wavelength, m its class; with jitter, anywhere in its cell, the same
+// place in every run, so that the codes cancel the cross terms of different classes exactly.
+// Independent (the seed paper's own): a fresh uniform phase and place every run.
 std::vector<PointSource> run_sources(const PinholeCamera& c, const std::vector<Emitter>& emitters,
-                                     const DiffractionSettings& s, int run, uint64_t stream) {
+                                     const DiffractionSettings& s, const detail::PhaseCode& code, int run,
+                                     uint64_t stream) {
     std::vector<PointSource> sources;
     sources.reserve(emitters.size());
+    const uint64_t draw = s.coded_phases ? 0 : uint64_t(run);  // the counter the random numbers use
     for (const Emitter& e : emitters) {
-        const double phase = 2 * M_PI * detail::counter_uniform(s.seed ^ stream, run, e.key, 3);
+        double turns = detail::counter_uniform(s.seed ^ stream, draw, e.key, 3);
+        if (s.coded_phases)
+            turns += code.offset_turns(run, code.code_class(long(std::floor(e.x)), long(std::floor(e.y))));
+        const double phase = 2 * M_PI * turns;
         if (!s.jitter) {
             sources.push_back(centred(c, e, phase));
             continue;
         }
-        const double jx = detail::counter_uniform(s.seed, run, e.key, 1);
-        const double jy = detail::counter_uniform(s.seed, run, e.key, 2);
+        const double jx = detail::counter_uniform(s.seed, draw, e.key, 1);
+        const double jy = detail::counter_uniform(s.seed, draw, e.key, 2);
         sources.push_back(source_at(c, e.x + jx * e.w, e.y + jy * e.h, e.power, e.depth, e.meaning, phase));
     }
     return sources;
+}
+
+SummationSettings summation(const DiffractionSettings& s) {
+    return {s.summation, s.summation_tolerance, s.nthreads};
 }
 
 Result<bool> cancelled() { return Result<bool>::failure("cancelled", ErrorKind::Cancelled); }
@@ -327,8 +377,8 @@ Result<bool> incoherent_sum(const SceneSum& sum, const PinholeCamera& c, double 
     PinholeField field;
     const size_t n = sum.emitters.size();
     for (size_t k = 0; k < n; ++k) {
-        illuminate_pinhole(sum.samples, {centred(c, sum.emitters[k], 0.0)}, wavelength, field, s.nthreads);
-        if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0, points.data(), s.nthreads,
+        illuminate_pinhole(sum.samples, {centred(c, sum.emitters[k], 0.0)}, wavelength, field, summation(s));
+        if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0, points.data(), summation(s),
                                         progress_part(progress, double(k) / n, double(k + 1) / n)))
             return cancelled();
     }
@@ -342,16 +392,17 @@ Result<bool> random_phase_runs(const SceneSum& sum, const PinholeCamera& c, doub
                                float* irradiance, const ProgressFn& progress) {
     const uint64_t stream = wavelength_stream(wavelength);
     PinholeField field;
+    const detail::PhaseCode code(s.runs);
     const int first = range.run_begin, runs = range.run_end - range.run_begin;
     for (int run = first; run < range.run_end; ++run) {
-        const std::vector<PointSource> sources = run_sources(c, sum.emitters, s, run, stream);
+        const std::vector<PointSource> sources = run_sources(c, sum.emitters, s, code, run, stream);
         // half of a run's terms go to the pinhole, half to the film
         const double at = double(run - first) / runs, half = 0.5 / runs;
-        if (!illuminate_pinhole(sum.samples, sources, wavelength, field, s.nthreads,
+        if (!illuminate_pinhole(sum.samples, sources, wavelength, field, summation(s),
                                 progress_part(progress, at, at + half)))
             return cancelled();
         if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0 / s.runs, points.data(),
-                                        s.nthreads, progress_part(progress, at + half, at + 2 * half)))
+                                        summation(s), progress_part(progress, at + half, at + 2 * half)))
             return cancelled();
         average_into_output(points, sum, c, s.overscan, range, irradiance);
     }

@@ -122,6 +122,21 @@ const std::vector<SettingKey> kKeys = {
                               {"incoherent", DiffractMethod::Incoherent}},
                              o.method);
      }},
+    {"summation", "direct", "how the random-phase and incoherent methods evaluate their two sums: fast (NUFFTs with "
+     "interpolated chirps, relative error ~3e-4, each sum direct where that is cheaper; default), direct (term by "
+     "term, the reference) or nufft (the NUFFTs always)",
+     true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return parse_choice(n, v,
+                             {{"fast", Summation::Fast}, {"direct", Summation::Direct}, {"nufft", Summation::Nufft}},
+                             o.diffraction.summation);
+     }},
+    {"phases", "independent", "random-phase runs' phases: coded (run k offsets class m by 2 pi k m / runs, so "
+     "that different classes cancel exactly; default) or independent (the seed paper's; noise ~ 1/sqrt(runs))",
+     true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return parse_choice(n, v, {{"coded", true}, {"independent", false}}, o.diffraction.coded_phases);
+     }},
     {"seed", "7", "random seed: the same seed gives the same image", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          return take(parse_whole_number(v, n, 0, 1L << 62), o.diffraction.seed);

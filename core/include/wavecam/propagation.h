@@ -41,4 +41,9 @@ bool accumulate_film_irradiance(const ApertureSamples& samples, const PinholeFie
                                 const FilmPoints& film, double wavelength, double scale,
                                 float* irradiance, int nthreads = 0, const ProgressFn& progress = {});
 
+// The film field U(x) of the sum above (before |U|^2), added to film_field[t].
+bool add_film_field(const ApertureSamples& samples, const PinholeField& field, const FilmPoints& film,
+                    double wavelength, std::complex<double>* film_field, int nthreads = 0,
+                    const ProgressFn& progress = {});
+
 }  // namespace wavecam

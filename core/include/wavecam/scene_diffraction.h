@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include "wavecam/aperture.h"
+#include "wavecam/fast_summation.h"
 #include "wavecam/pinhole_camera.h"
 #include "wavecam/progress.h"
 #include "wavecam/result.h"
@@ -20,11 +21,18 @@ struct DiffractionSettings {
     Aperture aperture{ApertureShape::Circle, 0.0};
     CoherenceMethod method = CoherenceMethod::RandomPhase;
     int runs = 4;              // K, random-phase runs averaged
-    bool jitter = true;        // move each source within its pixel, anew every run
+    bool jitter = true;        // move each source within its pixel (once a job when coded, else every run)
+    // Coded phases (phase_codes.h, docs/phase_codes.md): the runs' phases offset by 2 pi k m / K so
+    // that sources of different classes cancel exactly over the K runs. false: the seed paper's
+    // independent phases, noise falling as 1/sqrt(K).
+    bool coded_phases = true;
     uint64_t seed = 1;         // random phases and jitter; same seed, same image
     double sin_theta_max = 0;  // aperture sampling lambda/(2 sin theta_max); 0 = from the frame
     int film_subsamples = 0;   // n: each film pixel averages n x n points; 0 = auto_film_subsamples
     int nthreads = 0;
+    // How the two sums are evaluated (fast_summation.h): the same terms either way.
+    Summation summation = Summation::Fast;
+    double summation_tolerance = kSummationTolerance;
     // One share of the work (work_share.h): runs [run_begin, run_end) of the `runs` averaged, each
     // still weighted 1/runs, on output rows [row_begin, row_end); an end < 0 means the last.
     // Every run is averaged into the output on its own, so a job equals the sum of its shares.

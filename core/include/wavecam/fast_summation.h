@@ -1,0 +1,66 @@
+// The seed paper's two sums (propagation.h: scene -> pinhole samples, pinhole samples -> film
+// points), the same terms with the same amplitudes, obliquity and phases, evaluated in about
+// O(N log N) instead of term by term (docs/fast_summation.md):
+//   - each path length is split exactly as r = R - u.xi + psi(u, 1/R, xi): the linear part is a
+//     Fourier kernel on the pinhole lattice, summed by a gridding NUFFT (type 1 from the sources,
+//     type 2 to the film points);
+//   - the rest, exp(i k psi) (R/r)^m, is smooth in the source's or film point's direction and
+//     inverse distance: it is interpolated over Chebyshev nodes in those parameters (boxes split
+//     until a few nodes per axis reach the tolerance), one NUFFT per node;
+//   - samples off the lattice (rim cells' centroids, grey masks, sieve holes) are summed directly.
+// The stated error: relative error of each sum's terms within `tolerance` from the interpolation
+// plus the NUFFT's own, checked against the direct sums in tests/test_fast_summation.cpp.
+#pragma once
+#include <complex>
+#include <vector>
+#include "wavecam/propagation.h"
+
+namespace wavecam {
+
+enum class Summation {
+    Fast,    // per sum, NUFFTs over the lattice with interpolated chirps unless the work estimate
+             // says the direct terms are cheaper (large Fresnel numbers, one source) (default)
+    Direct,  // term by term, the reference evaluator
+    Nufft,   // the NUFFTs always (tests, benchmarks)
+};
+
+constexpr double kSummationTolerance = 3e-4;
+
+struct SummationSettings {
+    Summation method = Summation::Fast;
+    double tolerance = kSummationTolerance;
+    int nthreads = 0;
+};
+
+// propagation.h's sums through `settings.method`.
+bool illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointSource>& sources, double wavelength,
+                        PinholeField& field, const SummationSettings& settings, const ProgressFn& progress = {});
+bool add_film_field(const ApertureSamples& samples, const PinholeField& field, const FilmPoints& film,
+                    double wavelength, std::complex<double>* film_field, const SummationSettings& settings,
+                    const ProgressFn& progress = {});
+bool accumulate_film_irradiance(const ApertureSamples& samples, const PinholeField& field, const FilmPoints& film,
+                                double wavelength, double scale, float* irradiance,
+                                const SummationSettings& settings, const ProgressFn& progress = {});
+
+// The parameters a sum's chirps depend on: in-plane direction components (ux, uy) of the sources
+// or film points, and inverse distance 1/R (0: plane waves), as ranges.
+struct DirectionRange {
+    double ux0 = 0, ux1 = 0, uy0 = 0, uy1 = 0;
+    double rho0 = 0, rho1 = 0;
+};
+
+// Work of one sum in direct terms (the time of one term of propagation.cpp's kernel), for
+// `points` sources or film points within `range` on the lattice of `samples_across` x
+// `samples_across` (`off_lattice` of them summed directly). Direct: samples x points.
+struct SummationWork {
+    double direct = 0, fast = 0;
+    int nufft_count = 0;  // the fast path's transforms (interpolation nodes over all boxes)
+};
+SummationWork summation_work(double lattice_samples, int samples_across, double off_lattice, double points,
+                             const DirectionRange& range, double aperture_radius, double wavelength,
+                             double pitch, bool film, double tolerance);
+
+// Whether `settings.method` takes the NUFFTs for that work.
+bool use_fast(const SummationSettings& settings, const SummationWork& work);
+
+}  // namespace wavecam
