@@ -50,8 +50,17 @@ TEST_P(LatticeNufftTest, ToLatticeMatchesTheDirectSum) {
     const Case c = GetParam();
     const Points p = random_points(300, c.spread, 7);
     LatticeNufft t(c.nx, c.ny, c.tolerance, 2);
-    std::vector<cfloat> got(size_t(c.nx) * c.ny);
-    t.to_lattice(p.x.data(), p.y.data(), p.a.data(), p.a.size(), got.data());
+    // two strength sets at once: the points' own and twice them, both centred by the caller
+    std::vector<cfloat> a;
+    for (size_t s = 0; s < p.a.size(); ++s) {
+        const cfloat v(std::complex<double>(p.a[s]) * t.centring(p.x[s], p.y[s]));
+        a.push_back(v);
+        a.push_back(2.0f * v);
+    }
+    std::vector<cfloat> got(size_t(c.nx) * c.ny), twice(got.size());
+    cfloat* lattices[2] = {got.data(), twice.data()};
+    t.to_lattice(p.x.data(), p.y.data(), a.data(), 2, p.a.size(), lattices);
+    for (size_t i = 0; i < got.size(); ++i) ASSERT_NEAR(std::abs(twice[i] - 2.0f * got[i]), 0.0, 1e-4 * std::abs(got[i]) + 1e-6);
     std::vector<std::complex<double>> want(got.size());
     for (int n = 0; n < c.ny; ++n)
         for (int m = 0; m < c.nx; ++m)
@@ -65,8 +74,13 @@ TEST_P(LatticeNufftTest, FromLatticeMatchesTheDirectSum) {
     const Points p = random_points(300, c.spread, 9);
     const Points g = random_points(size_t(c.nx) * c.ny, 1, 11);
     LatticeNufft t(c.nx, c.ny, c.tolerance, 2);
+    // the lattice given twice, weighted 0.25 and 0.75 per point: the one transform, then centred
     std::vector<cfloat> got(p.x.size());
-    t.from_lattice(g.a.data(), p.x.data(), p.y.data(), p.x.size(), got.data());
+    const cfloat* lattices[2] = {g.a.data(), g.a.data()};
+    std::vector<float> weights;
+    for (size_t s = 0; s < p.x.size(); ++s) weights.insert(weights.end(), {0.25f, 0.75f});
+    t.from_lattice(lattices, 2, p.x.data(), p.y.data(), weights.data(), p.x.size(), got.data());
+    for (size_t s = 0; s < p.x.size(); ++s) got[s] = cfloat(std::complex<double>(got[s]) * t.centring(p.x[s], p.y[s]));
     std::vector<std::complex<double>> want(got.size());
     for (size_t s = 0; s < p.x.size(); ++s)
         for (int n = 0; n < c.ny; ++n)

@@ -37,7 +37,8 @@ std::vector<float> line_profile(const Aperture& ap, double f, double lambda, con
                                 const std::vector<double>& xs, double pitch) {
     const ApertureSamples s = sample_aperture(ap, pitch);
     PinholeField field;
-    illuminate_pinhole(s, {src}, lambda, field);
+    const SummationSettings sum;  // WAVECAM_SUMMATION: this test runs through each evaluator
+    illuminate_pinhole(s, {src}, lambda, field, sum);
     FilmPoints film;
     film.film_distance = f;
     for (double x : xs) {
@@ -45,7 +46,7 @@ std::vector<float> line_profile(const Aperture& ap, double f, double lambda, con
         film.y.push_back(0.0f);
     }
     std::vector<float> out(xs.size(), 0.0f);
-    accumulate_film_irradiance(s, field, film, lambda, 1.0 / free_irradiance_at_film_centre(src, f), out.data());
+    accumulate_film_irradiance(s, field, film, lambda, 1.0 / free_irradiance_at_film_centre(src, f), out.data(), sum);
     return out;
 }
 }  // namespace

@@ -2,6 +2,7 @@
 #include "chebyshev_box.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 
 namespace wavecam::detail {
@@ -104,7 +105,7 @@ bool ChebyshevBox::contains(const Parameter& p) const {
 }
 
 std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel, int probes, double tolerance,
-                                     int max_rank, int max_nodes) {
+                                     int max_rank, int max_nodes, int depth) {
     max_nodes = std::min(max_nodes, 16);
     const double per_axis = tolerance / box.dims;
     int widest = 0;
@@ -116,14 +117,25 @@ std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel
         if (n > max_nodes) split = true;
         if (box.nodes[d] > box.nodes[widest]) widest = d;
     }
-    if (!split && box.rank() <= max_rank) return {box};
-    ChebyshevBox a = box, b = box;
-    const double mid = 0.5 * (box.lo[widest] + box.hi[widest]);
-    a.hi[widest] = mid;
-    b.lo[widest] = mid;
-    std::vector<ChebyshevBox> out = plan_boxes(a, kernel, probes, tolerance, max_rank, max_nodes);
-    for (ChebyshevBox& c : plan_boxes(b, kernel, probes, tolerance, max_rank, max_nodes)) out.push_back(c);
-    return out;
+    // Halving an axis pays where the halves need fewer nodes in all than the whole (each node
+    // costs one transform): every axis tried, a few levels deep; forced where an axis needs too many.
+    const bool must = split || box.rank() > max_rank;
+    std::vector<ChebyshevBox> best{box};
+    int best_rank = must ? INT_MAX : box.rank();
+    if (!must && (box.rank() <= 4 || depth >= 3)) return best;
+    for (int d = 0; d < box.dims; ++d) {
+        if (box.nodes[d] <= 1 || (must && d != widest)) continue;
+        ChebyshevBox a = box, b = box;
+        const double mid = 0.5 * (box.lo[d] + box.hi[d]);
+        a.hi[d] = mid;
+        b.lo[d] = mid;
+        std::vector<ChebyshevBox> out = plan_boxes(a, kernel, probes, tolerance, max_rank, max_nodes, depth + 1);
+        for (ChebyshevBox& c : plan_boxes(b, kernel, probes, tolerance, max_rank, max_nodes, depth + 1)) out.push_back(c);
+        int total = 0;
+        for (const ChebyshevBox& c : out) total += c.rank();
+        if (total < best_rank) best = out, best_rank = total;
+    }
+    return best;
 }
 
 }  // namespace wavecam::detail

@@ -15,6 +15,8 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstdlib>
+#include <string>
 #include <cmath>
 
 #include "chebyshev_box.h"
@@ -42,7 +44,7 @@ struct LatticeLayout {
     long i0 = 0, j0 = 0;
     int nx = 0, ny = 0;
     std::vector<long> cell;          // per sample: (n - j0) * nx + (m - i0), or -1 off the lattice
-    std::vector<double> cx, cy;      // per lattice cell with a sample: its position
+    std::vector<char> used;          // per lattice cell: a sample sits there
     ApertureSamples off;             // off-lattice samples
     std::vector<size_t> off_index;   // their indices in the samples
     size_t on = 0;                   // lattice samples
@@ -72,6 +74,7 @@ LatticeLayout lattice_layout(const ApertureSamples& s) {
     L.nx = any ? int(i1 - i0 + 1) : 0;
     L.ny = any ? int(j1 - j0 + 1) : 0;
     L.cell.assign(s.size(), -1);
+    L.used.assign(size_t(L.nx) * L.ny, 0);
     for (size_t k = 0; k < s.size(); ++k) {
         if (im[k] == LONG_MIN) {
             L.off.x.push_back(s.x[k]);
@@ -81,6 +84,7 @@ LatticeLayout lattice_layout(const ApertureSamples& s) {
             continue;
         }
         L.cell[k] = (jm[k] - j0) * L.nx + (im[k] - i0);
+        L.used[L.cell[k]] = 1;
         ++L.on;
     }
     return L;
@@ -190,6 +194,10 @@ int threads(int n) { return n > 0 ? n : omp_get_max_threads(); }
 // 22 ns (double sqrt and sincos). The ratios, not the times, are what the estimate uses.
 constexpr double kFftCost = 1.33, kTapCost = 2.9, kChirpCost = 15.0;
 
+// Transforms run in batches of up to this many interpolation nodes: a point's kernel weights are
+// computed once per batch, at the memory of this many grids.
+constexpr int kBatch = 8;
+
 // Fast sum 1 over the lattice samples: U at every lattice cell (0 elsewhere).
 bool fast_sources_to_lattice(const LatticeLayout& L, const ApertureSamples& samples,
                              const std::vector<PointSource>& sources, double wavelength,
@@ -210,11 +218,13 @@ bool fast_sources_to_lattice(const LatticeLayout& L, const ApertureSamples& samp
         }
     }
     SumGeometry geo{false, 0, k, std::sqrt(0.5) * h * std::max(L.nx, L.ny) + h, set.tolerance};
-    const std::vector<ChebyshevBox> boxes = geo.plan(range_of(p, 3));
+    const std::vector<ChebyshevBox> boxes = geo.plan(set.fixed_range ? set.range : range_of(p, 3));
     const auto members = group(boxes, p);
     detail::LatticeNufft nufft(L.nx, L.ny, set.tolerance, set.nthreads);
     U.assign(size_t(L.nx) * L.ny, 0.0);
-    std::vector<cfloat> lattice(U.size());
+    std::vector<std::vector<cfloat>> lattice(kBatch, std::vector<cfloat>(U.size()));
+    std::vector<cfloat*> out(kBatch);
+    for (int q = 0; q < kBatch; ++q) out[q] = lattice[q].data();
     double total = 0, done = 0;
     for (const ChebyshevBox& bx : boxes) total += bx.rank();
     for (size_t bi = 0; bi < boxes.size(); ++bi) {
@@ -232,19 +242,23 @@ bool fast_sources_to_lattice(const LatticeLayout& L, const ApertureSamples& samp
             fx[i] = k * h * p[s][0];
             fy[i] = k * h * p[s][1];
             // the lattice box starts at cell (i0, j0): exp(-i k u.xi) = exp(-i (fx (i0 + m) + fy (j0 + n)))
-            base[i] = b[s] * std::polar(1.0, -(fx[i] * L.i0 + fy[i] * L.j0));
+            base[i] = b[s] * std::polar(1.0, -(fx[i] * L.i0 + fy[i] * L.j0)) * nufft.centring(fx[i], fy[i]);
         }
-        std::vector<cfloat> a(in.size());
-        for (int q = 0; q < bx.rank(); ++q) {
-            for (size_t i = 0; i < in.size(); ++i) a[i] = cfloat(base[i] * aw.at(i, q, 3));
-            nufft.to_lattice(fx.data(), fy.data(), a.data(), a.size(), lattice.data());
-            const Parameter node = bx.node(q);
+        for (int q0 = 0; q0 < bx.rank(); q0 += kBatch) {
+            const int batch = std::min(kBatch, bx.rank() - q0);
+            std::vector<cfloat> a(in.size() * batch);
+            for (size_t i = 0; i < in.size(); ++i)
+                for (int q = 0; q < batch; ++q) a[i * batch + q] = cfloat(base[i] * aw.at(i, q0 + q, 3));
+            nufft.to_lattice(fx.data(), fy.data(), a.data(), batch, in.size(), out.data());
+            for (int q = 0; q < batch; ++q) {
+                const Parameter node = bx.node(q0 + q);
+                const cfloat* F = lattice[q].data();
 #pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
-            for (long c = 0; c < long(U.size()); ++c) {
-                const double x = (L.i0 + c % L.nx) * h, y = (L.j0 + c / L.nx) * h;
-                U[c] += geo.kernel(node, x, y) * cdouble(lattice[c]);
+                for (long c = 0; c < long(U.size()); ++c)
+                    if (L.used[c]) U[c] += geo.kernel(node, (L.i0 + c % L.nx) * h, (L.j0 + c / L.nx) * h) * cdouble(F[c]);
             }
-            if (progress && !progress(++done / total)) return false;
+            done += batch;
+            if (progress && !progress(done / total)) return false;
         }
     }
     return true;
@@ -264,10 +278,12 @@ bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples
     for (size_t j = 0; j < samples.size(); ++j)
         if (L.cell[j] >= 0) w[L.cell[j]] = cfloat(field.re[j], field.im[j]);
     SumGeometry geo{true, f, k, std::sqrt(0.5) * h * std::max(L.nx, L.ny) + h, set.tolerance};
-    const std::vector<ChebyshevBox> boxes = geo.plan(range_of(p, 2));
+    const std::vector<ChebyshevBox> boxes = geo.plan(set.fixed_range ? set.range : range_of(p, 2));
     const auto members = group(boxes, p);
     detail::LatticeNufft nufft(L.nx, L.ny, set.tolerance, set.nthreads);
-    std::vector<cfloat> g(w.size()), G;
+    std::vector<std::vector<cfloat>> g(kBatch, std::vector<cfloat>(w.size()));
+    std::vector<const cfloat*> lattices(kBatch);
+    for (int q = 0; q < kBatch; ++q) lattices[q] = g[q].data();
     double total = 0, done = 0;
     for (const ChebyshevBox& bx : boxes) total += bx.rank();
     for (size_t bi = 0; bi < boxes.size(); ++bi) {
@@ -285,19 +301,27 @@ bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples
             fx[i] = k * h * p[t][0];
             fy[i] = k * h * p[t][1];
             const double tx = film.x[t], ty = film.y[t];
-            base[i] = std::polar(f / (tx * tx + ty * ty + f * f), -(fx[i] * L.i0 + fy[i] * L.j0));
+            base[i] = std::polar(f / (tx * tx + ty * ty + f * f), -(fx[i] * L.i0 + fy[i] * L.j0)) *
+                      nufft.centring(fx[i], fy[i]);
         }
-        G.resize(in.size());
-        for (int q = 0; q < bx.rank(); ++q) {
-            const Parameter node = bx.node(q);
+        std::vector<cfloat> G(in.size());
+        for (int q0 = 0; q0 < bx.rank(); q0 += kBatch) {
+            const int batch = std::min(kBatch, bx.rank() - q0);
+            for (int q = 0; q < batch; ++q) {
+                const Parameter node = bx.node(q0 + q);
+                cfloat* gq = g[q].data();
 #pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
-            for (long c = 0; c < long(w.size()); ++c) {
-                const double x = (L.i0 + c % L.nx) * h, y = (L.j0 + c / L.nx) * h;
-                g[c] = w[c] == cfloat(0) ? cfloat(0) : w[c] * cfloat(geo.kernel(node, x, y));
+                for (long c = 0; c < long(w.size()); ++c)
+                    gq[c] = L.used[c] ? w[c] * cfloat(geo.kernel(node, (L.i0 + c % L.nx) * h, (L.j0 + c / L.nx) * h))
+                                      : cfloat(0);
             }
-            nufft.from_lattice(g.data(), fx.data(), fy.data(), in.size(), G.data());
-            for (size_t i = 0; i < in.size(); ++i) out[in[i]] += base[i] * aw.at(i, q, 2) * cdouble(G[i]);
-            if (progress && !progress(++done / total)) return false;
+            std::vector<float> coeff(in.size() * batch);
+            for (size_t i = 0; i < in.size(); ++i)
+                for (int q = 0; q < batch; ++q) coeff[i * batch + q] = float(aw.at(i, q0 + q, 2));
+            nufft.from_lattice(lattices.data(), batch, fx.data(), fy.data(), coeff.data(), in.size(), G.data());
+            for (size_t i = 0; i < in.size(); ++i) out[in[i]] += base[i] * cdouble(G[i]);
+            done += batch;
+            if (progress && !progress(done / total)) return false;
         }
     }
     return true;
@@ -338,6 +362,12 @@ SummationWork summation_work(double lattice_samples, int samples_across, double 
              (point_rank / volume) * points * kTapCost * nufft.taps_per_point() + off_lattice * points;
     (void)pitch;
     return w;
+}
+
+Summation default_summation() {
+    const char* v = std::getenv("WAVECAM_SUMMATION");
+    const std::string name = v ? v : "";
+    return name == "direct" ? Summation::Direct : name == "nufft" ? Summation::Nufft : Summation::Fast;
 }
 
 bool use_fast(const SummationSettings& s, const SummationWork& w) {

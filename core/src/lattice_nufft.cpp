@@ -134,15 +134,28 @@ void LatticeNufft::fft2d(std::vector<cfloat>& grid, bool rows_first, int row_cou
     kiss_fft_free(col_cfg);
 }
 
-void LatticeNufft::to_lattice(const double* x, const double* y, const cfloat* a, size_t count, cfloat* lattice) const {
-    const size_t stride = size_t(mx_) + w_;
-    std::vector<cfloat> grid(stride * (size_t(my_) + w_), cfloat(0));
+// `batch` zeroed grids of `plane` values, kept between calls (no page faults per transform).
+std::vector<std::vector<cfloat>>& LatticeNufft::workspace(int batch, size_t plane) const {
+    if (int(grids_.size()) < batch) grids_.resize(batch);
+    for (int q = 0; q < batch; ++q) {
+        grids_[q].resize(plane);
+        std::fill(grids_[q].begin(), grids_[q].end(), cfloat(0));
+    }
+    return grids_;
+}
+
+std::complex<double> LatticeNufft::centring(double x, double y) const {
+    return std::polar(1.0, -((nx_ / 2) * x + (ny_ / 2) * y));
+}
+
+void LatticeNufft::to_lattice(const double* x, const double* y, const cfloat* a, int batch, size_t count,
+                              cfloat* const* lattices) const {
+    const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_);
+    std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);
     const double to_gx = mx_ / (2 * M_PI), to_gy = my_ / (2 * M_PI);
-    const int cx = nx_ / 2, cy = ny_ / 2;
     // Rows of the grid in stripes at least w high, sources bucketed by stripe: the even stripes
     // spread in parallel, then the odd ones, so no two threads write one grid row at once. The
-    // grid has w rows and columns of padding beyond the period, folded back afterwards, so each
-    // source writes w contiguous runs of w values.
+    // grid has w rows and columns of padding beyond the period, folded back afterwards.
     const int stripes = std::max(2, (my_ / (w_ + 1)) & ~1);
     const double stripe_height = double(my_) / stripes;
     std::vector<std::vector<size_t>> bucket(stripes);
@@ -156,54 +169,57 @@ void LatticeNufft::to_lattice(const double* x, const double* y, const cfloat* a,
         for (int b = parity; b < stripes; b += 2) {
             float wx[kMaxWidth], wy[kMaxWidth];
             for (size_t s : bucket[b]) {
-                const double gx = x[s] * to_gx, gy = y[s] * to_gy;
-                // centred modes: a_s exp(-i (cx x + cy y)) summed as exp(-i k x), k = m - cx
-                const cfloat c(std::complex<double>(a[s]) * std::polar(1.0, -(cx * x[s] + cy * y[s])));
-                const long fx = wrap(kernel_weights(gx, w_, table_.data(), wx), mx_);
-                const long fy = wrap(kernel_weights(gy, w_, table_.data(), wy), my_);
-                for (int j = 0; j < w_; ++j) {
-                    cfloat* row = grid.data() + size_t(fy + j) * stride + fx;
-                    const cfloat cj = c * wy[j];
-                    for (int i = 0; i < w_; ++i) row[i] += cj * wx[i];
+                // a point's kernel weights once for the whole batch
+                const long fx = wrap(kernel_weights(x[s] * to_gx, w_, table_.data(), wx), mx_);
+                const long fy = wrap(kernel_weights(y[s] * to_gy, w_, table_.data(), wy), my_);
+                for (int q = 0; q < batch; ++q) {
+                    const cfloat v = a[s * batch + q];
+                    for (int j = 0; j < w_; ++j) {
+                        cfloat* row = grid[q].data() + size_t(fy + j) * stride + fx;
+                        const cfloat vj = v * wy[j];
+                        for (int i = 0; i < w_; ++i) row[i] += vj * wx[i];
+                    }
                 }
             }
         }
     }
-    // fold the padding back onto the period
-    for (int r = 0; r < my_ + w_; ++r) {
-        cfloat* row = grid.data() + size_t(r) * stride;
-        cfloat* target = grid.data() + size_t(r % my_) * stride;
-        for (int c = 0; c < mx_ + w_; ++c)
-            if (r >= my_ || c >= mx_) target[c % mx_] += row[c];
-    }
-    grid.resize(stride * my_);
-    fft2d(grid, true, my_, nx_);
+    const int cx = nx_ / 2, cy = ny_ / 2;
+    for (int q = 0; q < batch; ++q) {
+        std::vector<cfloat>& one = grid[q];
+        // fold the padding back onto the period
+        for (int r = 0; r < my_ + w_; ++r)
+            for (int c = 0; c < mx_ + w_; ++c)
+                if (r >= my_ || c >= mx_) one[size_t(r % my_) * stride + c % mx_] += one[size_t(r) * stride + c];
+        fft2d(one, true, my_, nx_);
+        cfloat* lattice = lattices[q];
 #pragma omp parallel for schedule(static) num_threads(threads(nthreads_))
-    for (int n = 0; n < ny_; ++n)
-        for (int m = 0; m < nx_; ++m) {
-            const size_t bin = size_t(wrap(n - cy, my_)) * stride + wrap(m - cx, mx_);
-            lattice[size_t(n) * nx_ + m] = grid[bin] * float(deconvolve_x_[m] * deconvolve_y_[n]);
-        }
+        for (int n = 0; n < ny_; ++n)
+            for (int m = 0; m < nx_; ++m) {
+                const size_t bin = size_t(wrap(n - cy, my_)) * stride + wrap(m - cx, mx_);
+                lattice[size_t(n) * nx_ + m] = one[bin] * float(deconvolve_x_[m] * deconvolve_y_[n]);
+            }
+    }
 }
 
-void LatticeNufft::from_lattice(const cfloat* lattice, const double* x, const double* y, size_t count,
-                                cfloat* out) const {
-    const size_t stride = size_t(mx_) + w_;
-    std::vector<cfloat> grid(stride * (size_t(my_) + w_), cfloat(0));
+void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const double* x, const double* y,
+                                const float* c, size_t count, cfloat* out) const {
+    const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_);
     const int cx = nx_ / 2, cy = ny_ / 2;
+    std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);
+    for (int q = 0; q < batch; ++q) {
+        std::vector<cfloat>& one = grid[q];
+        const cfloat* lattice = lattices[q];
 #pragma omp parallel for schedule(static) num_threads(threads(nthreads_))
-    for (int n = 0; n < ny_; ++n)
-        for (int m = 0; m < nx_; ++m) {
-            const size_t bin = size_t(wrap(n - cy, my_)) * stride + wrap(m - cx, mx_);
-            grid[bin] = lattice[size_t(n) * nx_ + m] * float(deconvolve_x_[m] * deconvolve_y_[n]);
-        }
-    fft2d(grid, true, ny_, mx_);
-    // periodic padding: w columns and rows beyond the period repeat its start
-    for (int r = 0; r < my_ + w_; ++r) {
-        cfloat* row = grid.data() + size_t(r) * stride;
-        const cfloat* source = grid.data() + size_t(r % my_) * stride;
-        for (int c = 0; c < mx_ + w_; ++c)
-            if (r >= my_ || c >= mx_) row[c] = source[c % mx_];
+        for (int n = 0; n < ny_; ++n)
+            for (int m = 0; m < nx_; ++m) {
+                const size_t bin = size_t(wrap(n - cy, my_)) * stride + wrap(m - cx, mx_);
+                one[bin] = lattice[size_t(n) * nx_ + m] * float(deconvolve_x_[m] * deconvolve_y_[n]);
+            }
+        fft2d(one, true, ny_, mx_);
+        // periodic padding: w columns and rows beyond the period repeat its start
+        for (int r = 0; r < my_ + w_; ++r)
+            for (int col = 0; col < mx_ + w_; ++col)
+                if (r >= my_ || col >= mx_) one[size_t(r) * stride + col] = one[size_t(r % my_) * stride + col % mx_];
     }
     const double to_gx = mx_ / (2 * M_PI), to_gy = my_ / (2 * M_PI);
 #pragma omp parallel for schedule(static, 256) num_threads(threads(nthreads_))
@@ -211,17 +227,21 @@ void LatticeNufft::from_lattice(const cfloat* lattice, const double* x, const do
         float wx[kMaxWidth], wy[kMaxWidth];
         const long fx = wrap(kernel_weights(x[s] * to_gx, w_, table_.data(), wx), mx_);
         const long fy = wrap(kernel_weights(y[s] * to_gy, w_, table_.data(), wy), my_);
-        cfloat sum = 0;
-        for (int j = 0; j < w_; ++j) {
-            const cfloat* row = grid.data() + size_t(fy + j) * stride + fx;
-            float re = 0, im = 0;
-            for (int i = 0; i < w_; ++i) {
-                re += row[i].real() * wx[i];
-                im += row[i].imag() * wx[i];
+        float re = 0, im = 0;
+        for (int q = 0; q < batch; ++q) {
+            const float cq = c[size_t(s) * batch + q];
+            for (int j = 0; j < w_; ++j) {
+                const cfloat* row = grid[q].data() + size_t(fy + j) * stride + fx;
+                float sr = 0, si = 0;
+                for (int i = 0; i < w_; ++i) {
+                    sr += wx[i] * row[i].real();
+                    si += wx[i] * row[i].imag();
+                }
+                re += cq * wy[j] * sr;
+                im += cq * wy[j] * si;
             }
-            sum += cfloat(re, im) * wy[j];
         }
-        out[s] = cfloat(std::complex<double>(sum) * std::polar(1.0, -(cx * x[s] + cy * y[s])));
+        out[s] = cfloat(re, im);
     }
 }
 

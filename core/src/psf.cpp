@@ -56,7 +56,8 @@ Result<PsfImage> compute_psf(const PsfParams& p, const ProgressFn& progress) {
         fresnel_number(p.aperture.diameter / 2, p.film_distance, p.source_distance, p.wavelength);
 
     PinholeField field;
-    illuminate_pinhole(samples, {source}, p.wavelength, field, p.nthreads);
+    const SummationSettings sum{p.summation, kSummationTolerance, p.nthreads};
+    illuminate_pinhole(samples, {source}, p.wavelength, field, sum);
 
     const int n = p.resolution;
     FilmPoints film;
@@ -72,8 +73,7 @@ Result<PsfImage> compute_psf(const PsfParams& p, const ProgressFn& progress) {
         }
     img.irradiance.assign(film.size(), 0.0f);
     const double scale = 1.0 / free_irradiance_at_film_centre(source, p.film_distance);
-    if (!accumulate_film_irradiance(samples, field, film, p.wavelength, scale, img.irradiance.data(), p.nthreads,
-                                    progress))
+    if (!accumulate_film_irradiance(samples, field, film, p.wavelength, scale, img.irradiance.data(), sum, progress))
         return Result<PsfImage>::failure("cancelled", ErrorKind::Cancelled);
     for (float v : img.irradiance) img.peak = std::max(img.peak, double(v));
     img.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -284,11 +284,17 @@ DirectionRange direction_range(const Extent& e, double rho0, double rho1) {
     return {-sx, sx, -sy, sy, rho0, rho1};
 }
 
-// One run's work (or one source's, `single`), in direct terms: sum 1 from the sources to the
-// pinhole, sum 2 to the film, each by the evaluator the settings pick (fast_summation.h).
-double run_work(const DiffractionSettings& s, const SceneSum& sum, double wavelength, double nearest, double f,
-                bool single) {
-    const double pitch = sum.samples.pitch, radius = s.aperture.bounding_radius();
+// How one run's two sums (or one source's, `single`) are evaluated, and their work in direct
+// terms: sum 1 from the sources to the pinhole, sum 2 to the film, each by the NUFFTs where
+// s.summation says so (fast_summation.h). Decided from the whole frame's counts, so that every
+// share of a job evaluates its part as the job would; the film's chirps planned over the frame.
+struct SumPlan {
+    SummationSettings in, out;
+    double in_work = 0, out_work = 0;  // the film's for the whole frame
+};
+SumPlan plan_sums(const DiffractionSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
+                  double nearest, bool single) {
+    const double pitch = sum.samples.pitch, radius = s.aperture.bounding_radius(), f = c.film_distance;
     const double samples = estimate_sample_count(s.aperture, pitch);
     // Samples off the lattice: the rim's cells (about 1.3 per pitch of perimeter, twice for a
     // zone plate's every zone edge); every sample of a grey mask or a sieve's holes.
@@ -296,16 +302,28 @@ double run_work(const DiffractionSettings& s, const SceneSum& sum, double wavele
     const double rims = s.aperture.shape == ApertureShape::ZonePlate ? 2.0 * s.aperture.zones : 1.0;
     const double off = irregular ? samples : std::min(samples, rims * 1.3 * 2 * M_PI * radius / pitch);
     const int across = int(std::ceil(2 * radius / pitch)) + 1;
-    const SummationSettings set{s.summation, s.summation_tolerance, s.nthreads};
+    const int o = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);
+    const double film = double(c.width - 2 * o) * (c.height - 2 * o) * sum.subsamples * sum.subsamples;
     const double rho = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
     const SummationWork in = summation_work(samples - off, across, off, single ? 1.0 : double(sum.emitters.size()),
                                             direction_range(sum.source_extent, 0, rho), radius, wavelength, pitch,
                                             false, s.summation_tolerance);
-    const SummationWork out = summation_work(samples - off, across, off, double(sum.film.size()),
-                                             direction_range(sum.film_extent, 1 / f, 1 / f), radius, wavelength,
-                                             pitch, true, s.summation_tolerance);
-    auto pick = [&](const SummationWork& w) { return use_fast(set, w) ? w.fast : w.direct; };
-    return pick(in) + pick(out);
+    const DirectionRange film_range = direction_range(sum.film_extent, 1 / f, 1 / f);
+    const SummationWork out = summation_work(samples - off, across, off, film, film_range, radius, wavelength, pitch,
+                                             true, s.summation_tolerance);
+    SumPlan plan;
+    const SummationSettings given{s.summation, s.summation_tolerance, s.nthreads};
+    auto pick = [&](const SummationWork& w, SummationSettings& set) {
+        const bool fast = use_fast(given, w);
+        set = given;
+        set.method = fast ? Summation::Nufft : Summation::Direct;
+        return fast ? w.fast : w.direct;
+    };
+    plan.in_work = pick(in, plan.in);
+    plan.out_work = pick(out, plan.out);
+    plan.out.fixed_range = true;
+    plan.out.range = film_range;
+    return plan;
 }
 
 }  // namespace
@@ -314,10 +332,13 @@ double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, do
     const WorkRange w = work_range(s, camera.height);
     const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
     const SceneSum sum = scene_sum({camera, nullptr, nullptr}, wavelength, s, nearest, w, false);
-    const double f = camera.film_distance;
-    return s.method == CoherenceMethod::Incoherent
-               ? double(sum.emitters.size()) * run_work(s, sum, wavelength, nearest, f, true)
-               : run_work(s, sum, wavelength, nearest, f, false) * (w.run_end - w.run_begin);
+    const bool incoherent = s.method == CoherenceMethod::Incoherent;
+    const SumPlan plan = plan_sums(s, sum, camera, wavelength, nearest, incoherent);
+    // this share's rows: their part of the film's work
+    const int o = std::clamp(s.overscan, 0, std::min(camera.width, camera.height) / 2);
+    const double rows = double(w.row_end - w.row_begin) / std::max(1, camera.height - 2 * o);
+    const double work = plan.in_work + plan.out_work * rows;
+    return incoherent ? double(sum.emitters.size()) * work : work * (w.run_end - w.run_begin);
 }
 
 namespace {
@@ -340,9 +361,11 @@ PointSource centred(const PinholeCamera& c, const Emitter& e, double phase) {
 }
 
 // One run's sources. Coded (phase_codes.h): each emitter's phase 2 pi (theta + k m / K), theta
-// uniform per emitter and wavelength, m its class; with jitter, anywhere in its cell, the same
-// place in every run, so that the codes cancel the cross terms of different classes exactly.
-// Independent (the seed paper's own): a fresh uniform phase and place every run.
+// uniform per emitter and wavelength, m its class; with jitter, every emitter moved by one common
+// random offset within its cell, the same in every run: the codes cancel the cross terms of
+// different classes only if nothing moves between runs, and a common offset keeps a uniform wall
+// uniform (an offset per emitter would leave lumps that no run averages away).
+// Independent (the seed paper's own): a fresh uniform phase and place per emitter and run.
 std::vector<PointSource> run_sources(const PinholeCamera& c, const std::vector<Emitter>& emitters,
                                      const DiffractionSettings& s, const detail::PhaseCode& code, int run,
                                      uint64_t stream) {
@@ -358,27 +381,24 @@ std::vector<PointSource> run_sources(const PinholeCamera& c, const std::vector<E
             sources.push_back(centred(c, e, phase));
             continue;
         }
-        const double jx = detail::counter_uniform(s.seed, draw, e.key, 1);
-        const double jy = detail::counter_uniform(s.seed, draw, e.key, 2);
+        const uint64_t place = s.coded_phases ? ~0ull : e.key;  // one offset for all, or one each
+        const double jx = detail::counter_uniform(s.seed, draw, place, 1);
+        const double jy = detail::counter_uniform(s.seed, draw, place, 2);
         sources.push_back(source_at(c, e.x + jx * e.w, e.y + jy * e.h, e.power, e.depth, e.meaning, phase));
     }
     return sources;
 }
 
-SummationSettings summation(const DiffractionSettings& s) {
-    return {s.summation, s.summation_tolerance, s.nthreads};
-}
-
 Result<bool> cancelled() { return Result<bool>::failure("cancelled", ErrorKind::Cancelled); }
 
 // Incoherent: every source through the pinhole alone, the film's irradiances summed.
-Result<bool> incoherent_sum(const SceneSum& sum, const PinholeCamera& c, double wavelength,
-                            const DiffractionSettings& s, std::vector<float>& points, const ProgressFn& progress) {
+Result<bool> incoherent_sum(const SceneSum& sum, const PinholeCamera& c, double wavelength, const SumPlan& plan,
+                            std::vector<float>& points, const ProgressFn& progress) {
     PinholeField field;
     const size_t n = sum.emitters.size();
     for (size_t k = 0; k < n; ++k) {
-        illuminate_pinhole(sum.samples, {centred(c, sum.emitters[k], 0.0)}, wavelength, field, summation(s));
-        if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0, points.data(), summation(s),
+        illuminate_pinhole(sum.samples, {centred(c, sum.emitters[k], 0.0)}, wavelength, field, plan.in);
+        if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0, points.data(), plan.out,
                                         progress_part(progress, double(k) / n, double(k + 1) / n)))
             return cancelled();
     }
@@ -388,8 +408,8 @@ Result<bool> incoherent_sum(const SceneSum& sum, const PinholeCamera& c, double 
 // Random phase (the seed paper): each run every source at once with its own phase, weighted
 // 1/runs and averaged into the output on its own, so a job equals the sum of its shares.
 Result<bool> random_phase_runs(const SceneSum& sum, const PinholeCamera& c, double wavelength,
-                               const DiffractionSettings& s, const WorkRange& range, std::vector<float>& points,
-                               float* irradiance, const ProgressFn& progress) {
+                               const DiffractionSettings& s, const SumPlan& plan, const WorkRange& range,
+                               std::vector<float>& points, float* irradiance, const ProgressFn& progress) {
     const uint64_t stream = wavelength_stream(wavelength);
     PinholeField field;
     const detail::PhaseCode code(s.runs);
@@ -398,11 +418,11 @@ Result<bool> random_phase_runs(const SceneSum& sum, const PinholeCamera& c, doub
         const std::vector<PointSource> sources = run_sources(c, sum.emitters, s, code, run, stream);
         // half of a run's terms go to the pinhole, half to the film
         const double at = double(run - first) / runs, half = 0.5 / runs;
-        if (!illuminate_pinhole(sum.samples, sources, wavelength, field, summation(s),
+        if (!illuminate_pinhole(sum.samples, sources, wavelength, field, plan.in,
                                 progress_part(progress, at, at + half)))
             return cancelled();
         if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0 / s.runs, points.data(),
-                                        summation(s), progress_part(progress, at + half, at + 2 * half)))
+                                        plan.out, progress_part(progress, at + half, at + 2 * half)))
             return cancelled();
         average_into_output(points, sum, c, s.overscan, range, irradiance);
     }
@@ -422,9 +442,10 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
         std::isnan(s.nearest_depth) ? nearest_depth(c, scene.depth, scene.depth_meaning) : s.nearest_depth;
     const SceneSum sum = scene_sum(scene, wavelength, s, nearest, range, true);
     std::vector<float> points(sum.film.size(), 0.0f);  // irradiance at every film point
-    if (s.method == CoherenceMethod::RandomPhase)
-        return random_phase_runs(sum, c, wavelength, s, range, points, irradiance, progress);
-    auto r = incoherent_sum(sum, c, wavelength, s, points, progress);
+    const bool incoherent = s.method == CoherenceMethod::Incoherent;
+    const SumPlan plan = plan_sums(s, sum, c, wavelength, nearest, incoherent);
+    if (!incoherent) return random_phase_runs(sum, c, wavelength, s, plan, range, points, irradiance, progress);
+    auto r = incoherent_sum(sum, c, wavelength, plan, points, progress);
     if (r.ok()) average_into_output(points, sum, c, s.overscan, range, irradiance);
     return r;
 }

@@ -26,10 +26,25 @@ enum class Summation {
 
 constexpr double kSummationTolerance = 3e-4;
 
+// The default evaluator: Fast, unless the environment variable WAVECAM_SUMMATION names another
+// (fast, direct or nufft) - how the test suite runs every exact-method test through each.
+Summation default_summation();
+
+// The parameters a sum's chirps depend on: in-plane direction components (ux, uy) of the sources
+// or film points, and inverse distance 1/R (0: plane waves), as ranges.
+struct DirectionRange {
+    double ux0 = 0, ux1 = 0, uy0 = 0, uy1 = 0;
+    double rho0 = 0, rho1 = 0;
+};
+
 struct SummationSettings {
-    Summation method = Summation::Fast;
+    Summation method = default_summation();
     double tolerance = kSummationTolerance;
     int nthreads = 0;
+    // The chirps' interpolation planned over this range rather than the points' own, so that a
+    // share of the points (rows of a frame) gets the plan, and the bits, of the whole frame.
+    bool fixed_range = false;
+    DirectionRange range{};
 };
 
 // propagation.h's sums through `settings.method`.
@@ -41,13 +56,6 @@ bool add_film_field(const ApertureSamples& samples, const PinholeField& field, c
 bool accumulate_film_irradiance(const ApertureSamples& samples, const PinholeField& field, const FilmPoints& film,
                                 double wavelength, double scale, float* irradiance,
                                 const SummationSettings& settings, const ProgressFn& progress = {});
-
-// The parameters a sum's chirps depend on: in-plane direction components (ux, uy) of the sources
-// or film points, and inverse distance 1/R (0: plane waves), as ranges.
-struct DirectionRange {
-    double ux0 = 0, ux1 = 0, uy0 = 0, uy1 = 0;
-    double rho0 = 0, rho1 = 0;
-};
 
 // Work of one sum in direct terms (the time of one term of propagation.cpp's kernel), for
 // `points` sources or film points within `range` on the lattice of `samples_across` x

@@ -21,7 +21,8 @@ struct DiffractionSettings {
     Aperture aperture{ApertureShape::Circle, 0.0};
     CoherenceMethod method = CoherenceMethod::RandomPhase;
     int runs = 4;              // K, random-phase runs averaged
-    bool jitter = true;        // move each source within its pixel (once a job when coded, else every run)
+    bool jitter = true;        // move the sources within their pixels: coded, all by one offset a job;
+                               // independent, each anew every run
     // Coded phases (phase_codes.h, docs/phase_codes.md): the runs' phases offset by 2 pi k m / K so
     // that sources of different classes cancel exactly over the K runs. false: the seed paper's
     // independent phases, noise falling as 1/sqrt(K).
@@ -31,7 +32,7 @@ struct DiffractionSettings {
     int film_subsamples = 0;   // n: each film pixel averages n x n points; 0 = auto_film_subsamples
     int nthreads = 0;
     // How the two sums are evaluated (fast_summation.h): the same terms either way.
-    Summation summation = Summation::Fast;
+    Summation summation = default_summation();
     double summation_tolerance = kSummationTolerance;
     // One share of the work (work_share.h): runs [run_begin, run_end) of the `runs` averaged, each
     // still weighted 1/runs, on output rows [row_begin, row_end); an end < 0 means the last.
@@ -81,8 +82,11 @@ constexpr double kMinSamplesAcross = 128;
 double scene_sample_pitch(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength,
                           double nearest_depth);
 
-// Work estimate: terms (pinhole samples x (sources + film points)) over the runs and rows set,
-// the margin beyond the frame counted as lit, for s.nearest_depth (NaN counts as all sky).
+// Work estimate in direct terms (the time of one term of the direct sums, so that --max-terms
+// and the time printed mean the same for either evaluator): direct, pinhole samples x (sources +
+// film points); fast, the NUFFTs' and chirps' work (fast_summation.h, summation_work), each sum by
+// the evaluator s.summation picks for it; over the runs and rows set, the margin beyond the
+// frame counted as lit, for s.nearest_depth (NaN counts as all sky).
 double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength);
 
 // Film points per pixel side so that the points are closer than the irradiance's finest

@@ -1,0 +1,139 @@
+// Coded phases for the random-phase runs (core/src/phase_codes.h, docs/phase_codes.md): the
+// classes' geometry, and what they buy on real frames against the fast path (the K -> infinity
+// limit of the random-phase sum, tested against it elsewhere) and the seed paper's independent
+// phases at the same run count.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imagebuf.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "phase_codes.h"
+#include "wavecam/diffract_image.h"
+
+using namespace wavecam;
+
+TEST(PhaseCode, ClassesAreEvenAndFarApartAndEveryRunsOffsetsCancel) {
+    for (int K : {1, 2, 4, 7, 16, 64}) {
+        const detail::PhaseCode code(K);
+        // every class equally often over K consecutive pixels of a row
+        std::vector<int> count(K, 0);
+        for (int i = 0; i < K; ++i) ++count[code.code_class(i + 5, 3)];
+        for (int m = 0; m < K; ++m) EXPECT_EQ(count[m], 1) << K;
+        // the shortest distance between two pixels of one class, by brute force over a window
+        double shortest = 1e9;
+        for (int j = 0; j <= K; ++j)
+            for (int i = -K; i <= K; ++i)
+                if ((i || j) && code.code_class(i, j) == code.code_class(0, 0))
+                    shortest = std::min(shortest, std::hypot(i, j));
+        EXPECT_DOUBLE_EQ(shortest, code.class_spacing()) << K;
+        // a near-hexagonal lattice of K points per cell: spacing close to sqrt(2 K / sqrt 3)
+        if (K >= 4) EXPECT_GE(shortest, 0.75 * std::sqrt(2 * K / std::sqrt(3.0))) << K;
+        // over the K runs, classes m != m' cancel: sum_k exp(2 pi i k (m - m') / K) = 0
+        for (int m = 0; m < K; ++m)
+            for (int n = 0; n < K; ++n) {
+                std::complex<double> sum = 0;
+                for (int k = 0; k < K; ++k)
+                    sum += std::polar(1.0, 2 * M_PI * (code.offset_turns(k, m) - code.offset_turns(k, n)));
+                EXPECT_NEAR(std::abs(sum) / K, m == n ? 1.0 : 0.0, 1e-9) << K << " " << m << " " << n;
+            }
+    }
+}
+
+namespace {
+
+// A w x w render at f = 50 mm over 10 degrees: grey radiance `value(i, j)`, depth 2 m.
+OIIO::ImageBuf wall(int w, const std::function<float(int, int)>& value) {
+    OIIO::ImageSpec spec(w, w, 4, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"R", "G", "B", "Z"};
+    spec.attribute("wavecam.fov", 10.0f);
+    OIIO::ImageBuf buf(spec);
+    for (int j = 0; j < w; ++j)
+        for (int i = 0; i < w; ++i) {
+            const float v = value(i, j), px[4] = {v, v, v, 2.0f};
+            buf.setpixel(i, j, px);
+        }
+    return buf;
+}
+
+std::vector<float> diffracted(const OIIO::ImageBuf& src, DiffractMethod method, bool coded, uint64_t seed) {
+    DiffractOptions opt;
+    opt.method = method;
+    opt.pinhole = 0.2e-3;
+    opt.wavelength_count = 3;
+    opt.diffraction.runs = 16;
+    opt.diffraction.seed = seed;
+    opt.diffraction.coded_phases = coded;
+    OIIO::ImageBuf dst;
+    EXPECT_TRUE(diffract(dst, src, "wall", opt)) << dst.geterror();
+    const int w = src.spec().width;
+    std::vector<float> rgb(3 * size_t(w) * w);
+    dst.get_pixels(OIIO::ROI(0, w, 0, w, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, rgb.data());
+    return rgb;
+}
+
+struct Deviation {
+    double mean_ratio = 0, rms = 0;  // mean of random-phase / fast, RMS of (ratio - 1) per pixel
+};
+
+// R + G + B of the random-phase image against the fast path's, pixel by pixel, `border` pixels
+// from the frame's edges left out.
+Deviation against_fast(const std::vector<float>& random_phase, const std::vector<float>& fast, int border = 0) {
+    Deviation d;
+    const int w = int(std::lround(std::sqrt(fast.size() / 3)));
+    double sum = 0, sq = 0;
+    size_t n = 0;
+    for (size_t p = 0; p < fast.size() / 3; ++p) {
+        const int i = int(p % w), j = int(p / w);
+        if (i < border || j < border || i >= w - border || j >= w - border) continue;
+        ++n;
+        const double a = random_phase[3 * p] + random_phase[3 * p + 1] + random_phase[3 * p + 2];
+        const double b = fast[3 * p] + fast[3 * p + 1] + fast[3 * p + 2];
+        sum += a / b;
+        sq += (a / b - 1) * (a / b - 1);
+    }
+    d.mean_ratio = sum / n;
+    d.rms = std::sqrt(sq / n);
+    return d;
+}
+
+}  // namespace
+
+// The issue's measure: 48 x 48 uniform wall, 0.2 mm, 3 wavelengths, 16 runs, here at f = 50 mm
+// over 10 degrees (the Airy radius about one pixel). Independent phases leave about 9% speckle;
+// coded phases must leave at most a third of that, the mean within 1% of the fast path's. The
+// residual is the same-class pairs' (docs/phase_codes.md): it cannot reach the issue's 2% where
+// the PSF spans more pixels than there are runs (a Welch-bound argument, there).
+TEST(PhaseCode, UniformWallAtSixteenRunsLeavesAThirdOfThePapersSpeckle) {
+    const OIIO::ImageBuf src = wall(48, [](int, int) { return 0.5f; });
+    const auto fast = diffracted(src, DiffractMethod::Fast, true, 1);
+    const auto coded_image = diffracted(src, DiffractMethod::RandomPhase, true, 1);
+    const auto independent_image = diffracted(src, DiffractMethod::RandomPhase, false, 1);
+    const Deviation coded = against_fast(coded_image, fast, 4), independent = against_fast(independent_image, fast, 4);
+    const Deviation whole = against_fast(coded_image, fast);
+    std::printf("uniform wall, 16 runs, interior: coded phases noise %.2f%%; independent phases %.2f%%; coded mean "
+                "over the whole frame %+.2f%%, noise %.2f%%\n",
+                100 * coded.rms, 100 * independent.rms, 100 * (whole.mean_ratio - 1), 100 * whole.rms);
+    EXPECT_LE(coded.rms, independent.rms / 3);
+    EXPECT_NEAR(whole.mean_ratio, 1.0, 0.01);
+    EXPECT_GT(independent.rms, 0.05) << "the measure must see the paper's speckle";
+}
+
+// A textured scene (random grey pixels 0.1 .. 1) at 16 runs: within 3% RMS of the fast path.
+TEST(PhaseCode, TexturedSceneAtSixteenRunsIsTheFastPathToThreePercent) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.1f, 1.0f);
+    std::vector<float> texture(48 * 48);
+    for (float& v : texture) v = u(rng);
+    const OIIO::ImageBuf src = wall(48, [&](int i, int j) { return texture[size_t(j) * 48 + i]; });
+    const auto fast = diffracted(src, DiffractMethod::Fast, true, 3);
+    const Deviation coded = against_fast(diffracted(src, DiffractMethod::RandomPhase, true, 3), fast);
+    const Deviation independent = against_fast(diffracted(src, DiffractMethod::RandomPhase, false, 3), fast);
+    std::printf("textured scene, 16 runs: coded phases %.2f%% RMS off the fast path, independent %.2f%%\n",
+                100 * coded.rms, 100 * independent.rms);
+    EXPECT_LE(coded.rms, 0.03);
+}
