@@ -36,14 +36,15 @@ FRAME_SWITCHES = re.compile(r"[+-](KFI|KFF|SF|EF)", re.I)
 
 
 def parse_args(argv):
-    p = argparse.ArgumentParser(prog="render_pov.sh", description=__doc__.splitlines()[5])
+    p = argparse.ArgumentParser(prog="render_pov.sh", description="Renders an unmodified POV-Ray 3.7 scene into "
+                                "the EXR wavecam takes (R, G, B, planar depth Z, wavecam.fov). README: POV-Ray.")
     p.add_argument("scene", help="a .pov scene (any case), an .ini naming one (Input_File_Name), or small/default/wide")
     p.add_argument("out", help="the EXR to write; with --frames a pattern: out.#.exr, out.%%04d.exr or out.@@@@.exr")
     p.add_argument("pov_options", nargs="*", metavar="POV-OPTION",
                    help="passed to every POV-Ray run: +Q5, +A0.1, Declare=NAME=VALUE, Initial_Clock=0 (+KI0), "
                         "Final_Clock=2 (+KF2), user.ini ...; options starting with - go after --")
-    p.add_argument("--width", type=int)
-    p.add_argument("--height", type=int)
+    p.add_argument("--width", type=int, help="image width in pixels (default: POV-Ray's, or the ini's Width)")
+    p.add_argument("--height", type=int, help="image height in pixels (give both or neither)")
     p.add_argument("--fov", help="horizontal field of view, e.g. 50deg (only when the scene's camera cannot be read)")
     p.add_argument("--depth-scale", help="how long one scene unit is, e.g. 1cm, 2.54cm, 1m: Z is then written in "
                    "metres (and the scale recorded as wavecam.scene-unit)")
