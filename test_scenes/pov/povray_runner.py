@@ -76,11 +76,12 @@ class Povray:
         out = prefix + ".exr"
         parse_only = "-F" in options
         size = [f"+W{self.size[0]}", f"+H{self.size[1]}"] if self.size[0] else []
-        cmd = ["povray", *defaults, *self.user_options, *self.frame_options, "-D", "-V", f"+I{quoted(wrapper)}",
+        cmd = ["povray", *defaults, *self.user_options, *self.frame_options, "-D", "-P", "-UA", "-V",
+               f"+I{quoted(wrapper)}",
                f"+L{quoted(os.path.dirname(self.scene))}", *size, *options]
         cmd += ["+FE", f"+O{out}"] if not parse_only else []
         proc = subprocess.run(cmd, cwd=os.path.dirname(self.scene), capture_output=True, text=True,
-                              errors="replace")
+                              errors="replace", stdin=subprocess.DEVNULL)
         log = proc.stdout + proc.stderr
         written = sorted(glob.glob(glob.escape(prefix) + "*.exr"))
         if proc.returncode != 0 or (not parse_only and not written):

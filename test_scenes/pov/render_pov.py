@@ -27,12 +27,16 @@ LENGTH_UNITS = {"nm": 1e-9, "um": 1e-6, "\u00b5m": 1e-6, "mm": 1e-3, "cm": 1e-2,
 FOV_TOLERANCE_DEG = 0.01
 # Options the harness sets itself on every run (input, output, its type, the frame subset, rows and
 # columns of the image): refused from the user, on the command line or in an ini file.
-OWNED_SWITCHES = re.compile(r"[+-](I|O|F[A-Za-z]?|KFI|KFF|SF|EF|SR|ER|SC|EC)(?![A-Za-z])", re.I)
-OWNED_KEYS = {"input_file_name": "SCENE", "output_file_name": "OUT", "output_file_type": "OUT (EXR)",
-              "output_to_file": "OUT", "initial_frame": "--frames", "final_frame": "--frames",
-              "subset_start_frame": "--frames", "subset_end_frame": "--frames", "start_row": "the whole image",
-              "end_row": "the whole image", "start_column": "the whole image", "end_column": "the whole image"}
+# (A user's own ini may name an input and an output: there the harness's later options win, and
+# only what it cannot override -- frames without --frames, part of the image -- is refused.)
+OWNED_SWITCHES = re.compile(r"[+-](I|O|F|SR|ER|SC|EC)", re.I)
+IO_SWITCHES = re.compile(r"[+-](I|O|F)", re.I)
 FRAME_SWITCHES = re.compile(r"[+-](KFI|KFF|SF|EF)", re.I)
+IO_KEYS = {"input_file_name": "SCENE", "output_file_name": "OUT", "output_file_type": "OUT (EXR)",
+           "output_to_file": "OUT"}
+FRAME_KEYS = {"initial_frame", "final_frame", "subset_start_frame", "subset_end_frame"}
+PART_KEYS = {"start_row", "end_row", "start_column", "end_column"}
+
 
 
 def parse_args(argv):
@@ -138,19 +142,27 @@ def read_ini(path):
     return items
 
 
-def check_option(option, where):
-    """Refuse an option the harness sets itself (or one that animates without --frames)."""
+def check_option(option, where, in_ini=False, frames=None):
+    """Refuse an option the harness sets itself on the command line; in an ini (where the
+    harness's later options override input and output) only frames without --frames and part
+    of the image."""
+    frames_text = ("give --frames FIRST-LAST instead (clock options +KI/+KF, Initial_Clock pass through)"
+                   if frames is None or not in_ini else None)
     if option[0] in "+-":
         if FRAME_SWITCHES.match(option):
-            raise Refusal(f"{where}: '{option}' sets the animation's frames: give --frames FIRST-LAST instead "
-                          "(clock options +KI/+KF pass through)")
-        if OWNED_SWITCHES.match(option):
+            if frames_text:
+                raise Refusal(f"{where}: '{option}' sets the animation's frames: {frames_text}")
+        elif OWNED_SWITCHES.match(option) and not (in_ini and IO_SWITCHES.match(option)):
             raise Refusal(f"{where}: '{option}' is set by the harness itself (input, output, EXR, the whole image)")
     elif "=" in option:
         key = option.split("=", 1)[0].strip().lower()
-        if key in OWNED_KEYS:
-            raise Refusal(f"{where}: '{option.split('=', 1)[0]}' is set by the harness itself: give it as "
-                          f"{OWNED_KEYS[key]}")
+        name = option.split("=", 1)[0].strip()
+        if key in FRAME_KEYS and frames_text:
+            raise Refusal(f"{where}: '{name}' sets the animation's frames: {frames_text}")
+        if key in PART_KEYS:
+            raise Refusal(f"{where}: '{name}' renders part of the image: the harness renders the whole image")
+        if key in IO_KEYS and not in_ini:
+            raise Refusal(f"{where}: '{name}' is set by the harness itself: give it as {IO_KEYS[key]}")
 
 
 def user_options(args):
@@ -162,7 +174,7 @@ def user_options(args):
             if not os.path.isfile(path):
                 raise Refusal(f"{option}: no such ini file")
             for key, value in read_ini(path):
-                check_option(value if key == "switch" else f"{key}={value}", path)
+                check_option(value if key == "switch" else f"{key}={value}", path, True, args.frames)
             options.append(quoted(path))
         elif option[:1] in "+-" or re.match(r"\w+\s*=", option):
             check_option(option, "option")
@@ -175,7 +187,7 @@ def user_options(args):
     return options
 
 
-def resolve_scene(name):
+def resolve_scene(name, frames=None):
     """(scene .pov path, ini options): SCENE is a .pov file (any case), an .ini that names one
     with Input_File_Name (relative to the ini's folder), or one of ours."""
     pov_dir = os.path.dirname(os.path.abspath(__file__))
@@ -186,8 +198,7 @@ def resolve_scene(name):
         inputs = [v for k, v in read_ini(ini) if k == "input_file_name"]
         inputs += [v[2:].strip('"') for k, v in read_ini(ini) if k == "switch" and v[:2].upper() == "+I"]
         for key, value in read_ini(ini):
-            if key != "input_file_name" and not (key == "switch" and value[:2].upper() == "+I"):
-                check_option(value if key == "switch" else f"{key}={value}", ini)
+            check_option(value if key == "switch" else f"{key}={value}", ini, True, frames)
         if not inputs:
             raise Refusal(f"{ini}: the ini names no scene (Input_File_Name=scene.pov)")
         scene = os.path.join(os.path.dirname(ini), inputs[-1])
@@ -410,7 +421,7 @@ def render_frame(args, scene, text, out, options, frame_options):
 def main(args):
     out = os.path.abspath(args.out)
     check_output(out, args.frames)  # first: nothing runs for an output that cannot be written
-    scene, ini = resolve_scene(args.scene)
+    scene, ini = resolve_scene(args.scene, args.frames)
     options = ini + user_options(args)
     scan_fog_and_media(scene)
     text = pov_camera.strip_comments(open(scene, errors="replace").read())

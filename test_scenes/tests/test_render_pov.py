@@ -437,8 +437,9 @@ class RenderPov(unittest.TestCase):
         # a user ini, +Q; the Declare'd angle reaches the camera.
         declared = ANALYTIC.replace(f"angle {ANGLE}", "angle Lens")
         self.write("declared.pov", declared)
-        ini = self.write("render.ini", "; a user's ini\nInput_File_Name=declared.pov\nWidth=40\nHeight=30\n"
-                         "Declare=Lens=40\n")
+        ini = self.write("render.ini", "; a user's ini, as kept for POV-Ray itself\nInput_File_Name=declared.pov\n"
+                         "Output_File_Type=N\nOutput_File_Name=declared.png\nDisplay=On\nPause_When_Done=On\n"
+                         "Output_Alpha=On\nWidth=40\nHeight=30\nDeclare=Lens=40\n")
         out = os.path.join(self.dir, "from ini.exr")
         rc, log = render(ini, out)
         self.assertEqual(rc, 0, log)
@@ -452,7 +453,10 @@ class RenderPov(unittest.TestCase):
         self.assertAlmostEqual(read(out)[0].getattribute("wavecam.fov"), 35.0, places=4)
         self.assertFalse([f for f in os.listdir(self.dir) if f.endswith(".pov.pov")])
         # options the harness sets itself are refused before any run
+        self.assertFalse(os.path.exists(os.path.join(self.dir, "declared.png")))
         for option, expected in (("+O/tmp/x.exr", "set by the harness itself"), ("+KFF3", "give --frames"),
+                                 ("+Iother.pov", "set by the harness itself"), ("Start_Row=0.5", "part of the image"),
+                                 (self.write("anim.ini", "Initial_Frame=1\nFinal_Frame=5\n"), "give --frames"),
                                  ("Output_File_Type=N", "set by the harness itself"), ("scene2.pov", "not a POV-Ray option")):
             rc, log = render(self.write("opt.pov", ANALYTIC), out, *size, option)
             self.assertEqual(rc, 1, log)
