@@ -241,3 +241,57 @@ TEST(ApplyCommand, FrameRangesWithHashAndPrintfPatterns) {
     EXPECT_NE(r.output.find("shot.0004.exr"), std::string::npos) << r.output;
     fs::remove_all(dir);
 }
+
+// depth-scale: one unit of the depth channel is that long. A render in centimetres with
+// --depth-scale 1cm (or its own wavecam.depth-scale metadata) is diffracted exactly as the same
+// render in metres; the depth channel is kept as the input had it and the header records the
+// scale, so the output read back gives the same metres. Bad scales are refused.
+TEST(ApplyCommand, DepthScaleTurnsTheDepthChannelIntoMetres) {
+    const fs::path dir = scratch("apply_depth_scale");
+    const auto p = [&dir](const std::string& name) { return (dir / name).string(); };
+    write_render(p("m.exr"), 12, 10, 0.04f, 30.0f);  // 4 cm from the pinhole: depth shapes the PSF
+    write_render(p("cm.exr"), 12, 10, 4.0f, 30.0f);
+    {
+        OIIO::ImageBuf tagged(p("cm.exr"));
+        ASSERT_TRUE(tagged.read(0, 0, true));
+        tagged.specmod().attribute("wavecam.depth-scale", "1cm");
+        ASSERT_TRUE(tagged.write(p("cm_tagged.exr")));
+    }
+    const std::string opts = " --film-distance 20mm --pinhole 0.2mm --wavelengths 3 ";
+    auto apply = [&](const std::string& in, const std::string& out, const std::string& extra) {
+        const auto r = run_command(kWavecam + " apply " + p(in) + " -o " + p(out) + opts + extra);
+        EXPECT_EQ(r.status, 0) << r.output;
+    };
+    apply("m.exr", "out_m.exr", "");
+    apply("cm.exr", "out_cm.exr", "--depth-scale 1cm");
+    apply("cm_tagged.exr", "out_tagged.exr", "");
+    apply("cm.exr", "out_plain.exr", "");  // read as 4 m
+    // read back, each output is diffracted with its own settings: the cm one's recorded scale included
+    apply("out_cm.exr", "again_cm.exr", "");
+    apply("out_m.exr", "again_m.exr", "");
+    OIIO::ImageBuf m(p("out_m.exr")), cm(p("out_cm.exr")), tagged(p("out_tagged.exr")), plain(p("out_plain.exr")),
+        again(p("again_cm.exr")), again_m(p("again_m.exr"));
+    for (auto* b : {&m, &cm, &tagged, &plain, &again, &again_m})
+        ASSERT_TRUE(b->read(0, 0, true, OIIO::TypeDesc::FLOAT));
+    OIIO::ROI rgb = m.roi();
+    rgb.chend = 3;
+    EXPECT_LE(OIIO::ImageBufAlgo::compare(cm, m, 1e-6f, 1e-6f, rgb).maxerror, 1e-6);
+    EXPECT_LE(OIIO::ImageBufAlgo::compare(tagged, m, 1e-6f, 1e-6f, rgb).maxerror, 1e-6);
+    EXPECT_LE(OIIO::ImageBufAlgo::compare(again, again_m, 1e-6f, 1e-6f, rgb).maxerror, 1e-6);
+    EXPECT_GT(OIIO::ImageBufAlgo::compare(plain, m, 1e-6f, 1e-6f, rgb).maxerror, 1e-3) << "depth made no difference";
+    EXPECT_EQ(cm.spec().get_string_attribute("wavecam.depth-scale"), "0.01m");
+    EXPECT_EQ(m.spec().get_string_attribute("wavecam.depth-scale"), "1m");
+    EXPECT_EQ(cm.getchannel(3, 3, 0, 3), 4.0f);  // the depth channel as the input had it
+    for (const auto& [scale, expected] : std::vector<std::pair<std::string, std::string>>{
+             {"0cm", "--depth-scale: expected a length > 0 (one depth unit of the render, e.g. 1cm), got '0cm'"},
+             {"-1cm", "--depth-scale: expected a length > 0 (one depth unit of the render, e.g. 1cm), got '-1cm'"},
+             {"1e400m", "--depth-scale: expected a length with a unit (nm, um, mm, cm, m), e.g. 0.3mm, got '1e400m'"},
+             {"2.54", "--depth-scale: expected a length with a unit (nm, um, mm, cm, m), e.g. 0.3mm, got '2.54'"}}) {
+        const auto r = run_command(kWavecam + " apply " + p("cm.exr") + " -o " + p("bad.exr") + opts +
+                                   "--depth-scale " + scale);
+        EXPECT_NE(r.status, 0) << scale;
+        EXPECT_NE(r.output.find(expected), std::string::npos) << r.output;
+        EXPECT_FALSE(fs::exists(p("bad.exr")));
+    }
+    fs::remove_all(dir);
+}

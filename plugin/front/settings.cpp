@@ -100,6 +100,14 @@ const std::vector<SettingKey> kKeys = {
      }},
     {"depth-channel", "ViewLayer.Depth.Z", "depth channel name (default Z; Blender: ViewLayer.Depth.Z)", true,
      [](const std::string& v, const std::string&, DiffractOptions& o) { return copy_text(v, o.read.depth_channel); }},
+    {"depth-scale", "1cm", "how long one unit of the render's depth channel is, e.g. 1cm for a scene modelled in "
+     "centimetres (default 1m: depth in metres); depth >= 1e9 stays sky", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         auto l = parse_length(v, n);
+         if (l.ok() && !(l.value > 0 && std::isfinite(l.value)))
+             return fail(n, "a length > 0 (one depth unit of the render, e.g. 1cm)", v);
+         return take(l, o.read.depth_scale);
+     }},
     {"depth", "planar", "depth meaning: planar (along the view axis) or ray", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          return parse_choice(n, v, {{"planar", DepthMeaning::Planar}, {"ray", DepthMeaning::Ray}}, o.depth_meaning);

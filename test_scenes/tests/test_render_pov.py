@@ -17,6 +17,9 @@ SCENES = sys.argv.pop(1) if len(sys.argv) > 1 else os.path.join(os.path.dirname(
 RENDER = os.path.join(SCENES, "pov", "render_pov.sh")
 EXAMPLES = "/usr/share/doc/povray/examples/advanced"
 W, H = 64, 48
+# wavecam itself, for the tests that diffract what the harness wrote (ctest sets them)
+WAVECAM = os.environ.get("WAVECAM_BINARY")
+PLUGIN_DIR = os.environ.get("WAVECAM_PLUGIN_DIR")
 
 
 def render(scene, out, *extra):
@@ -277,6 +280,209 @@ class RenderPov(unittest.TestCase):
         # plane { z, 10 } is solid for z < 10, around the camera: the fog cannot reach the surfaces.
         self.refused(self.write("inside.pov", ANALYTIC + "plane { z, 10 pigment { rgb 1 } }\n"),
                      "camera inside a non-hollow object")
+
+
+    # --- issue 26: scenes as POV-Ray users keep them -------------------------------------------
+
+    def test_folders_with_spaces_and_a_local_camera(self):
+        # The scene in a folder with spaces, its camera from top-level #local values, a relative
+        # #include beside it, a macro's own #local left alone; the output in a folder with spaces.
+        folder = os.path.join(self.dir, "my scenes")
+        os.mkdir(folder)
+        os.mkdir(os.path.join(self.dir, "out dir"))
+        lines = ANALYTIC.splitlines()
+        cam = [k for k, l in enumerate(lines) if l.startswith("camera")][0]
+        with open(os.path.join(folder, "view values.inc"), "w") as f:
+            f.write(f"#declare Look = <{LOOK[0]}, {LOOK[1]}, {LOOK[2]}>;\n")
+        local = ["#include \"view values.inc\"",
+                 f"#local Angle = {ANGLE};", f"#local Where = <{LOC[0]}, {LOC[1]}, {LOC[2]}>;",
+                 "#macro Unused() #local Angle = 10; #end",
+                 "camera { location Where right x*image_width/image_height angle Angle", "  look_at Look }"]
+        scene = os.path.join(folder, "local camera.pov")
+        with open(scene, "w") as f:
+            f.write("\n".join(lines[:cam] + local + lines[cam + 2:]) + "\n")
+        out = os.path.join(self.dir, "out dir", "local camera.exr")
+        rc, log = render(scene, out, "--width", str(W), "--height", str(H))
+        self.assertEqual(rc, 0, log)
+        self.assertIn("camera checked", log)
+        spec, px = read(out)
+        self.assertAlmostEqual(spec.getattribute("wavecam.fov"), ANGLE, places=4)
+        self.check_depth(px[..., 3])
+
+    def test_photon_settings_are_not_participating_media(self):
+        # photons { media ... } in global_settings sets up photon mapping; only a media block (an
+        # object's interior, the atmosphere) is participating media, and its line is named.
+        photons = ANALYTIC + "global_settings { photons { spacing 0.5 media on } }\n"
+        scene, out = self.write("photons.pov", photons), os.path.join(self.dir, "photons.exr")
+        rc, log = render(scene, out, "--width", "32", "--height", "24")
+        self.assertEqual(rc, 0, log)
+        self.assertAlmostEqual(read(out)[0].getattribute("wavecam.fov"), ANGLE, places=4)
+        os.remove(out)
+        media = photons + "sphere { 0, 2 hollow pigment { rgbt 1 }\n  interior { media { scattering { 1, 0.2 } } } }\n"
+        line = media.splitlines().index("  interior { media { scattering { 1, 0.2 } } } }") + 1
+        self.refused(self.write("media2.pov", media), f"media2.pov:{line}: the scene has its own 'media'")
+
+    def test_clock_animation_writes_numbered_frames(self):
+        # --frames 1-3 with the clock from 0 to 2 (+KI0 +KF2): the sphere moves; three EXRs named
+        # as wavecam apply --frames reads them, each with its clock.
+        scene = self.write("anim.pov", ANALYTIC + "sphere { <-1.5 + 1.5*clock, 0.5, 0>, 0.5 pigment { rgb 1 } }\n")
+        rc, log = render(scene, os.path.join(self.dir, "anim.#.exr"), "--width", "32", "--height", "24",
+                         "--frames", "1-3", "+KI0", "+KF2")
+        self.assertEqual(rc, 0, log)
+        frames = [read(os.path.join(self.dir, f"anim.000{f}.exr")) for f in (1, 2, 3)]
+        for f, (spec, _) in enumerate(frames):
+            self.assertEqual(spec.getattribute("wavecam.pov-frame"), f + 1)
+            self.assertAlmostEqual(spec.getattribute("wavecam.pov-clock"), float(f), places=5)
+            self.assertAlmostEqual(spec.getattribute("wavecam.fov"), ANGLE, places=4)
+        for a, b in ((0, 1), (1, 2), (0, 2)):
+            self.assertGreater(np.abs(frames[a][1][..., :3] - frames[b][1][..., :3]).mean(), 1e-3, (a, b))
+            self.assertGreater(np.abs(frames[a][1][..., 3] - frames[b][1][..., 3]).max(), 0.1, (a, b))
+        # the %04d spelling names the same files; no pattern with --frames is refused first
+        rc, log = render(scene, os.path.join(self.dir, "pct.%04d.exr"), "--width", "32", "--height", "24",
+                         "--frames", "2", "+KI0", "+KF2")
+        self.assertEqual(rc, 0, log)
+        self.assertTrue(os.path.exists(os.path.join(self.dir, "pct.0002.exr")))
+        rc, log = render(scene, os.path.join(self.dir, "flat.exr"), "--frames", "1-3")
+        self.assertEqual((rc, "POV-Ray run" in log), (1, False), log)
+        self.assertIn("frame number pattern", log)
+        if WAVECAM:
+            proc = subprocess.run([WAVECAM, "apply", os.path.join(self.dir, "anim.#.exr"), "-o",
+                                   os.path.join(self.dir, "d.#.exr"), "--frames", "1-3", "--film-distance", "20mm",
+                                   "--wavelengths", "3"], capture_output=True, text=True)
+            self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
+            for f in (1, 2, 3):
+                self.assertTrue(os.path.exists(os.path.join(self.dir, f"d.000{f}.exr")))
+
+    def scaled_scene(self, name, scale):
+        """ANALYTIC in units `scale` times smaller (0.01: the same scene in centimetres), shrunk
+        20 times so that its depths (0.2 m to 1.5 m) shape the PSF."""
+        size = 0.05 / scale
+        loc, look = LOC * size, LOOK * size
+        camera = ANALYTIC[ANALYTIC.index("camera"):ANALYTIC.index("light_source")]
+        camera = camera.replace(f"<{LOC[0]}, {LOC[1]}, {LOC[2]}>", f"<{loc[0]!r}, {loc[1]!r}, {loc[2]!r}>").replace(
+            f"<{LOOK[0]}, {LOOK[1]}, {LOOK[2]}>", f"<{look[0]!r}, {look[1]!r}, {look[2]!r}>")
+        objects = ANALYTIC[ANALYTIC.index("plane"):]
+        return self.write(name, ANALYTIC[:ANALYTIC.index("camera")] + camera
+                          + f"light_source {{ <-3, 8, -6>*{size!r} rgb 1 }}\n" + f"union {{ {objects} scale {size!r} }}\n")
+
+    def test_depth_scale_gives_metres(self):
+        metres, cm = self.scaled_scene("metres.pov", 1.0), self.scaled_scene("centimetres.pov", 0.01)
+        size = ["--width", "32", "--height", "24"]
+        outs = {k: os.path.join(self.dir, k + ".exr") for k in ("m", "cm", "cm_units")}
+        for scene, out, extra in ((metres, outs["m"], []), (cm, outs["cm"], ["--depth-scale", "1cm"]),
+                                  (cm, outs["cm_units"], [])):
+            rc, log = render(scene, out, *size, *extra)
+            self.assertEqual(rc, 0, log)
+        (spec_m, m), (spec_cm, c), (_, units) = (read(outs[k]) for k in ("m", "cm", "cm_units"))
+        self.assertEqual(spec_cm.getattribute("wavecam.scene-unit"), "0.01m")
+        self.assertIsNone(spec_m.getattribute("wavecam.scene-unit"))
+        sky = m[..., 3] >= 1e9
+        np.testing.assert_array_equal(sky, c[..., 3] >= 1e9)
+        self.assertGreater(int((~sky).sum()), 300)
+        rel = np.abs(c[..., 3][~sky] / m[..., 3][~sky] - 1)
+        print(f"depth-scale 1cm against the scene in metres: planar depth median {np.median(rel):.1e}, "
+              f"worst {rel.max():.1e}; depths {m[..., 3][~sky].min():.3f} to {m[..., 3][~sky].max():.3f} m")
+        self.assertLessEqual(np.median(rel), 2e-3)
+        self.assertLessEqual(rel.max(), 1e-2)
+        np.testing.assert_allclose(units[..., 3][~sky] / 100, m[..., 3][~sky], rtol=1e-2)  # cm without the scale
+        np.testing.assert_allclose(c[..., :3], m[..., :3], atol=2e-3)
+        if not WAVECAM:
+            return
+        # wavecam: the same blur from the metres file, the converted one, and the cm-units file
+        # with wavecam's own depth-scale (command and plugin); the cm file read as metres differs.
+        opts = ["--film-distance", "20mm", "--pinhole", "0.2mm", "--wavelengths", "3", "--fov", f"{ANGLE}deg"]
+
+        def apply(src, dst, *extra):
+            proc = subprocess.run([WAVECAM, "apply", outs[src], "-o", os.path.join(self.dir, dst), *opts, *extra],
+                                  capture_output=True, text=True)
+            self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
+            return read(os.path.join(self.dir, dst))
+
+        a_m, a_cm = apply("m", "a_m.exr")[1], apply("cm", "a_cm.exr")[1]
+        spec_units, a_units = apply("cm_units", "a_units.exr", "--depth-scale", "1cm")
+        a_wrong = apply("cm_units", "a_wrong.exr")[1]
+        self.assertEqual(spec_units.getattribute("wavecam.depth-scale"), "0.01m")
+        diff = lambda a, b: float(np.abs(a[..., :3] - b[..., :3]).mean() / np.abs(b[..., :3]).mean())
+        print(f"wavecam apply: metres vs --depth-scale 1cm (harness) {diff(a_cm, a_m):.1e}, vs wavecam "
+              f"--depth-scale 1cm {diff(a_units, a_m):.1e}, cm read as metres {diff(a_wrong, a_m):.1e} (relative mean)")
+        self.assertLess(diff(a_cm, a_m), 3e-3)
+        self.assertLess(diff(a_units, a_m), 3e-3)
+        # (measured: 5.7e-7 and 5.5e-7 against 2.8e-4)
+        self.assertGreater(diff(a_wrong, a_m), 1e-4)
+        self.assertGreater(diff(a_wrong, a_m), 20 * max(diff(a_cm, a_m), diff(a_units, a_m)))
+        if PLUGIN_DIR:
+            hinted = os.path.join(self.dir, "a_plugin.exr")
+            name = outs["cm_units"] + ".wavecam?depth-scale=1cm&film-distance=20mm&pinhole=0.2mm&wavelengths=3"
+            proc = subprocess.run(["oiiotool", name, "-o", hinted], capture_output=True, text=True,
+                                  env={**os.environ, "OIIO_LIBRARY_PATH": PLUGIN_DIR})
+            self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
+            spec_p, a_plugin = read(hinted)
+            self.assertEqual(spec_p.getattribute("wavecam.depth-scale"), "0.01m")
+            self.assertLess(diff(a_plugin, a_units), 1e-4)
+
+    def test_names_options_and_ini_files(self):
+        size = ["--width", "32", "--height", "24"]
+        # the output's extension first: nothing runs
+        rc, log = render(self.write("any.pov", ANALYTIC), os.path.join(self.dir, "out.png"), *size)
+        self.assertEqual(rc, 1, log)
+        self.assertIn("out.png: the harness writes OpenEXR only", log)
+        self.assertNotIn("POV-Ray run", log)
+        rc, log = render(os.path.join(self.dir, "missing.pov"), os.path.join(self.dir, "out.PNG"))
+        self.assertIn("OpenEXR only", log)
+        # SCENE.POV (any case) and OUT.EXR
+        rc, log = render(self.write("SCENE.POV", ANALYTIC), os.path.join(self.dir, "UPPER.EXR"), *size)
+        self.assertEqual(rc, 0, log)
+        self.assertAlmostEqual(read(os.path.join(self.dir, "UPPER.EXR"))[0].getattribute("wavecam.fov"), ANGLE, places=4)
+        # An ini as SCENE (Input_File_Name, its size, a Declare) and options after OUT: Declare=,
+        # a user ini, +Q; the Declare'd angle reaches the camera.
+        declared = ANALYTIC.replace(f"angle {ANGLE}", "angle Lens")
+        self.write("declared.pov", declared)
+        ini = self.write("render.ini", "; a user's ini, as kept for POV-Ray itself\nInput_File_Name=declared.pov\n"
+                         "Output_File_Type=N\nOutput_File_Name=declared.png\nDisplay=On\nPause_When_Done=On\n"
+                         "Output_Alpha=On\nWidth=40\nHeight=30\nDeclare=Lens=40\n")
+        out = os.path.join(self.dir, "from ini.exr")
+        rc, log = render(ini, out)
+        self.assertEqual(rc, 0, log)
+        spec, _ = read(out)
+        self.assertEqual((spec.width, spec.height), (40, 30))
+        self.assertAlmostEqual(spec.getattribute("wavecam.fov"), 40.0, places=4)
+        self.assertEqual(spec.getattribute("wavecam.scene"), "declared.pov")
+        extra = self.write("quality.ini", "Quality=4\n")
+        rc, log = render(self.write("declared2.pov", declared), out, *size, "Declare=Lens=35", extra, "+Q5")
+        self.assertEqual(rc, 0, log)
+        self.assertAlmostEqual(read(out)[0].getattribute("wavecam.fov"), 35.0, places=4)
+        self.assertFalse([f for f in os.listdir(self.dir) if f.endswith(".pov.pov")])
+        # options the harness sets itself are refused before any run
+        self.assertFalse(os.path.exists(os.path.join(self.dir, "declared.png")))
+        for option, expected in (("+O/tmp/x.exr", "set by the harness itself"), ("+KFF3", "give --frames"),
+                                 ("+Iother.pov", "set by the harness itself"), ("Start_Row=0.5", "part of the image"),
+                                 (self.write("anim.ini", "Initial_Frame=1\nFinal_Frame=5\n"), "give --frames"),
+                                 ("Output_File_Type=N", "set by the harness itself"), ("scene2.pov", "not a POV-Ray option")):
+            rc, log = render(self.write("opt.pov", ANALYTIC), out, *size, option)
+            self.assertEqual(rc, 1, log)
+            self.assertIn(expected, log)
+            self.assertNotIn("POV-Ray run", log)
+
+    def test_refused_after_the_first_parse(self):
+        # What the first POV-Ray run (a parse) tells is refused then, before the radiance render:
+        # non-square pixels, a camera that cannot be read without --fov; a --fov against the
+        # camera names both values.
+        size = ["--width", "32", "--height", "24"]
+        rc, log = render(self.write("stretched.pov", ANALYTIC.replace("right x*image_width/image_height", "right x")),
+                         os.path.join(self.dir, "s.exr"), *size)
+        self.assertEqual(rc, 1, log)
+        self.assertIn("pixels are not square", log)
+        self.assertNotIn("radiance render", log)
+        lines = ANALYTIC.splitlines()
+        cam = [k for k, l in enumerate(lines) if l.startswith("camera")][0]
+        self.write("cam.inc", "\n".join(lines[cam:cam + 2]) + "\n")
+        rc, log = render(self.write("included.pov", "\n".join(lines[:cam] + ['#include "cam.inc"'] + lines[cam + 2:])),
+                         os.path.join(self.dir, "s.exr"), *size)
+        self.assertEqual(rc, 1, log)
+        self.assertIn("pass --fov", log)
+        self.assertNotIn("radiance render", log)
+        self.refused(self.write("fov.pov", ANALYTIC), f"--fov 50 deg disagrees with the scene's camera, whose "
+                     f"horizontal field of view is {ANGLE:.4f} deg", "--fov", "50deg")
 
 
 if __name__ == "__main__":

@@ -188,6 +188,8 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
     if (f.overscan > 0) spec.attribute("wavecam.cropped-overscan", f.overscan);  // not wavecam.overscan: none here
     spec.attribute("wavecam.fov-from", in.fov_from);
     spec.attribute("wavecam.depth", opt.depth_meaning == DepthMeaning::Planar ? "planar" : "ray");
+    // the depth channel is copied as the input had it: the scale read back gives the same metres
+    spec.attribute("wavecam.depth-scale", with_unit(opt.read.depth_scale, 1.0, "m"));
     std::string wl;
     for (double l : f.colour.sampling.wavelength) wl += (wl.empty() ? "" : ",") + with_unit(l, 1e-9, "nm");
     spec.attribute("wavecam.wavelengths", wl);

@@ -141,6 +141,14 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
     const int rgb[3] = {ch.r, ch.g, ch.b};
     if (!read_channels(image, rgb, ch.depth, in)) return fail("cannot read pixels: " + image.geterror());
     if (const std::string bad = bad_pixel(in, spec, rgb); !bad.empty()) return fail(bad);
+    // Depth in metres: the file's units times the depth scale (1cm for a scene modelled in
+    // centimetres). Sky is judged on the file's own value, before scaling.
+    if (!(opt.depth_scale > 0 && std::isfinite(opt.depth_scale)))
+        return fail("depth scale " + OIIO::Strutil::fmt::format("{:g}", opt.depth_scale) +
+                    " m, expected a length > 0", ErrorKind::Invalid, "depth-scale");
+    if (opt.depth_scale != 1.0)
+        for (float& d : in.depth)
+            if (d < kInfiniteDepth) d = static_cast<float>(d * opt.depth_scale);
 
     if (opt.fov_h > 0) {
         in.fov_h = opt.fov_h;

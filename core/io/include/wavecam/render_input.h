@@ -13,13 +13,15 @@ struct RenderReadOptions {
     std::string depth_channel = "Z";  // also matches a layer prefix: "ViewLayer.Depth.Z"
     double fov_h = 0;                 // radians; 0 = from the file's metadata
     std::string fov_from = "the fov setting";  // where fov_h came from, for the output's wavecam.fov-from
+    double depth_scale = 1.0;         // metres per unit of the depth channel (the depth-scale setting, > 0);
+                                      // a value >= 1e9 (or inf) in the file is sky whatever the scale
 };
 
 // Radiance and depth as plain arrays, plus what the file says about itself.
 struct RenderInput {
     int width = 0, height = 0;
     std::vector<float> rgb;    // interleaved R, G, B
-    std::vector<float> depth;  // metres
+    std::vector<float> depth;  // metres (the file's values times RenderReadOptions::depth_scale)
     double fov_h = 0;          // radians
     std::string fov_from;      // the setting or the attribute it came from
     std::string colorspace;    // the radiance's colour space as the file names it ("" = unknown)
