@@ -364,6 +364,10 @@ SummationWork summation_work(double lattice_samples, int samples_across, double 
     return w;
 }
 
+const char* summation_name(Summation s) {
+    return s == Summation::Direct ? "direct summation" : s == Summation::Nufft ? "NUFFT summation" : "fast summation";
+}
+
 Summation default_summation() {
     const char* v = std::getenv("WAVECAM_SUMMATION");
     const std::string name = v ? v : "";

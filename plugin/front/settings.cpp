@@ -154,7 +154,8 @@ const std::vector<SettingKey> kKeys = {
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          return take(parse_whole_number(v, n, 0, 16), o.diffraction.film_subsamples);
      }},
-    {"jitter", "false", "true: move each source within its pixel every run", true,
+    {"jitter", "true", "true: move the sources within their pixels (coded phases: all by one random offset; "
+     "independent: each anew every run); default false, sources at pixel centres as the fast path has them", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          return take(parse_bool(n, v), o.diffraction.jitter);
      }},

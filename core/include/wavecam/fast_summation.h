@@ -68,6 +68,9 @@ SummationWork summation_work(double lattice_samples, int samples_across, double 
                              const DirectionRange& range, double aperture_radius, double wavelength,
                              double pitch, bool film, double tolerance);
 
+// "fast summation", "direct summation", "NUFFT summation": for estimates and headers.
+const char* summation_name(Summation s);
+
 // Whether `settings.method` takes the NUFFTs for that work.
 bool use_fast(const SummationSettings& settings, const SummationWork& work);
 

@@ -21,8 +21,10 @@ struct DiffractionSettings {
     Aperture aperture{ApertureShape::Circle, 0.0};
     CoherenceMethod method = CoherenceMethod::RandomPhase;
     int runs = 4;              // K, random-phase runs averaged
-    bool jitter = true;        // move the sources within their pixels: coded, all by one offset a job;
-                               // independent, each anew every run
+    // Move the sources within their pixels: with coded phases all by one random offset a job, with
+    // independent phases each anew every run. Off by default: sources at pixel centres, as the fast
+    // path and the incoherent sum place them, so that the runs converge to the fast path's image.
+    bool jitter = false;
     // Coded phases (phase_codes.h, docs/phase_codes.md): the runs' phases offset by 2 pi k m / K so
     // that sources of different classes cancel exactly over the K runs. false: the seed paper's
     // independent phases, noise falling as 1/sqrt(K).

@@ -118,7 +118,8 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
     f.terms = exact_terms(f.exact, f.camera, f.colour.basis);
     std::ostringstream job;
     job << in.width << "x" << in.height << " pixels x " << f.colour.sampling.wavelength.size() << " wavelengths x "
-        << (f.exact.method == CoherenceMethod::Incoherent ? 1 : f.exact.runs) << " runs";
+        << (f.exact.method == CoherenceMethod::Incoherent ? 1 : f.exact.runs) << " runs, "
+        << summation_name(f.exact.summation);
     f.job = job.str();
     return R::success(std::move(f));
 }
@@ -202,6 +203,11 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
         spec.attribute("wavecam.seed", std::to_string(s.seed));
         spec.attribute("wavecam.film-subsamples", s.film_subsamples);  // the setting: 0 = enough to resolve the PSF
         spec.attribute("wavecam.jitter", s.jitter ? "true" : "false");
+        spec.attribute("wavecam.summation", s.summation == Summation::Direct  ? "direct"
+                                            : s.summation == Summation::Nufft ? "nufft"
+                                                                              : "fast");
+        if (opt.method == DiffractMethod::RandomPhase)
+            spec.attribute("wavecam.phases", s.coded_phases ? "coded" : "independent");
     }
     spec.attribute("wavecam.vignetting", opt.vignetting ? "true" : "false");
     spec.attribute("wavecam.input-colorspace", f.colour.in_space);

@@ -146,7 +146,7 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
     }
     std::ostringstream job;
     job << "share " << index << "/" << count << " of " << j.f.in.width << "x" << j.f.in.height << " pixels x " << j.S
-        << " wavelengths x " << j.R << " runs: " << describe_share(j.sh, j.R);
+        << " wavelengths x " << j.R << " runs, " << summation_name(j.s.summation) << ": " << describe_share(j.sh, j.R);
     j.job = job.str();
     if (j.terms > opt.max_terms) {
         std::ostringstream m;
