@@ -284,12 +284,25 @@ std::vector<float> average_over_pixels(const FieldPsfRequest& q, const FieldGeom
     std::vector<double> offset(size_t(w) * sub);
     for (int k = 0; k < w; ++k)
         for (int s = 0; s < sub; ++s) offset[size_t(k) * sub + s] = (k - q.radius + (s + 0.5) / sub - 0.5) * q.pixel_pitch;
+    // The grid is zero beyond |r|, |t| < half steps, so beyond |x|, |y| < sqrt(2) half steps
+    // at any rotation: only the points within that reach are summed (pixels far wider than
+    // the PSF - a long film distance, a tiny frame - would otherwise cost points^2 each).
+    const double reach = std::sqrt(2.0) * (film.plan.half + 1) * film.plan.step;
+    auto points_within = [&](int k, int& first, int& last) {
+        first = 0;
+        last = sub;
+        while (first < sub && offset[size_t(k) * sub + first] < -reach) ++first;
+        while (last > first && offset[size_t(k) * sub + last - 1] > reach) --last;
+    };
     for (int b = 0; b < w; ++b)
         for (int a = 0; a < w; ++a) {
             double s = 0;
-            for (int sb = 0; sb < sub; ++sb) {
+            int b0, b1, a0, a1;
+            points_within(b, b0, b1);
+            points_within(a, a0, a1);
+            for (int sb = b0; sb < b1; ++sb) {
                 const double y = offset[size_t(b) * sub + sb];
-                for (int sa = 0; sa < sub; ++sa) {
+                for (int sa = a0; sa < a1; ++sa) {
                     const double x = offset[size_t(a) * sub + sa];
                     s += film.at(x * g.er_x + y * g.er_y, -x * g.er_y + y * g.er_x);
                 }
