@@ -145,6 +145,7 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
     std::error_code ec;
     if (fs::exists(output, ec) && fs::equivalent(input, output, ec))
         return fail(output + ": the output would overwrite the input; choose another -o", 2);
+    set_interrupt_message("wavecam apply: " + input + ": interrupted");
     if (!flags.part.empty()) return run_share(flags, input, output);
     auto in = read_and_resolve(input, flags.given);
     if (!in.ok()) return fail(in.error, 2);

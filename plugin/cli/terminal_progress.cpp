@@ -9,6 +9,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 
 #include "wavecam/atomic_write.h"
@@ -19,6 +20,8 @@ namespace {
 std::atomic<bool> g_interrupted{false};
 std::atomic<int> g_signal{0};
 bool g_drawn = false;
+char g_stop_message[512] = "\nwavecam: interrupted\n";
+std::atomic<size_t> g_stop_length{sizeof "\nwavecam: interrupted\n" - 1};
 constexpr long kGraceMicroseconds = 1500000;  // the work's own stop, before the watchdog's
 
 // The watchdog: work that has not stopped within the grace time after SIGINT/SIGTERM (a loop
@@ -26,8 +29,7 @@ constexpr long kGraceMicroseconds = 1500000;  // the work's own stop, before the
 // temporary being written is removed, the target never touched. Async-signal-safe only.
 extern "C" void stop_now(int) {
     if (const char* temp = temporary_being_written()) ::unlink(temp);
-    static const char message[] = "\nwavecam: interrupted\n";
-    [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, message, sizeof message - 1);
+    [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, g_stop_message, g_stop_length.load());
     const int sig = g_signal.load();
     ::_exit(128 + (sig > 0 ? sig : SIGINT));
 }
@@ -50,6 +52,13 @@ void install_interrupt_handlers() {
 }
 
 bool interrupted() { return g_interrupted.load(); }
+
+void set_interrupt_message(const std::string& message) {
+    const std::string line = "\n" + message.substr(0, sizeof g_stop_message - 3) + "\n";
+    g_stop_length.store(0);
+    std::memcpy(g_stop_message, line.data(), line.size());
+    g_stop_length.store(line.size());
+}
 
 int interrupted_status() {
     const int sig = g_signal.load();

@@ -24,6 +24,8 @@ void finish_progress();
 // temporary being written (atomic_write.h).
 void install_interrupt_handlers();
 bool interrupted();
+// What the watchdog prints when it ends the process ("wavecam apply: in.exr: interrupted").
+void set_interrupt_message(const std::string& message);
 // The exit status for the signal received: 130 (SIGINT) or 143 (SIGTERM).
 int interrupted_status();
 

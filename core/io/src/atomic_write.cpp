@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <limits.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -39,6 +40,15 @@ fs::path temporary_for(const fs::path& target) {
     std::string name = "." + target.filename().string() + ".tmp" + pid + ext;
     if (name.size() > NAME_MAX) name = ".wavecam.tmp" + pid + ext;
     return target.parent_path() / name;
+}
+
+// Why a write failed, completed: a reason the writer did not give, and a full disk named.
+std::string reason(std::string why, const fs::path& temp) {
+    if (why.empty()) why = "the writer gave no reason";
+    struct statvfs fs {};
+    const fs::path dir = temp.parent_path().empty() ? fs::path(".") : temp.parent_path();
+    if (::statvfs(dir.c_str(), &fs) == 0 && fs.f_bavail == 0) why += "; the disk is full";
+    return why;
 }
 
 // Whatever fails, no temporary is left behind.
@@ -110,7 +120,7 @@ Result<bool> write_image_atomically(const OIIO::ImageBuf& image, const std::stri
     if (const std::string bad = name_problem(path); !bad.empty()) return Result<bool>::failure(bad);
     const fs::path temp = temporary_for(path);
     TemporaryMark mark(temp);
-    auto cannot = [&](const std::string& why) { return discard(temp, path + ": cannot write: " + why); };
+    auto cannot = [&](const std::string& why) { return discard(temp, path + ": cannot write: " + reason(why, temp)); };
     auto out = OIIO::ImageOutput::create(temp.string());
     if (!out) return cannot(OIIO::geterror());
     OIIO::ImageSpec spec = image.spec();
@@ -125,7 +135,7 @@ Result<bool> write_image_atomically(const OIIO::ImageBuf& image, const std::stri
     out.reset();
     if (const std::string why = sync_file(temp); !why.empty()) return cannot(why);
     if (const std::string why = read_back(temp, spec); !why.empty())
-        return cannot(why + "; is the disk full?");
+        return cannot(why);
     return move_into_place(temp, path);
 }
 
@@ -133,7 +143,7 @@ Result<bool> write_text_atomically(const std::string& text, const std::string& p
     if (const std::string bad = name_problem(path); !bad.empty()) return Result<bool>::failure(bad);
     const fs::path temp = temporary_for(path);
     TemporaryMark mark(temp);
-    auto cannot = [&](const std::string& why) { return discard(temp, path + ": cannot write: " + why); };
+    auto cannot = [&](const std::string& why) { return discard(temp, path + ": cannot write: " + reason(why, temp)); };
     const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
     if (fd < 0) return cannot(std::strerror(errno));
     size_t done = 0;

@@ -184,7 +184,7 @@ std::string not_a_file(const std::string& path) {
     }
     if (S_ISREG(st.st_mode)) return {};
     const char* what = S_ISDIR(st.st_mode)    ? "a folder"
-                       : S_ISFIFO(st.st_mode) ? "a FIFO (named pipe)"
+                       : S_ISFIFO(st.st_mode) ? "a named pipe (FIFO)"
                        : S_ISCHR(st.st_mode)  ? "a character device"
                        : S_ISBLK(st.st_mode)  ? "a block device"
                        : S_ISSOCK(st.st_mode) ? "a socket"
