@@ -13,6 +13,8 @@
 #include <cstring>
 #include <fstream>
 
+#include <OpenImageIO/imageio.h>
+
 #include "command_runner.h"
 
 namespace fs = std::filesystem;
@@ -58,6 +60,14 @@ TEST(ApplyHostile, AbortsAndHangsBecomeOneLineBeforeTheWork) {
     const std::string fifo = (dir / "fifo.exr").string();
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
     fs::create_directories(dir / "folder.exr");
+    {  // a header that claims 20000 x 20000 pixels in a file of under a megabyte (no pixels)
+        OIIO::ImageSpec spec(20000, 20000, 4, OIIO::TypeDesc::HALF);
+        spec.channelnames = {"R", "G", "B", "Z"};
+        spec.tile_width = spec.tile_height = 64;
+        auto forged = OIIO::ImageOutput::create((dir / "forged.exr").string());
+        ASSERT_TRUE(forged && forged->open((dir / "forged.exr").string(), spec));
+        forged->close();
+    }
     const std::string long_name(300, 'n');
     std::string deep_path = dir.string();
     while (deep_path.size() <= PATH_MAX) deep_path += "/" + std::string(200, 'd');
@@ -83,6 +93,9 @@ TEST(ApplyHostile, AbortsAndHangsBecomeOneLineBeforeTheWork) {
          "cannot be read as an image (a file or folder name of 304 characters, beyond the file system's limit of 255 "
          "(NAME_MAX))"},
         {deep_path + "/in.exr", "", "cannot be read as an image (a path of"},
+        {(dir / "forged.exr").string(), "--max-memory 1GiB",
+         "forged.exr: 20000x20000 pixels x 4 channels need about 6103.52 MiB to read, beyond the max-memory limit of "
+         "1024 MiB"},
         // hangs: no message, no progress, signals ignored
         {render("fov_zero.exr", 16, 16, 2.0f, 1e-30f), "",
          "a field of view of 1e-30 degrees (from the file's wavecam.fov attribute) is too narrow to image; expected "

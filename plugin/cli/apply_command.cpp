@@ -12,6 +12,7 @@
 #include "wavecam/atomic_write.h"
 #include "wavecam/diffract_image.h"
 #include "wavecam/share_files.h"
+#include "wavecam/units.h"
 #include "../front/settings.h"
 
 namespace wavecam::cli {
@@ -42,7 +43,10 @@ void add_setting_options(CLI::App* cmd, front::Settings& given) {
 }
 
 Result<ResolvedInput> read_and_resolve(const std::string& input, const front::Settings& given) {
-    auto image = read_image(input);
+    double max_bytes = DiffractOptions{}.max_memory;  // the limit given, before the render is read
+    if (auto limit = given.find("max-memory"); limit != given.end())
+        if (auto b = parse_bytes(limit->second, "--max-memory"); b.ok()) max_bytes = b.value;
+    auto image = read_image(input, max_bytes);
     if (!image.ok()) return Result<ResolvedInput>::failure(image);
     ResolvedInput r{std::move(image.value), {}};
     front::SettingSources sources;

@@ -23,6 +23,7 @@
 
 #include "../front/description.h"
 #include "wavecam/diffract_image.h"
+#include "wavecam/units.h"
 
 OIIO_PLUGIN_NAMESPACE_BEGIN
 
@@ -184,7 +185,10 @@ private:
 
     using Computed = wavecam::Result<std::shared_ptr<const ImageBuf>>;
     Computed compute(const std::string& source, const wavecam::front::SettingSources& sources) {
-        auto read = wavecam::read_image(source);
+        double max_bytes = wavecam::DiffractOptions{}.max_memory;  // the limit given, before the source is read
+        if (auto limit = sources.given.find("max-memory"); limit != sources.given.end())
+            if (auto b = wavecam::parse_bytes(limit->second, "max-memory"); b.ok()) max_bytes = b.value;
+        auto read = wavecam::read_image(source, max_bytes);
         if (!read.ok()) return Computed::failure(read);
         const ImageBuf& src = read.value;
         auto settings = wavecam::front::resolve_settings(src.spec(), sources);

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <sstream>
 
 #include "wavecam/units.h"
 
@@ -194,11 +195,23 @@ std::string not_a_file(const std::string& path) {
 
 }  // namespace
 
-Result<OIIO::ImageBuf> read_image(const std::string& path) {
+Result<OIIO::ImageBuf> read_image(const std::string& path, double max_bytes) {
     if (const std::string why = not_a_file(path); !why.empty())
         return Result<OIIO::ImageBuf>::failure((path.size() > 200 ? path.substr(0, 40) + "..." : path) +
                                                ": cannot be read as an image (" + why + ")");
     OIIO::ImageBuf image(path);
+    // the header first: what reading the pixels would take
+    if (image.init_spec(path, 0, 0)) {
+        const OIIO::ImageSpec& spec = image.spec();
+        const double bytes = double(spec.width) * spec.height * std::max(1, spec.depth) * spec.nchannels * sizeof(float);
+        if (bytes > max_bytes) {
+            std::ostringstream m;
+            m << path << ": " << spec.width << "x" << spec.height << " pixels x " << spec.nchannels
+              << " channels need about " << bytes / (1 << 20) << " MiB to read, beyond the max-memory limit of "
+              << max_bytes / (1 << 20) << " MiB; a corrupt header, or raise max-memory";
+            return Result<OIIO::ImageBuf>::failure(m.str(), ErrorKind::TooLarge, "max-memory");
+        }
+    }
     const bool read = image.read(0, 0, true, OIIO::TypeDesc::FLOAT);
     if (read && !image.deep()) return Result<OIIO::ImageBuf>::success(std::move(image));
     // deep pixels hold lists of samples, not one value each: no pixel access wavecam makes fits them
