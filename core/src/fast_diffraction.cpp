@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "anchored_convolution.h"
 #include "far_tail.h"
@@ -69,6 +70,14 @@ Result<detail::PsfTableSpec> plan_geometry(const FastPlanSpec& spec) {
     const PinholeCamera& c = spec.camera;
     const int o = spec.overscan;
     if (auto v = check_frame(c, o); !v.ok()) return R::failure(v);
+    // (the fronts refuse sources nearer than 10 pinhole diameters first, diffract_image.cpp; this
+    // keeps the layer count's arithmetic finite for any caller: a subnormal depth overflowed it)
+    if (!(spec.max_inverse_depth >= 0 && spec.max_inverse_depth <= 1e6)) {
+        char m[96];
+        std::snprintf(m, sizeof m, "depth: the nearest source is at %g m, expected 1 um or more",
+                      1.0 / spec.max_inverse_depth);
+        return R::failure(m);
+    }
     const SpectralBasis& basis = spec.basis;
     double lambda_min = basis.wavelength(0), lambda_max = basis.wavelength(0);
     for (int s = 0; s < basis.size(); ++s) {

@@ -146,7 +146,7 @@ MftPlan plan_mft(const FieldPsfRequest& q, const FieldGeometry& g) {
         if (q.pupil_samples > 0) return q.pupil_samples + (p.mirrored ? q.pupil_samples % 2 : 0);
         const double zones = 0.25 * g.span * g.span * rate / q.wavelength;
         const double period = 2.2 * g.span * extent * stretch / (q.wavelength * q.film_distance);
-        return std::clamp(2 * int(std::ceil(std::max({4 * zones, period, finest}))), 64, 2048);
+        return 2 * int(std::clamp(std::ceil(std::max({4 * zones, period, finest})), 32.0, 1024.0));
     };
     p.nr = samples(g.ar, g.c * g.c * g.c);
     p.nt = samples(g.at, g.c);
@@ -385,7 +385,7 @@ struct TransferPlan {
 TransferPlan plan_transfer(const FieldPsfRequest& q, const FieldGeometry& g) {
     TransferPlan p;
     const double fa = q.film_distance * g.alpha;
-    p.sub = std::max(q.subsamples, int(std::ceil(kMinCellsAcross * q.pixel_pitch / (g.span * fa))));
+    p.sub = std::max(q.subsamples, int(std::min(std::ceil(kMinCellsAcross * q.pixel_pitch / (g.span * fa)), 1e6)));
     // a point-symmetric pupil on a grid with a point at the centre (odd sub) gives a
     // point-symmetric field: half of the inverse transform is the other half mirrored
     p.symmetric = point_symmetric(q.aperture);
@@ -394,7 +394,9 @@ TransferPlan plan_transfer(const FieldPsfRequest& q, const FieldGeometry& g) {
     const double shift = q.wavelength / g.ar / (std::sqrt(2.0) * p.h);
     const double kernel_half = (q.radius + 0.5) * q.pixel_pitch / fa, pupil_half = 0.5 * g.span;
     const double period = std::max(kernel_half + pupil_half + shift, 2 * shift);
-    p.n = detail::fft_friendly_size(int(std::ceil(period / p.h)) + 2);
+    // (a grid beyond 2^28 points across is never cheaper than the matrix transform: kept
+    // finite, it only loses the cost comparison)
+    p.n = detail::fft_friendly_size(int(std::min(std::ceil(period / p.h) + 2, double(1 << 29))));
     return p;
 }
 
@@ -596,7 +598,7 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
 int psf_kernel_radius(const Aperture& aperture, double film_distance, double nearest_depth, double wavelength,
                       double cos_theta_max, double pixel_pitch, int max_radius) {
     const double r = psf_radius(aperture, film_distance, nearest_depth, wavelength, cos_theta_max) / pixel_pitch;
-    return std::clamp(int(std::ceil(r)), 1, max_radius);
+    return int(std::clamp(std::ceil(r), 1.0, double(max_radius)));  // (clamped as a double: no overflow)
 }
 
 }  // namespace wavecam

@@ -125,6 +125,7 @@ Result<bool> write_image_atomically(const OIIO::ImageBuf& image, const std::stri
     if (!out) return cannot(OIIO::geterror());
     OIIO::ImageSpec spec = image.spec();
     if (format != OIIO::TypeUnknown) spec.set_format(format);
+    if (!out->supports("tiles")) spec.tile_width = spec.tile_height = spec.tile_depth = 0;  // as ImageBuf::write
     if (!out->open(temp.string(), spec)) return cannot(out->geterror());
     // ImageBuf::write's own path, with every step's result checked, the close's too
     if (!image.write(out.get())) {

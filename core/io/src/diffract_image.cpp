@@ -192,7 +192,8 @@ namespace {
 // The job's terms and bytes against the max-terms and max-memory limits.
 Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, const std::string& name,
                           int nthreads) {
-    if (f.terms > opt.max_terms) {
+    // (an estimate that is not a number, from settings beyond any sense, is refused too)
+    if (!(f.terms <= opt.max_terms)) {
         const double rate = measured_term_rate(nthreads);
         std::ostringstream m;
         const double seconds = f.terms / rate;
@@ -204,7 +205,7 @@ Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, co
     }
     const double bytes =
         estimate_memory(opt, f.camera) + (opt.method == DiffractMethod::Fast ? FastPlan::estimate_bytes(f.fast) : 0.0);
-    if (bytes > opt.max_memory) {
+    if (!(bytes <= opt.max_memory)) {
         std::ostringstream m;
         m << name << ": " << f.in.width << "x" << f.in.height << " pixels need about " << bytes / (1 << 20)
           << " MiB, beyond the max-memory limit of " << opt.max_memory / (1 << 20) << " MiB";
