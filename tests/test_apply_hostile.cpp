@@ -107,6 +107,8 @@ TEST(ApplyHostile, AbortsAndHangsBecomeOneLineBeforeTheWork) {
         {good, "--pinhole 0.5um --wavelengths 550nm", "smaller than the wavelength of 550nm"},
         {good, "--film-distance 1nm --pinhole 0.3mm", "a pinhole of 0.3mm is wider than the film"},
         {render("near.exr", 16, 16, 1e-6f, 30.0f), "", "channel 'Z' at pixel (0, 0) is 1e-06, nearer than"},
+        // found by fuzz_job: a NaN estimate passed the limits (std::length_error)
+        {good, "--wavelengths 1e-40nm", "--wavelengths: expected wavelengths from 100nm to 10um, got '1e-40nm'"},
         {"/dev/zero", "", "/dev/zero: cannot be read as an image (a character device; expected an image file)"},
         {"/dev/urandom", "", "/dev/urandom: cannot be read as an image (a character device"},
         {fifo, "", "fifo.exr: cannot be read as an image (a named pipe (FIFO); expected an image file)"},
@@ -126,6 +128,12 @@ TEST(ApplyHostile, AbortsAndHangsBecomeOneLineBeforeTheWork) {
         EXPECT_FALSE(fs::exists(out)) << what;
     }
     expect_no_temporary(dir);
+    // found by fuzz_job: a film distance of 1e6 m spun forever choosing an FFT size; now a
+    // (pointless but valid) camera that finishes at once
+    const Timed far = timed(kWavecam + " apply " + good + " -o " + out.string() + " --film-distance 1e6m --pinhole 1mm");
+    EXPECT_EQ(far.exit_code(), 0) << far.run.output;
+    EXPECT_LT(far.seconds, 10.0);
+    fs::remove(out);
     // the longest name a file system takes is still written (its temporary gets a short name)
     const fs::path longest = dir / (std::string(251, 'x') + ".exr");
     const Timed w = timed(kWavecam + " apply " + good + " -o " + longest.string());
