@@ -79,6 +79,7 @@ struct ApplyFlags {
 
 int fail(const std::string& message, int status = 1) {
     finish_progress();
+    if (status == 1 && interrupted()) status = interrupted_status();  // (a write refused at a signal)
     std::fprintf(stderr, "wavecam apply: %s\n", message.c_str());
     return status;
 }

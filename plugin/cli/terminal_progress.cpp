@@ -46,6 +46,7 @@ using Clock = std::chrono::steady_clock;
 }  // namespace
 
 void install_interrupt_handlers() {
+    set_write_cancel_check([] { return g_interrupted.load(); });
     std::signal(SIGALRM, stop_now);
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);

@@ -29,8 +29,9 @@ job_seed g 16 16 30 1e-6 $'wavelengths=450nm,550nm\nruns=100000\nmethod=incohere
 printf '\x10\x10\x00\x00\xf0\x41\x00\x00\x00\x40\x00\x00\x06\x01\x03\x08\x01' > "$seeds/job/h"  # byte pairs
 for name in units settings description render job; do
   echo "== fuzz_$name: $runs runs"
-  # -timeout: an input that takes 10 s (a hang before the work) is a finding, as a crash is
-  "$build/tests/fuzz/fuzz_$name" -runs="$runs" -max_len=512 -timeout=10 -print_final_stats=1 "$seeds/$name" 2>&1 |
+  # -timeout: an input that takes 30 s (a hang before the work; ASan runs ~20x slower than a
+  # release build) is a finding, as a crash is
+  "$build/tests/fuzz/fuzz_$name" -runs="$runs" -max_len=512 -timeout=30 -print_final_stats=1 "$seeds/$name" 2>&1 |
     grep -E "stat::number_of_executed_units|ERROR|SUMMARY|Done" || true
   [ "${PIPESTATUS[0]}" -eq 0 ] || { echo "fuzz_$name failed"; exit 1; }
 done

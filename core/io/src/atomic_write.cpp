@@ -69,8 +69,12 @@ std::string sync_file(const fs::path& temp) {
     return why;
 }
 
-// Renames the finished temporary over the target.
+std::atomic<bool (*)()> g_cancelled{nullptr};
+
+// Renames the finished temporary over the target (unless the process was asked to stop).
 Result<bool> move_into_place(const fs::path& temp, const std::string& path) {
+    if (bool (*cancelled)() = g_cancelled.load(); cancelled && cancelled())
+        return discard(temp, path + ": interrupted; not written");
     std::error_code ec;
     fs::rename(temp, path, ec);
     return ec ? discard(temp, path + ": cannot move the finished file into place: " + ec.message())
@@ -111,6 +115,8 @@ std::string name_problem(const std::string& path) {
 }
 
 }  // namespace
+
+void set_write_cancel_check(bool (*cancelled)()) { g_cancelled.store(cancelled); }
 
 const char* temporary_being_written() { return g_temporary_set.load() ? g_temporary : nullptr; }
 

@@ -22,6 +22,10 @@ Result<bool> write_text_atomically(const std::string& text, const std::string& p
 // NAME_MAX, or a path too long (PATH_MAX) for its temporary. Fronts check it before any work.
 std::string output_name_problem(const std::string& path);
 
+// A check asked before each rename: when it says the process is stopping (a signal), the
+// temporary is removed and the target left as it was ("PATH: interrupted; not written").
+void set_write_cancel_check(bool (*cancelled)());
+
 // The temporary being written now (nullptr when none): what a signal handler that ends the
 // process at once must remove. Async-signal-safe.
 const char* temporary_being_written();
