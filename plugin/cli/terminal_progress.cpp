@@ -35,8 +35,9 @@ extern "C" void stop_now(int) {
 }
 
 extern "C" void on_signal(int sig) {
-    if (g_interrupted.exchange(true)) stop_now(sig);  // a second signal: now
-    g_signal.store(sig);
+    if (g_interrupted.load()) stop_now(sig);  // a second signal: now
+    g_signal.store(sig);  // (before the flag: whoever sees the flag finds its signal)
+    g_interrupted.store(true);
     itimerval grace{};
     grace.it_value.tv_sec = kGraceMicroseconds / 1000000;
     grace.it_value.tv_usec = kGraceMicroseconds % 1000000;
