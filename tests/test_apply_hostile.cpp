@@ -107,6 +107,9 @@ TEST(ApplyHostile, AbortsAndHangsBecomeOneLineBeforeTheWork) {
         {good, "--pinhole 0.5um --wavelengths 550nm", "smaller than the wavelength of 550nm"},
         {good, "--film-distance 1nm --pinhole 0.3mm", "a pinhole of 0.3mm is wider than the film"},
         {render("near.exr", 16, 16, 1e-6f, 30.0f), "", "channel 'Z' at pixel (0, 0) is 1e-06, nearer than"},
+        // the fast path's estimate counts each thread's PSF working memory (a 0.7 um pinhole's
+        // PSF spans the frame: ~200 MiB a thread), before any of it is allocated
+        {good, "--pinhole 0.7um --max-memory 100MiB", "good.exr: 16x16 pixels need about "},
         // found by fuzz_job: a NaN estimate passed the limits (std::length_error)
         {good, "--wavelengths 1e-40nm", "--wavelengths: expected wavelengths from 100nm to 10um, got '1e-40nm'"},
         {"/dev/zero", "", "/dev/zero: cannot be read as an image (a character device; expected an image file)"},

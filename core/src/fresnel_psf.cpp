@@ -583,12 +583,33 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
 
 }  // namespace
 
+namespace {
+bool chooses_transfer(const FieldPsfRequest& q, const MftPlan& mft, const TransferPlan& transfer) {
+    return q.method == FieldPsfMethod::TransferFunction ||
+           (q.method == FieldPsfMethod::Auto && q.pupil_samples <= 0 && transfer.cost() < mft.cost());
+}
+}  // namespace
+
+double field_psf_scratch_bytes(const FieldPsfRequest& q) {
+    const FieldGeometry g = geometry_of(q);
+    const MftPlan mft = plan_mft(q, g);
+    const TransferPlan transfer = plan_transfer(q, g);
+    const double w = 2.0 * q.radius + 1;
+    if (chooses_transfer(q, mft, transfer)) {
+        const double n = transfer.n;  // pupil, rows, field, columns, and the spectra kept per thread
+        return 8.0 * n * n * (4 + kSpectraKept) + 8.0 * w * w;
+    }
+    const double pr = mft.kept(mft.nr), pt = mft.kept(mft.nt), m = mft.grid();
+    // pupil cells, the two axis matrices and the intermediate (complex), the power grid, the
+    // pixel averages' offsets and weights
+    return 4.0 * (pr * pt + 2 * m * (pr + pt) + 2 * pr * m + m * m + 2 * m) + 8.0 * w * mft.points + 4.0 * w * w;
+}
+
 PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
     const FieldGeometry g = geometry_of(q);
     const MftPlan mft = plan_mft(q, g);
     const TransferPlan transfer = plan_transfer(q, g);
-    const bool use_transfer = q.method == FieldPsfMethod::TransferFunction ||
-                              (q.method == FieldPsfMethod::Auto && q.pupil_samples <= 0 && transfer.cost() < mft.cost());
+    const bool use_transfer = chooses_transfer(q, mft, transfer);
     PsfKernel k;
     k.radius = q.radius;
     k.weight = use_transfer ? kernel_by_transfer(q, g, transfer) : kernel_by_mft(q, g, mft);
