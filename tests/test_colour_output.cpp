@@ -131,7 +131,8 @@ TEST(OutOfGamut, InGamutUniformFieldsRoundTripThroughOcio) {
         std::vector<std::array<int, 2>> at;
         for (int j = 0; j < w; ++j)
             for (int i = 0; i < w; ++i) at.push_back({i, j});
-        const auto src = render(w, f, 25e-6, 1.0f, at, std::vector<std::array<float, 3>>(at.size(), colour));
+        // a 0.3 mm film: a pinhole wider than the film is refused before any work (issue 26)
+        const auto src = render(w, f, 50e-6, 1.0f, at, std::vector<std::array<float, 3>>(at.size(), colour));
         DiffractOptions opt;
         opt.method = DiffractMethod::RandomPhase;
         opt.colorconfig = kConfig;

@@ -1,5 +1,6 @@
 // The OpenImageIO plugin through the real oiiotool and the Python bindings, as users run it.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <OpenImageIO/imagecache.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -161,6 +162,7 @@ std::vector<FailingInput> failing_inputs(const fs::path& dir) {
     tagged.read(0, 0, true, OIIO::TypeDesc::FLOAT);
     tagged.specmod().attribute("wavecam.pinhole", "0.2");  // a bad unit in the source's own metadata
     tagged.write((dir / "tagged.exr").string());
+    ::mkfifo((dir / "fifo.exr").c_str(), 0600);
     return {
         // the plugin's words for a setting: a hint or ?KEY= in the name, never a command-line flag
         {"missing fov", "nofov.exr.wavecam", "wavelengths", "3", "nofov.exr.wavecam",
@@ -171,6 +173,12 @@ std::vector<FailingInput> failing_inputs(const fs::path& dir) {
          "tagged.exr: wavecam.pinhole: expected a length", ""},
         {"missing source", "missing.exr.wavecam", "wavelengths", "3", "missing.exr.wavecam",
          "missing.exr: no such file", ""},
+        // issue 26: refused by range before any work (it aborted on memory), and a source that
+        // is no file (a FIFO blocked the read)
+        {"a pinhole wider than the film", "shot.exr.wavecam?pinhole=1000m", "pinhole", "1000m", "shot.exr.wavecam",
+         "shot.exr: a pinhole of 1e+06mm is wider than the film (", ""},
+        {"a FIFO as the source", "fifo.exr.wavecam", "wavelengths", "3", "fifo.exr.wavecam",
+         "fifo.exr: cannot be read as an image (a named pipe (FIFO); expected an image file)", ""},
     };
 }
 }  // namespace

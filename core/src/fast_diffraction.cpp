@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "anchored_convolution.h"
 #include "far_tail.h"
@@ -69,6 +70,14 @@ Result<detail::PsfTableSpec> plan_geometry(const FastPlanSpec& spec) {
     const PinholeCamera& c = spec.camera;
     const int o = spec.overscan;
     if (auto v = check_frame(c, o); !v.ok()) return R::failure(v);
+    // (the fronts refuse sources nearer than 10 pinhole diameters first, diffract_image.cpp; this
+    // keeps the layer count's arithmetic finite for any caller: a subnormal depth overflowed it)
+    if (!(spec.max_inverse_depth >= 0 && spec.max_inverse_depth <= 1e6)) {
+        char m[96];
+        std::snprintf(m, sizeof m, "depth: the nearest source is at %g m, expected 1 um or more",
+                      1.0 / spec.max_inverse_depth);
+        return R::failure(m);
+    }
     const SpectralBasis& basis = spec.basis;
     double lambda_min = basis.wavelength(0), lambda_max = basis.wavelength(0);
     for (int s = 0; s < basis.size(); ++s) {
@@ -127,7 +136,33 @@ double FastPlan::estimate_bytes(const FastPlanSpec& spec) {
     const double kernels = t.layers.count * anchors * 9 * (side * side * sizeof(float) + n * (n / 2 + 1) * 8);
     const double domain = double(t.domain_width) * t.domain_height * 17;  // radiance, layer, share
     const double tiles = t.nthreads * (n * n + 7 * n * (n / 2 + 1) * 2) * sizeof(float);
-    return kernels + domain + tiles;
+    // each thread's working memory for one PSF of the table, at its largest: the nearest layer
+    // or the sky, on the axis or at the corner anchor, the shortest or the longest wavelength
+    double lambda_min = spec.basis.wavelength(0), lambda_max = lambda_min;
+    for (int s = 0; s < spec.basis.size(); ++s) {
+        lambda_min = std::min(lambda_min, spec.basis.wavelength(s));
+        lambda_max = std::max(lambda_max, spec.basis.wavelength(s));
+    }
+    double psf = 0;
+    const PinholeCamera& c = t.camera;
+    for (const double depth : {t.layers.count > 1 ? 1.0 / t.layers.inverse_depth(t.layers.count - 1) : INFINITY,
+                               double(INFINITY)})
+        for (const bool corner : {false, true})
+            for (const double wavelength : {lambda_min, lambda_max}) {
+                FieldPsfRequest q;
+                q.aperture = spec.aperture;
+                q.film_distance = c.film_distance;
+                q.depth = depth;
+                q.wavelength = wavelength;
+                if (corner)
+                    c.tangent(detail::anchor_axis(t, false).knots.front() - t.origin,
+                              detail::anchor_axis(t, true).knots.front() - t.origin, q.u, q.v);
+                q.pixel_pitch = c.pixel_pitch();
+                q.radius = psf_kernel_radius(q.aperture, q.film_distance, q.depth, q.wavelength,
+                                             1.0 / std::sqrt(1.0 + q.u * q.u + q.v * q.v), q.pixel_pitch, t.radius);
+                psf = std::max(psf, field_psf_scratch_bytes(q));
+            }
+    return kernels + domain + tiles + t.nthreads * psf;
 }
 
 Result<std::shared_ptr<const FastPlan>> FastPlan::create(const FastPlanSpec& spec, const ProgressFn& progress) {

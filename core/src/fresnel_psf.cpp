@@ -146,7 +146,7 @@ MftPlan plan_mft(const FieldPsfRequest& q, const FieldGeometry& g) {
         if (q.pupil_samples > 0) return q.pupil_samples + (p.mirrored ? q.pupil_samples % 2 : 0);
         const double zones = 0.25 * g.span * g.span * rate / q.wavelength;
         const double period = 2.2 * g.span * extent * stretch / (q.wavelength * q.film_distance);
-        return std::clamp(2 * int(std::ceil(std::max({4 * zones, period, finest}))), 64, 2048);
+        return 2 * int(std::clamp(std::ceil(std::max({4 * zones, period, finest})), 32.0, 1024.0));
     };
     p.nr = samples(g.ar, g.c * g.c * g.c);
     p.nt = samples(g.at, g.c);
@@ -284,12 +284,25 @@ std::vector<float> average_over_pixels(const FieldPsfRequest& q, const FieldGeom
     std::vector<double> offset(size_t(w) * sub);
     for (int k = 0; k < w; ++k)
         for (int s = 0; s < sub; ++s) offset[size_t(k) * sub + s] = (k - q.radius + (s + 0.5) / sub - 0.5) * q.pixel_pitch;
+    // The grid is zero beyond |r|, |t| < half steps, so beyond |x|, |y| < sqrt(2) half steps
+    // at any rotation: only the points within that reach are summed (pixels far wider than
+    // the PSF - a long film distance, a tiny frame - would otherwise cost points^2 each).
+    const double reach = std::sqrt(2.0) * (film.plan.half + 1) * film.plan.step;
+    auto points_within = [&](int k, int& first, int& last) {
+        first = 0;
+        last = sub;
+        while (first < sub && offset[size_t(k) * sub + first] < -reach) ++first;
+        while (last > first && offset[size_t(k) * sub + last - 1] > reach) --last;
+    };
     for (int b = 0; b < w; ++b)
         for (int a = 0; a < w; ++a) {
             double s = 0;
-            for (int sb = 0; sb < sub; ++sb) {
+            int b0, b1, a0, a1;
+            points_within(b, b0, b1);
+            points_within(a, a0, a1);
+            for (int sb = b0; sb < b1; ++sb) {
                 const double y = offset[size_t(b) * sub + sb];
-                for (int sa = 0; sa < sub; ++sa) {
+                for (int sa = a0; sa < a1; ++sa) {
                     const double x = offset[size_t(a) * sub + sa];
                     s += film.at(x * g.er_x + y * g.er_y, -x * g.er_y + y * g.er_x);
                 }
@@ -372,7 +385,7 @@ struct TransferPlan {
 TransferPlan plan_transfer(const FieldPsfRequest& q, const FieldGeometry& g) {
     TransferPlan p;
     const double fa = q.film_distance * g.alpha;
-    p.sub = std::max(q.subsamples, int(std::ceil(kMinCellsAcross * q.pixel_pitch / (g.span * fa))));
+    p.sub = std::max(q.subsamples, int(std::min(std::ceil(kMinCellsAcross * q.pixel_pitch / (g.span * fa)), 1e6)));
     // a point-symmetric pupil on a grid with a point at the centre (odd sub) gives a
     // point-symmetric field: half of the inverse transform is the other half mirrored
     p.symmetric = point_symmetric(q.aperture);
@@ -381,7 +394,9 @@ TransferPlan plan_transfer(const FieldPsfRequest& q, const FieldGeometry& g) {
     const double shift = q.wavelength / g.ar / (std::sqrt(2.0) * p.h);
     const double kernel_half = (q.radius + 0.5) * q.pixel_pitch / fa, pupil_half = 0.5 * g.span;
     const double period = std::max(kernel_half + pupil_half + shift, 2 * shift);
-    p.n = detail::fft_friendly_size(int(std::ceil(period / p.h)) + 2);
+    // (a grid beyond 2^28 points across is never cheaper than the matrix transform: kept
+    // finite, it only loses the cost comparison)
+    p.n = detail::fft_friendly_size(int(std::min(std::ceil(period / p.h) + 2, double(1 << 29))));
     return p;
 }
 
@@ -568,12 +583,33 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
 
 }  // namespace
 
+namespace {
+bool chooses_transfer(const FieldPsfRequest& q, const MftPlan& mft, const TransferPlan& transfer) {
+    return q.method == FieldPsfMethod::TransferFunction ||
+           (q.method == FieldPsfMethod::Auto && q.pupil_samples <= 0 && transfer.cost() < mft.cost());
+}
+}  // namespace
+
+double field_psf_scratch_bytes(const FieldPsfRequest& q) {
+    const FieldGeometry g = geometry_of(q);
+    const MftPlan mft = plan_mft(q, g);
+    const TransferPlan transfer = plan_transfer(q, g);
+    const double w = 2.0 * q.radius + 1;
+    if (chooses_transfer(q, mft, transfer)) {
+        const double n = transfer.n;  // pupil, rows, field, columns, and the spectra kept per thread
+        return 8.0 * n * n * (4 + kSpectraKept) + 8.0 * w * w;
+    }
+    const double pr = mft.kept(mft.nr), pt = mft.kept(mft.nt), m = mft.grid();
+    // pupil cells, the two axis matrices and the intermediate (complex), the power grid, the
+    // pixel averages' offsets and weights
+    return 4.0 * (pr * pt + 2 * m * (pr + pt) + 2 * pr * m + m * m + 2 * m) + 8.0 * w * mft.points + 4.0 * w * w;
+}
+
 PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
     const FieldGeometry g = geometry_of(q);
     const MftPlan mft = plan_mft(q, g);
     const TransferPlan transfer = plan_transfer(q, g);
-    const bool use_transfer = q.method == FieldPsfMethod::TransferFunction ||
-                              (q.method == FieldPsfMethod::Auto && q.pupil_samples <= 0 && transfer.cost() < mft.cost());
+    const bool use_transfer = chooses_transfer(q, mft, transfer);
     PsfKernel k;
     k.radius = q.radius;
     k.weight = use_transfer ? kernel_by_transfer(q, g, transfer) : kernel_by_mft(q, g, mft);
@@ -583,7 +619,7 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
 int psf_kernel_radius(const Aperture& aperture, double film_distance, double nearest_depth, double wavelength,
                       double cos_theta_max, double pixel_pitch, int max_radius) {
     const double r = psf_radius(aperture, film_distance, nearest_depth, wavelength, cos_theta_max) / pixel_pitch;
-    return std::clamp(int(std::ceil(r)), 1, max_radius);
+    return int(std::clamp(std::ceil(r), 1.0, double(max_radius)));  // (clamped as a double: no overflow)
 }
 
 }  // namespace wavecam

@@ -31,7 +31,7 @@ DepthLayers DepthLayers::spanning(double max_inverse_depth, double aperture_radi
     // Layers sit at whole multiples of the step, which depends on the frame only through how
     // many steps its nearest source needs: frames of a sequence then share a plan and each
     // frame's image is the one a plan of its own gives. Beyond kMaxLayers, whole multiples of dw.
-    const int multiple = int(std::ceil(max_inverse_depth / (dw * (kMaxLayers - 1))));
+    const double multiple = std::ceil(max_inverse_depth / (dw * (kMaxLayers - 1)));  // (double: no overflow)
     d.step = dw * multiple;
     d.count = int(std::ceil(max_inverse_depth / d.step)) + 1;
     // One layer (the sky's) serves every depth where the defocus phase at the rim, pi a^2 (w +

@@ -12,6 +12,7 @@
 #include "wavecam/atomic_write.h"
 #include "wavecam/diffract_image.h"
 #include "wavecam/share_files.h"
+#include "wavecam/units.h"
 #include "../front/settings.h"
 
 namespace wavecam::cli {
@@ -42,7 +43,10 @@ void add_setting_options(CLI::App* cmd, front::Settings& given) {
 }
 
 Result<ResolvedInput> read_and_resolve(const std::string& input, const front::Settings& given) {
-    auto image = read_image(input);
+    double max_bytes = DiffractOptions{}.max_memory;  // the limit given, before the render is read
+    if (auto limit = given.find("max-memory"); limit != given.end())
+        if (auto b = parse_bytes(limit->second, "--max-memory"); b.ok()) max_bytes = b.value;
+    auto image = read_image(input, max_bytes);
     if (!image.ok()) return Result<ResolvedInput>::failure(image);
     ResolvedInput r{std::move(image.value), {}};
     front::SettingSources sources;
@@ -75,6 +79,7 @@ struct ApplyFlags {
 
 int fail(const std::string& message, int status = 1) {
     finish_progress();
+    if (status == 1 && interrupted()) status = interrupted_status();  // (a write refused at a signal)
     std::fprintf(stderr, "wavecam apply: %s\n", message.c_str());
     return status;
 }
@@ -100,7 +105,7 @@ DiffractOptions run_options(const ResolvedInput& in, const ProgressFn& progress,
 }
 
 int fail_with(const Result<bool>& r) {
-    return fail(front::word_failure(r, front::Front::Command), r.kind == ErrorKind::Cancelled || interrupted() ? 130 : 1);
+    return fail(front::word_failure(r, front::Front::Command), r.kind == ErrorKind::Cancelled || interrupted() ? interrupted_status() : 1);
 }
 
 // One share of an exact job (--part K/N): a part file for `wavecam merge`. A part already there
@@ -108,9 +113,10 @@ int fail_with(const Result<bool>& r) {
 int run_share(const ApplyFlags& flags, const std::string& input, const std::string& output) {
     auto k = parse_share(flags.part);
     if (!k.ok()) return fail(k.error, 2);
-    const std::string input_path = std::filesystem::absolute(input).lexically_normal().string();
+    std::error_code ec;
+    const std::string input_path = std::filesystem::absolute(input, ec).lexically_normal().string();
     const front::Settings settings = recorded_settings(flags.given);
-    if (std::filesystem::exists(output)) {
+    if (std::filesystem::exists(output, ec)) {
         auto have = read_part(output);
         auto fingerprint = file_fingerprint(input_path);
         if (have.ok() && fingerprint.ok() && have.value.job == job_fingerprint(fingerprint.value, settings) &&
@@ -128,6 +134,7 @@ int run_share(const ApplyFlags& flags, const std::string& input, const std::stri
         !r.ok())
         return fail_with(r);
     finish_progress();
+    if (interrupted()) return fail(input + ": interrupted", interrupted_status());
     if (auto w = write_image_atomically(part, output, OIIO::TypeDesc::FLOAT); !w.ok()) return fail(w.error);
     std::printf("share %s (%s)\nwrote %s\n", flags.part.c_str(),
                 part.spec().get_string_attribute("wavecam.part.summed").c_str(), output.c_str());
@@ -141,8 +148,9 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
               const std::string& compare, const std::string& png) {
     namespace fs = std::filesystem;
     std::error_code ec;
-    if (fs::exists(output) && fs::equivalent(input, output, ec))
+    if (fs::exists(output, ec) && fs::equivalent(input, output, ec))
         return fail(output + ": the output would overwrite the input; choose another -o", 2);
+    set_interrupt_message("wavecam apply: " + input + ": interrupted");
     if (!flags.part.empty()) return run_share(flags, input, output);
     auto in = read_and_resolve(input, flags.given);
     if (!in.ok()) return fail(in.error, 2);
@@ -153,6 +161,7 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
     }
     OIIO::ImageBuf dst;
     if (auto r = plan->diffract(dst, src, input, flags.threads); !r.ok()) return fail_with(r);
+    if (interrupted()) return fail(input + ": interrupted", interrupted_status());  // nothing written
     const DiffractOptions& opt = plan->options();
     finish_progress();
     // the job this image is (input bytes and settings): `wavecam farm` skips frames already made
@@ -175,6 +184,9 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
 
 int run(const ApplyFlags& flags) {
     if (const std::string bad = unsupported_output(flags); !bad.empty()) return fail(bad, 2);
+    for (const std::string* name : {&flags.output, &flags.compare, &flags.png})  // before any work
+        if (!name->empty())
+            if (const std::string bad = output_name_problem(*name); !bad.empty()) return fail(bad, 2);
     if (!flags.part.empty() && (!flags.compare.empty() || !flags.png.empty()))
         return fail("--part writes a part file for `wavecam merge`; give --compare and --png to the merge instead", 2);
     std::unique_ptr<DiffractPlan> plan;

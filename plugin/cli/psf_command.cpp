@@ -115,7 +115,7 @@ int run(const PsfFlags& flags) {
     const PsfParams& p = params.value;
     auto img = compute_psf(p, terminal_progress("psf"));
     finish_progress();
-    if (!img.ok()) return fail(img.error, interrupted() ? 130 : 1);
+    if (!img.ok()) return fail(img.error, interrupted() ? interrupted_status() : 1);
     const OIIO::ImageBuf buf = to_imagebuf(img.value, p);
     if (auto w = write_image_atomically(buf, flags.output, OIIO::TypeDesc::FLOAT); !w.ok()) return fail(w.error);
     if (!flags.png.empty())

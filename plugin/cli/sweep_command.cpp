@@ -119,7 +119,7 @@ int run(const SweepFlags& f) {
     p.resolution = f.resolution;
     auto r = sweep_pinholes(p, terminal_progress("sweep"));
     finish_progress();
-    if (!r.ok()) return fail(r.error, interrupted() ? 130 : 1);
+    if (!r.ok()) return fail(r.error, interrupted() ? interrupted_status() : 1);
     const auto& pts = r.value;
     const double unit = std::sqrt(p.film_distance * p.wavelength);
     const double best = optimal_diameter(pts), rayleigh = rayleigh_optimal_diameter(p.film_distance, p.wavelength);

@@ -1,6 +1,7 @@
 #include "terminal_progress.h"
 
 #include <omp.h>
+#include <sys/time.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -8,24 +9,63 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 
+#include "wavecam/atomic_write.h"
 #include "wavecam/term_rate.h"
 
 namespace wavecam::cli {
 namespace {
 std::atomic<bool> g_interrupted{false};
+std::atomic<int> g_signal{0};
 bool g_drawn = false;
-extern "C" void on_signal(int) { g_interrupted.store(true); }
+char g_stop_message[512] = "\nwavecam: interrupted\n";
+std::atomic<size_t> g_stop_length{sizeof "\nwavecam: interrupted\n" - 1};
+constexpr long kGraceMicroseconds = 1500000;  // the work's own stop, before the watchdog's
+
+// The watchdog: work that has not stopped within the grace time after SIGINT/SIGTERM (a loop
+// that does not ask, a read that blocks), or a second signal, ends the process here: the
+// temporary being written is removed, the target never touched. Async-signal-safe only.
+extern "C" void stop_now(int) {
+    if (const char* temp = temporary_being_written()) ::unlink(temp);
+    [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, g_stop_message, g_stop_length.load());
+    const int sig = g_signal.load();
+    ::_exit(128 + (sig > 0 ? sig : SIGINT));
+}
+
+extern "C" void on_signal(int sig) {
+    if (g_interrupted.load()) stop_now(sig);  // a second signal: now
+    g_signal.store(sig);  // (before the flag: whoever sees the flag finds its signal)
+    g_interrupted.store(true);
+    itimerval grace{};
+    grace.it_value.tv_sec = kGraceMicroseconds / 1000000;
+    grace.it_value.tv_usec = kGraceMicroseconds % 1000000;
+    ::setitimer(ITIMER_REAL, &grace, nullptr);
+}
 using Clock = std::chrono::steady_clock;
 }  // namespace
 
 void install_interrupt_handlers() {
+    set_write_cancel_check([] { return g_interrupted.load(); });
+    std::signal(SIGALRM, stop_now);
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
 }
 
 bool interrupted() { return g_interrupted.load(); }
+
+void set_interrupt_message(const std::string& message) {
+    const std::string line = "\n" + message.substr(0, sizeof g_stop_message - 3) + "\n";
+    g_stop_length.store(0);
+    std::memcpy(g_stop_message, line.data(), line.size());
+    g_stop_length.store(line.size());
+}
+
+int interrupted_status() {
+    const int sig = g_signal.load();
+    return 128 + (sig > 0 ? sig : SIGINT);
+}
 
 std::string format_duration(double seconds) {
     char s[32];

@@ -19,8 +19,14 @@ void print_estimate(const std::string& label, const std::string& job, double ter
 ProgressFn terminal_progress(const std::string& label);
 // Ends the bar's line (if one was drawn).
 void finish_progress();
-// Installs SIGINT/SIGTERM handlers that ask running work to stop.
+// Installs SIGINT/SIGTERM handlers that ask running work to stop; work that has not stopped
+// 1.5 s later (or a second signal) ends the process at once, exit 130 or 143, removing the
+// temporary being written (atomic_write.h).
 void install_interrupt_handlers();
 bool interrupted();
+// What the watchdog prints when it ends the process ("wavecam apply: in.exr: interrupted").
+void set_interrupt_message(const std::string& message);
+// The exit status for the signal received: 130 (SIGINT) or 143 (SIGTERM).
+int interrupted_status();
 
 }  // namespace wavecam::cli

@@ -72,6 +72,8 @@ Ok parse_wavelengths(const std::string& text, const std::string& name, DiffractO
         item.erase(0, item.find_first_not_of(' '));
         auto l = parse_length(item, name);
         if (!l.ok()) return Ok::failure(l);
+        // light, not X-rays or radio: the pinhole, film and depth checks are made against it
+        if (!(l.value >= 100e-9 && l.value <= 10e-6)) return fail(name, "wavelengths from 100nm to 10um", item);
         o.wavelengths.push_back(l.value);
     }
     if (o.wavelengths.empty()) return fail(name, "a count or a list", text);

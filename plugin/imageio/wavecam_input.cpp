@@ -18,10 +18,12 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <new>
 #include <set>
 
 #include "../front/description.h"
 #include "wavecam/diffract_image.h"
+#include "wavecam/units.h"
 
 OIIO_PLUGIN_NAMESPACE_BEGIN
 
@@ -84,10 +86,14 @@ public:
     // A plain filesystem check: OIIO calls this holding its plugin mutex, so it must not
     // open anything through OIIO (that would deadlock).
     bool valid_file(const std::string& filename) const override {
-        const std::string path = filename.substr(0, filename.find('?'));
-        if (!Strutil::ends_with(path, kExtension)) return false;
-        return Filesystem::is_regular(path) ||
-               Filesystem::is_regular(path.substr(0, path.size() - std::strlen(kExtension)));
+        try {
+            const std::string path = filename.substr(0, filename.find('?'));
+            if (!Strutil::ends_with(path, kExtension)) return false;
+            return Filesystem::is_regular(path) ||
+                   Filesystem::is_regular(path.substr(0, path.size() - std::strlen(kExtension)));
+        } catch (...) {  // no exception leaves the plugin
+            return false;
+        }
     }
 
     bool open(const std::string& name, ImageSpec& newspec) override { return open(name, newspec, ImageSpec()); }
@@ -95,6 +101,10 @@ public:
     bool open(const std::string& name, ImageSpec& newspec, const ImageSpec& config) override {
         try {
             if (open_checked(name, newspec, config)) return true;
+        } catch (const std::bad_alloc&) {
+            errorfmt("{}: out of memory (a job larger than this machine; lower the image size, wavecam:wavelengths "
+                     "or wavecam:runs, or wavecam:max-memory so that such jobs are refused before the work)",
+                     name);
         } catch (const std::exception& e) {
             errorfmt("{}: {}", name, e.what());
         } catch (...) {
@@ -111,9 +121,15 @@ public:
     }
 
     bool read_native_scanline(int subimage, int miplevel, int y, int /*z*/, void* data) override {
-        if (!m_image || subimage != 0 || miplevel != 0 || y < m_spec.y || y >= m_spec.y + m_spec.height) return false;
-        const ROI row(m_spec.x, m_spec.x + m_spec.width, y, y + 1, 0, 1, 0, m_spec.nchannels);
-        return m_image->get_pixels(row, m_spec.format, data);
+        try {
+            if (!m_image || subimage != 0 || miplevel != 0 || y < m_spec.y || y >= m_spec.y + m_spec.height)
+                return false;
+            const ROI row(m_spec.x, m_spec.x + m_spec.width, y, y + 1, 0, 1, 0, m_spec.nchannels);
+            return m_image->get_pixels(row, m_spec.format, data);
+        } catch (const std::exception& e) {
+            errorfmt("wavecam: {}", e.what());
+            return false;
+        }
     }
 
 private:
@@ -169,7 +185,10 @@ private:
 
     using Computed = wavecam::Result<std::shared_ptr<const ImageBuf>>;
     Computed compute(const std::string& source, const wavecam::front::SettingSources& sources) {
-        auto read = wavecam::read_image(source);
+        double max_bytes = wavecam::DiffractOptions{}.max_memory;  // the limit given, before the source is read
+        if (auto limit = sources.given.find("max-memory"); limit != sources.given.end())
+            if (auto b = wavecam::parse_bytes(limit->second, "max-memory"); b.ok()) max_bytes = b.value;
+        auto read = wavecam::read_image(source, max_bytes);
         if (!read.ok()) return Computed::failure(read);
         const ImageBuf& src = read.value;
         auto settings = wavecam::front::resolve_settings(src.spec(), sources);
@@ -208,7 +227,13 @@ OIIO_PLUGIN_EXPORTS_BEGIN
 
 OIIO_EXPORT int wavecam_imageio_version = OIIO_PLUGIN_VERSION;
 OIIO_EXPORT const char* wavecam_imageio_library_version() { return "wavecam 0.1"; }
-OIIO_EXPORT ImageInput* wavecam_input_imageio_create() { return new WavecamInput; }
+OIIO_EXPORT ImageInput* wavecam_input_imageio_create() {
+    try {
+        return new WavecamInput;
+    } catch (...) {  // no exception leaves the plugin
+        return nullptr;
+    }
+}
 OIIO_EXPORT const char* wavecam_input_extensions[] = {"wavecam", nullptr};
 
 OIIO_PLUGIN_EXPORTS_END

@@ -53,6 +53,11 @@ struct PsfKernel {
 
 PsfKernel field_psf_kernel(const FieldPsfRequest& request);
 
+// The working memory (bytes) field_psf_kernel needs for `request` on one thread, by the method
+// it would choose (the matrix transform's grids, or the transfer function's n x n arrays and
+// the spectra each thread keeps): what a plan's memory estimate counts before building a table.
+double field_psf_scratch_bytes(const FieldPsfRequest& request);
+
 // Share of the PSF's power that a kernel of psf_kernel_radius holds, at least.
 constexpr double kPsfKernelEnergy = 0.97;
 

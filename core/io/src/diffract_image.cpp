@@ -60,6 +60,69 @@ double exact_terms(const DiffractionSettings& s, const PinholeCamera& camera, co
     return terms;
 }
 
+// What the camera's physics and sampling make sense for, checked before any work (README "Bad
+// input, limits, interrupts"): every field angle within kMaxFieldAngle of the axis (a wider
+// frame's corners see the pinhole edge-on and its pixels' footprints grow without bound); a
+// pinhole at least a wavelength across (scalar diffraction through a smaller hole means
+// nothing) and no wider than the film; no source nearer than kNearestDiameters pinhole
+// diameters (the pinhole then images nothing: its blur disc is most of the frame).
+constexpr double kMaxFieldAngleDeg = 80;
+constexpr double kMinFovDeg = 0.01;
+constexpr double kNearestDiameters = 10;
+
+std::string g6(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+Result<bool> check_camera(const ResolvedFrame& f, const std::string& name, const DepthMeaning meaning) {
+    using R = Result<bool>;
+    const RenderInput& in = f.in;
+    const PinholeCamera& c = f.camera;
+    const double fov_deg = in.fov_h * 180 / M_PI;
+    const double aspect = double(in.height) / in.width;
+    const double widest_fov = 2 * std::atan(std::tan(kMaxFieldAngleDeg * M_PI / 180) / std::sqrt(1 + aspect * aspect));
+    if (!(fov_deg >= kMinFovDeg) || !(in.fov_h <= widest_fov)) {
+        double u, v;
+        c.tangent(0, 0, u, v);
+        const double corner = std::atan(std::sqrt(u * u + v * v)) * 180 / M_PI;
+        std::ostringstream m;
+        m << name << ": a field of view of " << fov_deg << " degrees (from " << in.fov_from << ") ";
+        if (!(fov_deg >= kMinFovDeg)) m << "is too narrow to image";
+        else m << "puts the " << in.width << "x" << in.height << " frame's corners " << corner << " degrees off axis";
+        m << "; expected " << kMinFovDeg << " to " << widest_fov * 180 / M_PI
+          << " degrees across this frame (corners within " << kMaxFieldAngleDeg << " degrees of the axis)";
+        return R::failure(m.str(), ErrorKind::Invalid, "fov");
+    }
+    const double d = f.aperture.diameter, film = c.pixel_pitch() * in.width;
+    const std::vector<double>& wl = f.colour.sampling.wavelength;
+    const double longest = wl.empty() ? 700e-9 : *std::max_element(wl.begin(), wl.end());
+    if (!(d >= longest) || !(d <= film)) {
+        std::ostringstream m;
+        m << name << ": a pinhole of " << with_unit(d, 1e-3, "mm") << " is "
+          << (d >= longest ? "wider than the film (" + with_unit(film, 1e-3, "mm") + " across at a film distance of " +
+                                 with_unit(c.film_distance, 1e-3, "mm") + " and a field of view of " + g6(fov_deg) +
+                                 " degrees)"
+                           : "smaller than the wavelength of " + with_unit(longest, 1e-9, "nm"))
+          << "; expected a pinhole from " << with_unit(longest, 1e-9, "nm") << " to " << with_unit(film, 1e-3, "mm");
+        return R::failure(m.str(), ErrorKind::Invalid, "pinhole");
+    }
+    const double nearest = kNearestDiameters * d;
+    for (int j = 0; j < c.height; ++j)
+        for (int i = 0; i < c.width; ++i) {
+            const double z = in.depth[size_t(j) * c.width + i];
+            if (z >= kInfiniteDepth || c.planar_depth(i, j, z, meaning) >= nearest) continue;
+            std::ostringstream m;
+            m << name << ": channel '" << in.depth_channel << "' at pixel (" << i << ", " << j << ") is " << z
+              << ", nearer than a pinhole of " << with_unit(d, 1e-3, "mm") << " can image; expected a distance of "
+              << nearest << " m or more (" << kNearestDiameters << " pinhole diameters"
+              << (meaning == DepthMeaning::Ray ? ", along the view axis" : "") << "), or inf for sky";
+            return R::failure(m.str());
+        }
+    return R::success(true);
+}
+
 }  // namespace
 
 Aperture resolved_aperture(const DiffractOptions& opt) {
@@ -108,6 +171,7 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
     if (!colour.ok()) return R::failure(colour);
     f.colour = std::move(colour.value);
     f.aperture = resolved_aperture(opt);
+    if (auto c = check_camera(f, name, opt.depth_meaning); !c.ok()) return R::failure(c);
     if (opt.method == DiffractMethod::Fast) {
         f.fast = {f.camera, o, f.aperture, f.colour.basis,
                   1.0 / nearest_depth(f.camera, in.depth.data(), opt.depth_meaning), opt.fast};
@@ -129,7 +193,8 @@ namespace {
 // The job's terms and bytes against the max-terms and max-memory limits.
 Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, const std::string& name,
                           int nthreads) {
-    if (f.terms > opt.max_terms) {
+    // (an estimate that is not a number, from settings beyond any sense, is refused too)
+    if (!(f.terms <= opt.max_terms)) {
         const double rate = measured_term_rate(nthreads);
         std::ostringstream m;
         const double seconds = f.terms / rate;
@@ -141,7 +206,7 @@ Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, co
     }
     const double bytes =
         estimate_memory(opt, f.camera) + (opt.method == DiffractMethod::Fast ? FastPlan::estimate_bytes(f.fast) : 0.0);
-    if (bytes > opt.max_memory) {
+    if (!(bytes <= opt.max_memory)) {
         std::ostringstream m;
         m << name << ": " << f.in.width << "x" << f.in.height << " pixels need about " << bytes / (1 << 20)
           << " MiB, beyond the max-memory limit of " << opt.max_memory / (1 << 20) << " MiB";

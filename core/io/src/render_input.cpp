@@ -4,8 +4,14 @@
 
 #include <OpenImageIO/strutil.h>
 
+#include <limits.h>
+#include <sys/stat.h>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <sstream>
 
 #include "wavecam/units.h"
 
@@ -163,8 +169,57 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
     return Result<RenderInput>::success(std::move(in));
 }
 
-Result<OIIO::ImageBuf> read_image(const std::string& path) {
+namespace {
+
+// What a name that exists but is no file is ("" for a regular file, or a name not on disk: OIIO
+// says what that is, and a name such as "a.exr.wavecam?runs=8" is opened through a plugin).
+// Refused before reading: a FIFO or a device (/dev/zero, /dev/urandom) would block or never
+// end, a folder is no image.
+std::string not_a_file(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) {
+        // (a name with settings, "a.exr.wavecam?runs=8", is not on disk: the plugin reads it)
+        if (errno != ENAMETOOLONG || path.find('?') != std::string::npos)
+            return errno == ENOENT || errno == ENOTDIR || errno == ENAMETOOLONG ? "" : std::strerror(errno);
+        for (size_t start = 0; start <= path.size();) {
+            const size_t end = std::min(path.find('/', start), path.size());
+            if (end - start > NAME_MAX)
+                return "a file or folder name of " + std::to_string(end - start) +
+                       " characters, beyond the file system's limit of " + std::to_string(NAME_MAX) + " (NAME_MAX)";
+            start = end + 1;
+        }
+        return "a path of " + std::to_string(path.size()) + " characters, beyond the limit of " +
+               std::to_string(PATH_MAX - 1) + " (PATH_MAX)";
+    }
+    if (S_ISREG(st.st_mode)) return {};
+    const char* what = S_ISDIR(st.st_mode)    ? "a folder"
+                       : S_ISFIFO(st.st_mode) ? "a named pipe (FIFO)"
+                       : S_ISCHR(st.st_mode)  ? "a character device"
+                       : S_ISBLK(st.st_mode)  ? "a block device"
+                       : S_ISSOCK(st.st_mode) ? "a socket"
+                                              : "not a regular file";
+    return std::string(what) + "; expected an image file";
+}
+
+}  // namespace
+
+Result<OIIO::ImageBuf> read_image(const std::string& path, double max_bytes) {
+    if (const std::string why = not_a_file(path); !why.empty())
+        return Result<OIIO::ImageBuf>::failure((path.size() > 200 ? path.substr(0, 40) + "..." : path) +
+                                               ": cannot be read as an image (" + why + ")");
     OIIO::ImageBuf image(path);
+    // the header first: what reading the pixels would take
+    if (image.init_spec(path, 0, 0)) {
+        const OIIO::ImageSpec& spec = image.spec();
+        const double bytes = double(spec.width) * spec.height * std::max(1, spec.depth) * spec.nchannels * sizeof(float);
+        if (bytes > max_bytes) {
+            std::ostringstream m;
+            m << path << ": " << spec.width << "x" << spec.height << " pixels x " << spec.nchannels
+              << " channels need about " << bytes / (1 << 20) << " MiB to read, beyond the max-memory limit of "
+              << max_bytes / (1 << 20) << " MiB; a corrupt header, or raise max-memory";
+            return Result<OIIO::ImageBuf>::failure(m.str(), ErrorKind::TooLarge, "max-memory");
+        }
+    }
     const bool read = image.read(0, 0, true, OIIO::TypeDesc::FLOAT);
     if (read && !image.deep()) return Result<OIIO::ImageBuf>::success(std::move(image));
     // deep pixels hold lists of samples, not one value each: no pixel access wavecam makes fits them
