@@ -283,7 +283,7 @@ TEST(Shares, EstimateCountsMonochromeLightThreeTimes) {
     Fixture f("shares_estimate");
     auto r = run_command(kWavecam + " apply " + f.input + " -o " + f.path("x.exr") + kJob +
                          " --wavelengths 549nm,550nm,551nm --max-terms 1");
-    const size_t at = r.output.find(" runs = ");
+    const size_t at = r.output.find(" summation = ");
     ASSERT_NE(at, std::string::npos) << r.output;
-    EXPECT_NEAR(std::stod(r.output.substr(at + 8)) / per_wavelength(close), 3.0, 1e-4) << r.output;
+    EXPECT_NEAR(std::stod(r.output.substr(at + 13)) / per_wavelength(close), 3.0, 1e-4) << r.output;
 }

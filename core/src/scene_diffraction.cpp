@@ -312,7 +312,10 @@ SumPlan plan_sums(const DiffractionSettings& s, const SceneSum& sum, const Pinho
     const SummationWork out = summation_work(samples - off, across, off, film, film_range, radius, wavelength, pitch,
                                              true, s.summation_tolerance);
     SumPlan plan;
-    const SummationSettings given{s.summation, s.summation_tolerance, s.nthreads};
+    // One source at a time (the incoherent method): forcing the NUFFTs would pay a lattice of FFTs
+    // per source; there the default's choice stands.
+    const Summation how = single && s.summation == Summation::Nufft ? Summation::Fast : s.summation;
+    const SummationSettings given{how, s.summation_tolerance, s.nthreads};
     auto pick = [&](const SummationWork& w, SummationSettings& set) {
         const bool fast = use_fast(given, w);
         set = given;

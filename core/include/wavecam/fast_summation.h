@@ -21,7 +21,7 @@ enum class Summation {
     Fast,    // per sum, NUFFTs over the lattice with interpolated chirps unless the work estimate
              // says the direct terms are cheaper (large Fresnel numbers, one source) (default)
     Direct,  // term by term, the reference evaluator
-    Nufft,   // the NUFFTs always (tests, benchmarks)
+    Nufft,   // the NUFFTs always (tests, benchmarks), but for the incoherent method's one-source sums
 };
 
 constexpr double kSummationTolerance = 3e-4;
