@@ -39,8 +39,8 @@ case $part in
   frame 96 96 50.0 f96.exr
   t_fast=$(seconds "$wavecam" apply f96.exr -o fast.exr $exact --wavelengths 550nm --runs 1 --summation fast)
   t_direct=$(seconds "$wavecam" apply f96.exr -o direct.exr $exact --wavelengths 550nm --runs 1 --summation direct)
-  diff=$(oiiotool fast.exr direct.exr --diff 2>&1 | sed -n 's/.*RMS error = \([^ ]*\).*/\1/p' | head -1)
-  echo "1. 96x96, 1 wavelength, 1 run, 50deg: direct ${t_direct} s, fast ${t_fast} s, direct/fast $(ratio "$t_direct" "$t_fast") (goal >= 50); RMS difference ${diff:-?}" ;;
+  diff=$( (oiiotool fast.exr direct.exr --diff 2>&1 || true) | sed -n 's/.*Max error  = \([^ ]*\).*/\1/p' | head -1)
+  echo "1. 96x96, 1 wavelength, 1 run, 50deg: direct ${t_direct} s, fast ${t_fast} s, direct/fast $(ratio "$t_direct" "$t_fast") (goal >= 50); largest difference ${diff:-?} (values about 0.5)" ;;
 2)
   frame 256 256 50.0 f256.exr
   t=$(seconds "$wavecam" apply f256.exr -o o256.exr $exact --wavelengths 3 --runs 16)
