@@ -32,7 +32,9 @@ TEST(PhaseCode, ClassesAreEvenAndFarApartAndEveryRunsOffsetsCancel) {
                     shortest = std::min(shortest, std::hypot(i, j));
         EXPECT_DOUBLE_EQ(shortest, code.class_spacing()) << K;
         // a near-hexagonal lattice of K points per cell: spacing close to sqrt(2 K / sqrt 3)
-        if (K >= 4) EXPECT_GE(shortest, 0.75 * std::sqrt(2 * K / std::sqrt(3.0))) << K;
+        if (K >= 4) {
+            EXPECT_GE(shortest, 0.75 * std::sqrt(2 * K / std::sqrt(3.0))) << K;
+        }
         // over the K runs, classes m != m' cancel: sum_k exp(2 pi i k (m - m') / K) = 0
         for (int m = 0; m < K; ++m)
             for (int n = 0; n < K; ++n) {

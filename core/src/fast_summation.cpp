@@ -48,6 +48,8 @@ struct LatticeLayout {
     ApertureSamples off;             // off-lattice samples
     std::vector<size_t> off_index;   // their indices in the samples
     size_t on = 0;                   // lattice samples
+    // Radius of the disc holding the lattice box (pitch h), with a cell to spare: the probes' reach.
+    double radius(double h) const { return std::sqrt(0.5) * h * std::max(nx, ny) + h; }
 };
 
 LatticeLayout lattice_layout(const ApertureSamples& s) {
@@ -194,6 +196,23 @@ int threads(int n) { return n > 0 ? n : omp_get_max_threads(); }
 // 22 ns (double sqrt and sincos). The ratios, not the times, are what the estimate uses.
 constexpr double kFftCost = 1.33, kTapCost = 2.9, kChirpCost = 15.0;
 
+// The NUFFT frequencies of the points `in` (radians per lattice step, k h u) and each point's
+// phase for the lattice box starting at cell (i0, j0), exp(-i k u.xi) = exp(-i (fx (i0 + m) +
+// fy (j0 + n))), with the NUFFT's centring: the factor both sums apply once per point.
+struct BoxFrequencies {
+    std::vector<double> fx, fy;
+    std::vector<cdouble> shift;
+    BoxFrequencies(const std::vector<size_t>& in, const std::vector<Parameter>& p, double kh, const LatticeLayout& L,
+                   const detail::LatticeNufft& nufft)
+        : fx(in.size()), fy(in.size()), shift(in.size()) {
+        for (size_t i = 0; i < in.size(); ++i) {
+            fx[i] = kh * p[in[i]][0];
+            fy[i] = kh * p[in[i]][1];
+            shift[i] = std::polar(1.0, -(fx[i] * L.i0 + fy[i] * L.j0)) * nufft.centring(fx[i], fy[i]);
+        }
+    }
+};
+
 // Transforms run in batches of up to this many interpolation nodes: a point's kernel weights are
 // computed once per batch, at the memory of this many grids.
 constexpr int kBatch = 8;
@@ -217,7 +236,7 @@ bool fast_sources_to_lattice(const LatticeLayout& L, const ApertureSamples& samp
             b[s] = c / R;
         }
     }
-    SumGeometry geo{false, 0, k, std::sqrt(0.5) * h * std::max(L.nx, L.ny) + h, set.tolerance};
+    SumGeometry geo{false, 0, k, L.radius(h), set.tolerance};
     const std::vector<ChebyshevBox> boxes = geo.plan(set.fixed_range ? set.range : range_of(p, 3));
     const auto members = group(boxes, p);
     detail::LatticeNufft nufft(L.nx, L.ny, set.tolerance, set.nthreads);
@@ -235,21 +254,15 @@ bool fast_sources_to_lattice(const LatticeLayout& L, const ApertureSamples& samp
             continue;
         }
         const AxisWeights aw(bx, p, in);
-        std::vector<double> fx(in.size()), fy(in.size());
+        const BoxFrequencies fr(in, p, k * h, L, nufft);
         std::vector<cdouble> base(in.size());
-        for (size_t i = 0; i < in.size(); ++i) {
-            const size_t s = in[i];
-            fx[i] = k * h * p[s][0];
-            fy[i] = k * h * p[s][1];
-            // the lattice box starts at cell (i0, j0): exp(-i k u.xi) = exp(-i (fx (i0 + m) + fy (j0 + n)))
-            base[i] = b[s] * std::polar(1.0, -(fx[i] * L.i0 + fy[i] * L.j0)) * nufft.centring(fx[i], fy[i]);
-        }
+        for (size_t i = 0; i < in.size(); ++i) base[i] = b[in[i]] * fr.shift[i];
         for (int q0 = 0; q0 < bx.rank(); q0 += kBatch) {
             const int batch = std::min(kBatch, bx.rank() - q0);
             std::vector<cfloat> a(in.size() * batch);
             for (size_t i = 0; i < in.size(); ++i)
                 for (int q = 0; q < batch; ++q) a[i * batch + q] = cfloat(base[i] * aw.at(i, q0 + q, 3));
-            nufft.to_lattice(fx.data(), fy.data(), a.data(), batch, in.size(), out.data());
+            nufft.to_lattice(fr.fx.data(), fr.fy.data(), a.data(), batch, in.size(), out.data());
             for (int q = 0; q < batch; ++q) {
                 const Parameter node = bx.node(q0 + q);
                 const cfloat* F = lattice[q].data();
@@ -277,7 +290,7 @@ bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples
     std::vector<cfloat> w(size_t(L.nx) * L.ny, cfloat(0));
     for (size_t j = 0; j < samples.size(); ++j)
         if (L.cell[j] >= 0) w[L.cell[j]] = cfloat(field.re[j], field.im[j]);
-    SumGeometry geo{true, f, k, std::sqrt(0.5) * h * std::max(L.nx, L.ny) + h, set.tolerance};
+    SumGeometry geo{true, f, k, L.radius(h), set.tolerance};
     const std::vector<ChebyshevBox> boxes = geo.plan(set.fixed_range ? set.range : range_of(p, 2));
     const auto members = group(boxes, p);
     detail::LatticeNufft nufft(L.nx, L.ny, set.tolerance, set.nthreads);
@@ -294,15 +307,11 @@ bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples
             continue;
         }
         const AxisWeights aw(bx, p, in);
-        std::vector<double> fx(in.size()), fy(in.size());
+        const BoxFrequencies fr(in, p, k * h, L, nufft);
         std::vector<cdouble> base(in.size());
         for (size_t i = 0; i < in.size(); ++i) {
-            const size_t t = in[i];
-            fx[i] = k * h * p[t][0];
-            fy[i] = k * h * p[t][1];
-            const double tx = film.x[t], ty = film.y[t];
-            base[i] = std::polar(f / (tx * tx + ty * ty + f * f), -(fx[i] * L.i0 + fy[i] * L.j0)) *
-                      nufft.centring(fx[i], fy[i]);
+            const double tx = film.x[in[i]], ty = film.y[in[i]];
+            base[i] = f / (tx * tx + ty * ty + f * f) * fr.shift[i];  // f / R_t^2
         }
         std::vector<cfloat> G(in.size());
         for (int q0 = 0; q0 < bx.rank(); q0 += kBatch) {
@@ -318,7 +327,7 @@ bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples
             std::vector<float> coeff(in.size() * batch);
             for (size_t i = 0; i < in.size(); ++i)
                 for (int q = 0; q < batch; ++q) coeff[i * batch + q] = float(aw.at(i, q0 + q, 2));
-            nufft.from_lattice(lattices.data(), batch, fx.data(), fy.data(), coeff.data(), in.size(), G.data());
+            nufft.from_lattice(lattices.data(), batch, fr.fx.data(), fr.fy.data(), coeff.data(), in.size(), G.data());
             for (size_t i = 0; i < in.size(); ++i) out[in[i]] += base[i] * cdouble(G[i]);
             done += batch;
             if (progress && !progress(done / total)) return false;
@@ -328,16 +337,16 @@ bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples
 }
 
 SummationWork work_of(const LatticeLayout& L, double points, const DirectionRange& r, double radius,
-                      double wavelength, double pitch, bool film, double tolerance) {
+                      double wavelength, bool film, double tolerance) {
     return summation_work(double(L.on), std::max(L.nx, L.ny), double(L.off.size()), points, r, radius, wavelength,
-                          pitch, film, tolerance);
+                          film, tolerance);
 }
 
 }  // namespace
 
 SummationWork summation_work(double lattice_samples, int samples_across, double off_lattice, double points,
-                             const DirectionRange& range, double aperture_radius, double wavelength, double pitch,
-                             bool film, double tolerance) {
+                             const DirectionRange& range, double aperture_radius, double wavelength, bool film,
+                             double tolerance) {
     SummationWork w;
     w.direct = (lattice_samples + off_lattice) * points;
     if (lattice_samples <= 0) {
@@ -360,7 +369,6 @@ SummationWork summation_work(double lattice_samples, int samples_across, double 
     w.nufft_count = int(ranks);
     w.fast = ranks * (kFftCost * nufft.fft_work() + kChirpCost * lattice_samples) +
              (point_rank / volume) * points * kTapCost * nufft.taps_per_point() + off_lattice * points;
-    (void)pitch;
     return w;
 }
 
@@ -390,8 +398,8 @@ bool illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointS
             p.push_back({s.x / R, s.y / R, s.at_infinity ? 0.0 : 1.0 / R});
         }
         const SummationWork w = work_of(L, double(sources.size()), range_of(p, 3),
-                                        std::sqrt(0.5) * samples.pitch * std::max(L.nx, L.ny), wavelength,
-                                        samples.pitch, false, set.tolerance);
+                                        std::sqrt(0.5) * samples.pitch * std::max(L.nx, L.ny), wavelength, false,
+                                        set.tolerance);
         if (!use_fast(set, w)) return illuminate_pinhole(samples, sources, wavelength, field, set.nthreads, progress);
     }
     // the direct part first (off-lattice samples), then the lattice's NUFFTs
@@ -434,7 +442,7 @@ bool add_film_field(const ApertureSamples& samples, const PinholeField& field, c
         }
         r.rho0 = r.rho1 = 1.0 / f;
         const SummationWork w = work_of(L, double(film.size()), r, std::sqrt(0.5) * samples.pitch * std::max(L.nx, L.ny),
-                                        wavelength, samples.pitch, true, set.tolerance);
+                                        wavelength, true, set.tolerance);
         if (!use_fast(set, w))
             return add_film_field(samples, field, film, wavelength, film_field, set.nthreads, progress);
     }

@@ -306,11 +306,11 @@ SumPlan plan_sums(const DiffractionSettings& s, const SceneSum& sum, const Pinho
     const double film = double(c.width - 2 * o) * (c.height - 2 * o) * sum.subsamples * sum.subsamples;
     const double rho = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
     const SummationWork in = summation_work(samples - off, across, off, single ? 1.0 : double(sum.emitters.size()),
-                                            direction_range(sum.source_extent, 0, rho), radius, wavelength, pitch,
-                                            false, s.summation_tolerance);
+                                            direction_range(sum.source_extent, 0, rho), radius, wavelength, false,
+                                            s.summation_tolerance);
     const DirectionRange film_range = direction_range(sum.film_extent, 1 / f, 1 / f);
-    const SummationWork out = summation_work(samples - off, across, off, film, film_range, radius, wavelength, pitch,
-                                             true, s.summation_tolerance);
+    const SummationWork out = summation_work(samples - off, across, off, film, film_range, radius, wavelength, true,
+                                             s.summation_tolerance);
     SumPlan plan;
     // One source at a time (the incoherent method): forcing the NUFFTs would pay a lattice of FFTs
     // per source; there the default's choice stands.

@@ -66,7 +66,7 @@ struct SummationWork {
 };
 SummationWork summation_work(double lattice_samples, int samples_across, double off_lattice, double points,
                              const DirectionRange& range, double aperture_radius, double wavelength,
-                             double pitch, bool film, double tolerance);
+                             bool film, double tolerance);
 
 // "fast summation", "direct summation", "NUFFT summation": for estimates and headers.
 const char* summation_name(Summation s);
