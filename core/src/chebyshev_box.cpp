@@ -105,7 +105,7 @@ bool ChebyshevBox::contains(const Parameter& p) const {
 }
 
 std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel, int probes, double tolerance,
-                                     int max_rank, int max_nodes, int depth) {
+                                     int max_rank, int max_nodes, bool economise, int depth) {
     max_nodes = std::min(max_nodes, 16);
     const double per_axis = tolerance / box.dims;
     int widest = 0;
@@ -122,15 +122,15 @@ std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel
     const bool must = split || box.rank() > max_rank;
     std::vector<ChebyshevBox> best{box};
     int best_rank = must ? INT_MAX : box.rank();
-    if (!must && (box.rank() <= 4 || depth >= 3)) return best;
+    if (!must && (!economise || box.rank() <= 4 || depth >= 3)) return best;
     for (int d = 0; d < box.dims; ++d) {
         if (box.nodes[d] <= 1 || (must && d != widest)) continue;
         ChebyshevBox a = box, b = box;
         const double mid = 0.5 * (box.lo[d] + box.hi[d]);
         a.hi[d] = mid;
         b.lo[d] = mid;
-        std::vector<ChebyshevBox> out = plan_boxes(a, kernel, probes, tolerance, max_rank, max_nodes, depth + 1);
-        for (ChebyshevBox& c : plan_boxes(b, kernel, probes, tolerance, max_rank, max_nodes, depth + 1)) out.push_back(c);
+        std::vector<ChebyshevBox> out = plan_boxes(a, kernel, probes, tolerance, max_rank, max_nodes, economise, depth + 1);
+        for (ChebyshevBox& c : plan_boxes(b, kernel, probes, tolerance, max_rank, max_nodes, economise, depth + 1)) out.push_back(c);
         int total = 0;
         for (const ChebyshevBox& c : out) total += c.rank();
         if (total < best_rank) best = out, best_rank = total;

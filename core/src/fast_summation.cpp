@@ -21,6 +21,7 @@
 
 #include "chebyshev_box.h"
 #include "lattice_nufft.h"
+#include "node_skeleton.h"
 
 namespace wavecam {
 namespace {
@@ -30,13 +31,38 @@ using detail::ChebyshevBox;
 using detail::Parameter;
 using cdouble = std::complex<double>;
 
-// The chirp exp(i k psi) / g^power for direction (ux, uy), inverse distance rho, at (x, y).
-inline cdouble chirp(double ux, double uy, double rho, double x, double y, double k, int power) {
+// The path's chirp at (x, y) for direction (ux, uy), inverse distance rho: psi and g = r / R.
+struct Chirp {
+    double psi, g;
+};
+inline Chirp chirp(double ux, double uy, double rho, double x, double y) {
     const double q2 = x * x + y * y, p = ux * x + uy * y;
     const double g = std::sqrt(std::max(1e-300, 1.0 - 2.0 * rho * p + rho * rho * q2));
-    const double psi = rho * (q2 + p * (rho * q2 - 2.0 * p) / (1.0 + g)) / (1.0 + g);
-    return std::polar(power == 1 ? 1.0 / g : 1.0 / (g * g), k * psi);
+    return {rho * (q2 + p * (rho * q2 - 2.0 * p) / (1.0 + g)) / (1.0 + g), g};
 }
+
+// The chirp's expansion about a sub-aperture's centre c: psi(xi) = psi(c) + grad psi(c).(xi - c)
+// + psi2(xi), grad psi = (rho xi + (g - 1) u) / g (from d r / d xi = (xi - R u) / r). The first
+// two terms are exact per point (a phase and a shift of its frequency); psi2, quadratic in
+// xi - c, is what the nodes interpolate: over a sub-aperture of 1/B the width it varies B^2 less.
+struct ChirpAtCentre {
+    double psi, gx, gy, cx, cy, rho, ux, uy;
+    ChirpAtCentre(double ux_, double uy_, double rho_, double cx_, double cy_)
+        : cx(cx_), cy(cy_), rho(rho_), ux(ux_), uy(uy_) {
+        const Chirp c = chirp(ux, uy, rho, cx, cy);
+        const double q2 = cx * cx + cy * cy, p = ux * cx + uy * cy;
+        const double gm1 = rho * (rho * q2 - 2.0 * p) / (1.0 + c.g);  // g - 1 without cancellation
+        psi = c.psi;
+        gx = (rho * cx + gm1 * ux) / c.g;
+        gy = (rho * cy + gm1 * uy) / c.g;
+    }
+    // exp(i k psi2(x, y)) / g^power: the interpolated remainder.
+    cdouble remainder(double x, double y, double k, int power) const {
+        const Chirp c = chirp(ux, uy, rho, x, y);
+        const double psi2 = c.psi - psi - gx * (x - cx) - gy * (y - cy);
+        return std::polar(power == 1 ? 1.0 / c.g : 1.0 / (c.g * c.g), k * psi2);
+    }
+};
 
 // The pinhole samples split into the lattice box they sit on (cell centres m h, n h) and the
 // rest (rim centroids, grey or holed apertures), summed directly.
@@ -48,8 +74,7 @@ struct LatticeLayout {
     ApertureSamples off;             // off-lattice samples
     std::vector<size_t> off_index;   // their indices in the samples
     size_t on = 0;                   // lattice samples
-    // Radius of the disc holding the lattice box (pitch h), with a cell to spare: the probes' reach.
-    double radius(double h) const { return std::sqrt(0.5) * h * std::max(nx, ny) + h; }
+    double reach = 0;                // farthest lattice sample from the axis
 };
 
 LatticeLayout lattice_layout(const ApertureSamples& s) {
@@ -68,6 +93,7 @@ LatticeLayout lattice_layout(const ApertureSamples& s) {
             jm[k] = j;
             if (!any) i0 = i1 = i, j0 = j1 = j, any = true;
             i0 = std::min(i0, i), i1 = std::max(i1, i), j0 = std::min(j0, j), j1 = std::max(j1, j);
+            L.reach = std::max(L.reach, h * std::hypot(double(i), double(j)));
         } else {
             im[k] = LONG_MIN;
         }
@@ -92,14 +118,69 @@ LatticeLayout lattice_layout(const ApertureSamples& s) {
     return L;
 }
 
-// Probe points for choosing interpolation nodes: the rim of the aperture's bounding disc (where
-// the chirp varies fastest) in 8 directions, and half way in 4.
-std::vector<std::array<double, 2>> probes(double radius) {
-    std::vector<std::array<double, 2>> p;
-    for (int a = 0; a < 8; ++a) p.push_back({radius * std::cos(a * M_PI / 4), radius * std::sin(a * M_PI / 4)});
-    for (int a = 0; a < 4; ++a)
-        p.push_back({0.5 * radius * std::cos(M_PI / 4 + a * M_PI / 2), 0.5 * radius * std::sin(M_PI / 4 + a * M_PI / 2)});
-    return p;
+// The lattice box cut into B x B sub-apertures of bnx x bny cells (the last row and column of
+// them may overhang the box), each expanded about its centre; those holding no sample dropped.
+struct SubAperture {
+    long i0 = 0, j0 = 0;        // its first cell, in lattice indices
+    double cx = 0, cy = 0;      // the expansion centre (metres)
+    double reach = 0;           // farthest sample from the centre, plus a cell: the probes' reach
+    std::vector<long> cells;    // per local cell n * bnx + m: the layout's cell, or -1
+};
+struct SubApertures {
+    int blocks = 1, bnx = 0, bny = 0;
+    std::vector<SubAperture> parts;
+};
+
+SubApertures split_lattice(const LatticeLayout& L, int blocks, double h) {
+    SubApertures S;
+    S.blocks = std::max(1, std::min({blocks, L.nx, L.ny}));
+    S.bnx = (L.nx + S.blocks - 1) / S.blocks;
+    S.bny = (L.ny + S.blocks - 1) / S.blocks;
+    for (int by = 0; by < S.blocks; ++by)
+        for (int bx = 0; bx < S.blocks; ++bx) {
+            SubAperture a;
+            a.i0 = L.i0 + long(bx) * S.bnx;
+            a.j0 = L.j0 + long(by) * S.bny;
+            a.cx = (a.i0 + 0.5 * (S.bnx - 1)) * h;
+            a.cy = (a.j0 + 0.5 * (S.bny - 1)) * h;
+            a.cells.assign(size_t(S.bnx) * S.bny, -1);
+            bool any = false;
+            for (int n = 0; n < S.bny; ++n)
+                for (int m = 0; m < S.bnx; ++m) {
+                    const long i = a.i0 + m - L.i0, j = a.j0 + n - L.j0;
+                    if (i >= L.nx || j >= L.ny || !L.used[size_t(j) * L.nx + i]) continue;
+                    a.cells[size_t(n) * S.bnx + m] = j * L.nx + i;
+                    a.reach = std::max(a.reach, std::hypot((a.i0 + m) * h - a.cx, (a.j0 + n) * h - a.cy));
+                    any = true;
+                }
+            a.reach += h;
+            if (any) S.parts.push_back(std::move(a));
+        }
+    return S;
+}
+
+// Where the remainder is probed to choose the nodes: 8 directions at the reach of the central
+// sub-aperture and of the four outermost along the diagonals (the Hessian of psi, hence psi2,
+// changes a little across the pinhole; one plan serves every sub-aperture).
+struct ProbeDisc {
+    double cx, cy, reach;
+};
+std::vector<ProbeDisc> probe_discs(const std::vector<ProbeDisc>& all) {
+    std::vector<ProbeDisc> pick;
+    if (all.empty()) return pick;
+    auto best = [&](auto score) {
+        size_t b = 0;
+        for (size_t i = 1; i < all.size(); ++i)
+            if (score(all[i]) > score(all[b])) b = i;
+        return b;
+    };
+    std::vector<size_t> idx{best([](const ProbeDisc& d) { return -std::hypot(d.cx, d.cy); })};
+    for (int sx : {-1, 1})
+        for (int sy : {-1, 1}) idx.push_back(best([&](const ProbeDisc& d) { return sx * d.cx + sy * d.cy; }));
+    std::sort(idx.begin(), idx.end());
+    idx.erase(std::unique(idx.begin(), idx.end()), idx.end());
+    for (size_t i : idx) pick.push_back(all[i]);
+    return pick;
 }
 
 double film_rho(double nx, double ny, double f) { return std::sqrt(std::max(0.0, 1.0 - nx * nx - ny * ny)) / f; }
@@ -108,7 +189,9 @@ double film_rho(double nx, double ny, double f) { return std::sqrt(std::max(0.0,
 // rho from the film distance; chirp / g^2).
 struct SumGeometry {
     bool film = false;
-    double f = 0, k = 0, radius = 0, tolerance = kSummationTolerance;
+    double f = 0, k = 0, tolerance = kSummationTolerance;
+    int power() const { return film ? 2 : 1; }
+    int dims() const { return film ? 2 : 3; }
     ChebyshevBox box(const DirectionRange& r) const {
         ChebyshevBox b;
         b.dims = film ? 2 : 3;
@@ -116,16 +199,22 @@ struct SumGeometry {
         b.hi = {r.ux1, r.uy1, r.rho1};
         return b;
     }
-    cdouble kernel(const Parameter& p, double x, double y) const {
-        return film ? chirp(p[0], p[1], film_rho(p[0], p[1], f), x, y, k, 2) : chirp(p[0], p[1], p[2], x, y, k, 1);
+    ChirpAtCentre at(const Parameter& p, double cx, double cy) const {
+        return {p[0], p[1], film ? film_rho(p[0], p[1], f) : p[2], cx, cy};
     }
-    std::vector<ChebyshevBox> plan(const DirectionRange& r) const {
-        const auto pr = probes(radius);
+    std::vector<ChebyshevBox> plan(const DirectionRange& r, const std::vector<ProbeDisc>& discs) const {
+        std::vector<std::array<double, 4>> pr;  // centre, probe point
+        for (const ProbeDisc& d : probe_discs(discs))
+            for (int a = 0; a < 8; ++a)
+                pr.push_back({d.cx, d.cy, d.cx + d.reach * std::cos(a * M_PI / 4), d.cy + d.reach * std::sin(a * M_PI / 4)});
         return detail::plan_boxes(
-            box(r), [&](const Parameter& p, int i) { return kernel(p, pr[i][0], pr[i][1]); }, int(pr.size()),
-            tolerance, kMaxRank);
+            box(r),
+            [&](const Parameter& p, int i) { return at(p, pr[i][0], pr[i][1]).remainder(pr[i][2], pr[i][3], k, power()); },
+            int(pr.size()), tolerance, kMaxRank, kMaxNodes, false);
     }
-    static constexpr int kMaxRank = 1000;  // split only where an axis needs more than 10 nodes
+    // Split only where an axis needs more than kMaxNodes: the nodes' count costs only per-point
+    // arithmetic, the transforms are the skeleton's (node_skeleton.h).
+    static constexpr int kMaxRank = 4096, kMaxNodes = 12;
 };
 
 // Per-axis Lagrange values of each point in a box, so that node q's weight is a product of three.
@@ -140,7 +229,6 @@ struct AxisWeights {
             stride += n[d];
         }
         w.resize(points.size() * stride);
-        std::vector<double> full(b.rank());
         for (size_t i = 0; i < points.size(); ++i) {
             // the axis values from a one-axis box each (barycentric form, chebyshev_box.cpp)
             for (int d = 0; d < b.dims; ++d) {
@@ -195,20 +283,27 @@ int threads(int n) { return n > 0 ? n : omp_get_max_threads(); }
 // an FFT point x log2 2.0 ns, a kernel tap 4.3 ns (with the point's weights and phase), a chirp
 // 22 ns (double sqrt and sincos). The ratios, not the times, are what the estimate uses.
 constexpr double kFftCost = 1.33, kTapCost = 2.9, kChirpCost = 15.0;
+// A complex multiply-add in double, a third of a term.
+constexpr double kMacCost = 0.35;
 
-// The NUFFT frequencies of the points `in` (radians per lattice step, k h u) and each point's
-// phase for the lattice box starting at cell (i0, j0), exp(-i k u.xi) = exp(-i (fx (i0 + m) +
-// fy (j0 + n))), with the NUFFT's centring: the factor both sums apply once per point.
-struct BoxFrequencies {
+// Per point for one sub-aperture: the NUFFT frequency k h (u - grad psi(c)) (radians per lattice
+// step) and the phase exp(i k (psi(c) - grad psi(c).c)) times the lattice-start phase of the
+// sub-aperture's first cell (i0, j0) and the NUFFT's centring, applied once per point.
+struct SubApertureFrequencies {
     std::vector<double> fx, fy;
     std::vector<cdouble> shift;
-    BoxFrequencies(const std::vector<size_t>& in, const std::vector<Parameter>& p, double kh, const LatticeLayout& L,
-                   const detail::LatticeNufft& nufft)
+    SubApertureFrequencies(const std::vector<size_t>& in, const std::vector<Parameter>& p, const SumGeometry& geo,
+                           const SubAperture& a, double h, const detail::LatticeNufft& nufft, int nthreads)
         : fx(in.size()), fy(in.size()), shift(in.size()) {
-        for (size_t i = 0; i < in.size(); ++i) {
-            fx[i] = kh * p[in[i]][0];
-            fy[i] = kh * p[in[i]][1];
-            shift[i] = std::polar(1.0, -(fx[i] * L.i0 + fy[i] * L.j0)) * nufft.centring(fx[i], fy[i]);
+        const double k = geo.k;
+#pragma omp parallel for schedule(static) num_threads(threads(nthreads))
+        for (long i = 0; i < long(in.size()); ++i) {
+            const Parameter& q = p[in[i]];
+            const ChirpAtCentre c = geo.at(q, a.cx, a.cy);
+            fx[i] = k * h * (q[0] - c.gx);
+            fy[i] = k * h * (q[1] - c.gy);
+            shift[i] = std::polar(1.0, k * (c.psi - c.gx * a.cx - c.gy * a.cy) - (fx[i] * a.i0 + fy[i] * a.j0)) *
+                       nufft.centring(fx[i], fy[i]);
         }
     }
 };
@@ -217,9 +312,53 @@ struct BoxFrequencies {
 // computed once per batch, at the memory of this many grids.
 constexpr int kBatch = 8;
 
+// The lattice cells of a sub-aperture in metres: local cell c = n * bnx + m.
+inline double cell_x(const SubAperture& a, const SubApertures& S, long c, double h) { return (a.i0 + c % S.bnx) * h; }
+inline double cell_y(const SubAperture& a, const SubApertures& S, long c, double h) { return (a.j0 + c / S.bnx) * h; }
+
+std::vector<ProbeDisc> discs_of(const SubApertures& S) {
+    std::vector<ProbeDisc> d;
+    for (const SubAperture& a : S.parts) d.push_back({a.cx, a.cy, a.reach});
+    return d;
+}
+
+// A box's skeleton on one sub-aperture: its nodes' remainders fitted at an 11 x 11 grid over the
+// sub-aperture's disc and 16 points on its rim, to an eighth of the tolerance (the Lagrange
+// weights' sum of magnitudes, a few, multiplies it).
+detail::NodeSkeleton box_skeleton(const SumGeometry& geo, const ChebyshevBox& bx, const ProbeDisc& d) {
+    std::vector<std::array<double, 2>> at;
+    for (int j = -5; j <= 5; ++j)
+        for (int i = -5; i <= 5; ++i)
+            if (i * i + j * j <= 25) at.push_back({d.cx + d.reach * i / 5.0, d.cy + d.reach * j / 5.0});
+    for (int a = 0; a < 16; ++a) at.push_back({d.cx + d.reach * std::cos(a * M_PI / 8), d.cy + d.reach * std::sin(a * M_PI / 8)});
+    const int rank = bx.rank(), n = int(at.size());
+    std::vector<cdouble> v(size_t(rank) * n);
+    for (int q = 0; q < rank; ++q) {
+        const ChirpAtCentre c = geo.at(bx.node(q), d.cx, d.cy);
+        for (int i = 0; i < n; ++i) v[size_t(q) * n + i] = c.remainder(at[i][0], at[i][1], geo.k, geo.power());
+    }
+    return detail::node_skeleton(v, rank, n, geo.tolerance / 8);
+}
+
+// Each point's coefficients on the skeleton, sum_q L_q(p) coeff[q][j], into out[i * rank + j].
+void skeleton_coefficients(const AxisWeights& aw, int dims, const detail::NodeSkeleton& sk, size_t count,
+                           int nodes, std::vector<cdouble>& out, int nthreads) {
+    const int r = sk.rank();
+    out.assign(count * r, 0.0);
+#pragma omp parallel for schedule(static) num_threads(threads(nthreads))
+    for (long i = 0; i < long(count); ++i) {
+        cdouble* o = out.data() + size_t(i) * r;
+        for (int q = 0; q < nodes; ++q) {
+            const double l = aw.at(i, q, dims);
+            const cdouble* t = sk.coeff.data() + size_t(q) * r;
+            for (int j = 0; j < r; ++j) o[j] += l * t[j];
+        }
+    }
+}
+
 // Fast sum 1 over the lattice samples: U at every lattice cell (0 elsewhere).
 bool fast_sources_to_lattice(const LatticeLayout& L, const ApertureSamples& samples,
-                             const std::vector<PointSource>& sources, double wavelength,
+                             const std::vector<PointSource>& sources, double wavelength, int blocks,
                              const SummationSettings& set, std::vector<cdouble>& U, const ProgressFn& progress) {
     const double k = 2 * M_PI / wavelength, h = samples.pitch;
     std::vector<Parameter> p(sources.size());
@@ -236,51 +375,63 @@ bool fast_sources_to_lattice(const LatticeLayout& L, const ApertureSamples& samp
             b[s] = c / R;
         }
     }
-    SumGeometry geo{false, 0, k, L.radius(h), set.tolerance};
-    const std::vector<ChebyshevBox> boxes = geo.plan(set.fixed_range ? set.range : range_of(p, 3));
+    const SubApertures S = split_lattice(L, blocks, h);
+    const SumGeometry geo{false, 0, k, set.tolerance};
+    const std::vector<ChebyshevBox> boxes = geo.plan(set.fixed_range ? set.range : range_of(p, 3), discs_of(S));
     const auto members = group(boxes, p);
-    detail::LatticeNufft nufft(L.nx, L.ny, set.tolerance, set.nthreads);
+    std::vector<AxisWeights> weights;
+    for (size_t bi = 0; bi < boxes.size(); ++bi) weights.emplace_back(boxes[bi], p, members[bi]);
+    detail::LatticeNufft nufft(S.bnx, S.bny, set.tolerance, set.nthreads);
     U.assign(size_t(L.nx) * L.ny, 0.0);
-    std::vector<std::vector<cfloat>> lattice(kBatch, std::vector<cfloat>(U.size()));
+    const size_t cells = size_t(S.bnx) * S.bny;
+    std::vector<std::vector<cfloat>> lattice(kBatch, std::vector<cfloat>(cells));
     std::vector<cfloat*> out(kBatch);
     for (int q = 0; q < kBatch; ++q) out[q] = lattice[q].data();
     double total = 0, done = 0;
-    for (const ChebyshevBox& bx : boxes) total += bx.rank();
-    for (size_t bi = 0; bi < boxes.size(); ++bi) {
-        const ChebyshevBox& bx = boxes[bi];
-        const std::vector<size_t>& in = members[bi];
-        if (in.empty()) {
-            done += bx.rank();
-            continue;
-        }
-        const AxisWeights aw(bx, p, in);
-        const BoxFrequencies fr(in, p, k * h, L, nufft);
-        std::vector<cdouble> base(in.size());
-        for (size_t i = 0; i < in.size(); ++i) base[i] = b[in[i]] * fr.shift[i];
-        for (int q0 = 0; q0 < bx.rank(); q0 += kBatch) {
-            const int batch = std::min(kBatch, bx.rank() - q0);
-            std::vector<cfloat> a(in.size() * batch);
-            for (size_t i = 0; i < in.size(); ++i)
-                for (int q = 0; q < batch; ++q) a[i * batch + q] = cfloat(base[i] * aw.at(i, q0 + q, 3));
-            nufft.to_lattice(fr.fx.data(), fr.fy.data(), a.data(), batch, in.size(), out.data());
-            for (int q = 0; q < batch; ++q) {
-                const Parameter node = bx.node(q0 + q);
-                const cfloat* F = lattice[q].data();
-#pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
-                for (long c = 0; c < long(U.size()); ++c)
-                    if (L.used[c]) U[c] += geo.kernel(node, (L.i0 + c % L.nx) * h, (L.j0 + c / L.nx) * h) * cdouble(F[c]);
+    for (const ChebyshevBox& bx : boxes) total += double(bx.rank()) * S.parts.size();
+    for (const SubAperture& part : S.parts)
+        for (size_t bi = 0; bi < boxes.size(); ++bi) {
+            const ChebyshevBox& bx = boxes[bi];
+            const std::vector<size_t>& in = members[bi];
+            if (in.empty()) {
+                done += bx.rank();
+                continue;
             }
-            done += batch;
-            if (progress && !progress(done / total)) return false;
+            const SubApertureFrequencies fr(in, p, geo, part, h, nufft, set.nthreads);
+            const detail::NodeSkeleton sk = box_skeleton(geo, bx, {part.cx, part.cy, part.reach});
+            const int r = sk.rank();
+            std::vector<cdouble> alpha;
+            skeleton_coefficients(weights[bi], 3, sk, in.size(), bx.rank(), alpha, set.nthreads);
+            for (int j0 = 0; j0 < r; j0 += kBatch) {
+                const int batch = std::min(kBatch, r - j0);
+                std::vector<cfloat> a(in.size() * batch);
+#pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
+                for (long i = 0; i < long(in.size()); ++i) {
+                    const cdouble base = b[in[i]] * fr.shift[i];
+                    for (int q = 0; q < batch; ++q) a[i * batch + q] = cfloat(base * alpha[size_t(i) * r + j0 + q]);
+                }
+                nufft.to_lattice(fr.fx.data(), fr.fy.data(), a.data(), batch, in.size(), out.data());
+                for (int q = 0; q < batch; ++q) {
+                    const ChirpAtCentre node = geo.at(bx.node(sk.rows[j0 + q]), part.cx, part.cy);
+                    const cfloat* F = lattice[q].data();
+#pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
+                    for (long c = 0; c < long(cells); ++c)
+                        if (part.cells[c] >= 0)
+                            U[part.cells[c]] +=
+                                node.remainder(cell_x(part, S, c, h), cell_y(part, S, c, h), k, 1) * cdouble(F[c]);
+                }
+                done += double(bx.rank()) * batch / r;
+                if (progress && !progress(done / total)) return false;
+            }
+            if (r == 0) done += bx.rank();
         }
-    }
     return true;
 }
 
 // Fast sum 2 from the lattice samples' field to every film point, added to `out`.
 bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples, const PinholeField& field,
-                          const FilmPoints& film, double wavelength, const SummationSettings& set, cdouble* out,
-                          const ProgressFn& progress) {
+                          const FilmPoints& film, double wavelength, int blocks, const SummationSettings& set,
+                          cdouble* out, const ProgressFn& progress) {
     const double k = 2 * M_PI / wavelength, h = samples.pitch, f = film.film_distance;
     std::vector<Parameter> p(film.size());
     for (size_t t = 0; t < film.size(); ++t) {
@@ -290,56 +441,125 @@ bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples
     std::vector<cfloat> w(size_t(L.nx) * L.ny, cfloat(0));
     for (size_t j = 0; j < samples.size(); ++j)
         if (L.cell[j] >= 0) w[L.cell[j]] = cfloat(field.re[j], field.im[j]);
-    SumGeometry geo{true, f, k, L.radius(h), set.tolerance};
-    const std::vector<ChebyshevBox> boxes = geo.plan(set.fixed_range ? set.range : range_of(p, 2));
+    const SubApertures S = split_lattice(L, blocks, h);
+    const SumGeometry geo{true, f, k, set.tolerance};
+    const std::vector<ChebyshevBox> boxes = geo.plan(set.fixed_range ? set.range : range_of(p, 2), discs_of(S));
     const auto members = group(boxes, p);
-    detail::LatticeNufft nufft(L.nx, L.ny, set.tolerance, set.nthreads);
-    std::vector<std::vector<cfloat>> g(kBatch, std::vector<cfloat>(w.size()));
+    std::vector<AxisWeights> weights;
+    for (size_t bi = 0; bi < boxes.size(); ++bi) weights.emplace_back(boxes[bi], p, members[bi]);
+    detail::LatticeNufft nufft(S.bnx, S.bny, set.tolerance, set.nthreads);
+    const size_t cells = size_t(S.bnx) * S.bny;
+    std::vector<std::vector<cfloat>> g(kBatch, std::vector<cfloat>(cells));
     std::vector<const cfloat*> lattices(kBatch);
     for (int q = 0; q < kBatch; ++q) lattices[q] = g[q].data();
     double total = 0, done = 0;
-    for (const ChebyshevBox& bx : boxes) total += bx.rank();
-    for (size_t bi = 0; bi < boxes.size(); ++bi) {
-        const ChebyshevBox& bx = boxes[bi];
-        const std::vector<size_t>& in = members[bi];
-        if (in.empty()) {
-            done += bx.rank();
-            continue;
-        }
-        const AxisWeights aw(bx, p, in);
-        const BoxFrequencies fr(in, p, k * h, L, nufft);
-        std::vector<cdouble> base(in.size());
-        for (size_t i = 0; i < in.size(); ++i) {
-            const double tx = film.x[in[i]], ty = film.y[in[i]];
-            base[i] = f / (tx * tx + ty * ty + f * f) * fr.shift[i];  // f / R_t^2
-        }
-        std::vector<cfloat> G(in.size());
-        for (int q0 = 0; q0 < bx.rank(); q0 += kBatch) {
-            const int batch = std::min(kBatch, bx.rank() - q0);
-            for (int q = 0; q < batch; ++q) {
-                const Parameter node = bx.node(q0 + q);
-                cfloat* gq = g[q].data();
-#pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
-                for (long c = 0; c < long(w.size()); ++c)
-                    gq[c] = L.used[c] ? w[c] * cfloat(geo.kernel(node, (L.i0 + c % L.nx) * h, (L.j0 + c / L.nx) * h))
-                                      : cfloat(0);
+    for (const ChebyshevBox& bx : boxes) total += double(bx.rank()) * S.parts.size();
+    for (const SubAperture& part : S.parts)
+        for (size_t bi = 0; bi < boxes.size(); ++bi) {
+            const ChebyshevBox& bx = boxes[bi];
+            const std::vector<size_t>& in = members[bi];
+            if (in.empty()) {
+                done += bx.rank();
+                continue;
             }
-            std::vector<float> coeff(in.size() * batch);
-            for (size_t i = 0; i < in.size(); ++i)
-                for (int q = 0; q < batch; ++q) coeff[i * batch + q] = float(aw.at(i, q0 + q, 2));
-            nufft.from_lattice(lattices.data(), batch, fr.fx.data(), fr.fy.data(), coeff.data(), in.size(), G.data());
-            for (size_t i = 0; i < in.size(); ++i) out[in[i]] += base[i] * cdouble(G[i]);
-            done += batch;
-            if (progress && !progress(done / total)) return false;
+            const SubApertureFrequencies fr(in, p, geo, part, h, nufft, set.nthreads);
+            const detail::NodeSkeleton sk = box_skeleton(geo, bx, {part.cx, part.cy, part.reach});
+            const int r = sk.rank();
+            std::vector<cdouble> alpha;
+            skeleton_coefficients(weights[bi], 2, sk, in.size(), bx.rank(), alpha, set.nthreads);
+            std::vector<cfloat> G(in.size());
+            for (int j0 = 0; j0 < r; j0 += kBatch) {
+                const int batch = std::min(kBatch, r - j0);
+                for (int q = 0; q < batch; ++q) {
+                    const ChirpAtCentre node = geo.at(bx.node(sk.rows[j0 + q]), part.cx, part.cy);
+                    cfloat* gq = g[q].data();
+#pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
+                    for (long c = 0; c < long(cells); ++c)
+                        gq[c] = part.cells[c] >= 0
+                                    ? w[part.cells[c]] *
+                                          cfloat(node.remainder(cell_x(part, S, c, h), cell_y(part, S, c, h), k, 2))
+                                    : cfloat(0);
+                }
+                std::vector<cfloat> coeff(in.size() * batch);
+#pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
+                for (long i = 0; i < long(in.size()); ++i)
+                    for (int q = 0; q < batch; ++q) coeff[i * batch + q] = cfloat(alpha[size_t(i) * r + j0 + q]);
+                nufft.from_lattice(lattices.data(), batch, fr.fx.data(), fr.fy.data(), coeff.data(), in.size(),
+                                   G.data());
+                for (size_t i = 0; i < in.size(); ++i) {
+                    const double tx = film.x[in[i]], ty = film.y[in[i]];
+                    out[in[i]] += f / (tx * tx + ty * ty + f * f) * fr.shift[i] * cdouble(G[i]);  // f / R_t^2
+                }
+                done += double(bx.rank()) * batch / r;
+                if (progress && !progress(done / total)) return false;
+            }
+            if (r == 0) done += bx.rank();
         }
-    }
     return true;
 }
 
-SummationWork work_of(const LatticeLayout& L, double points, const DirectionRange& r, double radius,
-                      double wavelength, bool film, double tolerance) {
-    return summation_work(double(L.on), std::max(L.nx, L.ny), double(L.off.size()), points, r, radius, wavelength,
-                          film, tolerance);
+// The fast path's work in direct terms for one division into sub-apertures (`discs`, each of
+// bnx x bny cells): per sub-aperture and skeleton node an FFT and a lattice of chirps; per point
+// and sub-aperture its frequency and phase, its skeleton coefficients and each skeleton node's
+// kernel taps; the off-lattice samples direct. Skeleton ranks from the probed sub-apertures.
+SummationWork fast_work(const SumGeometry& geo, const DirectionRange& range, const std::vector<ProbeDisc>& discs,
+                        int bnx, int bny, double lattice_samples, double off_lattice, double points) {
+    SummationWork w;
+    const std::vector<ChebyshevBox> boxes = geo.plan(range, discs);
+    const std::vector<ProbeDisc> probed = probe_discs(discs);
+    const detail::LatticeNufft nufft(bnx, bny, geo.tolerance, 1);
+    const double parts = double(discs.size()), dims = geo.dims();
+    // each point meets one box (in proportion to its volume): its skeleton's taps and coefficients
+    double transforms = 0, point_work = 0, volume = 0;
+    for (const ChebyshevBox& b : boxes) {
+        double v = 1, rank = 0;
+        for (int d = 0; d < b.dims; ++d) v *= std::max(b.hi[d] - b.lo[d], 1e-12);
+        for (const ProbeDisc& d : probed) rank += box_skeleton(geo, b, d).rank();
+        rank /= double(probed.size());
+        volume += v;
+        point_work += v * (rank * kTapCost * nufft.taps_per_point() + b.rank() * (rank + dims) * kMacCost);
+        transforms += rank;
+    }
+    w.nufft_count = int(std::lround(transforms * parts));
+    w.fast = transforms * (parts * kFftCost * nufft.fft_work() + kChirpCost * lattice_samples) +
+             points * parts * (point_work / volume + 2 * kChirpCost) + off_lattice * points;
+    return w;
+}
+
+// Sub-apertures per side tried: while each keeps at least this many cells across.
+constexpr int kMinCellsAcross = 24;
+constexpr int kMaxBlocks = 16;
+
+// The cheapest division (blocks per side) from `discs_for(blocks, bnx, bny)`: 1, 2, 4, ... while
+// the work falls.
+template <class Discs>
+SummationWork cheapest_division(const SumGeometry& geo, const DirectionRange& range, int nx, int ny,
+                                double lattice_samples, double off_lattice, double points, const Discs& discs_for) {
+    SummationWork best;
+    for (int blocks = 1; blocks <= kMaxBlocks; blocks *= 2) {
+        const int bnx = (nx + blocks - 1) / blocks, bny = (ny + blocks - 1) / blocks;
+        if (blocks > 1 && std::min(bnx, bny) < kMinCellsAcross) break;
+        SummationWork w = fast_work(geo, range, discs_for(blocks), bnx, bny, lattice_samples, off_lattice, points);
+        w.blocks = blocks;
+        if (blocks > 1 && w.fast >= best.fast) break;
+        best = w;
+    }
+    return best;
+}
+
+SumGeometry geometry_of(bool film, double wavelength, double tolerance, const DirectionRange& range) {
+    // the film's distance: 1/R on axis
+    return {film, film ? 1.0 / std::max(range.rho1, 1e-9) : 0.0, 2 * M_PI / wavelength, tolerance};
+}
+
+// The work of a sum on this lattice, its sub-apertures as they are.
+SummationWork work_of(const LatticeLayout& L, double h, double points, const DirectionRange& r, double wavelength,
+                      bool film, double tolerance) {
+    SummationWork w = cheapest_division(geometry_of(film, wavelength, tolerance, r), r, L.nx, L.ny, double(L.on),
+                                        double(L.off.size()), points,
+                                        [&](int blocks) { return discs_of(split_lattice(L, blocks, h)); });
+    w.direct = (double(L.on) + double(L.off.size())) * points;
+    return w;
 }
 
 }  // namespace
@@ -349,27 +569,31 @@ SummationWork summation_work(double lattice_samples, int samples_across, double 
                              double tolerance) {
     SummationWork w;
     w.direct = (lattice_samples + off_lattice) * points;
-    if (lattice_samples <= 0) {
+    if (lattice_samples <= 0 || samples_across < 1) {
         w.fast = w.direct;
         return w;
     }
-    SumGeometry geo{film, 0, 2 * M_PI / wavelength, aperture_radius, tolerance};
-    if (film) geo.f = 1.0 / std::max(range.rho1, 1e-9);  // the film's distance: 1/R on axis
-    const std::vector<ChebyshevBox> boxes = geo.plan(range);
-    const detail::LatticeNufft nufft(samples_across, samples_across, tolerance, 1);
-    // each point meets one box: its rank in kernel taps; each node an FFT and a lattice of chirps
-    double ranks = 0, point_rank = 0, volume = 0;
-    for (const ChebyshevBox& b : boxes) {
-        double v = 1;
-        for (int d = 0; d < b.dims; ++d) v *= std::max(b.hi[d] - b.lo[d], 1e-12);
-        volume += v;
-        point_rank += v * b.rank();
-        ranks += b.rank();
-    }
-    w.nufft_count = int(ranks);
-    w.fast = ranks * (kFftCost * nufft.fft_work() + kChirpCost * lattice_samples) +
-             (point_rank / volume) * points * kTapCost * nufft.taps_per_point() + off_lattice * points;
-    return w;
+    // sub-apertures of a disc of radius a on a lattice of n cells across, pitch h: those whose
+    // square meets the disc, reach half their diagonal and a cell
+    const int n = samples_across;
+    const double a = aperture_radius, h = 2 * a / std::max(1, n - 1);
+    auto discs_for = [&](int blocks) {
+        std::vector<ProbeDisc> d;
+        const int bn = (n + blocks - 1) / blocks;
+        const double side = bn * h;
+        for (int by = 0; by < blocks; ++by)
+            for (int bx = 0; bx < blocks; ++bx) {
+                const double x0 = -a - 0.5 * h + bx * side, y0 = -a - 0.5 * h + by * side;
+                const double nxp = std::clamp(0.0, x0, x0 + side), nyp = std::clamp(0.0, y0, y0 + side);
+                if (std::hypot(nxp, nyp) > a) continue;
+                d.push_back({x0 + 0.5 * side, y0 + 0.5 * side, std::sqrt(0.5) * side + h});
+            }
+        return d;
+    };
+    SummationWork f = cheapest_division(geometry_of(film, wavelength, tolerance, range), range, n, n, lattice_samples,
+                                        off_lattice, points, discs_for);
+    f.direct = w.direct;
+    return f;
 }
 
 const char* summation_name(Summation s) {
@@ -391,15 +615,16 @@ bool illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointS
     if (set.method == Summation::Direct || sources.empty() || samples.size() == 0)
         return illuminate_pinhole(samples, sources, wavelength, field, set.nthreads, progress);
     const LatticeLayout L = lattice_layout(samples);
-    if (set.method == Summation::Fast) {
+    SummationWork w;
+    w.blocks = set.blocks;
+    if (set.method == Summation::Fast || (set.blocks == 0 && L.on > 0)) {
         std::vector<Parameter> p;
         for (const PointSource& s : sources) {
             const double R = s.at_infinity ? 1 : std::sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
             p.push_back({s.x / R, s.y / R, s.at_infinity ? 0.0 : 1.0 / R});
         }
-        const SummationWork w = work_of(L, double(sources.size()), range_of(p, 3),
-                                        std::sqrt(0.5) * samples.pitch * std::max(L.nx, L.ny), wavelength, false,
-                                        set.tolerance);
+        w = work_of(L, samples.pitch, double(sources.size()), set.fixed_range ? set.range : range_of(p, 3), wavelength,
+                    false, set.tolerance);
         if (!use_fast(set, w)) return illuminate_pinhole(samples, sources, wavelength, field, set.nthreads, progress);
     }
     // the direct part first (off-lattice samples), then the lattice's NUFFTs
@@ -409,7 +634,7 @@ bool illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointS
         return false;
     std::vector<cdouble> U;
     if (L.on > 0 &&
-        !fast_sources_to_lattice(L, samples, sources, wavelength, set, U, progress_part(progress, share, 1)))
+        !fast_sources_to_lattice(L, samples, sources, wavelength, w.blocks, set, U, progress_part(progress, share, 1)))
         return false;
     field.re.assign(samples.size(), 0.0f);
     field.im.assign(samples.size(), 0.0f);
@@ -432,7 +657,9 @@ bool add_film_field(const ApertureSamples& samples, const PinholeField& field, c
     if (set.method == Summation::Direct || film.size() == 0 || samples.size() == 0)
         return add_film_field(samples, field, film, wavelength, film_field, set.nthreads, progress);
     const LatticeLayout L = lattice_layout(samples);
-    if (set.method == Summation::Fast) {
+    SummationWork w;
+    w.blocks = set.blocks;
+    if (set.method == Summation::Fast || (set.blocks == 0 && L.on > 0)) {
         DirectionRange r;
         const double f = film.film_distance;
         for (size_t t = 0; t < film.size(); ++t) {
@@ -441,8 +668,8 @@ bool add_film_field(const ApertureSamples& samples, const PinholeField& field, c
             r.uy0 = std::min(r.uy0, film.y[t] / R), r.uy1 = std::max(r.uy1, film.y[t] / R);
         }
         r.rho0 = r.rho1 = 1.0 / f;
-        const SummationWork w = work_of(L, double(film.size()), r, std::sqrt(0.5) * samples.pitch * std::max(L.nx, L.ny),
-                                        wavelength, true, set.tolerance);
+        w = work_of(L, samples.pitch, double(film.size()), set.fixed_range ? set.range : r, wavelength, true,
+                    set.tolerance);
         if (!use_fast(set, w))
             return add_film_field(samples, field, film, wavelength, film_field, set.nthreads, progress);
     }
@@ -455,7 +682,7 @@ bool add_film_field(const ApertureSamples& samples, const PinholeField& field, c
     if (!add_film_field(L.off, off, film, wavelength, film_field, set.nthreads, progress_part(progress, 0, share)))
         return false;
     return L.on == 0 ||
-           fast_lattice_to_film(L, samples, field, film, wavelength, set, film_field, progress_part(progress, share, 1));
+           fast_lattice_to_film(L, samples, field, film, wavelength, w.blocks, set, film_field, progress_part(progress, share, 1));
 }
 
 bool accumulate_film_irradiance(const ApertureSamples& samples, const PinholeField& field, const FilmPoints& film,

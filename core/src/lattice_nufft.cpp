@@ -202,7 +202,7 @@ void LatticeNufft::to_lattice(const double* x, const double* y, const cfloat* a,
 }
 
 void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const double* x, const double* y,
-                                const float* c, size_t count, cfloat* out) const {
+                                const cfloat* c, size_t count, cfloat* out) const {
     const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_);
     const int cx = nx_ / 2, cy = ny_ / 2;
     std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);
@@ -227,9 +227,9 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
         float wx[kMaxWidth], wy[kMaxWidth];
         const long fx = wrap(kernel_weights(x[s] * to_gx, w_, table_.data(), wx), mx_);
         const long fy = wrap(kernel_weights(y[s] * to_gy, w_, table_.data(), wy), my_);
-        float re = 0, im = 0;
+        cfloat total = 0;
         for (int q = 0; q < batch; ++q) {
-            const float cq = c[size_t(s) * batch + q];
+            float re = 0, im = 0;
             for (int j = 0; j < w_; ++j) {
                 const cfloat* row = grid[q].data() + size_t(fy + j) * stride + fx;
                 float sr = 0, si = 0;
@@ -237,11 +237,12 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
                     sr += wx[i] * row[i].real();
                     si += wx[i] * row[i].imag();
                 }
-                re += cq * wy[j] * sr;
-                im += cq * wy[j] * si;
+                re += wy[j] * sr;
+                im += wy[j] * si;
             }
+            total += c[size_t(s) * batch + q] * cfloat(re, im);
         }
-        out[s] = cfloat(re, im);
+        out[s] = total;
     }
 }
 

@@ -42,7 +42,7 @@ public:
                     cfloat* const* lattices) const;
     // Type 2 for `batch` lattices at once, weighted per point:
     // out[s] = sum_q c[s * batch + q] sum_{m,n} lattices[q][n * nx + m] exp(-i ((m - cx) x[s] + (n - cy) y[s])).
-    void from_lattice(const cfloat* const* lattices, int batch, const double* x, const double* y, const float* c,
+    void from_lattice(const cfloat* const* lattices, int batch, const double* x, const double* y, const cfloat* c,
                       size_t count, cfloat* out) const;
 
     // The work of one transform in units of its parts: FFT points x log2, kernel taps per point.

@@ -320,6 +320,7 @@ SumPlan plan_sums(const DiffractionSettings& s, const SceneSum& sum, const Pinho
         const bool fast = use_fast(given, w);
         set = given;
         set.method = fast ? Summation::Nufft : Summation::Direct;
+        set.blocks = w.blocks;
         return fast ? w.fast : w.direct;
     };
     plan.in_work = pick(in, plan.in);

@@ -45,6 +45,9 @@ struct SummationSettings {
     // share of the points (rows of a frame) gets the plan, and the bits, of the whole frame.
     bool fixed_range = false;
     DirectionRange range{};
+    // Sub-apertures per side the lattice is cut into (each expanded about its centre), or 0: the
+    // cheapest by summation_work, chosen here. A job's shares are given the job's choice.
+    int blocks = 0;
 };
 
 // propagation.h's sums through `settings.method`.
@@ -62,7 +65,8 @@ bool accumulate_film_irradiance(const ApertureSamples& samples, const PinholeFie
 // `samples_across` (`off_lattice` of them summed directly). Direct: samples x points.
 struct SummationWork {
     double direct = 0, fast = 0;
-    int nufft_count = 0;  // the fast path's transforms (interpolation nodes over all boxes)
+    int nufft_count = 0;  // the fast path's transforms (interpolation nodes x sub-apertures)
+    int blocks = 1;       // the cheapest division: blocks x blocks sub-apertures
 };
 SummationWork summation_work(double lattice_samples, int samples_across, double off_lattice, double points,
                              const DirectionRange& range, double aperture_radius, double wavelength,
