@@ -19,6 +19,7 @@
 #include <string>
 #include <cmath>
 
+#include "band_limited_stencil.h"
 #include "chebyshev_box.h"
 #include "lattice_nufft.h"
 #include "node_skeleton.h"
@@ -65,25 +66,39 @@ struct ChirpAtCentre {
 };
 
 // The pinhole samples split into the lattice box they sit on (cell centres m h, n h) and the
-// rest (rim centroids, grey or holed apertures), summed directly.
+// rest (rim centroids, grey or holed apertures). The rest are read from (sum 1) or spread onto
+// (sum 2) the lattice around them with the band-limited stencil where the sum's band allows
+// (band_limited_stencil.h; the box then takes in their stencils' cells), else summed directly.
 struct LatticeLayout {
     long i0 = 0, j0 = 0;
     int nx = 0, ny = 0;
     std::vector<long> cell;          // per sample: (n - j0) * nx + (m - i0), or -1 off the lattice
-    std::vector<char> used;          // per lattice cell: a sample sits there
-    ApertureSamples off;             // off-lattice samples
+    std::vector<char> used;          // per lattice cell: a sample or a stencil sits there
+    ApertureSamples off;             // off-lattice samples summed directly
     std::vector<size_t> off_index;   // their indices in the samples
     size_t on = 0;                   // lattice samples
-    double reach = 0;                // farthest lattice sample from the axis
+    // off-lattice samples through the stencil: their indices, their stencil's first cell, and
+    // `width` weights per axis each
+    std::vector<size_t> spread_index;
+    std::vector<long> spread_cell;
+    std::vector<double> spread_wx, spread_wy;
+    int width = 0;
 };
 
-LatticeLayout lattice_layout(const ApertureSamples& s) {
+LatticeLayout lattice_layout(const ApertureSamples& s, const detail::BandLimitedStencil& stencil) {
     LatticeLayout L;
     const double h = s.pitch;
     L.off.pitch = h;
+    const bool spread = stencil.usable();
+    L.width = spread ? stencil.width() : 0;
     std::vector<long> im(s.size()), jm(s.size());
     long i0 = 0, i1 = -1, j0 = 0, j1 = -1;
     bool any = false;
+    auto take = [&](long i, long j) {
+        if (!any) i0 = i1 = i, j0 = j1 = j, any = true;
+        i0 = std::min(i0, i), i1 = std::max(i1, i), j0 = std::min(j0, j), j1 = std::max(j1, j);
+    };
+    double wx[32], wy[32];
     for (size_t k = 0; k < s.size(); ++k) {
         const double fx = s.x[k] / h, fy = s.y[k] / h;
         const long i = std::lround(fx), j = std::lround(fy);
@@ -91,9 +106,16 @@ LatticeLayout lattice_layout(const ApertureSamples& s) {
         if (std::abs(fx - i) < 1e-4 && std::abs(fy - j) < 1e-4) {
             im[k] = i;
             jm[k] = j;
-            if (!any) i0 = i1 = i, j0 = j1 = j, any = true;
-            i0 = std::min(i0, i), i1 = std::max(i1, i), j0 = std::min(j0, j), j1 = std::max(j1, j);
-            L.reach = std::max(L.reach, h * std::hypot(double(i), double(j)));
+            take(i, j);
+        } else if (spread) {
+            const long si = stencil.weights(fx, wx), sj = stencil.weights(fy, wy);
+            im[k] = si;
+            jm[k] = sj;
+            take(si, sj);
+            take(si + L.width - 1, sj + L.width - 1);
+            L.spread_index.push_back(k);
+            L.spread_wx.insert(L.spread_wx.end(), wx, wx + L.width);
+            L.spread_wy.insert(L.spread_wy.end(), wy, wy + L.width);
         } else {
             im[k] = LONG_MIN;
         }
@@ -103,7 +125,15 @@ LatticeLayout lattice_layout(const ApertureSamples& s) {
     L.ny = any ? int(j1 - j0 + 1) : 0;
     L.cell.assign(s.size(), -1);
     L.used.assign(size_t(L.nx) * L.ny, 0);
+    for (size_t k : L.spread_index) {
+        const long first = (jm[k] - j0) * L.nx + (im[k] - i0);
+        L.spread_cell.push_back(first);
+        for (int b = 0; b < L.width; ++b)
+            for (int a = 0; a < L.width; ++a) L.used[first + long(b) * L.nx + a] = 1;
+        im[k] = LONG_MIN + 1;  // done
+    }
     for (size_t k = 0; k < s.size(); ++k) {
+        if (im[k] == LONG_MIN + 1) continue;
         if (im[k] == LONG_MIN) {
             L.off.x.push_back(s.x[k]);
             L.off.y.push_back(s.y[k]);
@@ -116,6 +146,35 @@ LatticeLayout lattice_layout(const ApertureSamples& s) {
         ++L.on;
     }
     return L;
+}
+
+// The stencil for a sum over `range` (lattice pitch h, samples within `reach` of the axis): its
+// band is k h times the largest direction component, plus the chirp's slope |grad psi| <= 2 rho
+// reach (ChirpAtCentre). Its error is on the off-lattice samples' terms only: a share `off` /
+// (`on` + `off`) of the sum (rim cells, about 4 / samples across), so the sum keeps within a
+// third of the tolerance, relative to the sum of its terms' sizes, with each of those terms
+// within tolerance / 3 x (on + off) / off, at most 1e-2.
+detail::BandLimitedStencil rim_stencil(const DirectionRange& r, double k, double h, double reach, double on,
+                                       double off, double tolerance) {
+    const double u = std::max({std::fabs(r.ux0), std::fabs(r.ux1), std::fabs(r.uy0), std::fabs(r.uy1)});
+    const double slope = 2 * std::max(std::fabs(r.rho0), std::fabs(r.rho1)) * reach;
+    const double per_term = std::min(1e-2, tolerance / 3 * (on + off) / std::max(1.0, off));
+    return {k * h * (u + slope), per_term};
+}
+
+// Samples on the lattice and off it (as lattice_layout tells them), and the farthest from the axis.
+struct SampleCount {
+    double on = 0, off = 0, reach = 0;
+};
+SampleCount count_samples(const ApertureSamples& s) {
+    SampleCount c;
+    for (size_t k = 0; k < s.size(); ++k) {
+        const double fx = s.x[k] / s.pitch, fy = s.y[k] / s.pitch;
+        const bool on = std::abs(fx - std::lround(fx)) < 1e-4 && std::abs(fy - std::lround(fy)) < 1e-4;
+        (on ? c.on : c.off) += 1;
+        c.reach = std::max(c.reach, std::hypot(double(s.x[k]), double(s.y[k])));
+    }
+    return c;
 }
 
 // The lattice box cut into B x B sub-apertures of bnx x bny cells (the last row and column of
@@ -229,7 +288,8 @@ struct AxisWeights {
             stride += n[d];
         }
         w.resize(points.size() * stride);
-        for (size_t i = 0; i < points.size(); ++i) {
+#pragma omp parallel for schedule(static)
+        for (long i = 0; i < long(points.size()); ++i) {
             // the axis values from a one-axis box each (barycentric form, chebyshev_box.cpp)
             for (int d = 0; d < b.dims; ++d) {
                 ChebyshevBox axis;
@@ -340,18 +400,38 @@ detail::NodeSkeleton box_skeleton(const SumGeometry& geo, const ChebyshevBox& bx
     return detail::node_skeleton(v, rank, n, geo.tolerance / 8);
 }
 
-// Each point's coefficients on the skeleton, sum_q L_q(p) coeff[q][j], into out[i * rank + j].
+// Each point's coefficients on the skeleton, sum_q L_q(p) coeff[q][j], into out[i * rank + j]
+// (L_q a product of per-axis values, axis 0 fastest; the skeleton's coefficients split into real
+// and imaginary rows so that the inner loop vectorises).
 void skeleton_coefficients(const AxisWeights& aw, int dims, const detail::NodeSkeleton& sk, size_t count,
                            int nodes, std::vector<cdouble>& out, int nthreads) {
     const int r = sk.rank();
+    std::vector<double> re(size_t(nodes) * r), im(re.size());
+    for (size_t i = 0; i < re.size(); ++i) re[i] = sk.coeff[i].real(), im[i] = sk.coeff[i].imag();
     out.assign(count * r, 0.0);
-#pragma omp parallel for schedule(static) num_threads(threads(nthreads))
-    for (long i = 0; i < long(count); ++i) {
-        cdouble* o = out.data() + size_t(i) * r;
-        for (int q = 0; q < nodes; ++q) {
-            const double l = aw.at(i, q, dims);
-            const cdouble* t = sk.coeff.data() + size_t(q) * r;
-            for (int j = 0; j < r; ++j) o[j] += l * t[j];
+    const int n0 = aw.n[0], n1 = dims > 1 ? aw.n[1] : 1, n2 = dims > 2 ? aw.n[2] : 1;
+#pragma omp parallel num_threads(threads(nthreads))
+    {
+        std::vector<double> L(nodes), acc_re(r), acc_im(r);
+#pragma omp for schedule(static)
+        for (long i = 0; i < long(count); ++i) {
+            const float* w = aw.w.data() + size_t(i) * aw.stride;
+            int q = 0;
+            for (int c = 0; c < n2; ++c)
+                for (int b = 0; b < n1; ++b) {
+                    const double lbc = (dims > 1 ? w[aw.offset[1] + b] : 1.0f) * (dims > 2 ? w[aw.offset[2] + c] : 1.0f);
+                    for (int a = 0; a < n0; ++a) L[q++] = lbc * w[aw.offset[0] + a];
+                }
+            std::fill(acc_re.begin(), acc_re.end(), 0.0);
+            std::fill(acc_im.begin(), acc_im.end(), 0.0);
+            for (int k = 0; k < nodes; ++k) {
+                const double l = L[k];
+                const double* tr = re.data() + size_t(k) * r;
+                const double* ti = im.data() + size_t(k) * r;
+                for (int j = 0; j < r; ++j) acc_re[j] += l * tr[j], acc_im[j] += l * ti[j];
+            }
+            cdouble* o = out.data() + size_t(i) * r;
+            for (int j = 0; j < r; ++j) o[j] = cdouble(acc_re[j], acc_im[j]);
         }
     }
 }
@@ -441,6 +521,15 @@ bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples
     std::vector<cfloat> w(size_t(L.nx) * L.ny, cfloat(0));
     for (size_t j = 0; j < samples.size(); ++j)
         if (L.cell[j] >= 0) w[L.cell[j]] = cfloat(field.re[j], field.im[j]);
+    // the stencil's samples spread onto the cells around them
+    for (size_t i = 0; i < L.spread_index.size(); ++i) {
+        const size_t j = L.spread_index[i];
+        const std::complex<double> v(field.re[j], field.im[j]);
+        for (int b = 0; b < L.width; ++b)
+            for (int a = 0; a < L.width; ++a)
+                w[L.spread_cell[i] + long(b) * L.nx + a] +=
+                    cfloat(v * (L.spread_wx[i * L.width + a] * L.spread_wy[i * L.width + b]));
+    }
     const SubApertures S = split_lattice(L, blocks, h);
     const SumGeometry geo{true, f, k, set.tolerance};
     const std::vector<ChebyshevBox> boxes = geo.plan(set.fixed_range ? set.range : range_of(p, 2), discs_of(S));
@@ -486,7 +575,8 @@ bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples
                     for (int q = 0; q < batch; ++q) coeff[i * batch + q] = cfloat(alpha[size_t(i) * r + j0 + q]);
                 nufft.from_lattice(lattices.data(), batch, fr.fx.data(), fr.fy.data(), coeff.data(), in.size(),
                                    G.data());
-                for (size_t i = 0; i < in.size(); ++i) {
+#pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
+                for (long i = 0; i < long(in.size()); ++i) {
                     const double tx = film.x[in[i]], ty = film.y[in[i]];
                     out[in[i]] += f / (tx * tx + ty * ty + f * f) * fr.shift[i] * cdouble(G[i]);  // f / R_t^2
                 }
@@ -555,10 +645,13 @@ SumGeometry geometry_of(bool film, double wavelength, double tolerance, const Di
 // The work of a sum on this lattice, its sub-apertures as they are.
 SummationWork work_of(const LatticeLayout& L, double h, double points, const DirectionRange& r, double wavelength,
                       bool film, double tolerance) {
-    SummationWork w = cheapest_division(geometry_of(film, wavelength, tolerance, r), r, L.nx, L.ny, double(L.on),
+    const double cells = double(std::count(L.used.begin(), L.used.end(), char(1)));
+    const double spread = double(L.spread_index.size());
+    SummationWork w = cheapest_division(geometry_of(film, wavelength, tolerance, r), r, L.nx, L.ny, cells,
                                         double(L.off.size()), points,
                                         [&](int blocks) { return discs_of(split_lattice(L, blocks, h)); });
-    w.direct = (double(L.on) + double(L.off.size())) * points;
+    w.fast += spread * L.width * L.width * kMacCost;
+    w.direct = (double(L.on) + spread + double(L.off.size())) * points;
     return w;
 }
 
@@ -586,12 +679,27 @@ SummationWork summation_work(double lattice_samples, int samples_across, double 
                 const double x0 = -a - 0.5 * h + bx * side, y0 = -a - 0.5 * h + by * side;
                 const double nxp = std::clamp(0.0, x0, x0 + side), nyp = std::clamp(0.0, y0, y0 + side);
                 if (std::hypot(nxp, nyp) > a) continue;
-                d.push_back({x0 + 0.5 * side, y0 + 0.5 * side, std::sqrt(0.5) * side + h});
+                // reach: the farthest of a 9 x 9 grid over the square that lies in the disc
+                const double cx = x0 + 0.5 * side, cy = y0 + 0.5 * side;
+                double reach = 0;
+                for (int j = 0; j <= 8; ++j)
+                    for (int i = 0; i <= 8; ++i) {
+                        const double x = x0 + side * i / 8, y = y0 + side * j / 8;
+                        if (std::hypot(x, y) <= a + h) reach = std::max(reach, std::hypot(x - cx, y - cy));
+                    }
+                d.push_back({cx, cy, reach + h});
             }
         return d;
     };
-    SummationWork f = cheapest_division(geometry_of(film, wavelength, tolerance, range), range, n, n, lattice_samples,
-                                        off_lattice, points, discs_for);
+    // off-lattice samples through the stencil where the band allows: their stencils' cells join
+    // the lattice (about one row of `width` per rim sample), their spreading costs little
+    const detail::BandLimitedStencil stencil =
+        rim_stencil(range, 2 * M_PI / wavelength, h, a, lattice_samples, off_lattice, tolerance);
+    const double width = stencil.width();
+    SummationWork f = cheapest_division(geometry_of(film, wavelength, tolerance, range), range, n, n,
+                                        lattice_samples + (stencil.usable() ? off_lattice * width : 0.0),
+                                        stencil.usable() ? 0.0 : off_lattice, points, discs_for);
+    if (stencil.usable()) f.fast += off_lattice * width * width * kMacCost;
     f.direct = w.direct;
     return f;
 }
@@ -614,35 +722,51 @@ bool illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointS
                         PinholeField& field, const SummationSettings& set, const ProgressFn& progress) {
     if (set.method == Summation::Direct || sources.empty() || samples.size() == 0)
         return illuminate_pinhole(samples, sources, wavelength, field, set.nthreads, progress);
-    const LatticeLayout L = lattice_layout(samples);
+    std::vector<Parameter> p;
+    for (const PointSource& s : sources) {
+        const double R = s.at_infinity ? 1 : std::sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
+        p.push_back({s.x / R, s.y / R, s.at_infinity ? 0.0 : 1.0 / R});
+    }
+    const DirectionRange range = set.fixed_range ? set.range : range_of(p, 3);
+    const double k = 2 * M_PI / wavelength;
+    const SampleCount n = count_samples(samples);
+    const LatticeLayout L =
+        lattice_layout(samples, rim_stencil(range, k, samples.pitch, n.reach, n.on, n.off, set.tolerance));
     SummationWork w;
     w.blocks = set.blocks;
-    if (set.method == Summation::Fast || (set.blocks == 0 && L.on > 0)) {
-        std::vector<Parameter> p;
-        for (const PointSource& s : sources) {
-            const double R = s.at_infinity ? 1 : std::sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
-            p.push_back({s.x / R, s.y / R, s.at_infinity ? 0.0 : 1.0 / R});
-        }
-        w = work_of(L, samples.pitch, double(sources.size()), set.fixed_range ? set.range : range_of(p, 3), wavelength,
-                    false, set.tolerance);
+    if (set.method == Summation::Fast || (set.blocks == 0 && L.nx > 0)) {
+        w = work_of(L, samples.pitch, double(sources.size()), range, wavelength, false, set.tolerance);
         if (!use_fast(set, w)) return illuminate_pinhole(samples, sources, wavelength, field, set.nthreads, progress);
     }
-    // the direct part first (off-lattice samples), then the lattice's NUFFTs
+    // the direct part first (off-lattice samples the stencil cannot reach), then the lattice's NUFFTs
     PinholeField off;
     const double share = double(L.off.size()) / std::max<double>(1, samples.size()) * 0.5;
     if (!illuminate_pinhole(L.off, sources, wavelength, off, set.nthreads, progress_part(progress, 0, share)))
         return false;
     std::vector<cdouble> U;
-    if (L.on > 0 &&
+    if (L.nx > 0 &&
         !fast_sources_to_lattice(L, samples, sources, wavelength, w.blocks, set, U, progress_part(progress, share, 1)))
         return false;
     field.re.assign(samples.size(), 0.0f);
     field.im.assign(samples.size(), 0.0f);
-    for (size_t j = 0; j < samples.size(); ++j) {
-        if (L.cell[j] < 0) continue;
-        const cdouble v = U[L.cell[j]] * (double(samples.weight[j]) / wavelength);
+    auto put = [&](size_t j, cdouble u) {
+        const cdouble v = u * (double(samples.weight[j]) / wavelength);
         field.re[j] = float(v.real());
         field.im[j] = float(v.imag());
+    };
+    for (size_t j = 0; j < samples.size(); ++j)
+        if (L.cell[j] >= 0) put(j, U[L.cell[j]]);
+    for (size_t i = 0; i < L.spread_index.size(); ++i) {
+        const double* wx = L.spread_wx.data() + i * L.width;
+        const double* wy = L.spread_wy.data() + i * L.width;
+        cdouble u = 0;
+        for (int b = 0; b < L.width; ++b) {
+            const cdouble* row = U.data() + L.spread_cell[i] + long(b) * L.nx;
+            cdouble v = 0;
+            for (int a = 0; a < L.width; ++a) v += wx[a] * row[a];
+            u += wy[b] * v;
+        }
+        put(L.spread_index[i], u);
     }
     for (size_t i = 0; i < L.off_index.size(); ++i) {
         field.re[L.off_index[i]] = off.re[i];
@@ -656,20 +780,26 @@ bool add_film_field(const ApertureSamples& samples, const PinholeField& field, c
                     const ProgressFn& progress) {
     if (set.method == Summation::Direct || film.size() == 0 || samples.size() == 0)
         return add_film_field(samples, field, film, wavelength, film_field, set.nthreads, progress);
-    const LatticeLayout L = lattice_layout(samples);
-    SummationWork w;
-    w.blocks = set.blocks;
-    if (set.method == Summation::Fast || (set.blocks == 0 && L.on > 0)) {
-        DirectionRange r;
-        const double f = film.film_distance;
+    DirectionRange range;
+    const double f = film.film_distance;
+    if (set.fixed_range) {
+        range = set.range;
+    } else {
         for (size_t t = 0; t < film.size(); ++t) {
             const double R = std::sqrt(double(film.x[t]) * film.x[t] + double(film.y[t]) * film.y[t] + f * f);
-            r.ux0 = std::min(r.ux0, film.x[t] / R), r.ux1 = std::max(r.ux1, film.x[t] / R);
-            r.uy0 = std::min(r.uy0, film.y[t] / R), r.uy1 = std::max(r.uy1, film.y[t] / R);
+            range.ux0 = std::min(range.ux0, film.x[t] / R), range.ux1 = std::max(range.ux1, film.x[t] / R);
+            range.uy0 = std::min(range.uy0, film.y[t] / R), range.uy1 = std::max(range.uy1, film.y[t] / R);
         }
-        r.rho0 = r.rho1 = 1.0 / f;
-        w = work_of(L, samples.pitch, double(film.size()), set.fixed_range ? set.range : r, wavelength, true,
-                    set.tolerance);
+        range.rho0 = range.rho1 = 1.0 / f;
+    }
+    const double k = 2 * M_PI / wavelength;
+    const SampleCount n = count_samples(samples);
+    const LatticeLayout L =
+        lattice_layout(samples, rim_stencil(range, k, samples.pitch, n.reach, n.on, n.off, set.tolerance));
+    SummationWork w;
+    w.blocks = set.blocks;
+    if (set.method == Summation::Fast || (set.blocks == 0 && L.nx > 0)) {
+        w = work_of(L, samples.pitch, double(film.size()), range, wavelength, true, set.tolerance);
         if (!use_fast(set, w))
             return add_film_field(samples, field, film, wavelength, film_field, set.nthreads, progress);
     }
@@ -681,7 +811,7 @@ bool add_film_field(const ApertureSamples& samples, const PinholeField& field, c
     const double share = double(L.off.size()) / std::max<double>(1, samples.size()) * 0.5;
     if (!add_film_field(L.off, off, film, wavelength, film_field, set.nthreads, progress_part(progress, 0, share)))
         return false;
-    return L.on == 0 ||
+    return L.nx == 0 ||
            fast_lattice_to_film(L, samples, field, film, wavelength, w.blocks, set, film_field, progress_part(progress, share, 1));
 }
 

@@ -139,7 +139,9 @@ std::vector<std::vector<cfloat>>& LatticeNufft::workspace(int batch, size_t plan
     if (int(grids_.size()) < batch) grids_.resize(batch);
     for (int q = 0; q < batch; ++q) {
         grids_[q].resize(plane);
-        std::fill(grids_[q].begin(), grids_[q].end(), cfloat(0));
+        cfloat* g = grids_[q].data();
+#pragma omp parallel for schedule(static) num_threads(threads(nthreads_))
+        for (long i = 0; i < long(plane); ++i) g[i] = cfloat(0);
     }
     return grids_;
 }
@@ -186,10 +188,12 @@ void LatticeNufft::to_lattice(const double* x, const double* y, const cfloat* a,
     const int cx = nx_ / 2, cy = ny_ / 2;
     for (int q = 0; q < batch; ++q) {
         std::vector<cfloat>& one = grid[q];
-        // fold the padding back onto the period
+        // fold the padding back onto the period: the w columns beyond each row, then the w rows
+        // beyond the last (their own padding folded first)
         for (int r = 0; r < my_ + w_; ++r)
-            for (int c = 0; c < mx_ + w_; ++c)
-                if (r >= my_ || c >= mx_) one[size_t(r % my_) * stride + c % mx_] += one[size_t(r) * stride + c];
+            for (int c = mx_; c < mx_ + w_; ++c) one[size_t(r) * stride + c - mx_] += one[size_t(r) * stride + c];
+        for (int r = my_; r < my_ + w_; ++r)
+            for (int c = 0; c < mx_; ++c) one[size_t(r - my_) * stride + c] += one[size_t(r) * stride + c];
         fft2d(one, true, my_, nx_);
         cfloat* lattice = lattices[q];
 #pragma omp parallel for schedule(static) num_threads(threads(nthreads_))
@@ -216,10 +220,12 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
                 one[bin] = lattice[size_t(n) * nx_ + m] * float(deconvolve_x_[m] * deconvolve_y_[n]);
             }
         fft2d(one, true, ny_, mx_);
-        // periodic padding: w columns and rows beyond the period repeat its start
-        for (int r = 0; r < my_ + w_; ++r)
-            for (int col = 0; col < mx_ + w_; ++col)
-                if (r >= my_ || col >= mx_) one[size_t(r) * stride + col] = one[size_t(r % my_) * stride + col % mx_];
+        // periodic padding: w columns beyond each row, then w rows beyond the last, repeat the start
+        for (int r = 0; r < my_; ++r)
+            for (int col = mx_; col < mx_ + w_; ++col) one[size_t(r) * stride + col] = one[size_t(r) * stride + col - mx_];
+        for (int r = my_; r < my_ + w_; ++r)
+            std::copy(one.begin() + size_t(r - my_) * stride, one.begin() + size_t(r - my_ + 1) * stride,
+                      one.begin() + size_t(r) * stride);
     }
     const double to_gx = mx_ / (2 * M_PI), to_gy = my_ / (2 * M_PI);
 #pragma omp parallel for schedule(static, 256) num_threads(threads(nthreads_))

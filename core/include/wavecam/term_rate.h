@@ -7,6 +7,6 @@ namespace wavecam {
 // Terms per second of the exact propagation (pinhole samples x film points) on `nthreads`
 // threads (0 = every core), timed on a small synthetic job for about `seconds`. Measured once
 // per thread count per process; later calls return the first measurement.
-double measured_term_rate(int nthreads = 0, double seconds = 0.3);
+double measured_term_rate(int nthreads = 0, double seconds = 0.1);
 
 }  // namespace wavecam

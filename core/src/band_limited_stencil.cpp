@@ -1,0 +1,75 @@
+// Kaiser-windowed sinc interpolation on the lattice (band_limited_stencil.h).
+#include "band_limited_stencil.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <initializer_list>
+
+namespace wavecam::detail {
+namespace {
+
+// Modified Bessel function I0 by its power series (terms fall fast for the beta used, < 40).
+double bessel_i0(double x) {
+    double term = 1, sum = 1;
+    for (int k = 1; k < 200 && term > 1e-17 * sum; ++k) {
+        term *= (x / (2 * k)) * (x / (2 * k));
+        sum += term;
+    }
+    return sum;
+}
+
+constexpr int kMaxHalfWidth = 8;
+
+}  // namespace
+
+double BandLimitedStencil::kernel(double t) const {
+    const double r = t / half_width_;
+    if (std::fabs(r) >= 1) return 0;
+    const double sinc = t == 0 ? 1.0 : std::sin(M_PI * t) / (M_PI * t);
+    return sinc * bessel_i0(beta_ * std::sqrt(1 - r * r)) / bessel_i0(beta_);
+}
+
+long BandLimitedStencil::weights(double x, double* w) const {
+    const long first = long(std::floor(x)) - half_width_ + 1;
+    for (int i = 0; i < width(); ++i) w[i] = kernel(x - double(first + i));
+    return first;
+}
+
+// The largest |sum_m kappa(x - m) exp(i nu m) - exp(i nu x)| over 25 frequencies in the band
+// and 16 positions in a cell.
+double BandLimitedStencil::error_of(double nu_max) const {
+    double worst = 0, w[2 * kMaxHalfWidth];
+    for (int a = 0; a <= 24; ++a) {
+        const double nu = nu_max * (a - 12) / 12.0;
+        for (int b = 0; b < 16; ++b) {
+            const double x = (b + 0.5) / 16;
+            const long first = weights(x, w);
+            std::complex<double> s = 0;
+            for (int i = 0; i < width(); ++i) s += w[i] * std::polar(1.0, nu * double(first + i));
+            worst = std::max(worst, std::abs(s - std::polar(1.0, nu * x)));
+        }
+    }
+    return worst;
+}
+
+BandLimitedStencil::BandLimitedStencil(double nu_max, double tolerance) {
+    nu_max = std::fabs(nu_max);
+    if (!(nu_max < M_PI)) return;
+    for (int W = 2; W <= kMaxHalfWidth; ++W) {
+        half_width_ = W;
+        // the window's smear against the room left above the band: a few ratios tried
+        double best = INFINITY, best_beta = 0;
+        for (double c : {0.6, 0.7, 0.8, 0.9, 1.0}) {
+            beta_ = c * W * (M_PI - nu_max);
+            const double e = error_of(nu_max);
+            if (e < best) best = e, best_beta = beta_;
+        }
+        beta_ = best_beta;
+        error_ = best;
+        if (best <= tolerance) return;
+    }
+    half_width_ = 0;
+}
+
+}  // namespace wavecam::detail
