@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <mutex>
 #include <cstdlib>
 #include <string>
 #include <cmath>
@@ -23,6 +24,7 @@
 #include "chebyshev_box.h"
 #include "lattice_nufft.h"
 #include "node_skeleton.h"
+#include "sincos_turns.h"
 
 namespace wavecam {
 namespace {
@@ -57,11 +59,15 @@ struct ChirpAtCentre {
         gx = (rho * cx + gm1 * ux) / c.g;
         gy = (rho * cy + gm1 * uy) / c.g;
     }
-    // exp(i k psi2(x, y)) / g^power: the interpolated remainder.
-    cdouble remainder(double x, double y, double k, int power) const {
+    // exp(i k psi2(x, y)) / g^power: the interpolated remainder (k psi2 a few radians at most:
+    // its sine and cosine in float, sincos_turns.h, to about 1e-6).
+    cfloat remainder(double x, double y, double inv_lambda, int power) const {
         const Chirp c = chirp(ux, uy, rho, x, y);
         const double psi2 = c.psi - psi - gx * (x - cx) - gy * (y - cy);
-        return std::polar(power == 1 ? 1.0 / c.g : 1.0 / (c.g * c.g), k * psi2);
+        float sn, cs;
+        detail::sincos_turns(float(psi2 * inv_lambda), sn, cs);
+        const float a = float(power == 1 ? 1.0 / c.g : 1.0 / (c.g * c.g));
+        return {a * cs, a * sn};
     }
 };
 
@@ -268,7 +274,7 @@ struct SumGeometry {
                 pr.push_back({d.cx, d.cy, d.cx + d.reach * std::cos(a * M_PI / 4), d.cy + d.reach * std::sin(a * M_PI / 4)});
         return detail::plan_boxes(
             box(r),
-            [&](const Parameter& p, int i) { return at(p, pr[i][0], pr[i][1]).remainder(pr[i][2], pr[i][3], k, power()); },
+            [&](const Parameter& p, int i) { return cdouble(at(p, pr[i][0], pr[i][1]).remainder(pr[i][2], pr[i][3], k / (2 * M_PI), power())); },
             int(pr.size()), tolerance, kMaxRank, kMaxNodes, false);
     }
     // Split only where an axis needs more than kMaxNodes: the nodes' count costs only per-point
@@ -383,8 +389,9 @@ std::vector<ProbeDisc> discs_of(const SubApertures& S) {
 }
 
 // A box's skeleton on one sub-aperture: its nodes' remainders fitted at an 11 x 11 grid over the
-// sub-aperture's disc and 16 points on its rim, to an eighth of the tolerance (the Lagrange
-// weights' sum of magnitudes, a few, multiplies it).
+// sub-aperture's disc and 16 points on its rim, to a quarter of the tolerance (the Lagrange
+// weights' sum of magnitudes, a few, multiplies it; the interpolation's own and the NUFFT's error
+// are the rest of the budget).
 detail::NodeSkeleton box_skeleton(const SumGeometry& geo, const ChebyshevBox& bx, const ProbeDisc& d) {
     std::vector<std::array<double, 2>> at;
     for (int j = -5; j <= 5; ++j)
@@ -395,43 +402,43 @@ detail::NodeSkeleton box_skeleton(const SumGeometry& geo, const ChebyshevBox& bx
     std::vector<cdouble> v(size_t(rank) * n);
     for (int q = 0; q < rank; ++q) {
         const ChirpAtCentre c = geo.at(bx.node(q), d.cx, d.cy);
-        for (int i = 0; i < n; ++i) v[size_t(q) * n + i] = c.remainder(at[i][0], at[i][1], geo.k, geo.power());
+        for (int i = 0; i < n; ++i) v[size_t(q) * n + i] = cdouble(c.remainder(at[i][0], at[i][1], geo.k / (2 * M_PI), geo.power()));
     }
-    return detail::node_skeleton(v, rank, n, geo.tolerance / 8);
+    return detail::node_skeleton(v, rank, n, geo.tolerance / 4);
 }
 
 // Each point's coefficients on the skeleton, sum_q L_q(p) coeff[q][j], into out[i * rank + j]
 // (L_q a product of per-axis values, axis 0 fastest; the skeleton's coefficients split into real
 // and imaginary rows so that the inner loop vectorises).
 void skeleton_coefficients(const AxisWeights& aw, int dims, const detail::NodeSkeleton& sk, size_t count,
-                           int nodes, std::vector<cdouble>& out, int nthreads) {
+                           int nodes, std::vector<cfloat>& out, int nthreads) {
     const int r = sk.rank();
-    std::vector<double> re(size_t(nodes) * r), im(re.size());
-    for (size_t i = 0; i < re.size(); ++i) re[i] = sk.coeff[i].real(), im[i] = sk.coeff[i].imag();
-    out.assign(count * r, 0.0);
+    std::vector<float> re(size_t(nodes) * r), im(re.size());
+    for (size_t i = 0; i < re.size(); ++i) re[i] = float(sk.coeff[i].real()), im[i] = float(sk.coeff[i].imag());
+    out.assign(count * r, 0.0f);
     const int n0 = aw.n[0], n1 = dims > 1 ? aw.n[1] : 1, n2 = dims > 2 ? aw.n[2] : 1;
 #pragma omp parallel num_threads(threads(nthreads))
     {
-        std::vector<double> L(nodes), acc_re(r), acc_im(r);
+        std::vector<float> L(nodes), acc_re(r), acc_im(r);
 #pragma omp for schedule(static)
         for (long i = 0; i < long(count); ++i) {
             const float* w = aw.w.data() + size_t(i) * aw.stride;
             int q = 0;
             for (int c = 0; c < n2; ++c)
                 for (int b = 0; b < n1; ++b) {
-                    const double lbc = (dims > 1 ? w[aw.offset[1] + b] : 1.0f) * (dims > 2 ? w[aw.offset[2] + c] : 1.0f);
+                    const float lbc = (dims > 1 ? w[aw.offset[1] + b] : 1.0f) * (dims > 2 ? w[aw.offset[2] + c] : 1.0f);
                     for (int a = 0; a < n0; ++a) L[q++] = lbc * w[aw.offset[0] + a];
                 }
-            std::fill(acc_re.begin(), acc_re.end(), 0.0);
-            std::fill(acc_im.begin(), acc_im.end(), 0.0);
+            std::fill(acc_re.begin(), acc_re.end(), 0.0f);
+            std::fill(acc_im.begin(), acc_im.end(), 0.0f);
             for (int k = 0; k < nodes; ++k) {
-                const double l = L[k];
-                const double* tr = re.data() + size_t(k) * r;
-                const double* ti = im.data() + size_t(k) * r;
+                const float l = L[k];
+                const float* tr = re.data() + size_t(k) * r;
+                const float* ti = im.data() + size_t(k) * r;
                 for (int j = 0; j < r; ++j) acc_re[j] += l * tr[j], acc_im[j] += l * ti[j];
             }
-            cdouble* o = out.data() + size_t(i) * r;
-            for (int j = 0; j < r; ++j) o[j] = cdouble(acc_re[j], acc_im[j]);
+            cfloat* o = out.data() + size_t(i) * r;
+            for (int j = 0; j < r; ++j) o[j] = cfloat(acc_re[j], acc_im[j]);
         }
     }
 }
@@ -480,7 +487,7 @@ bool fast_sources_to_lattice(const LatticeLayout& L, const ApertureSamples& samp
             const SubApertureFrequencies fr(in, p, geo, part, h, nufft, set.nthreads);
             const detail::NodeSkeleton sk = box_skeleton(geo, bx, {part.cx, part.cy, part.reach});
             const int r = sk.rank();
-            std::vector<cdouble> alpha;
+            std::vector<cfloat> alpha;
             skeleton_coefficients(weights[bi], 3, sk, in.size(), bx.rank(), alpha, set.nthreads);
             for (int j0 = 0; j0 < r; j0 += kBatch) {
                 const int batch = std::min(kBatch, r - j0);
@@ -488,7 +495,7 @@ bool fast_sources_to_lattice(const LatticeLayout& L, const ApertureSamples& samp
 #pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
                 for (long i = 0; i < long(in.size()); ++i) {
                     const cdouble base = b[in[i]] * fr.shift[i];
-                    for (int q = 0; q < batch; ++q) a[i * batch + q] = cfloat(base * alpha[size_t(i) * r + j0 + q]);
+                    for (int q = 0; q < batch; ++q) a[i * batch + q] = cfloat(base * cdouble(alpha[size_t(i) * r + j0 + q]));
                 }
                 nufft.to_lattice(fr.fx.data(), fr.fy.data(), a.data(), batch, in.size(), out.data());
                 for (int q = 0; q < batch; ++q) {
@@ -498,7 +505,7 @@ bool fast_sources_to_lattice(const LatticeLayout& L, const ApertureSamples& samp
                     for (long c = 0; c < long(cells); ++c)
                         if (part.cells[c] >= 0)
                             U[part.cells[c]] +=
-                                node.remainder(cell_x(part, S, c, h), cell_y(part, S, c, h), k, 1) * cdouble(F[c]);
+                                cdouble(node.remainder(cell_x(part, S, c, h), cell_y(part, S, c, h), 1 / wavelength, 1) * F[c]);
                 }
                 done += double(bx.rank()) * batch / r;
                 if (progress && !progress(done / total)) return false;
@@ -554,7 +561,7 @@ bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples
             const SubApertureFrequencies fr(in, p, geo, part, h, nufft, set.nthreads);
             const detail::NodeSkeleton sk = box_skeleton(geo, bx, {part.cx, part.cy, part.reach});
             const int r = sk.rank();
-            std::vector<cdouble> alpha;
+            std::vector<cfloat> alpha;
             skeleton_coefficients(weights[bi], 2, sk, in.size(), bx.rank(), alpha, set.nthreads);
             std::vector<cfloat> G(in.size());
             for (int j0 = 0; j0 < r; j0 += kBatch) {
@@ -566,13 +573,13 @@ bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples
                     for (long c = 0; c < long(cells); ++c)
                         gq[c] = part.cells[c] >= 0
                                     ? w[part.cells[c]] *
-                                          cfloat(node.remainder(cell_x(part, S, c, h), cell_y(part, S, c, h), k, 2))
+                                          node.remainder(cell_x(part, S, c, h), cell_y(part, S, c, h), 1 / wavelength, 2)
                                     : cfloat(0);
                 }
                 std::vector<cfloat> coeff(in.size() * batch);
 #pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
                 for (long i = 0; i < long(in.size()); ++i)
-                    for (int q = 0; q < batch; ++q) coeff[i * batch + q] = cfloat(alpha[size_t(i) * r + j0 + q]);
+                    for (int q = 0; q < batch; ++q) coeff[i * batch + q] = alpha[size_t(i) * r + j0 + q];
                 nufft.from_lattice(lattices.data(), batch, fr.fx.data(), fr.fy.data(), coeff.data(), in.size(),
                                    G.data());
 #pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
@@ -655,11 +662,40 @@ SummationWork work_of(const LatticeLayout& L, double h, double points, const Dir
     return w;
 }
 
+SummationWork plan_work(double lattice_samples, int samples_across, double off_lattice, double points,
+                        const DirectionRange& range, double aperture_radius, double wavelength, bool film,
+                        double tolerance);
+
 }  // namespace
 
 SummationWork summation_work(double lattice_samples, int samples_across, double off_lattice, double points,
                              const DirectionRange& range, double aperture_radius, double wavelength, bool film,
                              double tolerance) {
+    // The plans behind an estimate take tens of milliseconds; a frame asks the same several times
+    // (the estimate, then each channel): the last few answers are kept.
+    using Key = std::array<double, 14>;
+    static std::mutex lock;
+    static std::vector<std::pair<Key, SummationWork>> known;
+    const Key key{lattice_samples, double(samples_across), off_lattice, points, range.ux0, range.ux1, range.uy0,
+                  range.uy1, range.rho0, range.rho1, aperture_radius, wavelength, film ? 1.0 : 0.0, tolerance};
+    {
+        std::lock_guard<std::mutex> guard(lock);
+        for (const auto& [k, v] : known)
+            if (k == key) return v;
+    }
+    const SummationWork w = plan_work(lattice_samples, samples_across, off_lattice, points, range, aperture_radius,
+                                      wavelength, film, tolerance);
+    std::lock_guard<std::mutex> guard(lock);
+    if (known.size() >= 32) known.erase(known.begin());
+    known.emplace_back(key, w);
+    return w;
+}
+
+namespace {
+
+SummationWork plan_work(double lattice_samples, int samples_across, double off_lattice, double points,
+                        const DirectionRange& range, double aperture_radius, double wavelength, bool film,
+                        double tolerance) {
     SummationWork w;
     w.direct = (lattice_samples + off_lattice) * points;
     if (lattice_samples <= 0 || samples_across < 1) {
@@ -703,6 +739,8 @@ SummationWork summation_work(double lattice_samples, int samples_across, double 
     f.direct = w.direct;
     return f;
 }
+
+}  // namespace
 
 const char* summation_name(Summation s) {
     return s == Summation::Direct ? "direct summation" : s == Summation::Nufft ? "NUFFT summation" : "fast summation";

@@ -92,46 +92,65 @@ double LatticeNufft::fft_work() const {
     return 0.75 * n * std::log2(n);  // pruned: a quarter of the line transforms are skipped
 }
 
-// In place on a grid of my_ rows of stride mx_ + w_: the rows in `rows` (the others are zero and
-// stay so), then the columns in `columns` (the others are not needed). Rows first or columns
-// first as `rows_first` says: the transform is the same, the pruning differs.
-void LatticeNufft::fft2d(std::vector<cfloat>& grid, bool rows_first, int row_count, int column_count) const {
+// In place on a grid of my_ rows of stride mx_ + w_: the rows listed (the others are zero and
+// stay so, or are not needed), then the columns listed (likewise), or columns first as
+// `rows_first` says: the transform is the same, the pruning differs.
+void LatticeNufft::fft2d(std::vector<cfloat>& grid, bool rows_first, const std::vector<int>& rows,
+                         const std::vector<int>& columns) const {
     const size_t stride = size_t(mx_) + w_;
     kiss_fft_cfg row_cfg = kiss_fft_alloc(mx_, 0, nullptr, nullptr);
     kiss_fft_cfg col_cfg = kiss_fft_alloc(my_, 0, nullptr, nullptr);
     auto cpx = [](cfloat* p) { return reinterpret_cast<kiss_fft_cpx*>(p); };
-    // the nonzero (or needed) lines: centred modes -n/2 .. n/2 - 1, wrapped
-    auto line = [](int i, int n, int m) { return i < (n + 1) / 2 ? i : m - (n - i); };
 #pragma omp parallel num_threads(threads(nthreads_))
     {
         std::vector<cfloat> in(std::max(mx_, my_)), out(std::max(mx_, my_));
-        auto do_rows = [&](int count, bool pruned) {
+        auto do_rows = [&] {
 #pragma omp for schedule(static)
-            for (int k = 0; k < count; ++k) {
-                cfloat* row = grid.data() + size_t(pruned ? line(k, ny_, my_) : k) * stride;
+            for (long k = 0; k < long(rows.size()); ++k) {
+                cfloat* row = grid.data() + size_t(rows[k]) * stride;
                 kiss_fft(row_cfg, cpx(row), cpx(out.data()));
                 std::copy(out.begin(), out.begin() + mx_, row);
             }
         };
-        auto do_columns = [&](int count, bool pruned) {
+        auto do_columns = [&] {
 #pragma omp for schedule(static)
-            for (int k = 0; k < count; ++k) {
-                const int c = pruned ? line(k, nx_, mx_) : k;
+            for (long k = 0; k < long(columns.size()); ++k) {
+                const int c = columns[k];
                 for (int r = 0; r < my_; ++r) in[r] = grid[size_t(r) * stride + c];
                 kiss_fft(col_cfg, cpx(in.data()), cpx(out.data()));
                 for (int r = 0; r < my_; ++r) grid[size_t(r) * stride + c] = out[r];
             }
         };
         if (rows_first) {
-            do_rows(row_count, row_count < my_);
-            do_columns(column_count, column_count < mx_);
+            do_rows();
+            do_columns();
         } else {
-            do_columns(column_count, column_count < mx_);
-            do_rows(row_count, row_count < my_);
+            do_columns();
+            do_rows();
         }
     }
     kiss_fft_free(row_cfg);
     kiss_fft_free(col_cfg);
+}
+
+std::vector<int> LatticeNufft::mode_lines(int n, int m) {
+    // centred modes -n/2 .. n/2 - 1, wrapped
+    std::vector<int> lines(n);
+    for (int i = 0; i < n; ++i) lines[i] = i < (n + 1) / 2 ? i : m - (n - i);
+    return lines;
+}
+
+std::vector<int> LatticeNufft::touched(const double* x, size_t count, int m) const {
+    std::vector<char> hit(m, 0);
+    const double to_g = m / (2 * M_PI);
+    for (size_t s = 0; s < count; ++s) {
+        const long first = long(std::ceil(x[s] * to_g - 0.5 * w_));
+        for (int i = 0; i < w_; ++i) hit[wrap(first + i, m)] = 1;
+    }
+    std::vector<int> lines;
+    for (int i = 0; i < m; ++i)
+        if (hit[i]) lines.push_back(i);
+    return lines;
 }
 
 // `batch` zeroed grids of `plane` values, kept between calls (no page faults per transform).
@@ -186,6 +205,8 @@ void LatticeNufft::to_lattice(const double* x, const double* y, const cfloat* a,
         }
     }
     const int cx = nx_ / 2, cy = ny_ / 2;
+    // transformed: the rows the points' kernels touch, then the columns of the modes wanted
+    const std::vector<int> rows = touched(y, count, my_), columns = mode_lines(nx_, mx_);
     for (int q = 0; q < batch; ++q) {
         std::vector<cfloat>& one = grid[q];
         // fold the padding back onto the period: the w columns beyond each row, then the w rows
@@ -194,7 +215,7 @@ void LatticeNufft::to_lattice(const double* x, const double* y, const cfloat* a,
             for (int c = mx_; c < mx_ + w_; ++c) one[size_t(r) * stride + c - mx_] += one[size_t(r) * stride + c];
         for (int r = my_; r < my_ + w_; ++r)
             for (int c = 0; c < mx_; ++c) one[size_t(r - my_) * stride + c] += one[size_t(r) * stride + c];
-        fft2d(one, true, my_, nx_);
+        fft2d(one, true, rows, columns);
         cfloat* lattice = lattices[q];
 #pragma omp parallel for schedule(static) num_threads(threads(nthreads_))
         for (int n = 0; n < ny_; ++n)
@@ -210,6 +231,8 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
     const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_);
     const int cx = nx_ / 2, cy = ny_ / 2;
     std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);
+    // transformed: the rows of the modes given, then the columns the points' kernels read
+    const std::vector<int> rows = mode_lines(ny_, my_), columns = touched(x, count, mx_);
     for (int q = 0; q < batch; ++q) {
         std::vector<cfloat>& one = grid[q];
         const cfloat* lattice = lattices[q];
@@ -219,7 +242,7 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
                 const size_t bin = size_t(wrap(n - cy, my_)) * stride + wrap(m - cx, mx_);
                 one[bin] = lattice[size_t(n) * nx_ + m] * float(deconvolve_x_[m] * deconvolve_y_[n]);
             }
-        fft2d(one, true, ny_, mx_);
+        fft2d(one, true, rows, columns);
         // periodic padding: w columns beyond each row, then w rows beyond the last, repeat the start
         for (int r = 0; r < my_; ++r)
             for (int col = mx_; col < mx_ + w_; ++col) one[size_t(r) * stride + col] = one[size_t(r) * stride + col - mx_];

@@ -50,7 +50,12 @@ public:
     double taps_per_point() const { return double(w_) * w_; }
 
 private:
-    void fft2d(std::vector<cfloat>& grid, bool rows_first, int row_count, int column_count) const;
+    void fft2d(std::vector<cfloat>& grid, bool rows_first, const std::vector<int>& rows,
+               const std::vector<int>& columns) const;
+    // The grid lines (of m) that the kernels of points at x (radians per step) touch, and the
+    // lines of the n centred modes.
+    std::vector<int> touched(const double* x, size_t count, int m) const;
+    static std::vector<int> mode_lines(int n, int m);
     int nx_, ny_, mx_, my_, w_, nthreads_;
     double beta_;
     std::vector<double> deconvolve_x_, deconvolve_y_;
