@@ -4,7 +4,7 @@
 // |t| < W: a sinc cut to 2W lattice points by a Kaiser window, which smears the sinc's flat band
 // by about beta / W, so beta = W (pi - nu_max) keeps |nu| <= nu_max flat (Kaiser, "Nonrecursive
 // digital filter design using the I0-sinh window function", IEEE ISCAS 1974; the oversampling
-// argument of docs/fast_summation.md). W is the least (up to 8) whose error, checked here over
+// argument of docs/fast_summation.md). W is the least (up to 24) whose error, checked here over
 // the band and the cell, is within the tolerance. The fast summation's use: rim samples (a cell's
 // open part's centroid) spread onto, or read from, the lattice around them. Internal to core.
 #pragma once

@@ -104,7 +104,7 @@ LatticeLayout lattice_layout(const ApertureSamples& s, const detail::BandLimited
         if (!any) i0 = i1 = i, j0 = j1 = j, any = true;
         i0 = std::min(i0, i), i1 = std::max(i1, i), j0 = std::min(j0, j), j1 = std::max(j1, j);
     };
-    double wx[32], wy[32];
+    double wx[64], wy[64];
     for (size_t k = 0; k < s.size(); ++k) {
         const double fx = s.x[k] / h, fy = s.y[k] / h;
         const long i = std::lround(fx), j = std::lround(fy);
@@ -154,19 +154,60 @@ LatticeLayout lattice_layout(const ApertureSamples& s, const detail::BandLimited
     return L;
 }
 
-// The stencil for a sum over `range` (lattice pitch h, samples within `reach` of the axis): its
-// band is k h times the largest direction component, plus the chirp's slope |grad psi| <= 2 rho
-// reach (ChirpAtCentre). Its error is on the off-lattice samples' terms only: a share `off` /
-// (`on` + `off`) of the sum (rim cells, about 4 / samples across), so the sum keeps within a
-// third of the tolerance, relative to the sum of its terms' sizes, with each of those terms
-// within tolerance / 3 x (on + off) / off, at most 1e-2.
-detail::BandLimitedStencil rim_stencil(const DirectionRange& r, double k, double h, double reach, double on,
-                                       double off, double tolerance) {
+// No stencil: every off-lattice sample summed directly.
+detail::BandLimitedStencil no_stencil() { return {M_PI, 1e-2}; }
+
+// The stencil for a band and error per term; a stencil's choice takes milliseconds and every sum
+// of a frame asks alike: the last few are kept.
+detail::BandLimitedStencil stencil_for(double band, double per_term) {
+    static std::mutex lock;
+    static std::vector<std::pair<std::array<double, 2>, detail::BandLimitedStencil>> known;
+    std::lock_guard<std::mutex> guard(lock);
+    for (const auto& [key, stencil] : known)
+        if (key[0] == band && key[1] == per_term) return stencil;
+    if (known.size() >= 16) known.erase(known.begin());
+    known.push_back({{band, per_term}, detail::BandLimitedStencil(band, per_term)});
+    return known.back().second;
+}
+
+// The stencil for a sum over `range` (lattice pitch h, samples within `reach` of the axis), and
+// the points it serves: those whose direction components stay within `inner` on both axes.
+// A point's band is k h times its largest direction component plus the chirp's slope |grad psi|
+// <= 2 rho reach (ChirpAtCentre). The stencil's error is on the off-lattice samples' terms only:
+// a share off / (on + off) of the sum (rim cells, about 4 / samples across), so the sum keeps
+// within a third of the tolerance, relative to the sum of its terms' sizes, with each of those
+// terms within tolerance / 3 x (on + off) / off, at most 1e-2. Where the range's band is too wide
+// (a frame's margin of sources beyond a lattice sized for the frame), the widest band the stencil
+// serves: the points beyond take the direct terms for their off-lattice samples.
+struct StencilChoice {
+    detail::BandLimitedStencil stencil = no_stencil();
+    double inner = -1;  // largest direction component served (inf: every point; < 0: none)
+};
+StencilChoice choose_stencil(const DirectionRange& r, double k, double h, double reach, double on, double off,
+                             double tolerance) {
     const double u = std::max({std::fabs(r.ux0), std::fabs(r.ux1), std::fabs(r.uy0), std::fabs(r.uy1)});
     const double slope = 2 * std::max(std::fabs(r.rho0), std::fabs(r.rho1)) * reach;
     const double per_term = std::min(1e-2, tolerance / 3 * (on + off) / std::max(1.0, off));
-    return {k * h * (u + slope), per_term};
+    const double band = k * h * (u + slope);
+    StencilChoice c;
+    if (band < M_PI) c.stencil = stencil_for(band, per_term);
+    if (c.stencil.usable()) {
+        c.inner = INFINITY;
+        return c;
+    }
+    for (double narrower : {0.9, 0.8, 0.7, 0.6, 0.5}) {
+        if (narrower * M_PI >= band) continue;
+        c.stencil = stencil_for(narrower * M_PI, per_term);
+        if (c.stencil.usable()) {
+            c.inner = narrower * M_PI / (k * h) - slope;
+            return c;
+        }
+    }
+    return c;
 }
+
+// Whether a point (in-plane direction components) is within the stencil's reach.
+inline bool within(double inner, double ux, double uy) { return std::max(std::fabs(ux), std::fabs(uy)) <= inner; }
 
 // Samples on the lattice and off it (as lattice_layout tells them), and the farthest from the axis.
 struct SampleCount {
@@ -368,8 +409,8 @@ struct SubApertureFrequencies {
             const ChirpAtCentre c = geo.at(q, a.cx, a.cy);
             fx[i] = k * h * (q[0] - c.gx);
             fy[i] = k * h * (q[1] - c.gy);
-            shift[i] = std::polar(1.0, k * (c.psi - c.gx * a.cx - c.gy * a.cy) - (fx[i] * a.i0 + fy[i] * a.j0)) *
-                       nufft.centring(fx[i], fy[i]);
+            shift[i] = std::polar(1.0, k * (c.psi - c.gx * a.cx - c.gy * a.cy) - (fx[i] * a.i0 + fy[i] * a.j0) +
+                                           nufft.centring_phase(fx[i], fy[i]));
         }
     }
 };
@@ -407,19 +448,41 @@ detail::NodeSkeleton box_skeleton(const SumGeometry& geo, const ChebyshevBox& bx
     return detail::node_skeleton(v, rank, n, geo.tolerance / 4);
 }
 
-// Each point's coefficients on the skeleton, sum_q L_q(p) coeff[q][j], into out[i * rank + j]
-// (L_q a product of per-axis values, axis 0 fastest; the skeleton's coefficients split into real
-// and imaginary rows so that the inner loop vectorises).
-void skeleton_coefficients(const AxisWeights& aw, int dims, const detail::NodeSkeleton& sk, size_t count,
-                           int nodes, std::vector<cfloat>& out, int nthreads) {
+// One point's coefficients on up to kBatch skeleton nodes: sum_k L[k] (tr + i ti)[k][q] (the
+// skeleton's coefficients split into real and imaginary, padded to kBatch: one vector of eight
+// per node, written so with GCC's vector extension).
+typedef float Eight __attribute__((vector_size(32)));
+static_assert(kBatch * sizeof(float) == sizeof(Eight));
+__attribute__((target_clones("arch=x86-64-v3", "default")))
+void node_sums(const float* L, int nodes, const Eight* tr, const Eight* ti, Eight& out_re, Eight& out_im) {
+    Eight ar = {}, ai = {};
+    for (int k = 0; k < nodes; ++k) {
+        ar += L[k] * tr[k];
+        ai += L[k] * ti[k];
+    }
+    out_re = ar;
+    out_im = ai;
+}
+
+// Each point's coefficients on skeleton nodes j0 .. j0 + batch - 1, sum_q L_q(p) coeff[q][j],
+// times factor[i] if given, into out[i * batch + j - j0] (L_q a product of per-axis values, axis 0
+// fastest).
+void skeleton_coefficients(const AxisWeights& aw, int dims, const detail::NodeSkeleton& sk, int j0, int batch,
+                           size_t count, int nodes, const cdouble* factor, std::vector<cfloat>& out, int nthreads) {
     const int r = sk.rank();
-    std::vector<float> re(size_t(nodes) * r), im(re.size());
-    for (size_t i = 0; i < re.size(); ++i) re[i] = float(sk.coeff[i].real()), im[i] = float(sk.coeff[i].imag());
-    out.assign(count * r, 0.0f);
+    std::vector<Eight> re(nodes), im(nodes);
+    for (int k = 0; k < nodes; ++k)
+        for (int q = 0; q < kBatch; ++q) {
+            const cdouble t = q < batch ? sk.coeff[size_t(k) * r + j0 + q] : 0.0;
+            re[k][q] = float(t.real());
+            im[k][q] = float(t.imag());
+        }
+    out.resize(count * batch);
     const int n0 = aw.n[0], n1 = dims > 1 ? aw.n[1] : 1, n2 = dims > 2 ? aw.n[2] : 1;
 #pragma omp parallel num_threads(threads(nthreads))
     {
-        std::vector<float> L(nodes), acc_re(r), acc_im(r);
+        std::vector<float> L(nodes);
+        Eight sr, si;
 #pragma omp for schedule(static)
         for (long i = 0; i < long(count); ++i) {
             const float* w = aw.w.data() + size_t(i) * aw.stride;
@@ -429,16 +492,12 @@ void skeleton_coefficients(const AxisWeights& aw, int dims, const detail::NodeSk
                     const float lbc = (dims > 1 ? w[aw.offset[1] + b] : 1.0f) * (dims > 2 ? w[aw.offset[2] + c] : 1.0f);
                     for (int a = 0; a < n0; ++a) L[q++] = lbc * w[aw.offset[0] + a];
                 }
-            std::fill(acc_re.begin(), acc_re.end(), 0.0f);
-            std::fill(acc_im.begin(), acc_im.end(), 0.0f);
-            for (int k = 0; k < nodes; ++k) {
-                const float l = L[k];
-                const float* tr = re.data() + size_t(k) * r;
-                const float* ti = im.data() + size_t(k) * r;
-                for (int j = 0; j < r; ++j) acc_re[j] += l * tr[j], acc_im[j] += l * ti[j];
-            }
-            cfloat* o = out.data() + size_t(i) * r;
-            for (int j = 0; j < r; ++j) o[j] = cfloat(acc_re[j], acc_im[j]);
+            node_sums(L.data(), nodes, re.data(), im.data(), sr, si);
+            cfloat* o = out.data() + size_t(i) * batch;
+            if (factor)
+                for (int j = 0; j < batch; ++j) o[j] = cfloat(factor[i] * cdouble(sr[j], si[j]));
+            else
+                for (int j = 0; j < batch; ++j) o[j] = cfloat(sr[j], si[j]);
         }
     }
 }
@@ -487,16 +546,12 @@ bool fast_sources_to_lattice(const LatticeLayout& L, const ApertureSamples& samp
             const SubApertureFrequencies fr(in, p, geo, part, h, nufft, set.nthreads);
             const detail::NodeSkeleton sk = box_skeleton(geo, bx, {part.cx, part.cy, part.reach});
             const int r = sk.rank();
-            std::vector<cfloat> alpha;
-            skeleton_coefficients(weights[bi], 3, sk, in.size(), bx.rank(), alpha, set.nthreads);
+            std::vector<cdouble> base(in.size());
+            for (size_t i = 0; i < in.size(); ++i) base[i] = b[in[i]] * fr.shift[i];
+            std::vector<cfloat> a;
             for (int j0 = 0; j0 < r; j0 += kBatch) {
                 const int batch = std::min(kBatch, r - j0);
-                std::vector<cfloat> a(in.size() * batch);
-#pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
-                for (long i = 0; i < long(in.size()); ++i) {
-                    const cdouble base = b[in[i]] * fr.shift[i];
-                    for (int q = 0; q < batch; ++q) a[i * batch + q] = cfloat(base * cdouble(alpha[size_t(i) * r + j0 + q]));
-                }
+                skeleton_coefficients(weights[bi], 3, sk, j0, batch, in.size(), bx.rank(), base.data(), a, set.nthreads);
                 nufft.to_lattice(fr.fx.data(), fr.fy.data(), a.data(), batch, in.size(), out.data());
                 for (int q = 0; q < batch; ++q) {
                     const ChirpAtCentre node = geo.at(bx.node(sk.rows[j0 + q]), part.cx, part.cy);
@@ -561,9 +616,7 @@ bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples
             const SubApertureFrequencies fr(in, p, geo, part, h, nufft, set.nthreads);
             const detail::NodeSkeleton sk = box_skeleton(geo, bx, {part.cx, part.cy, part.reach});
             const int r = sk.rank();
-            std::vector<cfloat> alpha;
-            skeleton_coefficients(weights[bi], 2, sk, in.size(), bx.rank(), alpha, set.nthreads);
-            std::vector<cfloat> G(in.size());
+            std::vector<cfloat> G(in.size()), coeff;
             for (int j0 = 0; j0 < r; j0 += kBatch) {
                 const int batch = std::min(kBatch, r - j0);
                 for (int q = 0; q < batch; ++q) {
@@ -576,10 +629,7 @@ bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples
                                           node.remainder(cell_x(part, S, c, h), cell_y(part, S, c, h), 1 / wavelength, 2)
                                     : cfloat(0);
                 }
-                std::vector<cfloat> coeff(in.size() * batch);
-#pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
-                for (long i = 0; i < long(in.size()); ++i)
-                    for (int q = 0; q < batch; ++q) coeff[i * batch + q] = alpha[size_t(i) * r + j0 + q];
+                skeleton_coefficients(weights[bi], 2, sk, j0, batch, in.size(), bx.rank(), nullptr, coeff, set.nthreads);
                 nufft.from_lattice(lattices.data(), batch, fr.fx.data(), fr.fy.data(), coeff.data(), in.size(),
                                    G.data());
 #pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
@@ -728,14 +778,29 @@ SummationWork plan_work(double lattice_samples, int samples_across, double off_l
         return d;
     };
     // off-lattice samples through the stencil where the band allows: their stencils' cells join
-    // the lattice (about one row of `width` per rim sample), their spreading costs little
-    const detail::BandLimitedStencil stencil =
-        rim_stencil(range, 2 * M_PI / wavelength, h, a, lattice_samples, off_lattice, tolerance);
-    const double width = stencil.width();
-    SummationWork f = cheapest_division(geometry_of(film, wavelength, tolerance, range), range, n, n,
-                                        lattice_samples + (stencil.usable() ? off_lattice * width : 0.0),
-                                        stencil.usable() ? 0.0 : off_lattice, points, discs_for);
-    if (stencil.usable()) f.fast += off_lattice * width * width * kMacCost;
+    // the lattice (about one row of `width` per rim sample), their spreading costs little; points
+    // beyond its reach (as a share of the range's area) take them directly, with transforms of
+    // their own
+    const StencilChoice sc = choose_stencil(range, 2 * M_PI / wavelength, h, a, lattice_samples, off_lattice, tolerance);
+    const double width = sc.stencil.width();
+    double outside = 1;
+    if (sc.inner > 0) {
+        const double sx = std::max(std::fabs(range.ux0), std::fabs(range.ux1)),
+                     sy = std::max(std::fabs(range.uy0), std::fabs(range.uy1));
+        outside = 1 - std::min(1.0, sc.inner / std::max(sx, 1e-12)) * std::min(1.0, sc.inner / std::max(sy, 1e-12));
+    }
+    const SumGeometry geo = geometry_of(film, wavelength, tolerance, range);
+    SummationWork f = cheapest_division(geo, range, n, n, lattice_samples + (sc.inner > 0 ? off_lattice * width : 0.0),
+                                        sc.inner > 0 ? 0.0 : off_lattice, points, discs_for);
+    if (sc.inner > 0) {
+        f.fast += off_lattice * width * width * kMacCost;
+        if (outside > 0) {
+            const SummationWork o = cheapest_division(geo, range, n, n, lattice_samples, off_lattice, outside * points,
+                                                      discs_for);
+            f.fast += o.fast;
+            f.nufft_count += o.nufft_count;
+        }
+    }
     f.direct = w.direct;
     return f;
 }
@@ -756,6 +821,65 @@ bool use_fast(const SummationSettings& s, const SummationWork& w) {
     return s.method == Summation::Nufft || (s.method == Summation::Fast && w.fast < w.direct);
 }
 
+namespace {
+
+// Sum 1 through the lattice laid out as L (off-lattice samples the stencil does not take summed
+// directly), added to `field`.
+bool fast_illuminate(const ApertureSamples& samples, const LatticeLayout& L, const std::vector<PointSource>& sources,
+                     double wavelength, int blocks, const SummationSettings& set, PinholeField& field,
+                     const ProgressFn& progress) {
+    PinholeField off;
+    const double share = double(L.off.size()) / std::max<double>(1, samples.size()) * 0.5;
+    if (!illuminate_pinhole(L.off, sources, wavelength, off, set.nthreads, progress_part(progress, 0, share)))
+        return false;
+    std::vector<cdouble> U;
+    if (L.nx > 0 &&
+        !fast_sources_to_lattice(L, samples, sources, wavelength, blocks, set, U, progress_part(progress, share, 1)))
+        return false;
+    auto add = [&](size_t j, cdouble u) {
+        const cdouble v = u * (double(samples.weight[j]) / wavelength);
+        field.re[j] += float(v.real());
+        field.im[j] += float(v.imag());
+    };
+    for (size_t j = 0; j < samples.size(); ++j)
+        if (L.cell[j] >= 0) add(j, U[L.cell[j]]);
+    for (size_t i = 0; i < L.spread_index.size(); ++i) {
+        const double* wx = L.spread_wx.data() + i * L.width;
+        const double* wy = L.spread_wy.data() + i * L.width;
+        cdouble u = 0;
+        for (int b = 0; b < L.width; ++b) {
+            const cdouble* row = U.data() + L.spread_cell[i] + long(b) * L.nx;
+            cdouble v = 0;
+            for (int a = 0; a < L.width; ++a) v += wx[a] * row[a];
+            u += wy[b] * v;
+        }
+        add(L.spread_index[i], u);
+    }
+    for (size_t i = 0; i < L.off_index.size(); ++i) {
+        field.re[L.off_index[i]] += off.re[i];
+        field.im[L.off_index[i]] += off.im[i];
+    }
+    return true;
+}
+
+// Sum 2 through the lattice laid out as L, added to `film_field`.
+bool fast_film(const ApertureSamples& samples, const LatticeLayout& L, const PinholeField& field,
+               const FilmPoints& film, double wavelength, int blocks, const SummationSettings& set,
+               cdouble* film_field, const ProgressFn& progress) {
+    PinholeField off;
+    for (size_t i = 0; i < L.off_index.size(); ++i) {
+        off.re.push_back(field.re[L.off_index[i]]);
+        off.im.push_back(field.im[L.off_index[i]]);
+    }
+    const double share = double(L.off.size()) / std::max<double>(1, samples.size()) * 0.5;
+    if (!add_film_field(L.off, off, film, wavelength, film_field, set.nthreads, progress_part(progress, 0, share)))
+        return false;
+    return L.nx == 0 ||
+           fast_lattice_to_film(L, samples, field, film, wavelength, blocks, set, film_field, progress_part(progress, share, 1));
+}
+
+}  // namespace
+
 bool illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointSource>& sources, double wavelength,
                         PinholeField& field, const SummationSettings& set, const ProgressFn& progress) {
     if (set.method == Summation::Direct || sources.empty() || samples.size() == 0)
@@ -768,49 +892,31 @@ bool illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointS
     const DirectionRange range = set.fixed_range ? set.range : range_of(p, 3);
     const double k = 2 * M_PI / wavelength;
     const SampleCount n = count_samples(samples);
-    const LatticeLayout L =
-        lattice_layout(samples, rim_stencil(range, k, samples.pitch, n.reach, n.on, n.off, set.tolerance));
+    const StencilChoice sc = choose_stencil(range, k, samples.pitch, n.reach, n.on, n.off, set.tolerance);
+    // the sources the stencil serves, and the rest
+    std::vector<PointSource> inner, outer;
+    for (size_t s = 0; s < sources.size(); ++s) (within(sc.inner, p[s][0], p[s][1]) ? inner : outer).push_back(sources[s]);
+    const LatticeLayout L = lattice_layout(samples, sc.stencil);
     SummationWork w;
     w.blocks = set.blocks;
     if (set.method == Summation::Fast || (set.blocks == 0 && L.nx > 0)) {
-        w = work_of(L, samples.pitch, double(sources.size()), range, wavelength, false, set.tolerance);
+        w = work_of(L, samples.pitch, double(inner.size()), range, wavelength, false, set.tolerance);
+        if (!outer.empty()) {
+            const SummationWork o = work_of(lattice_layout(samples, no_stencil()), samples.pitch, double(outer.size()), range,
+                                            wavelength, false, set.tolerance);
+            w.fast += o.fast;
+            w.direct += o.direct;
+        }
         if (!use_fast(set, w)) return illuminate_pinhole(samples, sources, wavelength, field, set.nthreads, progress);
     }
-    // the direct part first (off-lattice samples the stencil cannot reach), then the lattice's NUFFTs
-    PinholeField off;
-    const double share = double(L.off.size()) / std::max<double>(1, samples.size()) * 0.5;
-    if (!illuminate_pinhole(L.off, sources, wavelength, off, set.nthreads, progress_part(progress, 0, share)))
-        return false;
-    std::vector<cdouble> U;
-    if (L.nx > 0 &&
-        !fast_sources_to_lattice(L, samples, sources, wavelength, w.blocks, set, U, progress_part(progress, share, 1)))
-        return false;
     field.re.assign(samples.size(), 0.0f);
     field.im.assign(samples.size(), 0.0f);
-    auto put = [&](size_t j, cdouble u) {
-        const cdouble v = u * (double(samples.weight[j]) / wavelength);
-        field.re[j] = float(v.real());
-        field.im[j] = float(v.imag());
-    };
-    for (size_t j = 0; j < samples.size(); ++j)
-        if (L.cell[j] >= 0) put(j, U[L.cell[j]]);
-    for (size_t i = 0; i < L.spread_index.size(); ++i) {
-        const double* wx = L.spread_wx.data() + i * L.width;
-        const double* wy = L.spread_wy.data() + i * L.width;
-        cdouble u = 0;
-        for (int b = 0; b < L.width; ++b) {
-            const cdouble* row = U.data() + L.spread_cell[i] + long(b) * L.nx;
-            cdouble v = 0;
-            for (int a = 0; a < L.width; ++a) v += wx[a] * row[a];
-            u += wy[b] * v;
-        }
-        put(L.spread_index[i], u);
-    }
-    for (size_t i = 0; i < L.off_index.size(); ++i) {
-        field.re[L.off_index[i]] = off.re[i];
-        field.im[L.off_index[i]] = off.im[i];
-    }
-    return true;
+    if (outer.empty()) return fast_illuminate(samples, L, sources, wavelength, w.blocks, set, field, progress);
+    const double split = double(inner.size()) / sources.size();
+    return (inner.empty() ||
+            fast_illuminate(samples, L, inner, wavelength, w.blocks, set, field, progress_part(progress, 0, split))) &&
+           fast_illuminate(samples, lattice_layout(samples, no_stencil()), outer, wavelength, w.blocks, set, field,
+                           progress_part(progress, split, 1));
 }
 
 bool add_film_field(const ApertureSamples& samples, const PinholeField& field, const FilmPoints& film,
@@ -820,37 +926,58 @@ bool add_film_field(const ApertureSamples& samples, const PinholeField& field, c
         return add_film_field(samples, field, film, wavelength, film_field, set.nthreads, progress);
     DirectionRange range;
     const double f = film.film_distance;
-    if (set.fixed_range) {
-        range = set.range;
-    } else {
-        for (size_t t = 0; t < film.size(); ++t) {
-            const double R = std::sqrt(double(film.x[t]) * film.x[t] + double(film.y[t]) * film.y[t] + f * f);
-            range.ux0 = std::min(range.ux0, film.x[t] / R), range.ux1 = std::max(range.ux1, film.x[t] / R);
-            range.uy0 = std::min(range.uy0, film.y[t] / R), range.uy1 = std::max(range.uy1, film.y[t] / R);
-        }
-        range.rho0 = range.rho1 = 1.0 / f;
+    std::vector<std::array<double, 2>> u(film.size());
+    for (size_t t = 0; t < film.size(); ++t) {
+        const double R = std::sqrt(double(film.x[t]) * film.x[t] + double(film.y[t]) * film.y[t] + f * f);
+        u[t] = {film.x[t] / R, film.y[t] / R};
+        range.ux0 = std::min(range.ux0, u[t][0]), range.ux1 = std::max(range.ux1, u[t][0]);
+        range.uy0 = std::min(range.uy0, u[t][1]), range.uy1 = std::max(range.uy1, u[t][1]);
     }
+    range.rho0 = range.rho1 = 1.0 / f;
+    if (set.fixed_range) range = set.range;
     const double k = 2 * M_PI / wavelength;
     const SampleCount n = count_samples(samples);
-    const LatticeLayout L =
-        lattice_layout(samples, rim_stencil(range, k, samples.pitch, n.reach, n.on, n.off, set.tolerance));
+    const StencilChoice sc = choose_stencil(range, k, samples.pitch, n.reach, n.on, n.off, set.tolerance);
+    // the film points the stencil serves, and the rest
+    std::vector<size_t> outer;
+    for (size_t t = 0; t < film.size(); ++t)
+        if (!within(sc.inner, u[t][0], u[t][1])) outer.push_back(t);
+    const LatticeLayout L = lattice_layout(samples, sc.stencil);
     SummationWork w;
     w.blocks = set.blocks;
     if (set.method == Summation::Fast || (set.blocks == 0 && L.nx > 0)) {
-        w = work_of(L, samples.pitch, double(film.size()), range, wavelength, true, set.tolerance);
+        w = work_of(L, samples.pitch, double(film.size() - outer.size()), range, wavelength, true, set.tolerance);
+        if (!outer.empty()) {
+            const SummationWork o = work_of(lattice_layout(samples, no_stencil()), samples.pitch, double(outer.size()), range,
+                                            wavelength, true, set.tolerance);
+            w.fast += o.fast;
+            w.direct += o.direct;
+        }
         if (!use_fast(set, w))
             return add_film_field(samples, field, film, wavelength, film_field, set.nthreads, progress);
     }
-    PinholeField off;
-    for (size_t i = 0; i < L.off_index.size(); ++i) {
-        off.re.push_back(field.re[L.off_index[i]]);
-        off.im.push_back(field.im[L.off_index[i]]);
+    if (outer.empty()) return fast_film(samples, L, field, film, wavelength, w.blocks, set, film_field, progress);
+    // two passes over subsets of the points, their results put back in place
+    FilmPoints parts[2];
+    std::vector<size_t> index[2];
+    for (size_t t = 0, o = 0; t < film.size(); ++t) {
+        const int which = o < outer.size() && outer[o] == t ? (++o, 1) : 0;
+        parts[which].x.push_back(film.x[t]);
+        parts[which].y.push_back(film.y[t]);
+        index[which].push_back(t);
     }
-    const double share = double(L.off.size()) / std::max<double>(1, samples.size()) * 0.5;
-    if (!add_film_field(L.off, off, film, wavelength, film_field, set.nthreads, progress_part(progress, 0, share)))
-        return false;
-    return L.nx == 0 ||
-           fast_lattice_to_film(L, samples, field, film, wavelength, w.blocks, set, film_field, progress_part(progress, share, 1));
+    const double split = double(parts[0].size()) / film.size();
+    const LatticeLayout direct_rim = lattice_layout(samples, no_stencil());
+    for (int which = 0; which < 2; ++which) {
+        parts[which].film_distance = f;
+        if (parts[which].size() == 0) continue;
+        std::vector<cdouble> out(parts[which].size(), 0.0);
+        if (!fast_film(samples, which == 0 ? L : direct_rim, field, parts[which], wavelength, w.blocks, set, out.data(),
+                       progress_part(progress, which == 0 ? 0 : split, which == 0 ? split : 1)))
+            return false;
+        for (size_t i = 0; i < out.size(); ++i) film_field[index[which][i]] += out[i];
+    }
+    return true;
 }
 
 bool accumulate_film_irradiance(const ApertureSamples& samples, const PinholeField& field, const FilmPoints& film,

@@ -35,6 +35,7 @@ public:
     // exp(-i (cx x + cy y)), cx = nx / 2, cy = ny / 2: the modes are centred, m - cx, and this
     // phase of each point is the caller's, applied once per point rather than per transform.
     std::complex<double> centring(double x, double y) const;
+    double centring_phase(double x, double y) const { return -((nx_ / 2) * x + (ny_ / 2) * y); }
 
     // Type 1 for `batch` strength sets at once (the kernel weights of a point computed once):
     // lattices[q][n * nx + m] = sum_s a[s * batch + q] exp(-i ((m - cx) x[s] + (n - cy) y[s])).
