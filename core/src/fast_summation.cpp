@@ -789,17 +789,22 @@ SummationWork plan_work(double lattice_samples, int samples_across, double off_l
                      sy = std::max(std::fabs(range.uy0), std::fabs(range.uy1));
         outside = 1 - std::min(1.0, sc.inner / std::max(sx, 1e-12)) * std::min(1.0, sc.inner / std::max(sy, 1e-12));
     }
+    // the rim direct for every point, or the stencil (with the split) where it is cheaper
     const SumGeometry geo = geometry_of(film, wavelength, tolerance, range);
-    SummationWork f = cheapest_division(geo, range, n, n, lattice_samples + (sc.inner > 0 ? off_lattice * width : 0.0),
-                                        sc.inner > 0 ? 0.0 : off_lattice, points, discs_for);
+    SummationWork f = cheapest_division(geo, range, n, n, lattice_samples, off_lattice, points, discs_for);
+    f.stencil = false;
     if (sc.inner > 0) {
-        f.fast += off_lattice * width * width * kMacCost;
+        SummationWork s = cheapest_division(geo, range, n, n, lattice_samples + off_lattice * width, 0.0,
+                                            (1 - outside) * points, discs_for);
+        s.fast += off_lattice * width * width * kMacCost;
         if (outside > 0) {
             const SummationWork o = cheapest_division(geo, range, n, n, lattice_samples, off_lattice, outside * points,
                                                       discs_for);
-            f.fast += o.fast;
-            f.nufft_count += o.nufft_count;
+            s.fast += o.fast;
+            s.nufft_count += o.nufft_count;
         }
+        s.stencil = true;
+        if (s.fast < f.fast) f = s;
     }
     f.direct = w.direct;
     return f;
@@ -896,27 +901,35 @@ bool illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointS
     // the sources the stencil serves, and the rest
     std::vector<PointSource> inner, outer;
     for (size_t s = 0; s < sources.size(); ++s) (within(sc.inner, p[s][0], p[s][1]) ? inner : outer).push_back(sources[s]);
-    const LatticeLayout L = lattice_layout(samples, sc.stencil);
+    const LatticeLayout with = lattice_layout(samples, sc.stencil), without = lattice_layout(samples, no_stencil());
+    // the stencil where it serves any source and (deciding here) costs less than direct rim terms
+    bool stencil = sc.inner > 0 && !inner.empty() && set.stencil;
     SummationWork w;
     w.blocks = set.blocks;
-    if (set.method == Summation::Fast || (set.blocks == 0 && L.nx > 0)) {
-        w = work_of(L, samples.pitch, double(inner.size()), range, wavelength, false, set.tolerance);
-        if (!outer.empty()) {
-            const SummationWork o = work_of(lattice_layout(samples, no_stencil()), samples.pitch, double(outer.size()), range,
-                                            wavelength, false, set.tolerance);
-            w.fast += o.fast;
-            w.direct += o.direct;
+    if (set.method == Summation::Fast || (set.blocks == 0 && with.nx > 0)) {
+        const SummationWork none = work_of(without, samples.pitch, double(sources.size()), range, wavelength, false,
+                                           set.tolerance);
+        SummationWork split = none;
+        if (stencil) {
+            split = work_of(with, samples.pitch, double(inner.size()), range, wavelength, false, set.tolerance);
+            if (!outer.empty()) {
+                const SummationWork o =
+                    work_of(without, samples.pitch, double(outer.size()), range, wavelength, false, set.tolerance);
+                split.fast += o.fast;
+                split.direct += o.direct;
+            }
         }
+        stencil = stencil && split.fast < none.fast;
+        w = stencil ? split : none;
         if (!use_fast(set, w)) return illuminate_pinhole(samples, sources, wavelength, field, set.nthreads, progress);
     }
     field.re.assign(samples.size(), 0.0f);
     field.im.assign(samples.size(), 0.0f);
-    if (outer.empty()) return fast_illuminate(samples, L, sources, wavelength, w.blocks, set, field, progress);
+    if (!stencil) return fast_illuminate(samples, without, sources, wavelength, w.blocks, set, field, progress);
+    if (outer.empty()) return fast_illuminate(samples, with, sources, wavelength, w.blocks, set, field, progress);
     const double split = double(inner.size()) / sources.size();
-    return (inner.empty() ||
-            fast_illuminate(samples, L, inner, wavelength, w.blocks, set, field, progress_part(progress, 0, split))) &&
-           fast_illuminate(samples, lattice_layout(samples, no_stencil()), outer, wavelength, w.blocks, set, field,
-                           progress_part(progress, split, 1));
+    return fast_illuminate(samples, with, inner, wavelength, w.blocks, set, field, progress_part(progress, 0, split)) &&
+           fast_illuminate(samples, without, outer, wavelength, w.blocks, set, field, progress_part(progress, split, 1));
 }
 
 bool add_film_field(const ApertureSamples& samples, const PinholeField& field, const FilmPoints& film,
@@ -942,21 +955,32 @@ bool add_film_field(const ApertureSamples& samples, const PinholeField& field, c
     std::vector<size_t> outer;
     for (size_t t = 0; t < film.size(); ++t)
         if (!within(sc.inner, u[t][0], u[t][1])) outer.push_back(t);
-    const LatticeLayout L = lattice_layout(samples, sc.stencil);
+    const LatticeLayout with = lattice_layout(samples, sc.stencil), without = lattice_layout(samples, no_stencil());
+    // the stencil where it serves any point and (deciding here) costs less than direct rim terms
+    bool stencil = sc.inner > 0 && outer.size() < film.size() && set.stencil;
     SummationWork w;
     w.blocks = set.blocks;
-    if (set.method == Summation::Fast || (set.blocks == 0 && L.nx > 0)) {
-        w = work_of(L, samples.pitch, double(film.size() - outer.size()), range, wavelength, true, set.tolerance);
-        if (!outer.empty()) {
-            const SummationWork o = work_of(lattice_layout(samples, no_stencil()), samples.pitch, double(outer.size()), range,
-                                            wavelength, true, set.tolerance);
-            w.fast += o.fast;
-            w.direct += o.direct;
+    if (set.method == Summation::Fast || (set.blocks == 0 && with.nx > 0)) {
+        const SummationWork none = work_of(without, samples.pitch, double(film.size()), range, wavelength, true,
+                                           set.tolerance);
+        SummationWork split = none;
+        if (stencil) {
+            split = work_of(with, samples.pitch, double(film.size() - outer.size()), range, wavelength, true,
+                            set.tolerance);
+            if (!outer.empty()) {
+                const SummationWork o =
+                    work_of(without, samples.pitch, double(outer.size()), range, wavelength, true, set.tolerance);
+                split.fast += o.fast;
+                split.direct += o.direct;
+            }
         }
+        stencil = stencil && split.fast < none.fast;
+        w = stencil ? split : none;
         if (!use_fast(set, w))
             return add_film_field(samples, field, film, wavelength, film_field, set.nthreads, progress);
     }
-    if (outer.empty()) return fast_film(samples, L, field, film, wavelength, w.blocks, set, film_field, progress);
+    if (!stencil) return fast_film(samples, without, field, film, wavelength, w.blocks, set, film_field, progress);
+    if (outer.empty()) return fast_film(samples, with, field, film, wavelength, w.blocks, set, film_field, progress);
     // two passes over subsets of the points, their results put back in place
     FilmPoints parts[2];
     std::vector<size_t> index[2];
@@ -967,12 +991,11 @@ bool add_film_field(const ApertureSamples& samples, const PinholeField& field, c
         index[which].push_back(t);
     }
     const double split = double(parts[0].size()) / film.size();
-    const LatticeLayout direct_rim = lattice_layout(samples, no_stencil());
     for (int which = 0; which < 2; ++which) {
         parts[which].film_distance = f;
         if (parts[which].size() == 0) continue;
         std::vector<cdouble> out(parts[which].size(), 0.0);
-        if (!fast_film(samples, which == 0 ? L : direct_rim, field, parts[which], wavelength, w.blocks, set, out.data(),
+        if (!fast_film(samples, which == 0 ? with : without, field, parts[which], wavelength, w.blocks, set, out.data(),
                        progress_part(progress, which == 0 ? 0 : split, which == 0 ? split : 1)))
             return false;
         for (size_t i = 0; i < out.size(); ++i) film_field[index[which][i]] += out[i];

@@ -321,6 +321,7 @@ SumPlan plan_sums(const DiffractionSettings& s, const SceneSum& sum, const Pinho
         set = given;
         set.method = fast ? Summation::Nufft : Summation::Direct;
         set.blocks = w.blocks;
+        set.stencil = w.stencil;
         return fast ? w.fast : w.direct;
     };
     plan.in_work = pick(in, plan.in);

@@ -48,6 +48,9 @@ struct SummationSettings {
     // Sub-apertures per side the lattice is cut into (each expanded about its centre), or 0: the
     // cheapest by summation_work, chosen here. A job's shares are given the job's choice.
     int blocks = 0;
+    // With blocks given: whether off-lattice samples go through the band-limited stencil where it
+    // reaches (else all direct), as summation_work chose for the job.
+    bool stencil = true;
 };
 
 // propagation.h's sums through `settings.method`.
@@ -67,6 +70,7 @@ struct SummationWork {
     double direct = 0, fast = 0;
     int nufft_count = 0;  // the fast path's transforms (interpolation nodes x sub-apertures)
     int blocks = 1;       // the cheapest division: blocks x blocks sub-apertures
+    bool stencil = true;  // off-lattice samples through the stencil (where it reaches) rather than direct
 };
 SummationWork summation_work(double lattice_samples, int samples_across, double off_lattice, double points,
                              const DirectionRange& range, double aperture_radius, double wavelength,
