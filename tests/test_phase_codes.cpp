@@ -110,8 +110,8 @@ Deviation against_fast(const std::vector<float>& random_phase, const std::vector
 }  // namespace
 
 // The issue's measure: 48 x 48 uniform wall, 0.2 mm, 3 wavelengths, 16 runs, here at f = 50 mm
-// over 10 degrees (the Airy radius about one pixel). Measured: independent phases 6.0%, coded
-// 2.5% (interior pixels), the mean +0.25%. Bounds: coded at most half the paper's and 3%, the
+// over 10 degrees (the Airy radius about one pixel). Measured: independent phases 5.5%, coded
+// 2.35% (interior pixels), the mean +0.25%. Bounds: coded at most half the paper's and 3%, the
 // mean within 1% of the fast path's. The issue asks 2%: the residual is the same-class pairs'
 // (docs/phase_codes.md), and no choice of phases over 16 runs removes it where the PSF spans more
 // pixels than there are runs (the Welch bound, there).
@@ -132,8 +132,10 @@ TEST(PhaseCode, UniformWallAtSixteenRunsLeavesHalfThePapersSpeckle) {
 }
 
 // A textured scene (random grey pixels 0.1 .. 1, the same camera) at 16 runs against the fast
-// path (the difference's RMS over the mean). Measured: coded 4.2%, independent 6.9%. The issue
-// asks 3%; bound here: 5% and below the paper's phases.
+// path (the difference's RMS over the mean): the issue's 3%. Measured: coded 2.7%, independent
+// 5.8%. (With 2 x 2 film points a pixel, the earlier default, 4.2%: 3.4% of it was the points'
+// poor average of each pixel, pixel_average.h, seen with the infinite-run limit, the incoherent
+// method, against the fast path.)
 TEST(PhaseCode, TexturedSceneAtSixteenRunsIsCloserToTheFastPathThanThePapers) {
     std::mt19937 rng(11);
     std::uniform_real_distribution<float> u(0.1f, 1.0f);
@@ -146,6 +148,6 @@ TEST(PhaseCode, TexturedSceneAtSixteenRunsIsCloserToTheFastPathThanThePapers) {
     std::printf("textured scene, 16 runs: coded phases %.2f%% RMS off the fast path (per pixel %.2f%%), independent "
                 "%.2f%% (%.2f%%)\n",
                 100 * coded.rms_of_mean, 100 * coded.rms, 100 * independent.rms_of_mean, 100 * independent.rms);
-    EXPECT_LE(coded.rms_of_mean, 0.05);
-    EXPECT_LT(coded.rms_of_mean, 0.75 * independent.rms_of_mean);
+    EXPECT_LE(coded.rms_of_mean, 0.03);
+    EXPECT_LT(coded.rms_of_mean, 0.6 * independent.rms_of_mean);
 }

@@ -1,7 +1,8 @@
-// Two parts of the fast summation checked on their own against independent math
+// Parts of the exact method's evaluation checked on their own against independent math
 // (docs/fast_summation.md): the interpolative decomposition of node functions
-// (core/src/node_skeleton.h) and the band-limited stencil that reads and spreads off-lattice
-// samples (core/src/band_limited_stencil.h).
+// (core/src/node_skeleton.h), the band-limited stencil that reads and spreads off-lattice
+// samples (core/src/band_limited_stencil.h), and the film points' average of a pixel
+// (core/src/pixel_average.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +12,7 @@
 
 #include "band_limited_stencil.h"
 #include "node_skeleton.h"
+#include "pixel_average.h"
 
 using wavecam::detail::BandLimitedStencil;
 using wavecam::detail::node_skeleton;
@@ -96,4 +98,32 @@ TEST(BandLimitedStencil, InterpolatesEveryFrequencyInItsBand) {
     }
     EXPECT_FALSE(BandLimitedStencil(0.95 * M_PI, 1e-3).usable());
     EXPECT_FALSE(BandLimitedStencil(M_PI, 1e-2).usable());
+}
+
+// n points per pixel side against the pixel's area average, for fringes cos(2 pi f x + a) of
+// every phase: the largest difference over frequencies up to the cutoff, weighted by a circular
+// pupil's OTF, is what pixel_average_error states (to the grid's resolution); and it falls as
+// points are added.
+TEST(PixelAverage, StatesTheMidpointRulesErrorOverTheOpticsBand) {
+    for (double pfc : {0.3, 1.32, 5.6}) {
+        double last = INFINITY;
+        for (int n : {1, 2, 4, 8}) {
+            double worst = 0;
+            for (int i = 1; i <= 200; ++i) {
+                const double nu = i / 200.0, x = pfc * nu;  // x = f p
+                const double otf = 2 / M_PI * (std::acos(nu) - nu * std::sqrt(1 - nu * nu));
+                for (double a : {0.0, 0.7, 1.9}) {
+                    // exact pixel average of cos(2 pi x t + a), t in [-1/2, 1/2]: by its antiderivative
+                    const double exact = (std::sin(M_PI * x + a) - std::sin(-M_PI * x + a)) / (2 * M_PI * x);
+                    double points = 0;
+                    for (int j = 0; j < n; ++j) points += std::cos(2 * M_PI * x * ((j + 0.5) / n - 0.5) + a) / n;
+                    worst = std::max(worst, std::fabs(points - exact) * otf);
+                }
+            }
+            const double stated = wavecam::detail::pixel_average_error(n, pfc);
+            EXPECT_NEAR(stated, worst, 0.02 * stated + 1e-3) << pfc << " " << n;
+            EXPECT_LE(stated, last + 1e-9) << pfc << " " << n;
+            last = stated;
+        }
+    }
 }
