@@ -165,9 +165,7 @@ std::vector<std::vector<cfloat>>& LatticeNufft::workspace(int batch, size_t plan
     return grids_;
 }
 
-std::complex<double> LatticeNufft::centring(double x, double y) const {
-    return std::polar(1.0, -((nx_ / 2) * x + (ny_ / 2) * y));
-}
+std::complex<double> LatticeNufft::centring(double x, double y) const { return std::polar(1.0, centring_phase(x, y)); }
 
 void LatticeNufft::to_lattice(const double* x, const double* y, const cfloat* a, int batch, size_t count,
                               cfloat* const* lattices) const {

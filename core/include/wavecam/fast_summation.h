@@ -4,12 +4,15 @@
 //   - each path length is split exactly as r = R - u.xi + psi(u, 1/R, xi): the linear part is a
 //     Fourier kernel on the pinhole lattice, summed by a gridding NUFFT (type 1 from the sources,
 //     type 2 to the film points);
-//   - the rest, exp(i k psi) (R/r)^m, is smooth in the source's or film point's direction and
-//     inverse distance: it is interpolated over Chebyshev nodes in those parameters (boxes split
-//     until a few nodes per axis reach the tolerance), one NUFFT per node;
-//   - samples off the lattice (rim cells' centroids, grey masks, sieve holes) are summed directly.
-// The stated error: relative error of each sum's terms within `tolerance` from the interpolation
-// plus the NUFFT's own, checked against the direct sums in tests/test_fast_summation.cpp.
+//   - the lattice is cut into sub-apertures; on each, psi's value and slope at its centre are
+//     exact per point (a phase, a shift of the point's frequency), and the quadratic remainder,
+//     smooth in the point's direction and inverse distance, is interpolated over Chebyshev nodes
+//     whose chirps are compressed to a few skeleton nodes, one NUFFT each;
+//   - samples off the lattice (rim cells' centroids) are read from or spread onto the lattice with
+//     a band-limited stencil where the lattice's band leaves room, else summed directly (grey
+//     masks and sieves, all samples off it, take the stencil only at the full tolerance).
+// The stated error: each sum within `tolerance` of the direct one, relative to the sum of its
+// terms' sizes, checked against the direct sums in tests/test_fast_summation.cpp.
 #pragma once
 #include <complex>
 #include <vector>
