@@ -253,7 +253,8 @@ TEST(Plugin, EveryFailureReachesPythonWithThePluginsMessage) {
 // One order for both fronts (README "Settings: one order"): the source's wavecam.KEY metadata
 // over the defaults, a description file over the metadata, the user's flags or hints over both.
 // The same file through `wavecam apply` and through oiiotool is the same image: bit for bit for
-// the exact method (tolerance 0); the fast method to the float rounding the first test explains.
+// the exact method's direct sums (tolerance 0; its default fast summation rounds as the fast
+// path does); the fast method to the float rounding the first test explains.
 namespace {
 // Read afresh: these files are rewritten under the same name within a second, and the shared
 // ImageCache would hand back the first one's pixels and header.
@@ -275,6 +276,7 @@ void write_tagged(const fs::path& path, const std::string& method) {
     spec.attribute("wavecam.film-subsamples", 1);
     spec.attribute("wavecam.seed", "7");
     spec.attribute("wavecam.method", method);
+    spec.attribute("wavecam.summation", "direct");
     ASSERT_TRUE(b.write(path.string()));
 }
 }  // namespace
@@ -366,6 +368,7 @@ TEST(Plugin, AnOutputReadBackAsInputKeepsItsSettings) {
     auto r = run_command(std::string(WAVECAM_BINARY) + " apply " + (dir / "in.exr").string() + " -o " +
                          (dir / "first.exr").string() +
                          " --pinhole 0.2mm --film-distance 20mm --wavelengths 3 --method exact --runs 2 --seed 5"
+                         " --summation direct"
                          " --aperture polygon:6:30deg --no-vignetting --output-colorspace ACEScg --overscan 1 --film-subsamples 1");
     ASSERT_EQ(r.status, 0) << r.output;
     r = run_command(std::string(WAVECAM_BINARY) + " apply " + (dir / "first.exr").string() + " -o " +
@@ -376,7 +379,7 @@ TEST(Plugin, AnOutputReadBackAsInputKeepsItsSettings) {
     const OIIO::ImageBuf first = read_float(dir / "first.exr"), again = read_float(dir / "again.exr"),
                          plugin = read_float(dir / "plugin.exr");
     for (const char* key : {"pinhole", "aperture", "film-distance", "wavelengths", "method", "runs", "seed", "jitter",
-                            "vignetting", "depth", "output-colorspace", "fov", "film-subsamples"}) {
+                            "vignetting", "depth", "output-colorspace", "fov", "film-subsamples", "summation"}) {
         const std::string name = std::string("wavecam.") + key;
         ASSERT_NE(first.spec().find_attribute(name), nullptr) << name;
         for (const OIIO::ImageBuf* out : {&again, &plugin})
