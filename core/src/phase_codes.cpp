@@ -32,6 +32,47 @@ PhaseCode::PhaseCode(int runs) : runs_(std::max(1, runs)), step_(1), spacing_(1)
         if (d > best) best = d, step_ = g;
     }
     spacing_ = std::sqrt(double(best));
+    // a reduced (Lagrange-Gauss) basis of {(i, j): i + g j = 0 mod K}, from (K, 0) and (-g, 1)
+    // (a the shorter; b reduced against it until it is no shorter: each pass shortens b)
+    long ax = -step_, ay = 1, bx = K, by = 0;
+    for (;;) {
+        if (ax * ax + ay * ay > bx * bx + by * by) std::swap(ax, bx), std::swap(ay, by);
+        const long q = std::lround(double(ax * bx + ay * by) / double(ax * ax + ay * ay));
+        bx -= q * ax, by -= q * ay;
+        if (bx * bx + by * by >= ax * ax + ay * ay) break;
+    }
+    b1x_ = ax, b1y_ = ay, b2x_ = bx, b2y_ = by;
+    while (colours_ * 2 <= std::min<long>(K, 16)) colours_ *= 2;
+}
+
+void PhaseCode::cell(long i, long j, long& u, long& v) const {
+    // lattice coordinates of (i, j), then the nearest of the four lattice points around them
+    // (ties to the smaller (distance, u, v): the same rule everywhere, so the cells tile)
+    const double det = double(b1x_) * b2y_ - double(b1y_) * b2x_;
+    const double fu = (double(i) * b2y_ - double(j) * b2x_) / det, fv = (double(j) * b1x_ - double(i) * b1y_) / det;
+    long best = -1;
+    for (long du = 0; du <= 1; ++du)
+        for (long dv = 0; dv <= 1; ++dv) {
+            const long cu = long(std::floor(fu)) + du, cv = long(std::floor(fv)) + dv;
+            const long dx = i - (cu * b1x_ + cv * b2x_), dy = j - (cu * b1y_ + cv * b2y_);
+            const long d = dx * dx + dy * dy;
+            if (best < 0 || d < best || (d == best && (cu < u || (cu == u && cv < v)))) best = d, u = cu, v = cv;
+        }
+}
+
+uint64_t PhaseCode::cell_key(long i, long j) const {
+    long u, v;
+    cell(i, j, u, v);
+    return (uint64_t(uint32_t(u)) << 32) | uint64_t(uint32_t(v));
+}
+
+double PhaseCode::sign_turns(long i, long j) const {
+    if (colours_ < 2) return 0;
+    long u, v;
+    cell(i, j, u, v);
+    const int colour = int((((u % 4) + 4) % 4) + 4 * (((v % 4) + 4) % 4)) % colours_;
+    const int m = code_class(i, j) % colours_;
+    return 0.5 * (__builtin_popcount(unsigned(m & colour)) & 1);
 }
 
 int PhaseCode::code_class(long i, long j) const {

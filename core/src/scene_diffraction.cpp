@@ -384,9 +384,10 @@ std::vector<PointSource> run_sources(const PinholeCamera& c, const std::vector<E
     sources.reserve(emitters.size());
     const uint64_t draw = s.coded_phases ? 0 : uint64_t(run);  // the counter the random numbers use
     for (const Emitter& e : emitters) {
-        double turns = detail::counter_uniform(s.seed ^ stream, draw, e.key, 3);
-        if (s.coded_phases)
-            turns += code.offset_turns(run, code.code_class(long(std::floor(e.x)), long(std::floor(e.y))));
+        const long i = long(std::floor(e.x)), j = long(std::floor(e.y));
+        double turns = s.coded_phases ? detail::counter_uniform(s.seed ^ stream, 0, code.cell_key(i, j), 4) +
+                                            code.sign_turns(i, j) + code.offset_turns(run, code.code_class(i, j))
+                                      : detail::counter_uniform(s.seed ^ stream, draw, e.key, 3);
         const double phase = 2 * M_PI * turns;
         if (!s.jitter) {
             sources.push_back(centred(c, e, phase));
