@@ -502,6 +502,43 @@ void skeleton_coefficients(const AxisWeights& aw, int dims, const detail::NodeSk
     }
 }
 
+// What both fast sums walk: for every sub-aperture and every parameter box holding points, the
+// points' frequencies and phases there and the box's skeleton, in batches of up to kBatch
+// skeleton nodes; `batch_of(part, bi, fr, sk, j0, batch)` does a batch's transforms. Progress
+// counts the boxes' nodes; false if cancelled.
+template <class Batch>
+bool walk_sub_apertures(const SubApertures& S, const SumGeometry& geo, const std::vector<Parameter>& p,
+                        const DirectionRange& range, double h, const SummationSettings& set,
+                        const ProgressFn& progress, const Batch& batch_of) {
+    const std::vector<ChebyshevBox> boxes = geo.plan(range, discs_of(S));
+    const auto members = group(boxes, p);
+    std::vector<AxisWeights> weights;
+    for (size_t bi = 0; bi < boxes.size(); ++bi) weights.emplace_back(boxes[bi], p, members[bi]);
+    const detail::LatticeNufft nufft(S.bnx, S.bny, set.tolerance, set.nthreads);
+    double total = 0, done = 0;
+    for (const ChebyshevBox& bx : boxes) total += double(bx.rank()) * S.parts.size();
+    for (const SubAperture& part : S.parts)
+        for (size_t bi = 0; bi < boxes.size(); ++bi) {
+            const ChebyshevBox& bx = boxes[bi];
+            const std::vector<size_t>& in = members[bi];
+            const detail::NodeSkeleton sk =
+                in.empty() ? detail::NodeSkeleton{} : box_skeleton(geo, bx, {part.cx, part.cy, part.reach});
+            const int r = sk.rank();
+            if (r == 0) {
+                done += bx.rank();
+                continue;
+            }
+            const SubApertureFrequencies fr(in, p, geo, part, h, nufft, set.nthreads);
+            for (int j0 = 0; j0 < r; j0 += kBatch) {
+                const int batch = std::min(kBatch, r - j0);
+                batch_of(part, in, weights[bi], bx, nufft, fr, sk, j0, batch);
+                done += double(bx.rank()) * batch / r;
+                if (progress && !progress(done / total)) return false;
+            }
+        }
+    return true;
+}
+
 // Fast sum 1 over the lattice samples: U at every lattice cell (0 elsewhere).
 bool fast_sources_to_lattice(const LatticeLayout& L, const ApertureSamples& samples,
                              const std::vector<PointSource>& sources, double wavelength, int blocks,
@@ -523,51 +560,34 @@ bool fast_sources_to_lattice(const LatticeLayout& L, const ApertureSamples& samp
     }
     const SubApertures S = split_lattice(L, blocks, h);
     const SumGeometry geo{false, 0, k, set.tolerance};
-    const std::vector<ChebyshevBox> boxes = geo.plan(set.fixed_range ? set.range : range_of(p, 3), discs_of(S));
-    const auto members = group(boxes, p);
-    std::vector<AxisWeights> weights;
-    for (size_t bi = 0; bi < boxes.size(); ++bi) weights.emplace_back(boxes[bi], p, members[bi]);
-    detail::LatticeNufft nufft(S.bnx, S.bny, set.tolerance, set.nthreads);
     U.assign(size_t(L.nx) * L.ny, 0.0);
     const size_t cells = size_t(S.bnx) * S.bny;
     std::vector<std::vector<cfloat>> lattice(kBatch, std::vector<cfloat>(cells));
     std::vector<cfloat*> out(kBatch);
     for (int q = 0; q < kBatch; ++q) out[q] = lattice[q].data();
-    double total = 0, done = 0;
-    for (const ChebyshevBox& bx : boxes) total += double(bx.rank()) * S.parts.size();
-    for (const SubAperture& part : S.parts)
-        for (size_t bi = 0; bi < boxes.size(); ++bi) {
-            const ChebyshevBox& bx = boxes[bi];
-            const std::vector<size_t>& in = members[bi];
-            if (in.empty()) {
-                done += bx.rank();
-                continue;
+    std::vector<cdouble> base;
+    std::vector<cfloat> a;
+    return walk_sub_apertures(
+        S, geo, p, set.fixed_range ? set.range : range_of(p, 3), h, set, progress,
+        [&](const SubAperture& part, const std::vector<size_t>& in, const AxisWeights& weights,
+            const ChebyshevBox& bx, const detail::LatticeNufft& nufft, const SubApertureFrequencies& fr,
+            const detail::NodeSkeleton& sk, int j0, int batch) {
+            if (j0 == 0) {
+                base.resize(in.size());
+                for (size_t i = 0; i < in.size(); ++i) base[i] = b[in[i]] * fr.shift[i];
             }
-            const SubApertureFrequencies fr(in, p, geo, part, h, nufft, set.nthreads);
-            const detail::NodeSkeleton sk = box_skeleton(geo, bx, {part.cx, part.cy, part.reach});
-            const int r = sk.rank();
-            std::vector<cdouble> base(in.size());
-            for (size_t i = 0; i < in.size(); ++i) base[i] = b[in[i]] * fr.shift[i];
-            std::vector<cfloat> a;
-            for (int j0 = 0; j0 < r; j0 += kBatch) {
-                const int batch = std::min(kBatch, r - j0);
-                skeleton_coefficients(weights[bi], 3, sk, j0, batch, in.size(), bx.rank(), base.data(), a, set.nthreads);
-                nufft.to_lattice(fr.fx.data(), fr.fy.data(), a.data(), batch, in.size(), out.data());
-                for (int q = 0; q < batch; ++q) {
-                    const ChirpAtCentre node = geo.at(bx.node(sk.rows[j0 + q]), part.cx, part.cy);
-                    const cfloat* F = lattice[q].data();
+            skeleton_coefficients(weights, 3, sk, j0, batch, in.size(), bx.rank(), base.data(), a, set.nthreads);
+            nufft.to_lattice(fr.fx.data(), fr.fy.data(), a.data(), batch, in.size(), out.data());
+            for (int q = 0; q < batch; ++q) {
+                const ChirpAtCentre node = geo.at(bx.node(sk.rows[j0 + q]), part.cx, part.cy);
+                const cfloat* F = lattice[q].data();
 #pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
-                    for (long c = 0; c < long(cells); ++c)
-                        if (part.cells[c] >= 0)
-                            U[part.cells[c]] +=
-                                cdouble(node.remainder(cell_x(part, S, c, h), cell_y(part, S, c, h), 1 / wavelength, 1) * F[c]);
-                }
-                done += double(bx.rank()) * batch / r;
-                if (progress && !progress(done / total)) return false;
+                for (long c = 0; c < long(cells); ++c)
+                    if (part.cells[c] >= 0)
+                        U[part.cells[c]] +=
+                            cdouble(node.remainder(cell_x(part, S, c, h), cell_y(part, S, c, h), 1 / wavelength, 1) * F[c]);
             }
-            if (r == 0) done += bx.rank();
-        }
-    return true;
+        });
 }
 
 // Fast sum 2 from the lattice samples' field to every film point, added to `out`.
@@ -594,55 +614,35 @@ bool fast_lattice_to_film(const LatticeLayout& L, const ApertureSamples& samples
     }
     const SubApertures S = split_lattice(L, blocks, h);
     const SumGeometry geo{true, f, k, set.tolerance};
-    const std::vector<ChebyshevBox> boxes = geo.plan(set.fixed_range ? set.range : range_of(p, 2), discs_of(S));
-    const auto members = group(boxes, p);
-    std::vector<AxisWeights> weights;
-    for (size_t bi = 0; bi < boxes.size(); ++bi) weights.emplace_back(boxes[bi], p, members[bi]);
-    detail::LatticeNufft nufft(S.bnx, S.bny, set.tolerance, set.nthreads);
     const size_t cells = size_t(S.bnx) * S.bny;
     std::vector<std::vector<cfloat>> g(kBatch, std::vector<cfloat>(cells));
     std::vector<const cfloat*> lattices(kBatch);
     for (int q = 0; q < kBatch; ++q) lattices[q] = g[q].data();
-    double total = 0, done = 0;
-    for (const ChebyshevBox& bx : boxes) total += double(bx.rank()) * S.parts.size();
-    for (const SubAperture& part : S.parts)
-        for (size_t bi = 0; bi < boxes.size(); ++bi) {
-            const ChebyshevBox& bx = boxes[bi];
-            const std::vector<size_t>& in = members[bi];
-            if (in.empty()) {
-                done += bx.rank();
-                continue;
-            }
-            const SubApertureFrequencies fr(in, p, geo, part, h, nufft, set.nthreads);
-            const detail::NodeSkeleton sk = box_skeleton(geo, bx, {part.cx, part.cy, part.reach});
-            const int r = sk.rank();
-            std::vector<cfloat> G(in.size()), coeff;
-            for (int j0 = 0; j0 < r; j0 += kBatch) {
-                const int batch = std::min(kBatch, r - j0);
-                for (int q = 0; q < batch; ++q) {
-                    const ChirpAtCentre node = geo.at(bx.node(sk.rows[j0 + q]), part.cx, part.cy);
-                    cfloat* gq = g[q].data();
+    std::vector<cfloat> G, coeff;
+    return walk_sub_apertures(
+        S, geo, p, set.fixed_range ? set.range : range_of(p, 2), h, set, progress,
+        [&](const SubAperture& part, const std::vector<size_t>& in, const AxisWeights& weights,
+            const ChebyshevBox& bx, const detail::LatticeNufft& nufft, const SubApertureFrequencies& fr,
+            const detail::NodeSkeleton& sk, int j0, int batch) {
+            for (int q = 0; q < batch; ++q) {
+                const ChirpAtCentre node = geo.at(bx.node(sk.rows[j0 + q]), part.cx, part.cy);
+                cfloat* gq = g[q].data();
 #pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
-                    for (long c = 0; c < long(cells); ++c)
-                        gq[c] = part.cells[c] >= 0
-                                    ? w[part.cells[c]] *
-                                          node.remainder(cell_x(part, S, c, h), cell_y(part, S, c, h), 1 / wavelength, 2)
-                                    : cfloat(0);
-                }
-                skeleton_coefficients(weights[bi], 2, sk, j0, batch, in.size(), bx.rank(), nullptr, coeff, set.nthreads);
-                nufft.from_lattice(lattices.data(), batch, fr.fx.data(), fr.fy.data(), coeff.data(), in.size(),
-                                   G.data());
-#pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
-                for (long i = 0; i < long(in.size()); ++i) {
-                    const double tx = film.x[in[i]], ty = film.y[in[i]];
-                    out[in[i]] += f / (tx * tx + ty * ty + f * f) * fr.shift[i] * cdouble(G[i]);  // f / R_t^2
-                }
-                done += double(bx.rank()) * batch / r;
-                if (progress && !progress(done / total)) return false;
+                for (long c = 0; c < long(cells); ++c)
+                    gq[c] = part.cells[c] >= 0
+                                ? w[part.cells[c]] *
+                                      node.remainder(cell_x(part, S, c, h), cell_y(part, S, c, h), 1 / wavelength, 2)
+                                : cfloat(0);
             }
-            if (r == 0) done += bx.rank();
-        }
-    return true;
+            skeleton_coefficients(weights, 2, sk, j0, batch, in.size(), bx.rank(), nullptr, coeff, set.nthreads);
+            G.resize(in.size());
+            nufft.from_lattice(lattices.data(), batch, fr.fx.data(), fr.fy.data(), coeff.data(), in.size(), G.data());
+#pragma omp parallel for schedule(static) num_threads(threads(set.nthreads))
+            for (long i = 0; i < long(in.size()); ++i) {
+                const double tx = film.x[in[i]], ty = film.y[in[i]];
+                out[in[i]] += f / (tx * tx + ty * ty + f * f) * fr.shift[i] * cdouble(G[i]);  // f / R_t^2
+            }
+        });
 }
 
 // The fast path's work in direct terms for one division into sub-apertures (`discs`, each of
