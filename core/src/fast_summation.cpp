@@ -91,6 +91,14 @@ struct LatticeLayout {
     int width = 0;
 };
 
+// Whether sample k sits on the lattice, and at which cell: a float position within 1e-4 pitch of a
+// cell centre is that cell's centre.
+inline bool on_lattice(const ApertureSamples& s, size_t k, long& i, long& j) {
+    const double fx = s.x[k] / s.pitch, fy = s.y[k] / s.pitch;
+    i = std::lround(fx), j = std::lround(fy);
+    return std::abs(fx - i) < 1e-4 && std::abs(fy - j) < 1e-4;
+}
+
 LatticeLayout lattice_layout(const ApertureSamples& s, const detail::BandLimitedStencil& stencil) {
     LatticeLayout L;
     const double h = s.pitch;
@@ -106,15 +114,13 @@ LatticeLayout lattice_layout(const ApertureSamples& s, const detail::BandLimited
     };
     double wx[64], wy[64];
     for (size_t k = 0; k < s.size(); ++k) {
-        const double fx = s.x[k] / h, fy = s.y[k] / h;
-        const long i = std::lround(fx), j = std::lround(fy);
-        // a float position within 1e-4 pitch of a cell centre is that cell's centre
-        if (std::abs(fx - i) < 1e-4 && std::abs(fy - j) < 1e-4) {
+        long i, j;
+        if (on_lattice(s, k, i, j)) {
             im[k] = i;
             jm[k] = j;
             take(i, j);
         } else if (spread) {
-            const long si = stencil.weights(fx, wx), sj = stencil.weights(fy, wy);
+            const long si = stencil.weights(s.x[k] / h, wx), sj = stencil.weights(s.y[k] / h, wy);
             im[k] = si;
             jm[k] = sj;
             take(si, sj);
@@ -216,9 +222,8 @@ struct SampleCount {
 SampleCount count_samples(const ApertureSamples& s) {
     SampleCount c;
     for (size_t k = 0; k < s.size(); ++k) {
-        const double fx = s.x[k] / s.pitch, fy = s.y[k] / s.pitch;
-        const bool on = std::abs(fx - std::lround(fx)) < 1e-4 && std::abs(fy - std::lround(fy)) < 1e-4;
-        (on ? c.on : c.off) += 1;
+        long i, j;
+        (on_lattice(s, k, i, j) ? c.on : c.off) += 1;
         c.reach = std::max(c.reach, std::hypot(double(s.x[k]), double(s.y[k])));
     }
     return c;
