@@ -386,7 +386,7 @@ std::vector<PointSource> run_sources(const PinholeCamera& c, const std::vector<E
     for (const Emitter& e : emitters) {
         const long i = long(std::floor(e.x)), j = long(std::floor(e.y));
         double turns = s.coded_phases ? detail::counter_uniform(s.seed ^ stream, 0, code.cell_key(i, j), 4) +
-                                            code.sign_turns(i, j) + code.offset_turns(run, code.code_class(i, j))
+                                            code.ramp_turns(i, j) + code.offset_turns(run, code.code_class(i, j))
                                       : detail::counter_uniform(s.seed ^ stream, draw, e.key, 3);
         const double phase = 2 * M_PI * turns;
         if (!s.jitter) {
