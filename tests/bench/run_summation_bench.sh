@@ -5,6 +5,9 @@
 #   2. 256x256, 3 wavelengths, 16 runs, default pinhole, 50deg: fast (goal <= 300 s);
 #   3. 1920x1080, 16 wavelengths, 16 runs, 50deg: fast, measured as one share of 16 (--part 1/16:
 #      one run of the 16, every wavelength; shares sum to the job) times 16 (goal < 1 hour).
+#   4. noise of 16 random-phase runs: 48x48 uniform grey wall at 2 m, 0.2 mm, f = 50 mm, 3
+#      wavelengths, coded and independent phases, per-pixel RMS of (R+G+B) / the fast path's - 1
+#      over the interior (4 pixels in), at 5, 10, 20 and 50 deg, seeds 1 and 2 (goal at 10 deg: 2%).
 # Frames: uniform noise x a checker (radiance), depth from 0.3 m to 20 m (top to bottom).
 # Usage: tests/bench/run_summation_bench.sh [build-dir] [part...]
 set -euo pipefail
@@ -31,6 +34,10 @@ print(f"{time.monotonic() - t:.1f}")
 PY
 }
 ratio() { python3 -c "print(f'{$1 / $2:.1f}')"; }
+noise() {  # noise IMAGE FAST: RMS of (R+G+B) / the fast path's - 1 over the interior, in percent
+  oiiotool "$1" --ch R,G,B --chsum "$2" --ch R,G,B --chsum --div --crop 40x40+4+4 --printstats |
+    awk '/Stats Avg/ {a = $3} /Stats StdDev/ {s = $3} END {printf "%.2f", 100 * sqrt(s * s + (a - 1) * (a - 1))}'
+}
 exact="--method random-phase --max-terms 1e15"
 
 for part in $parts; do
@@ -49,5 +56,20 @@ case $part in
   frame 1920 1080 50.0 f1080.exr
   t=$(seconds "$wavecam" apply f1080.exr -o part.exr $exact --wavelengths 16 --runs 16 --part 1/16)
   echo "3. 1920x1080, 16 wavelengths, 16 runs, 50deg: one share of 16 ${t} s, the job $(python3 -c "print(f'{16 * $t / 60:.0f}')") min (goal < 60 min)" ;;
+4)
+  camera="--pinhole 0.2mm --film-distance 50mm --wavelengths 3"
+  for fov in 5 10 20 50; do
+    oiiotool --pattern constant:color=0.5,0.5,0.5,2 48x48 4 --chnames R,G,B,Z --attrib wavecam.fov "$fov" \
+             -d float -o wall.exr
+    "$wavecam" apply wall.exr -o fast.exr $camera >/dev/null 2>&1
+    line="4. wall, ${fov}deg, 16 runs:"
+    for phases in coded independent; do
+      for seed in 1 2; do
+        "$wavecam" apply wall.exr -o rp.exr $camera $exact --runs 16 --phases $phases --seed $seed >/dev/null 2>&1
+        line="$line $phases seed $seed $(noise rp.exr fast.exr)%;"
+      done
+    done
+    echo "$line"
+  done ;;
 esac
 done
