@@ -59,23 +59,18 @@ void PhaseCode::cell(long i, long j, long& u, long& v) const {
         }
 }
 
-uint64_t PhaseCode::cell_key(long i, long j) const {
+PhaseCode::CellPhase PhaseCode::cell_phase(long i, long j) const {
     long u, v;
     cell(i, j, u, v);
-    return (uint64_t(uint32_t(u)) << 32) | uint64_t(uint32_t(v));
-}
-
-double PhaseCode::ramp_turns(long i, long j) const {
-    if (runs_ < 2) return 0;
-    long u, v;
-    cell(i, j, u, v);
+    const uint64_t key = (uint64_t(uint32_t(u)) << 32) | uint64_t(uint32_t(v));
+    if (runs_ < 2) return {key, 0.0};
     // the cell's frequency k_c = u a + v b, a = (11/16, 0), b = (0, 9/16) cycles per pixel, over the
     // pixel's offset from the cell's lattice point (docs/phase_codes.md: chosen with the residual's
     // variance formula, then measured)
     const double kx = 11.0 / 16 * double(u), ky = 9.0 / 16 * double(v);
     const double rx = double(i - (u * b1x_ + v * b2x_)), ry = double(j - (u * b1y_ + v * b2y_));
     const double t = kx * rx + ky * ry;
-    return t - std::floor(t);
+    return {key, t - std::floor(t)};
 }
 
 int PhaseCode::code_class(long i, long j) const {

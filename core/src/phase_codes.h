@@ -28,14 +28,18 @@ public:
     // The shortest distance, in pixels, between two pixels of one class (1 for a single run).
     double class_spacing() const { return spacing_; }
     // The cell of pixel (i, j): the class lattice's point nearest to it, in lattice coordinates
-    // (each cell holds one pixel of every class); and a key for the cell's random phase.
+    // (each cell holds one pixel of every class).
     void cell(long i, long j, long& u, long& v) const;
-    uint64_t cell_key(long i, long j) const;
-    // The cell's phase ramp at pixel (i, j), in turns [0, 1): k_c . r, r the pixel's offset from
+    // Pixel (i, j)'s place in its cell, found with one cell lookup: a key for the cell's random
+    // phase, and the cell's phase ramp there in turns [0, 1): k_c . r, r the pixel's offset from
     // the cell's lattice point, k_c = u a + v b (cycles per pixel) for the cell at lattice
     // coordinates (u, v), a = (11/16, 0), b = (0, 9/16): two nearby cells' same-class pairs differ
     // by a plane wave over the cell (docs/phase_codes.md).
-    double ramp_turns(long i, long j) const;
+    struct CellPhase {
+        uint64_t key;
+        double ramp_turns;
+    };
+    CellPhase cell_phase(long i, long j) const;
 
 private:
     int runs_;

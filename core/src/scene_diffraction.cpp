@@ -385,9 +385,14 @@ std::vector<PointSource> run_sources(const PinholeCamera& c, const std::vector<E
     const uint64_t draw = s.coded_phases ? 0 : uint64_t(run);  // the counter the random numbers use
     for (const Emitter& e : emitters) {
         const long i = long(std::floor(e.x)), j = long(std::floor(e.y));
-        double turns = s.coded_phases ? detail::counter_uniform(s.seed ^ stream, 0, code.cell_key(i, j), 4) +
-                                            code.ramp_turns(i, j) + code.offset_turns(run, code.code_class(i, j))
-                                      : detail::counter_uniform(s.seed ^ stream, draw, e.key, 3);
+        double turns;
+        if (s.coded_phases) {
+            const detail::PhaseCode::CellPhase place = code.cell_phase(i, j);
+            turns = detail::counter_uniform(s.seed ^ stream, 0, place.key, 4) + place.ramp_turns +
+                    code.offset_turns(run, code.code_class(i, j));
+        } else {
+            turns = detail::counter_uniform(s.seed ^ stream, draw, e.key, 3);
+        }
         const double phase = 2 * M_PI * turns;
         if (!s.jitter) {
             sources.push_back(centred(c, e, phase));
