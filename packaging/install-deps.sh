@@ -13,10 +13,13 @@ PACKAGES=(
   libembree-dev libosd-dev
   # chosen dependencies (see README, "Dependencies")
   libkissfft-dev libcli11-dev libtomlplusplus-dev
-  # packaging (.deb with shared-library dependencies)
-  dpkg-dev file
+  # packaging (.deb with shared-library dependencies; the man page made from --help)
+  dpkg-dev file help2man
   # tests and benchmarks
   libgtest-dev libbenchmark-dev
+  # the Vulkan evaluator of the exact sums: the loader and headers, glslc for its shaders, and
+  # Mesa's lavapipe, the Vulkan device on the CPU its tests run on (vulkaninfo to look at devices)
+  libvulkan-dev glslc mesa-vulkan-drivers vulkan-tools
   # labels on contact sheets (OIIO render_text)
   fonts-dejavu-core
   # POV-Ray renders (render_pov.sh: Debian's python3 with OIIO and numpy; tests read the

@@ -21,11 +21,11 @@ done
 # centre 128 x 128 enlarged 4x below, each labelled.
 font=/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf
 oiiotool --colorconfig ocio_configs/wavecam.ocio \
-  out/scene.exr --ch R,G,B --ociodisplay sRGB Standard --text:x=10:y=30:size=24:color=1,1,0.2:font=$font "ideal pinhole (render)" \
+  out/scene.exr --ch R,G,B --ociodisplay sRGB Standard --text:x=10:y=30:size=24:color=1,1,0.2:font=$font "ideal pinhole (render), f = 50 mm" \
   out/pinhole_0.08mm.exr --ch R,G,B --ociodisplay sRGB Standard --text:x=10:y=30:size=24:color=1,1,0.2:font=$font "0.08 mm: too small (diffraction)" \
   out/pinhole_0.315mm.exr --ch R,G,B --ociodisplay sRGB Standard --text:x=10:y=30:size=24:color=1,1,0.2:font=$font "0.315 mm: optimum 1.9 sqrt(f lambda)" \
   out/pinhole_1.26mm.exr --ch R,G,B --ociodisplay sRGB Standard --text:x=10:y=30:size=24:color=1,1,0.2:font=$font "1.26 mm: too large (geometric)" \
-  out/scene.exr --ch R,G,B --ociodisplay sRGB Standard --cut 128x128+192+192 --resize:filter=box 512x512 \
+  out/scene.exr --ch R,G,B --ociodisplay sRGB Standard --cut 128x128+192+192 --resize:filter=box 512x512 --text:x=10:y=30:size=24:color=1,1,0.2:font=$font "centre of the frame, 4x" \
   out/pinhole_0.08mm.exr --ch R,G,B --ociodisplay sRGB Standard --cut 128x128+192+192 --resize:filter=box 512x512 \
   out/pinhole_0.315mm.exr --ch R,G,B --ociodisplay sRGB Standard --cut 128x128+192+192 --resize:filter=box 512x512 \
   out/pinhole_1.26mm.exr --ch R,G,B --ociodisplay sRGB Standard --cut 128x128+192+192 --resize:filter=box 512x512 \

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The Blender add-on in Debian's Blender, headless, as a user runs it: installed from the zip
 # into temporary BLENDER_USER_* folders, a tiny Cycles scene rendered with `-a` or `-f N`.
-# Usage: blender_addon_test.sh SOURCE_DIR BUILD_DIR (animation | portrait | errors | ui)
+# Usage: blender_addon_test.sh SOURCE_DIR BUILD_DIR (animation | portrait | errors | settings | oldfile | ui)
 # ui: Blender with its UI under xvfb-run (exit 77, skipped, where xvfb-run is missing).
 set -euo pipefail
 src=$1 build=$2 what=$3
@@ -33,12 +33,22 @@ portrait)  # sensor fit Auto, then Vertical
 errors)
   "${blender[@]}" "$work/scene.blend" --python "$steps" -- errors > "$work/errors.log" 2>&1 ||
     { cat "$work/errors.log"; exit 1; }
-  for expected in "frame 1: camera 'Camera' has shift" "wavecam command was not found" "--wavelengths" \
-                  "has no Z pass"; do
+  for expected in "frame 1 not diffracted: camera 'Camera' has shift" "wavecam command was not found" \
+                  "Wavelength list: 'banana' is not a wavelength" "has no Z pass"; do
     grep -F -- "wavecam: error: " "$work/errors.log" | grep -qF -- "$expected" ||
       { cat "$work/errors.log"; echo "no reported error containing: $expected"; exit 1; }
   done
   grep -E "^wavecam: " "$work/errors.log"
+  ;;
+settings)
+  "${blender[@]}" "$work/scene.blend" --python "$steps" -- settings > "$work/settings.log" 2>&1 ||
+    { cat "$work/settings.log"; exit 1; }
+  grep -E "^(pinhole|film|decreasing|xray|centimetres|vignetting)" "$work/settings.log"
+  ;;
+oldfile)  # saved without the add-on, as its earlier version did; loaded with it
+  "${blender[@]}" --factory-startup --python "$steps" -- oldfile "$work/old.blend" > "$work/old.log" 2>&1 ||
+    { cat "$work/old.log"; exit 1; }
+  "${blender[@]}" "$work/old.blend" --python "$steps" -- loadold 2>&1 | grep -E "^(old file|FAIL|Error|Trace)"
   ;;
 ui)
   timeout 240 xvfb-run -a -s "-screen 0 1280x800x24" blender "$work/scene.blend" \

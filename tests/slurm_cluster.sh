@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A one-node Slurm cluster on this machine for tests (../shared/NOTES.md): munge (started only
+# A one-node Slurm cluster on this machine for tests (docs/platform_notes.md): munge (started only
 # if it is not running), slurmctld and slurmd from a slurm.conf in DIR, on free ports so that it
 # cannot meet another cluster here. Needs root, as the daemons do.
 #   tests/slurm_cluster.sh start DIR   -> prints SLURM_CONF=DIR/slurm.conf once the node is idle

@@ -14,7 +14,7 @@ double lobe(double nm, double mean, double sigma1, double sigma2) {
 // CIE 1931 2-degree colour-matching functions, multi-lobe fit of Wyman, Sloan & Shirley,
 // "Simple Analytic Approximations to the CIE XYZ Color Matching Functions", JCGT 2(2), 2013:
 // x, y, z are sums of piecewise Gaussians (mean, sigma below, sigma above, in nm), within a
-// few percent of each function's peak of the CIE table (checked in tests/test_spectrum.cpp).
+// few percent of each function's peak of the CIE table (checked in tests/core/test_spectrum.cpp).
 Vector3 cie1931_cmf(double wavelength) {
     const double nm = wavelength * 1e9;
     const double x = 1.056 * lobe(nm, 599.8, 37.9, 31.0) + 0.362 * lobe(nm, 442.0, 16.0, 26.7) -

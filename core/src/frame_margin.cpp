@@ -38,7 +38,7 @@ MarginRadii margin_radii(const Aperture& aperture, const PinholeCamera& c, int o
     MarginRadii m;
     const int out_w = c.width - 2 * o, out_h = c.height - 2 * o, side = std::max(out_w, out_h);
     const double pitch = c.film_distance * c.tan_pitch();
-    // R as the fast path finds it: the kernel radius over the frame widened by R itself
+    // R as the convolution method finds it: the kernel radius over the frame widened by R itself
     double cos_widened = 1;
     for (int pass = 0; pass < 2; ++pass) {
         cos_widened = c.cos_widest(o - m.kernel, o - m.kernel, o + out_w + m.kernel, o + out_h + m.kernel);

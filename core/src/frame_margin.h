@@ -1,10 +1,10 @@
 // The scene beyond the frame, for the exact sums. Internal to core.
 //
 // Film pixels near the border receive light from scene points outside the frame. As the fast
-// path does (fast_diffraction.h), the scene beyond the input is its edge continued: a point
+// path does (psf_convolution.h), the scene beyond the input is its edge continued: a point
 // outside takes the radiance and planar depth of the nearest edge pixel, at its own field
 // position. The margin reaches kTailReach R beyond the output frame (R: psf_kernel_radius, the
-// kPsfKernelEnergy radius): the light the fast path's kernels and far tail hold, all but about
+// kPsfKernelEnergy radius): the light the convolution method's kernels and far tail hold, all but about
 // (1 - kPsfKernelEnergy) / kTailReach of each PSF. Never farther than one frame side, though (a
 // PSF wider than the frame would make the scene mostly invented edge), and no farther than the
 // frame's own pinhole lattice carries (below), down to kMinReachRadii R: a tail whose energy
@@ -43,7 +43,7 @@ struct MarginCell {
 // The radii the margin is built from, in pixels beyond the output frame (`overscan` pixels inside
 // the camera's on every side), for sources as near as `nearest_depth` (planar, m) at `wavelength`.
 struct MarginRadii {
-    int kernel = 0;  // R, psf_kernel_radius as the fast path finds it
+    int kernel = 0;  // R, psf_kernel_radius as the convolution method finds it
     int rho = 0;     // the geometric shadow's radius: margin sources are single pixels out to it
     int reach = 0;   // the most the margin reaches: kTailReach R, at most one frame side
 };

@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "wavecam/pinhole_design.h"
-#include "wavecam/propagation.h"
+#include "wavecam/summation_plan.h"
 #include "wavecam/source.h"
 
 namespace wavecam {
@@ -55,9 +55,11 @@ Result<PsfImage> compute_psf(const PsfParams& p, const ProgressFn& progress) {
     img.fresnel_number =
         fresnel_number(p.aperture.diameter / 2, p.film_distance, p.source_distance, p.wavelength);
 
+    const SummationSettings sum{p.summation, kSummationTolerance, p.nthreads, p.device};
+    SummationPlan to_pinhole = SummationPlan::create(SumKind::SourcesToPinhole, samples, p.wavelength, sum);
     PinholeField field;
-    const SummationSettings sum{p.summation, kSummationTolerance, p.nthreads};
-    illuminate_pinhole(samples, {source}, p.wavelength, field, sum);
+    if (auto r = to_pinhole.set_points({source}); !r.ok()) return Result<PsfImage>::failure(r);
+    if (auto r = to_pinhole.execute(source_weights({source}), field); !r.ok()) return Result<PsfImage>::failure(r);
 
     const int n = p.resolution;
     FilmPoints film;
@@ -73,8 +75,10 @@ Result<PsfImage> compute_psf(const PsfParams& p, const ProgressFn& progress) {
         }
     img.irradiance.assign(film.size(), 0.0f);
     const double scale = 1.0 / free_irradiance_at_film_centre(source, p.film_distance);
-    if (!accumulate_film_irradiance(samples, field, film, p.wavelength, scale, img.irradiance.data(), sum, progress))
-        return Result<PsfImage>::failure("cancelled", ErrorKind::Cancelled);
+    SummationPlan to_film = SummationPlan::create(SumKind::PinholeToFilm, samples, p.wavelength, sum);
+    if (auto r = to_film.set_points(film); !r.ok()) return Result<PsfImage>::failure(r);
+    if (auto r = to_film.execute_irradiance(field, scale, img.irradiance.data(), progress); !r.ok())
+        return Result<PsfImage>::failure(r);
     for (float v : img.irradiance) img.peak = std::max(img.peak, double(v));
     img.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return Result<PsfImage>::success(std::move(img));

@@ -105,7 +105,7 @@ Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& pro
         q.pixel_pitch = c.pixel_pitch();
         const double cos_anchor = 1.0 / std::sqrt(1.0 + q.u * q.u + q.v * q.v);
         // longest wavelength first: its transfer grid is the widest, and the shorter ones then
-        // reuse its pupil spectrum (fresnel_psf.cpp, PupilSpectrum)
+        // reuse its pupil spectrum (fresnel_transfer.cpp, PupilSpectrum)
         std::vector<int> order(S);
         for (int s = 0; s < S; ++s) order[s] = s;
         std::sort(order.begin(), order.end(),

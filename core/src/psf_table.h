@@ -1,4 +1,4 @@
-// The fast path's PSF table: point-source images on a grid of depth layers x field anchors,
+// The convolution method's PSF table: point-source images on a grid of depth layers x field anchors,
 // each folded over wavelength into nine RGB -> XYZ kernels (the spectral basis is linear, so
 // the wavelength sum need not be carried through the convolution). Internal to core.
 #pragma once
@@ -15,7 +15,7 @@ namespace wavecam::detail {
 // Depth layers spaced evenly in inverse depth w = 1/z from 0 (sky) to the nearest source:
 // the pupil's quadratic phase goes as (1/z + 1/f) a^2 pi / lambda, so even steps in w are even
 // steps of defocus phase. Steps of at most 0.3 rad at the shortest wavelength keep linear
-// interpolation between neighbouring layers' PSFs within the fast path's 2%. Large pinholes are
+// interpolation between neighbouring layers' PSFs within the convolution method's 2%. Large pinholes are
 // in the geometric regime, where the PSF is the blur disc of radius a (1 + f w), itself linear
 // in w: there steps that change the disc by at most half a pixel suffice (the larger step of
 // the two is taken; at most 16 layers). Where the defocus phase stays within 0.3 rad even at

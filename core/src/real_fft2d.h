@@ -1,4 +1,4 @@
-// Square real 2D FFTs of one size through kissfft (BSD-3-Clause; see README on why not FFTW):
+// Square real 2D FFTs of one size through kissfft (BSD-3-Clause; see docs/install.md on why not FFTW):
 // real 1D transforms along rows, complex 1D transforms along the n/2 + 1 columns.
 // (Debian's kissfft 131 returns no configuration from kiss_fftndr_alloc, so the 2D transform
 // is composed here from the 1D ones.) Internal to core; one object per thread.

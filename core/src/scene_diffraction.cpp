@@ -9,13 +9,13 @@
 #include "frame_margin.h"
 #include "pixel_average.h"
 #include "phase_codes.h"
-#include "wavecam/propagation.h"
+#include "wavecam/summation_plan.h"
 
 namespace wavecam {
 namespace {
 
 // The settings one wavelength's sum needs (the pixels are check_pixels').
-Result<bool> check_settings(const PinholeCamera& c, double wavelength, const DiffractionSettings& s) {
+Result<bool> check_settings(const PinholeCamera& c, double wavelength, const ExactSettings& s) {
     auto fail = [](const std::string& m) { return Result<bool>::failure(m); };
     if (!(s.aperture.diameter > 0)) return fail("pinhole: expected a diameter > 0");
     if (!(c.film_distance > 0)) return fail("film-distance: expected a distance > 0");
@@ -106,7 +106,7 @@ struct Extent {
 // own (scene_sample_pitch), refined where sources beyond it need it. A square lattice of pitch h
 // also sends light to directions shifted by lambda / h along each axis; they miss the film while
 // lambda / h >= sin(widest source) + sin(widest film point) on that axis (frame_margin.h).
-double lattice_pitch(const DiffractionSettings& s, const PinholeCamera& c, double wavelength, double nearest,
+double lattice_pitch(const ExactSettings& s, const PinholeCamera& c, double wavelength, double nearest,
                      const Extent& source, const Extent& film) {
     const double frame = scene_sample_pitch(s, c, wavelength, nearest);
     if (s.sin_theta_max > 0) return frame;
@@ -141,7 +141,7 @@ FilmPoints camera_film(const PinholeCamera& c, int n, int row_begin, int row_end
 struct WorkRange {
     int row_begin, row_end, run_begin, run_end;
 };
-WorkRange work_range(const DiffractionSettings& s, int height) {
+WorkRange work_range(const ExactSettings& s, int height) {
     const int o = std::clamp(s.overscan, 0, height / 2);
     WorkRange w;
     w.row_begin = std::clamp(s.row_begin, o, height - o);
@@ -191,7 +191,7 @@ Result<bool> check_pixels(const PinholeCamera& c, const float* radiance, int cha
     return Result<bool>::success(true);
 }
 
-double scene_sample_pitch(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength,
+double scene_sample_pitch(const ExactSettings& s, const PinholeCamera& camera, double wavelength,
                           double nearest) {
     if (s.sin_theta_max > 0) return sample_pitch(wavelength, s.sin_theta_max);
     const double sin_corner = camera.sin_max_field_angle();
@@ -241,7 +241,7 @@ struct SceneSum {
 };
 
 // With `scene.power` null every pixel and margin cell counts as lit (estimates).
-SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s, double nearest,
+SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const ExactSettings& s, double nearest,
                    const WorkRange& range, bool with_samples) {
     const PinholeCamera& c = scene.camera;
     const int o = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);
@@ -291,14 +291,16 @@ DirectionRange direction_range(const Extent& e, double rho0, double rho1) {
 }
 
 // How one run's two sums (or one source's, `single`) are evaluated, and their work in direct
-// terms: sum 1 from the sources to the pinhole, sum 2 to the film, each by the NUFFTs where
-// s.summation says so (fast_summation.h). Decided from the whole frame's counts, so that every
-// share of a job evaluates its part as the job would; the film's chirps planned over the frame.
+// terms: sum 1 from the sources to the pinhole, sum 2 to the film, each by the evaluator
+// s.summation asks for (summation_plan.h, choose_sum). Decided from the whole frame's counts, so
+// that every share of a job evaluates its part as the job would; the film's chirps planned over
+// the frame.
 struct SumPlan {
-    SummationSettings in, out;
+    SummationSettings settings;
+    PlanScope in, out;
     double in_work = 0, out_work = 0;  // the film's for the whole frame
 };
-SumPlan plan_sums(const DiffractionSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
+SumPlan plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
                   double nearest, bool single) {
     const double pitch = sum.samples.pitch, radius = s.aperture.bounding_radius(), f = c.film_distance;
     const double samples = estimate_sample_count(s.aperture, pitch);
@@ -311,35 +313,30 @@ SumPlan plan_sums(const DiffractionSettings& s, const SceneSum& sum, const Pinho
     const int o = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);
     const double film = double(c.width - 2 * o) * (c.height - 2 * o) * sum.subsamples * sum.subsamples;
     const double rho = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
-    const SummationWork in = summation_work(samples - off, across, off, single ? 1.0 : double(sum.emitters.size()),
-                                            direction_range(sum.source_extent, 0, rho), radius, wavelength, false,
-                                            s.summation_tolerance);
-    const DirectionRange film_range = direction_range(sum.film_extent, 1 / f, 1 / f);
-    const SummationWork out = summation_work(samples - off, across, off, film, film_range, radius, wavelength, true,
-                                             s.summation_tolerance);
-    SumPlan plan;
+    SumCounts in{samples - off, off, across, single ? 1.0 : double(sum.emitters.size()),
+                 direction_range(sum.source_extent, 0, rho), radius, wavelength, false, s.summation_tolerance};
+    SumCounts out = in;
+    out.points = film;
+    out.range = direction_range(sum.film_extent, 1 / f, 1 / f);
+    out.film = true;
     // One source at a time (the incoherent method): forcing the NUFFTs would pay a lattice of FFTs
-    // per source; there the default's choice stands.
-    const Summation how = single && s.summation == Summation::Nufft ? Summation::Fast : s.summation;
-    const SummationSettings given{how, s.summation_tolerance, s.nthreads};
-    auto pick = [&](const SummationWork& w, SummationSettings& set) {
-        const bool fast = use_fast(given, w);
-        set = given;
-        set.method = fast ? Summation::Nufft : Summation::Direct;
-        set.blocks = w.blocks;
-        set.stencil = w.stencil;
-        return fast ? w.fast : w.direct;
-    };
-    plan.in_work = pick(in, plan.in);
-    plan.out_work = pick(out, plan.out);
+    // per source; there the cheaper evaluator stands.
+    const Summation asked = single && s.summation == Summation::Nufft ? Summation::Auto : s.summation;
+    SumPlan plan;
+    plan.settings = {asked, s.summation_tolerance, s.nthreads, s.device};
+    plan.in.fixed_choice = plan.out.fixed_choice = true;
+    plan.in.choice = choose_sum(in, asked);
+    plan.out.choice = choose_sum(out, asked);
     plan.out.fixed_range = true;
-    plan.out.range = film_range;
+    plan.out.range = out.range;
+    plan.in_work = plan.in.choice.work;
+    plan.out_work = plan.out.choice.work;
     return plan;
 }
 
 }  // namespace
 
-double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength) {
+double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {
     const WorkRange w = work_range(s, camera.height);
     const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
     const SceneSum sum = scene_sum({camera, nullptr, nullptr}, wavelength, s, nearest, w, false);
@@ -378,7 +375,7 @@ PointSource centred(const PinholeCamera& c, const Emitter& e, double phase) {
 // uniform (an offset per emitter would leave lumps that no run averages away).
 // Independent (the seed paper's own): a fresh uniform phase and place per emitter and run.
 std::vector<PointSource> run_sources(const PinholeCamera& c, const std::vector<Emitter>& emitters,
-                                     const DiffractionSettings& s, const detail::PhaseCode& code, int run,
+                                     const ExactSettings& s, const detail::PhaseCode& code, int run,
                                      uint64_t stream) {
     std::vector<PointSource> sources;
     sources.reserve(emitters.size());
@@ -406,41 +403,56 @@ std::vector<PointSource> run_sources(const PinholeCamera& c, const std::vector<E
     return sources;
 }
 
-Result<bool> cancelled() { return Result<bool>::failure("cancelled", ErrorKind::Cancelled); }
-
 // Incoherent: every source through the pinhole alone, the film's irradiances summed.
 Result<bool> incoherent_sum(const SceneSum& sum, const PinholeCamera& c, double wavelength, const SumPlan& plan,
                             std::vector<float>& points, const ProgressFn& progress) {
+    SummationPlan to_film = SummationPlan::create(SumKind::PinholeToFilm, sum.samples, wavelength, plan.settings, plan.out);
+    if (auto r = to_film.set_points(sum.film); !r.ok()) return r;
     PinholeField field;
     const size_t n = sum.emitters.size();
     for (size_t k = 0; k < n; ++k) {
-        illuminate_pinhole(sum.samples, {centred(c, sum.emitters[k], 0.0)}, wavelength, field, plan.in);
-        if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0, points.data(), plan.out,
-                                        progress_part(progress, double(k) / n, double(k + 1) / n)))
-            return cancelled();
+        const std::vector<PointSource> one{centred(c, sum.emitters[k], 0.0)};
+        SummationPlan to_pinhole =
+            SummationPlan::create(SumKind::SourcesToPinhole, sum.samples, wavelength, plan.settings, plan.in);
+        if (auto r = to_pinhole.set_points(one); !r.ok()) return r;
+        if (auto r = to_pinhole.execute(source_weights(one), field); !r.ok()) return r;
+        if (auto r = to_film.execute_irradiance(field, 1.0, points.data(),
+                                                progress_part(progress, double(k) / n, double(k + 1) / n));
+            !r.ok())
+            return r;
     }
     return Result<bool>::success(true);
 }
 
 // Random phase (the seed paper): each run every source at once with its own phase, weighted
-// 1/runs and averaged into the output on its own, so a job equals the sum of its shares.
+// 1/runs and averaged into the output on its own, so a job equals the sum of its shares. The
+// sources stay where they are from run to run (but for independent phases with jitter): one plan
+// serves every run, each run only new weights.
 Result<bool> random_phase_runs(const SceneSum& sum, const PinholeCamera& c, double wavelength,
-                               const DiffractionSettings& s, const SumPlan& plan, const WorkRange& range,
+                               const ExactSettings& s, const SumPlan& plan, const WorkRange& range,
                                std::vector<float>& points, float* irradiance, const ProgressFn& progress) {
     const uint64_t stream = wavelength_stream(wavelength);
     PinholeField field;
     const detail::PhaseCode code(s.runs);
+    const bool moving = s.jitter && !s.coded_phases;
+    SummationPlan to_pinhole, to_film = SummationPlan::create(SumKind::PinholeToFilm, sum.samples, wavelength,
+                                                              plan.settings, plan.out);
+    if (auto r = to_film.set_points(sum.film); !r.ok()) return r;
     const int first = range.run_begin, runs = range.run_end - range.run_begin;
     for (int run = first; run < range.run_end; ++run) {
         const std::vector<PointSource> sources = run_sources(c, sum.emitters, s, code, run, stream);
+        if (!to_pinhole || moving) {
+            to_pinhole = SummationPlan::create(SumKind::SourcesToPinhole, sum.samples, wavelength, plan.settings, plan.in);
+            if (auto r = to_pinhole.set_points(sources); !r.ok()) return r;
+        }
         // half of a run's terms go to the pinhole, half to the film
         const double at = double(run - first) / runs, half = 0.5 / runs;
-        if (!illuminate_pinhole(sum.samples, sources, wavelength, field, plan.in,
-                                progress_part(progress, at, at + half)))
-            return cancelled();
-        if (!accumulate_film_irradiance(sum.samples, field, sum.film, wavelength, 1.0 / s.runs, points.data(),
-                                        plan.out, progress_part(progress, at + half, at + 2 * half)))
-            return cancelled();
+        if (auto r = to_pinhole.execute(source_weights(sources), field, progress_part(progress, at, at + half)); !r.ok())
+            return r;
+        if (auto r = to_film.execute_irradiance(field, 1.0 / s.runs, points.data(),
+                                                progress_part(progress, at + half, at + 2 * half));
+            !r.ok())
+            return r;
         average_into_output(points, sum, c, s.overscan, range, irradiance);
     }
     return Result<bool>::success(true);
@@ -448,7 +460,7 @@ Result<bool> random_phase_runs(const SceneSum& sum, const PinholeCamera& c, doub
 
 }  // namespace
 
-Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s,
+Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const ExactSettings& s,
                                  float* irradiance, const ProgressFn& progress) {
     const PinholeCamera& c = scene.camera;
     if (auto v = check_settings(c, wavelength, s); !v.ok()) return v;

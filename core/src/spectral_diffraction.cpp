@@ -4,7 +4,7 @@
 
 namespace wavecam {
 
-MonochromePropagator wave_propagator(const DiffractionSettings& settings) {
+MonochromePropagator wave_propagator(const ExactSettings& settings) {
     return [settings](const MonochromeScene& scene, double wavelength, float* irradiance, const ProgressFn& progress) {
         return diffract_monochrome(scene, wavelength, settings, irradiance, progress);
     };

@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "compare_sheet.h"
+#include "output_paths.h"
 #include "terminal_progress.h"
 #include "wavecam/atomic_write.h"
 #include "wavecam/diffract_image.h"
@@ -33,8 +34,7 @@ void add_setting_options(CLI::App* cmd, front::Settings& given) {
             continue;
         }
         cmd->add_option_function<std::string>("--" + key, [&given, key](const std::string& v) { given[key] = v; },
-                                              k.help)
-            ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+                                              k.help);
     }
     cmd->add_flag_callback("--no-jitter", [&given] { given["jitter"] = "false"; },
                            "Keep each source at its pixel centre");
@@ -42,18 +42,30 @@ void add_setting_options(CLI::App* cmd, front::Settings& given) {
                            "Divide out the natural cos^4 fall-off");
 }
 
+Result<int> parse_threads(int threads) {
+    if (threads < 0 || threads > 1024)
+        return Result<int>::failure("threads: expected 0 (every core) to 1024 threads, got '" +
+                                    std::to_string(threads) + "'");
+    return Result<int>::success(threads);
+}
+
 Result<ResolvedInput> read_and_resolve(const std::string& input, const front::Settings& given) {
     double max_bytes = DiffractOptions{}.max_memory;  // the limit given, before the render is read
     if (auto limit = given.find("max-memory"); limit != given.end())
         if (auto b = parse_bytes(limit->second, "--max-memory"); b.ok()) max_bytes = b.value;
-    auto image = read_image(input, max_bytes);
-    if (!image.ok()) return Result<ResolvedInput>::failure(image);
+    const auto part = given.find("subimage");
+    auto image = read_render(input, part == given.end() ? "" : part->second, max_bytes);
+    if (!image.ok())  // (a part to name: how to name it)
+        return Result<ResolvedInput>::failure(image.field == "subimage" ? front::word_failure(Result<bool>::failure(image),
+                                                                                              front::Front::Command)
+                                                                        : image.error);
     ResolvedInput r{std::move(image.value), {}};
     front::SettingSources sources;
     sources.given = given;
     sources.given_name = [](const std::string& key) { return "--" + key; };
     auto settings = front::resolve_settings(r.image.spec(), sources);
     if (!settings.ok()) return Result<ResolvedInput>::failure(input + ": " + settings.error);
+    front::show_notes(settings.value.notes);
     r.settings = std::move(settings.value);
     return Result<ResolvedInput>::success(std::move(r));
 }
@@ -104,6 +116,26 @@ DiffractOptions run_options(const ResolvedInput& in, const ProgressFn& progress,
     return o;
 }
 
+// What the aperture multiplies the work by, printed before it, at the densest sampling (400nm,
+// every angle); "" when a zone plate's or sieve's samples fit in --max-memory, else why not
+// (they are held at once).
+std::string print_aperture_work(const DiffractOptions& o) {
+    const Aperture aperture = resolved_aperture(o);
+    const double samples = estimate_sample_count(aperture, sample_pitch(400e-9, 1.0));
+    std::fprintf(stderr, "apply: pinhole %.4gmm, %s\n", aperture.diameter * 1e3, aperture_work(aperture, samples).c_str());
+    const double bytes = samples * 3 * sizeof(float);  // position and weight of each
+    // (zones and holes multiply the samples; a plain shape's size is checked with the frame's geometry)
+    const bool zones = aperture.shape == ApertureShape::ZonePlate || aperture.shape == ApertureShape::PhotonSieve;
+    if (zones && !(bytes <= o.max_memory)) {
+        char m[256];
+        std::snprintf(m, sizeof m, "--aperture %s: about %.3g pinhole samples per PSF need %.3g GiB, beyond the "
+                                   "max-memory limit of %.3g GiB; use fewer zones or holes, or a smaller --pinhole",
+                      aperture.name().c_str(), samples, bytes / (1ull << 30), o.max_memory / (1ull << 30));
+        return m;
+    }
+    return {};
+}
+
 int fail_with(const Result<bool>& r) {
     return fail(front::word_failure(r, front::Front::Command), r.kind == ErrorKind::Cancelled || interrupted() ? interrupted_status() : 1);
 }
@@ -127,6 +159,7 @@ int run_share(const ApplyFlags& flags, const std::string& input, const std::stri
     }
     auto in = read_and_resolve(input, flags.given);
     if (!in.ok()) return fail(in.error, 2);
+    if (const std::string bad = print_aperture_work(in.value.settings.options); !bad.empty()) return fail(bad, 2);
     const DiffractOptions o = run_options(in.value, terminal_progress("apply share " + flags.part), flags.threads);
     OIIO::ImageBuf part;
     if (auto r = diffract_share(part, in.value.image, input_path, o, settings, k.value.index, k.value.count,
@@ -146,16 +179,19 @@ int run_share(const ApplyFlags& flags, const std::string& input, const std::stri
 int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, front::Settings& plan_settings,
               const ProgressFn& progress, const std::string& input, const std::string& output,
               const std::string& compare, const std::string& png) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    if (fs::exists(output, ec) && fs::equivalent(input, output, ec))
-        return fail(output + ": the output would overwrite the input; choose another -o", 2);
     set_interrupt_message("wavecam apply: " + input + ": interrupted");
     if (!flags.part.empty()) return run_share(flags, input, output);
     auto in = read_and_resolve(input, flags.given);
     if (!in.ok()) return fail(in.error, 2);
+    // a mask named by the render's own metadata (wavecam.aperture) is an input too
+    if (auto a = in.value.settings.text.find("aperture"); a != in.value.settings.text.end())
+        if (const std::string clash = path_conflict({{aperture_mask_file(a->second), input + "'s aperture mask"}},
+                                                    {{output, "-o"}, {compare, "--compare"}, {png, "--png"}});
+            !clash.empty())
+            return fail(clash, 2);
     const OIIO::ImageBuf& src = in.value.image;
     if (!plan || plan_settings != in.value.settings.text) {
+        if (const std::string bad = print_aperture_work(in.value.settings.options); !bad.empty()) return fail(bad, 2);
         plan = std::make_unique<DiffractPlan>(run_options(in.value, progress, flags.threads));
         plan_settings = in.value.settings.text;
     }
@@ -182,32 +218,51 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
     return 0;
 }
 
+// Every path the run reads and writes, frame by frame: no output may be an input or another
+// output, and every output's folder must be writable ("" when all is well).
+std::string check_paths(const ApplyFlags& flags, const std::vector<int>& frames, const std::vector<std::string> (&lists)[4]) {
+    static const char* const what[4] = {"the render", "-o", "--compare", "--png"};
+    std::vector<PathUse> reads, writes;
+    if (auto a = flags.given.find("aperture"); a != flags.given.end())
+        reads.push_back({aperture_mask_file(a->second), "the --aperture mask"});
+    for (size_t f = 0; f < lists[0].size(); ++f)
+        for (int k = 0; k < 4; ++k) {
+            const std::string name = flags.frames.empty() ? what[k] : std::string(what[k]) + " (frame " +
+                                                                          std::to_string(frames[f]) + ")";
+            (k == 0 ? reads : writes).push_back({lists[k][f], name});
+        }
+    return path_conflict(reads, writes);
+}
+
 int run(const ApplyFlags& flags) {
+    if (auto t = parse_threads(flags.threads); !t.ok()) return fail("--" + t.error, 2);
     if (const std::string bad = unsupported_output(flags); !bad.empty()) return fail(bad, 2);
     for (const std::string* name : {&flags.output, &flags.compare, &flags.png})  // before any work
         if (!name->empty())
             if (const std::string bad = output_name_problem(*name); !bad.empty()) return fail(bad, 2);
     if (!flags.part.empty() && (!flags.compare.empty() || !flags.png.empty()))
         return fail("--part writes a part file for `wavecam merge`; give --compare and --png to the merge instead", 2);
+    std::vector<int> frames{0};
+    std::vector<std::string> lists[4] = {{flags.input}, {flags.output}, {flags.compare}, {flags.png}};
+    if (!flags.frames.empty()) {
+        auto numbers = frame_numbers(flags.frames);
+        if (!numbers.ok()) return fail(numbers.error, 2);
+        frames = numbers.value;
+        const std::string* patterns[4] = {&flags.input, &flags.output, &flags.compare, &flags.png};
+        for (int k = 0; k < 4; ++k) {
+            lists[k].assign(frames.size(), "");
+            if (patterns[k]->empty()) continue;
+            auto files = frame_files(*patterns[k], frames);
+            if (!files.ok()) return fail(files.error, 2);
+            lists[k] = files.value;
+        }
+    }
+    if (const std::string clash = check_paths(flags, frames, lists); !clash.empty()) return fail(clash, 2);
     std::unique_ptr<DiffractPlan> plan;
     front::Settings plan_settings;
     if (flags.frames.empty())
         return run_frame(flags, plan, plan_settings, terminal_progress("apply"), flags.input, flags.output,
                          flags.compare, flags.png);
-
-    std::vector<int> frames;
-    if (!OIIO::Filesystem::enumerate_sequence(flags.frames, frames) || frames.empty())
-        return fail("--frames: expected a frame range such as 1-100, 1-100x2 or 3,7,10-20, got '" + flags.frames +
-                    "'", 2);
-    std::vector<std::string> lists[4];
-    const std::string* patterns[4] = {&flags.input, &flags.output, &flags.compare, &flags.png};
-    for (int k = 0; k < 4; ++k) {
-        lists[k].assign(frames.size(), "");
-        if (patterns[k]->empty()) continue;
-        auto files = frame_files(*patterns[k], frames);
-        if (!files.ok()) return fail(files.error, 2);
-        lists[k] = files.value;
-    }
     // one plan while the frames' settings agree: the PSF table is built once and reused
     auto bar = std::make_shared<ProgressFn>();
     const ProgressFn progress = [bar](double f) { return (*bar)(f); };
@@ -215,8 +270,13 @@ int run(const ApplyFlags& flags) {
         *bar = terminal_progress("apply frame " + std::to_string(frames[f]));
         if (const int status = run_frame(flags, plan, plan_settings, progress, lists[0][f], lists[1][f], lists[2][f],
                                          lists[3][f]);
-            status != 0)
+            status != 0) {
+            // the sequence stops at the first frame that fails: what was done, and what not
+            std::fprintf(stderr, "wavecam apply: frames done: %s; failed: %d; not tried: %s\n",
+                         frame_ranges({frames.begin(), frames.begin() + f}).c_str(), frames[f],
+                         frame_ranges({frames.begin() + f + 1, frames.end()}).c_str());
             return status;
+        }
     }
     return 0;
 }

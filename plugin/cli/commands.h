@@ -18,6 +18,16 @@ void add_sweep_command(CLI::App& app, int& status);
 void add_merge_command(CLI::App& app, int& status);
 void add_farm_command(CLI::App& app, int& status);
 
+// --threads: 0 (every core) to 1024; errors read "threads: expected ...".
+Result<int> parse_threads(int threads);
+
+// --frames' numbers (OIIO's sequence syntax: "1-100", "1-100x2", "3,7,10-20"), counted before
+// they are expanded: more than 100000 frames are refused. Errors name --frames.
+Result<std::vector<int>> frame_numbers(const std::string& text);
+
+// Frame numbers as ranges, for messages: {1, 2, 3, 7} -> "1-3,7"; "none" for none.
+std::string frame_ranges(const std::vector<int>& frames);
+
 // The files of a frame range: OIIO's own pattern rules ("shot.#.exr" = 4 digits, "@" = 1,
 // "%04d" printf style) and sequence syntax ("1-100", "1-100x2", "3,7,10-20").
 Result<std::vector<std::string>> frame_files(const std::string& pattern, const std::vector<int>& frames);

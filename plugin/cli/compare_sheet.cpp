@@ -27,10 +27,14 @@ OIIO::ImageBuf first_three(const OIIO::ImageBuf& img, const int order[3]) {
     return OIIO::ImageBufAlgo::channels(img, 3, OIIO::cspan<int>(order, 3));
 }
 
-void label(OIIO::ImageBuf& img, int x, const std::string& text) {
+void label(OIIO::ImageBuf& img, int x, int panel_width, const std::string& text) {
     const int size = std::max(12, img.spec().height / 20);
-    // A missing font only loses the label, never the sheet.
-    OIIO::ImageBufAlgo::render_text(img, x + 4, size + 2, text, size, "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", {1.0f, 1.0f, 0.3f});
+    const char* font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+    // A missing font only loses the label, never the sheet; so does a panel too small for it
+    // (OIIO's text drawing asserts on text beyond the image).
+    const OIIO::ROI box = OIIO::ImageBufAlgo::text_size(text, size, font);
+    if (!box.defined() || box.width() + 4 > panel_width || size + 2 + box.yend > img.spec().height) return;
+    OIIO::ImageBufAlgo::render_text(img, x + 4, size + 2, text, size, font, {1.0f, 1.0f, 0.3f});
     img.geterror();
 }
 
@@ -84,7 +88,7 @@ Result<bool> write_compare_sheet(const OIIO::ImageBuf& input, const OIIO::ImageB
         auto shown = to_display(*panels[k], in_space, cc);
         if (!shown.ok()) return Result<bool>::failure(path + ": " + shown.error);
         OIIO::ImageBufAlgo::paste(sheet, k * w, 0, 0, 0, shown.value);
-        label(sheet, k * w, names[k]);
+        label(sheet, k * w, w, names[k]);
     }
     return write_image_atomically(sheet, path, OIIO::TypeDesc::UINT8);
 }

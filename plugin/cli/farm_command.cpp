@@ -2,7 +2,7 @@
 // per frame x share, each `wavecam apply --part K/N`) and one merge job per frame that waits for
 // that frame's tasks (--dependency=afterok), skipping shares whose part files are complete;
 // `status` says what is done. Files live in OUT.farm/: parts/FRAME/share-K-of-N.exr, logs/, the
-// scripts and job.txt (what was submitted). The fast method needs no shares: its frames go
+// scripts and job.txt (what was submitted). The convolution method needs no shares: its frames go
 // through the array in chunks, one `wavecam apply --frames` per task.
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "commands.h"
+#include "output_paths.h"
 #include "slurm.h"
 #include "terminal_progress.h"
 #include "wavecam/atomic_write.h"
@@ -141,7 +142,7 @@ int report_status(const std::string& output) {
         if (frame_merged(f)) {
             line += (n == 0 ? "done -> " : "merged -> ") + f.output;
             ++merged;
-        } else if (n == 0) {  // fast method: the frame's chunk task
+        } else if (n == 0) {  // convolution method: the frame's chunk task
             const std::string task = array + "_" + job["task-of." + std::to_string(i)];
             line += "not done; task " + task + " " + state(task, "not queued");
         } else {
@@ -234,7 +235,7 @@ Result<std::string> submit_array(const fs::path& farm, const FarmFlags& flags, c
 }
 
 // Records the submission in job.txt: its head, then a line a frame, each followed by its `key`
-// entry (its merge job, or the fast method's task) where `entry` has one. Then, with --wait,
+// entry (its merge job, or the convolution method's task) where `entry` has one. Then, with --wait,
 // waits for the array and `merge_jobs` and reports.
 int record_and_wait(const fs::path& farm, const FarmFlags& flags, int tasks, const std::string& array_id,
                     const std::vector<Frame>& frames, const std::string& key, const std::vector<std::string>& entry,
@@ -254,7 +255,7 @@ int record_and_wait(const fs::path& farm, const FarmFlags& flags, int tasks, con
     return wait_and_report(flags, merge_jobs);
 }
 
-// The fast method: the frames not yet made, in --tasks contiguous chunks of one array.
+// The convolution method: the frames not yet made, in --tasks contiguous chunks of one array.
 int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::vector<Frame>& frames) {
     std::vector<size_t> todo;
     for (size_t i = 0; i < frames.size(); ++i) {
@@ -264,7 +265,7 @@ int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::ve
         if (!frame_merged(frames[i])) todo.push_back(i);
     }
     const size_t tasks = std::min(todo.size(), size_t(flags.tasks));
-    std::printf("farm: %zu frame%s, fast method (seconds to minutes a frame); %zu to make in %zu task%s\n",
+    std::printf("farm: %zu frame%s, convolution method (seconds to minutes a frame); %zu to make in %zu task%s\n",
                 frames.size(), frames.size() == 1 ? "" : "s", todo.size(), tasks, tasks == 1 ? "" : "s");
     std::fflush(stdout);
     if (auto q = check_nothing_queued(flags, frames.size()); !q.ok()) return fail(q.error);
@@ -280,7 +281,7 @@ int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::ve
         cases << t << ") exec " << apply_command(flags, absolute(flags.input), absolute(flags.output), "")
               << (flags.frames.empty() ? "" : " --frames " + list) << " ;;\n";
     }
-    auto id = submit_array(farm, flags, "fast method, task i makes one chunk of frames", cases.str(),
+    auto id = submit_array(farm, flags, "convolution method, task i makes one chunk of frames", cases.str(),
                            tasks > 0 ? "0-" + std::to_string(tasks - 1) : "");
     if (!id.ok()) return fail(id.error);
     if (tasks > 0) std::printf("farm: submitted array job %s: %zu tasks\n", id.value.c_str(), tasks);
@@ -292,10 +293,9 @@ int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::ve
 Result<std::vector<Frame>> frame_list(const FarmFlags& flags) {
     using R = Result<std::vector<Frame>>;
     if (flags.frames.empty()) return R::success({{0, "image", absolute(flags.input), absolute(flags.output), {}}});
-    std::vector<int> numbers;
-    if (!OIIO::Filesystem::enumerate_sequence(flags.frames, numbers) || numbers.empty())
-        return R::failure("--frames: expected a frame range such as 1-100, 1-100x2 or 3,7,10-20, got '" + flags.frames +
-                          "'");
+    auto listed = frame_numbers(flags.frames);
+    if (!listed.ok()) return R::failure(listed);
+    const std::vector<int>& numbers = listed.value;
     auto in = frame_files(flags.input, numbers);
     if (!in.ok()) return R::failure(in);
     auto out = frame_files(flags.output, numbers);
@@ -352,11 +352,24 @@ std::vector<std::vector<int>> share_tasks(std::ostringstream& cases, const fs::p
 
 int submit(const FarmFlags& flags) {
     if (flags.tasks < 1) return fail("--tasks: expected at least 1 share per frame", 2);
+    if (flags.cpus < 1 || flags.cpus > 1024)
+        return fail("--cpus-per-task: expected 1 to 1024 cores, got '" + std::to_string(flags.cpus) + "'", 2);
     const front::Settings settings = recorded_settings(flags.given);
 
     auto listed = frame_list(flags);
     if (!listed.ok()) return fail(listed.error, 2);
     std::vector<Frame>& frames = listed.value;
+    {  // no frame's output may be an input, the mask or another frame's output
+        std::vector<PathUse> reads, writes;
+        if (auto a = flags.given.find("aperture"); a != flags.given.end())
+            reads.push_back({aperture_mask_file(a->second), "the --aperture mask"});
+        for (const Frame& f : frames) {
+            const std::string tag = flags.frames.empty() ? "" : " (frame " + std::to_string(f.number) + ")";
+            reads.push_back({f.input, "the render" + tag});
+            writes.push_back({f.output, "-o" + tag});
+        }
+        if (const std::string clash = path_conflict(reads, writes); !clash.empty()) return fail(clash, 2);
+    }
 
     // The estimate, before anything is submitted: each frame's settings resolved as its task will.
     double total = 0;
@@ -364,8 +377,8 @@ int submit(const FarmFlags& flags) {
         auto in = read_and_resolve(f.input, flags.given);
         if (!in.ok()) return fail(in.error, 2);
         const DiffractOptions& opt = in.value.settings.options;
-        if (opt.method == DiffractMethod::Fast) {
-            if (&f != &frames.front()) return fail(f.input + ": method fast, unlike the first frame's", 2);
+        if (opt.method == DiffractMethod::Convolution) {
+            if (&f != &frames.front()) return fail(f.input + ": method convolution, unlike the first frame's", 2);
             return submit_fast(flags, settings, frames);
         }
         auto render = load_render(in.value.image, f.input, opt.read);
@@ -373,7 +386,7 @@ int submit(const FarmFlags& flags) {
         const PinholeCamera camera = render.value.camera(opt.film_distance);
         const double terms = estimate_terms(opt, camera, render.value.depth, render.value.colorspace);
         const int wavelengths = opt.wavelengths.empty() ? opt.wavelength_count : int(opt.wavelengths.size());
-        const int runs = opt.method == DiffractMethod::Incoherent ? 1 : opt.diffraction.runs;
+        const int runs = opt.method == DiffractMethod::Incoherent ? 1 : opt.exact.runs;
         if (auto s = work_share(flags.tasks, flags.tasks, wavelengths, runs, camera.height); !s.ok())
             return fail(f.input + ": --tasks: " + s.error, 2);
         if (terms / flags.tasks > opt.max_terms) {
@@ -443,7 +456,7 @@ void add_farm_command(CLI::App& app, int& status) {
     cmd->add_option("input", f->input, "Input EXR (or a pattern with --frames)")->required();
     cmd->add_option("-o,--output", f->output, "Output EXR (or a pattern with --frames)")->required();
     add_setting_options(cmd, f->given);
-    cmd->add_option("--tasks", f->tasks, "Exact methods: shares per frame (array tasks per frame); fast method: tasks in all, each a chunk of frames")->required();
+    cmd->add_option("--tasks", f->tasks, "Exact methods: shares per frame (array tasks per frame); convolution method: tasks in all, each a chunk of frames")->required();
     cmd->add_option("--frames", f->frames, "Frame range, e.g. 1-100; input and -o are then patterns (#, @, %04d)");
     cmd->add_option("--partition", f->partition, "Slurm partition");
     cmd->add_option("--cpus-per-task", f->cpus, "Cores per task (its threads)")->capture_default_str();

@@ -9,6 +9,7 @@
 #include <new>
 
 #include "commands.h"
+#include "parse_errors.h"
 #include "terminal_progress.h"
 #include "wavecam/atomic_write.h"
 
@@ -44,6 +45,7 @@ int main(int argc, char** argv) {
     std::set_terminate(on_terminate);
     CLI::App app{"wavecam: a wave-optics pinhole camera"};
     app.require_subcommand(1);
+    app.set_version_flag("--version", std::string("wavecam ") + WAVECAM_VERSION, "Print the version and exit");
     int status = 0;
     try {
         wavecam::cli::add_psf_command(app, status);
@@ -52,9 +54,15 @@ int main(int argc, char** argv) {
         wavecam::cli::add_merge_command(app, status);
         wavecam::cli::add_farm_command(app, status);
         wavecam::cli::install_interrupt_handlers();
+        if (const std::string twice = wavecam::cli::repeated_option(app, argc, argv); !twice.empty()) {
+            std::fprintf(stderr, "%s\n", twice.c_str());
+            return 2;
+        }
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+        std::fprintf(stderr, "%s\n", wavecam::cli::word_parse_error(app, e, argc, argv).c_str());
+        return 2;
     } catch (const std::exception& e) {  // no exception leaves main: each command's failure, in words
         wavecam::cli::finish_progress();
         const std::string command = app.get_subcommands().empty() ? "" : app.get_subcommands().front()->get_name() + ": ";

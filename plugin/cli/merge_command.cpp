@@ -13,6 +13,8 @@
 
 #include "commands.h"
 #include "compare_sheet.h"
+#include "output_paths.h"
+#include "terminal_progress.h"
 #include "wavecam/atomic_write.h"
 #include "wavecam/share_files.h"
 #include "../front/settings.h"
@@ -25,10 +27,10 @@ struct MergeFlags {
     std::string output, compare, png;
 };
 
-int refuse(const std::vector<std::string>& problems) {
+int refuse(const std::vector<std::string>& problems, int status = 1) {
     std::fprintf(stderr, "wavecam merge: refused, nothing written:\n");
     for (const auto& p : problems) std::fprintf(stderr, "  %s\n", p.c_str());
-    return 1;
+    return status == 1 && interrupted() ? interrupted_status() : status;  // (a write refused at a signal)
 }
 
 // Arguments as given; one that is not a file but a pattern ("out.part-*.exr") is expanded.
@@ -49,10 +51,23 @@ std::vector<std::string> expand(const std::vector<std::string>& args, std::vecto
     return files;
 }
 
+// No output may be a part, the shares' render or mask, or another output ("" when none is).
+std::string check_paths(const MergeFlags& flags, const std::vector<std::string>& files, const std::string& render,
+                        const std::string& aperture) {
+    std::vector<PathUse> reads{{render, "the shares' render"}, {aperture_mask_file(aperture), "the shares' mask"}};
+    for (const auto& f : files) reads.push_back({f, "the part file"});
+    return path_conflict(reads, {{flags.output, "-o"}, {flags.compare, "--compare"}, {flags.png, "--png"}});
+}
+
 int run(const MergeFlags& flags) {
     std::vector<std::string> problems;
     std::vector<PartFile> parts;
-    for (const auto& f : expand(flags.parts, problems)) {
+    const std::vector<std::string> files = expand(flags.parts, problems);
+    for (const std::string* name : {&flags.output, &flags.compare, &flags.png})
+        if (!name->empty())
+            if (const std::string bad = output_name_problem(*name); !bad.empty()) return refuse({bad}, 2);
+    if (const std::string clash = check_paths(flags, files, "", ""); !clash.empty()) return refuse({clash}, 2);
+    for (const auto& f : files) {
         auto p = read_part(f);
         if (p.ok()) parts.push_back(std::move(p.value));
         else problems.push_back(p.error);
@@ -64,6 +79,11 @@ int run(const MergeFlags& flags) {
     if (!problems.empty()) return refuse(problems);
 
     const PartFile& first = parts.front();
+    const auto aperture = first.settings.find("aperture");
+    if (const std::string clash =
+            check_paths(flags, files, first.input, aperture == first.settings.end() ? "" : aperture->second);
+        !clash.empty())
+        return refuse({clash}, 2);
     auto fingerprint = file_fingerprint(first.input);
     if (!fingerprint.ok()) return refuse({fingerprint.error + " (the shares' input; the merge reads it again)"});
     if (fingerprint.value != first.input_fingerprint)

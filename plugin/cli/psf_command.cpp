@@ -1,24 +1,28 @@
 // `wavecam psf`: the image of one point source, as a float EXR of relative irradiance.
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/strutil.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 
 #include "commands.h"
+#include "output_paths.h"
+#include "plot_marks.h"
 #include "terminal_progress.h"
 #include "wavecam/aperture_mask.h"
 #include "wavecam/atomic_write.h"
 #include "wavecam/psf.h"
 #include "wavecam/units.h"
+#include "../front/settings.h"
 
 namespace wavecam::cli {
 namespace {
 
 struct PsfFlags {
     std::string pinhole, aperture, film_distance, source_distance, source_angle, wavelength, film_size, resolution,
-        max_angle, output = "psf.exr", png;
-    double max_terms = 0;
+        max_angle, output = "psf.exr", png, max_terms;
     int threads = 0;
 };
 
@@ -35,9 +39,19 @@ PsfFlags as_flags(const PsfParams& p) {
     f.film_size = with_unit(p.film_size, 1e-3, "mm");
     f.resolution = std::to_string(p.resolution);
     f.max_angle = with_unit(std::asin(p.sin_theta_max), M_PI / 180, "deg");
-    f.max_terms = p.max_terms;
+    f.max_terms = OIIO::Strutil::fmt::format("{:g}", p.max_terms);
     f.threads = p.nthreads;
     return f;
+}
+
+// --max-terms: a finite count of terms > 0 (nan or inf would switch the bound off).
+Result<double> parse_max_terms(const std::string& text) {
+    char* end = nullptr;
+    const double t = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !(t > 0) || !std::isfinite(t))
+        return Result<double>::failure("max-terms: expected a number of terms > 0 such as 4e12 (not inf or nan), got '" +
+                                       text + "'");
+    return Result<double>::success(t);
 }
 
 // Turns the flags into parameters; the first error names its flag.
@@ -51,7 +65,7 @@ Result<PsfParams> parse_flags(const PsfFlags& f) {
     };
     take(load_aperture(f.aperture, "aperture"), p.aperture);
     take(parse_length(f.pinhole, "pinhole"), p.aperture.diameter);
-    take(parse_length(f.film_distance, "film-distance"), p.film_distance);
+    take(front::parse_film_distance(f.film_distance, "film-distance"), p.film_distance);
     take(parse_length_or_inf(f.source_distance, "source-distance"), p.source_distance);
     take(parse_angle(f.source_angle, "source-angle"), p.source_angle);
     take(parse_length(f.wavelength, "wavelength"), p.wavelength);
@@ -60,10 +74,12 @@ Result<PsfParams> parse_flags(const PsfFlags& f) {
     take(parse_whole_number(f.resolution, "resolution", 1, 16384), res);
     double max_angle = 0;
     take(parse_angle(f.max_angle, "max-angle"), max_angle);
+    take(parse_max_terms(f.max_terms), p.max_terms);
+    if (error.empty())
+        if (auto t = parse_threads(f.threads); !t.ok()) error = "--" + t.error;
     if (!error.empty()) return Result<PsfParams>::failure(error);
     p.resolution = static_cast<int>(res);
     p.sin_theta_max = std::sin(max_angle);
-    p.max_terms = f.max_terms;
     p.nthreads = f.threads;
     if (auto v = validate(p); !v.ok()) return Result<PsfParams>::failure("--" + v.error);
     return Result<PsfParams>::success(p);
@@ -96,15 +112,21 @@ OIIO::ImageBuf to_imagebuf(const PsfImage& img, const PsfParams& p) {
     return buf;
 }
 
-// A picture for people: irradiance / peak, sRGB-encoded so the rings show.
-Result<bool> write_png(const OIIO::ImageBuf& psf, double peak, const std::string& path) {
+// A picture for people: irradiance / peak, sRGB-encoded so the rings show, enlarged to at least
+// 256 pixels (each pixel repeated) with a scale bar in micrometres on the film at its lower left.
+Result<bool> write_png(const OIIO::ImageBuf& psf, double peak, double pitch, const std::string& path) {
     OIIO::ImageBuf scaled = OIIO::ImageBufAlgo::mul(psf, float(peak > 0 ? 1.0 / peak : 1.0));
     OIIO::ImageBuf display = OIIO::ImageBufAlgo::colorconvert(scaled, "linear", "sRGB");
     if (display.has_error()) return Result<bool>::failure(path + ": " + display.geterror());
+    const int n = display.spec().width, factor = std::max(1, (256 + n - 1) / n);
+    if (factor > 1) display = OIIO::ImageBufAlgo::resize(display, "box", 0, OIIO::ROI(0, n * factor, 0, n * factor));
+    draw_scale_bar(display, 8, n * factor - 8, pitch / factor, n * factor / 3, {1, 1, 1});
     return write_image_atomically(display, path, OIIO::TypeDesc::UINT8);
 }
 
 int fail(const std::string& message, int status = 1) {
+    finish_progress();
+    if (status == 1 && interrupted()) status = interrupted_status();  // (a write refused at a signal)
     std::fprintf(stderr, "wavecam psf: %s\n", message.c_str());
     return status;
 }
@@ -112,14 +134,24 @@ int fail(const std::string& message, int status = 1) {
 int run(const PsfFlags& flags) {
     auto params = parse_flags(flags);
     if (!params.ok()) return fail(params.error, 2);
+    for (const std::string* name : {&flags.output, &flags.png})  // before any work
+        if (!name->empty())
+            if (const std::string bad = output_name_problem(*name); !bad.empty()) return fail(bad, 2);
+    if (const std::string clash = path_conflict({{aperture_mask_file(flags.aperture), "the --aperture mask"}},
+                                                {{flags.output, "-o"}, {flags.png, "--png"}});
+        !clash.empty())
+        return fail(clash, 2);
     const PsfParams& p = params.value;
+    const double samples = estimate_sample_count(p.aperture, sample_pitch(p.wavelength, p.sin_theta_max));
+    std::fprintf(stderr, "psf: %s x %d x %d film points = %.3g terms\n", aperture_work(p.aperture, samples).c_str(),
+                 p.resolution, p.resolution, samples * p.resolution * p.resolution);
     auto img = compute_psf(p, terminal_progress("psf"));
     finish_progress();
     if (!img.ok()) return fail(img.error, interrupted() ? interrupted_status() : 1);
     const OIIO::ImageBuf buf = to_imagebuf(img.value, p);
     if (auto w = write_image_atomically(buf, flags.output, OIIO::TypeDesc::FLOAT); !w.ok()) return fail(w.error);
     if (!flags.png.empty())
-        if (auto w = write_png(buf, img.value.peak, flags.png); !w.ok()) return fail(w.error);
+        if (auto w = write_png(buf, img.value.peak, img.value.pixel_pitch, flags.png); !w.ok()) return fail(w.error);
     std::printf("Fresnel number  %.4g\n", img.value.fresnel_number);
     if (has_zone_focus(p.aperture))
         std::printf("%s first focus r1^2/lambda = %.4g mm at %.4g nm (film at %.4g mm)\n",
@@ -154,7 +186,7 @@ void add_psf_command(CLI::App& app, int& status) {
     cmd->add_option("--max-terms", flags->max_terms, "Refuse work beyond this many terms")->capture_default_str();
     cmd->add_option("--threads", flags->threads, "Threads (0 = every core)")->capture_default_str();
     cmd->add_option("-o,--output", flags->output, "Output EXR")->capture_default_str();
-    cmd->add_option("--png", flags->png, "Also write a PNG for people (peak-normalised, sRGB)");
+    cmd->add_option("--png", flags->png, "Also write a PNG for people (peak-normalised, sRGB, a scale bar in micrometres)");
     cmd->callback([flags, &status] { status = run(*flags); });
 }
 

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <sstream>
 
 #include "wavecam/atomic_write.h"
 #include "wavecam/term_rate.h"
@@ -24,7 +25,7 @@ char g_stop_message[512] = "\nwavecam: interrupted\n";
 std::atomic<size_t> g_stop_length{sizeof "\nwavecam: interrupted\n" - 1};
 constexpr long kGraceMicroseconds = 1500000;  // the work's own stop, before the watchdog's
 
-// The watchdog: work that has not stopped within the grace time after SIGINT/SIGTERM (a loop
+// The watchdog: work that has not stopped within the grace time after a signal (a loop
 // that does not ask, a read that blocks), or a second signal, ends the process here: the
 // temporary being written is removed, the target never touched. Async-signal-safe only.
 extern "C" void stop_now(int) {
@@ -49,8 +50,10 @@ using Clock = std::chrono::steady_clock;
 void install_interrupt_handlers() {
     set_write_cancel_check([] { return g_interrupted.load(); });
     std::signal(SIGALRM, stop_now);
-    std::signal(SIGINT, on_signal);
-    std::signal(SIGTERM, on_signal);
+    // every signal that ends a process by default and can be caught: the run stops as at SIGINT,
+    // its temporary removed, the old output kept, exit 128 + N
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGXCPU, SIGXFSZ, SIGUSR1, SIGUSR2})
+        std::signal(sig, on_signal);
 }
 
 bool interrupted() { return g_interrupted.load(); }
@@ -83,6 +86,21 @@ void print_estimate(const std::string& label, const std::string& job, double ter
                  label.c_str(), job.c_str(), terms, format_duration(terms / rate).c_str(), threads,
                  threads == 1 ? "" : "s", rate);
     std::fflush(stderr);
+}
+
+std::string aperture_work(const Aperture& aperture, double samples) {
+    std::ostringstream s;
+    s.precision(3);
+    s << "aperture " << aperture.name();
+    if (aperture.shape == ApertureShape::PhotonSieve) {
+        long holes = 1;  // the central disc
+        for (const SieveRing& ring : sieve_rings(aperture.sieve())) holes += ring.holes;
+        s << " (" << holes << " holes)";
+    } else if (aperture.shape == ApertureShape::ZonePlate) {
+        s << " (" << aperture.zones << " zones)";
+    }
+    s << ": about " << samples << " pinhole samples per PSF";
+    return s.str();
 }
 
 ProgressFn terminal_progress(const std::string& label) {

@@ -6,7 +6,7 @@
 //   film-distance = "50mm"
 //   wavelengths = "8"             # or ["450nm", "550nm", "650nm"]
 //   runs = 4
-//   method = "fast"              # or "exact" (the seed paper), "incoherent"
+//   method = "convolution"       # or "random-phase" (the seed paper), "incoherent"
 //   output-colorspace = "ACEScg"
 //   aperture = "mask:pinhole.png"  # a mask, like the source, relative to this file and inside its folder
 #pragma once

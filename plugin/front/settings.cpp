@@ -1,6 +1,9 @@
 #include "settings.h"
 
 #include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <set>
 #include <sstream>
 
 #include "wavecam/aperture_mask.h"
@@ -62,10 +65,12 @@ Ok parse_wavelengths(const std::string& text, const std::string& name, DiffractO
     o.wavelengths.clear();
     if (!text.empty() && text.find_first_not_of("0123456789") == std::string::npos) {
         auto n = parse_whole_number(text, name, 1, 1000);
-        if (!n.ok()) return Ok::failure(n);
+        if (!n.ok()) return fail(name, "a count 1-1000 or a list such as 450nm,550nm,650nm", text);
         o.wavelength_count = static_cast<int>(n.value);
         return Ok::success(true);
     }
+    const std::string expected = "a count 1-1000 or a list such as 450nm,550nm,650nm";
+    if (text.find(',') == std::string::npos && !parse_length(text, name).ok()) return fail(name, expected, text);
     std::stringstream ss(text);
     std::string item;
     while (std::getline(ss, item, ',')) {
@@ -76,7 +81,7 @@ Ok parse_wavelengths(const std::string& text, const std::string& name, DiffractO
         if (!(l.value >= 100e-9 && l.value <= 10e-6)) return fail(name, "wavelengths from 100nm to 10um", item);
         o.wavelengths.push_back(l.value);
     }
-    if (o.wavelengths.empty()) return fail(name, "a count or a list", text);
+    if (o.wavelengths.empty()) return fail(name, expected, text);
     if (auto s = explicit_sampling(o.wavelengths); !s.ok())  // "wavelengths: expected ..."
         return Ok::failure(name + s.error.substr(s.error.find(':')));
     return Ok::success(true);
@@ -92,7 +97,7 @@ const std::vector<SettingKey> kKeys = {
      [](const std::string& v, const std::string& n, DiffractOptions& o) { return take(load_aperture(v, n), o.aperture); }},
     {"film-distance", "50mm", "pinhole to film, e.g. 50mm", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return take(parse_size(n, v), o.film_distance);
+         return take(parse_film_distance(v, n), o.film_distance);
      }},
     {"fov", "50deg", "the render's horizontal field of view, e.g. 50deg (default: from the file)", false,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
@@ -120,46 +125,52 @@ const std::vector<SettingKey> kKeys = {
      [](const std::string& v, const std::string& n, DiffractOptions& o) { return take(parse_bool(n, v), o.monochrome); }},
     {"runs", "8", "random-phase runs averaged; noise falls as 1/sqrt(runs)", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return take(parse_whole_number(v, n, 1, 100000), o.diffraction.runs);
+         return take(parse_whole_number(v, n, 1, 100000), o.exact.runs);
      }},
-    {"method", "exact", "fast (PSF-grid convolution, default), random-phase or its old name exact (the seed paper's "
-     "random-phase sum), or incoherent (the exact incoherent sum)",
+    {"method", "random-phase", "convolution (the default: PSF-grid convolution), random-phase (the seed paper's "
+     "random-phase runs) or incoherent (every source propagated alone: the infinite-run limit)",
      true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          return parse_choice(n, v,
-                             {{"fast", DiffractMethod::Fast}, {"exact", DiffractMethod::RandomPhase},
-                              {"random-phase", DiffractMethod::RandomPhase},
+                             {{"convolution", DiffractMethod::Convolution}, {"random-phase", DiffractMethod::RandomPhase},
                               {"incoherent", DiffractMethod::Incoherent}},
                              o.method);
      }},
-    {"summation", "direct", "how the random-phase and incoherent methods evaluate their two sums: fast (NUFFTs with "
-     "interpolated chirps, relative error ~3e-4, each sum direct where that is cheaper; default), direct (term by "
-     "term, the reference) or nufft (the NUFFTs always)",
+    {"summation", "direct", "how the random-phase and incoherent methods evaluate their two sums: auto (the cheaper "
+     "of the two evaluators by the work estimate; default), direct (term by term, the reference) or nufft (NUFFTs "
+     "over the pinhole lattice, relative error ~3e-4)",
      true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return parse_choice(n, v,
-                             {{"fast", Summation::Fast}, {"direct", Summation::Direct}, {"nufft", Summation::Nufft}},
-                             o.diffraction.summation);
+         return parse_choice(n, v, {{"auto", Summation::Auto}, {"direct", Summation::Direct}, {"nufft", Summation::Nufft}},
+                             o.exact.summation);
+     }},
+    {"device", "gpu", "where the random-phase and incoherent methods run their direct sums: cpu (default), gpu "
+     "(a Vulkan device, a discrete GPU first; an error if there is none) or auto (a discrete GPU when there is one, "
+     "else the CPU); the machine's choice, never a source's metadata",
+     false,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return parse_choice(n, v, {{"cpu", Device::Cpu}, {"gpu", Device::Gpu}, {"auto", Device::Auto}},
+                             o.exact.device);
      }},
     {"phases", "independent", "random-phase runs' phases: coded (run k offsets class m by 2 pi k m / runs, so "
      "that different classes cancel exactly; default) or independent (the seed paper's; noise ~ 1/sqrt(runs))",
      true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return parse_choice(n, v, {{"coded", true}, {"independent", false}}, o.diffraction.coded_phases);
+         return parse_choice(n, v, {{"coded", true}, {"independent", false}}, o.exact.coded_phases);
      }},
     {"seed", "7", "random seed: the same seed gives the same image", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return take(parse_whole_number(v, n, 0, 1L << 62), o.diffraction.seed);
+         return take(parse_whole_number(v, n, 0, 1L << 62), o.exact.seed);
      }},
     {"film-subsamples", "3", "n: each film pixel averages n x n points over its area (0 = enough to resolve the PSF)",
      true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return take(parse_whole_number(v, n, 0, 16), o.diffraction.film_subsamples);
+         return take(parse_whole_number(v, n, 0, 16), o.exact.film_subsamples);
      }},
     {"jitter", "true", "true: move the sources within their pixels (coded phases: all by one random offset; "
-     "independent: each anew every run); default false, sources at pixel centres as the fast path has them", true,
+     "independent: each anew every run); default false, sources at pixel centres as the convolution method has them", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return take(parse_bool(n, v), o.diffraction.jitter);
+         return take(parse_bool(n, v), o.exact.jitter);
      }},
     {"vignetting", "false", "true: keep the natural cos^4 fall-off; false divides it out", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) { return take(parse_bool(n, v), o.vignetting); }},
@@ -182,18 +193,55 @@ const std::vector<SettingKey> kKeys = {
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          char* end = nullptr;
          const double t = std::strtod(v.c_str(), &end);
-         if (v.empty() || *end != '\0' || !(t > 0)) return fail(n, "a positive number", v);
+         if (v.empty() || *end != '\0' || !(t > 0) || !std::isfinite(t))
+             return fail(n, "a number of terms > 0 such as 4e12 (not inf or nan)", v);
          o.max_terms = t;
          return Ok::success(true);
      }},
     {"max-memory", "32GiB", "refuse jobs estimated to need more memory, e.g. 16GiB (the default), 512MiB", false,
      [](const std::string& v, const std::string& n, DiffractOptions& o) { return take(parse_bytes(v, n), o.max_memory); }},
+    {"subimage", "NAME", "the part (subimage) of a multi-part file to read, by its name; a file of several parts "
+     "is refused without it (the message names them)", false,
+     [](const std::string& v, const std::string&, DiffractOptions& o) { return copy_text(v, o.read.subimage); }},
     {"overscan", "32", "pixels of margin the render has on every side: light sources, cropped from the output "
-     "(the fov describes the whole input)", true,
+     "(the fov describes the whole input); for a file without its own windows (an OpenEXR data window beyond "
+     "its display window is overscan read from the file)", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          return take(parse_whole_number(v, n, 0, 100000), o.overscan);
      }},
 };
+
+// Words a setting had before its present vocabulary: still taken, with a note naming the new one.
+struct OldSpelling {
+    const char *key, *old_word, *word;
+};
+constexpr OldSpelling kOldSpellings[] = {
+    {"method", "fast", "convolution"},
+    {"method", "exact", "random-phase"},
+    {"summation", "fast", "auto"},
+};
+
+// The present word for `text`, and a note when it is an old spelling.
+std::string present_word(const std::string& key, const std::string& text, const std::string& name,
+                         std::vector<std::string>& notes) {
+    for (const OldSpelling& o : kOldSpellings)
+        if (key == o.key && text == o.old_word) {
+            notes.push_back(name + ": '" + text + "' is now called '" + o.word + "'");
+            return o.word;
+        }
+    return text;
+}
+
+}  // namespace
+
+Result<double> parse_film_distance(const std::string& text, const std::string& name) {
+    auto l = parse_length(text, name);
+    if (l.ok() && !(l.value >= 0.1e-3))
+        return Result<double>::failure(fail(name, "a film distance of 0.1mm or more", text).error);
+    return l;
+}
+
+namespace {
 
 const SettingKey* find_key(const std::string& key) {
     for (const SettingKey& k : kKeys)
@@ -247,14 +295,23 @@ Result<ResolvedSettings> resolve_settings(const OIIO::ImageSpec& source, const S
             for (const SettingKey& s : kKeys) known += (known.empty() ? "" : ", ") + s.key;
             return R::failure(given.name + ": unknown key (known: " + known + ")");
         }
-        if (auto a = k->apply(given.text, given.name, r.options); !a.ok()) return R::failure(a);
-        r.text[key] = given.text;
+        const std::string text = present_word(key, given.text, given.name, r.notes);
+        if (auto a = k->apply(text, given.name, r.options); !a.ok()) return R::failure(a);
+        r.text[key] = text;
     }
     if (auto fov = layers.find("fov"); fov != layers.end())
         r.options.read.fov_from = sources.description.count("fov") && !sources.given.count("fov")
                                       ? "fov in " + sources.description_path
                                       : fov->second.name;
     return R::success(std::move(r));
+}
+
+void show_notes(const std::vector<std::string>& notes) {
+    static std::mutex lock;
+    static std::set<std::string> shown;
+    std::lock_guard<std::mutex> guard(lock);
+    for (const std::string& n : notes)
+        if (shown.insert(n).second) std::fprintf(stderr, "wavecam: %s\n", n.c_str());
 }
 
 std::string word_failure(const Result<bool>& f, Front front) {

@@ -25,7 +25,11 @@ struct SettingKey {
 };
 const std::vector<SettingKey>& setting_keys();
 
-// Where settings come from. One order for every front, lowest first (README "Settings: one
+// A film distance (pinhole to film) of 0.1mm or more; errors name `name` ("film-distance:
+// expected ..."). Every front's --film-distance.
+Result<double> parse_film_distance(const std::string& text, const std::string& name);
+
+// Where settings come from. One order for every front, lowest first (docs/settings.md "One
 // order"): built-in defaults < the source's `wavecam.KEY` metadata < a description file < what
 // the user gave (the command's flags; the plugin's --iconfig hints, then ?KEY=VALUE).
 struct SettingSources {
@@ -39,6 +43,9 @@ struct SettingSources {
 struct ResolvedSettings {
     DiffractOptions options;
     Settings text;  // every setting in force, from every layer, as text: the same text, the same options
+    // One line per old spelling taken ("--method: 'fast' is now called 'convolution'"): the front
+    // shows them once.
+    std::vector<std::string> notes;
 };
 
 // Resolves the settings of one source render, every value checked once. The source's metadata
@@ -48,6 +55,10 @@ struct ResolvedSettings {
 // the user gave the key ("--pinhole", "wavecam.pinhole", "shot.wavecam: pinhole"); an unknown
 // key lists the known ones.
 Result<ResolvedSettings> resolve_settings(const OIIO::ImageSpec& source, const SettingSources& sources);
+
+// Prints each note to standard error once per process ("wavecam: --method: 'fast' is now called
+// 'convolution'"): a sequence or a host that opens many files hears it once.
+void show_notes(const std::vector<std::string>& notes);
 
 // The fronts, for wording what core reports.
 enum class Front { Command, Plugin };

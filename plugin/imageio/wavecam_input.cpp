@@ -188,11 +188,19 @@ private:
         double max_bytes = wavecam::DiffractOptions{}.max_memory;  // the limit given, before the source is read
         if (auto limit = sources.given.find("max-memory"); limit != sources.given.end())
             if (auto b = wavecam::parse_bytes(limit->second, "max-memory"); b.ok()) max_bytes = b.value;
-        auto read = wavecam::read_image(source, max_bytes);
-        if (!read.ok()) return Computed::failure(read);
+        std::string part;  // the part (subimage) named by the user or the description file
+        for (const Settings* layer : {&sources.description, &sources.given})
+            if (auto named = layer->find("subimage"); named != layer->end()) part = named->second;
+        auto read = wavecam::read_render(source, part, max_bytes);
+        if (!read.ok())  // (a part to name: how to name it)
+            return Computed::failure(read.field == "subimage"
+                                         ? wavecam::front::word_failure(wavecam::Result<bool>::failure(read),
+                                                                        wavecam::front::Front::Plugin)
+                                         : read.error);
         const ImageBuf& src = read.value;
         auto settings = wavecam::front::resolve_settings(src.spec(), sources);
         if (!settings.ok()) return Computed::failure(source + ": " + settings.error);
+        wavecam::front::show_notes(settings.value.notes);
         std::string plan_key;
         for (const auto& [k, v] : settings.value.text) plan_key += k + "=" + v + "\n";
         plan_key += settings.value.options.read.fov_from;

@@ -1,4 +1,4 @@
-"""Planar depth of an unmodified POV-Ray scene from fog passes (shared/NOTES.md, POV-Ray).
+"""Planar depth of an unmodified POV-Ray scene from fog passes (docs/platform_notes.md, POV-Ray).
 
 A wrapper #includes the scene and adds fog { distance D color rgb C }. Constant fog mixes a
 ray's colour P as P t + C (1 - t), t = exp(-d / D), d the distance along the ray, so the

@@ -174,7 +174,7 @@ def probe_sdl(body):
 
 class Camera:
     """A perspective POV-Ray camera: pixel (i, j) of W x H looks along
-    D + x R + y U, x = (i + 0.5)/W - 0.5, y = 0.5 - (j + 0.5)/H (shared/NOTES.md)."""
+    D + x R + y U, x = (i + 0.5)/W - 0.5, y = 0.5 - (j + 0.5)/H (docs/platform_notes.md)."""
 
     def __init__(self, location, direction, right, up):
         self.location, self.direction, self.right, self.up = (np.array(v, float) for v in (location, direction, right, up))

@@ -29,7 +29,7 @@ SEEN_SDL = ('#debug concat("wavecam-seen ", str(image_width, 0, 0), " ", str(ima
 
 def quoted(path):
     """A path as one POV-Ray option value: POV-Ray splits an option at spaces unless the value is
-    quoted inside the argument (+I"/a b/c.pov"; shared/NOTES.md)."""
+    quoted inside the argument (+I"/a b/c.pov"; docs/platform_notes.md)."""
     if '"' in path:
         raise Refusal(f"{path}: POV-Ray cannot be given a path containing a double quote")
     return f'"{path}"' if any(c.isspace() for c in path) else path

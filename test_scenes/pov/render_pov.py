@@ -4,7 +4,7 @@
 Renders an unmodified POV-Ray 3.7 scene into the EXR wavecam takes: R, G, B (POV-Ray's own
 render of the scene, linear), Z (planar depth along the camera's view axis, 1e10 = sky; in
 metres with --depth-scale, else in the scene's units) and wavecam.fov (horizontal field of
-view, degrees). See README, "POV-Ray".
+view, degrees). See docs/povray.md.
 """
 import argparse
 import math
@@ -31,17 +31,21 @@ FOV_TOLERANCE_DEG = 0.01
 # only what it cannot override -- frames without --frames, part of the image -- is refused.)
 OWNED_SWITCHES = re.compile(r"[+-](I|O|F|SR|ER|SC|EC)", re.I)
 IO_SWITCHES = re.compile(r"[+-](I|O|F)", re.I)
-FRAME_SWITCHES = re.compile(r"[+-](KFI|KFF|SF|EF)", re.I)
 IO_KEYS = {"input_file_name": "SCENE", "output_file_name": "OUT", "output_file_type": "OUT (EXR)",
            "output_to_file": "OUT"}
-FRAME_KEYS = {"initial_frame", "final_frame", "subset_start_frame", "subset_end_frame"}
 PART_KEYS = {"start_row", "end_row", "start_column", "end_column"}
+# The options that say which frames an animation has and which to render, and where POV-Ray looks
+# for #include files, as switches and as ini keys.
+READ_SWITCHES = {"KFI": "initial_frame", "KFF": "final_frame", "SF": "subset_start_frame",
+                 "EF": "subset_end_frame", "L": "library_path"}
+READ_SWITCH = re.compile(r"\+(KFI|KFF|SF|EF|L)(.*)", re.I)
+READ_KEYS = set(READ_SWITCHES.values())
 
 
 
 def parse_args(argv):
     p = argparse.ArgumentParser(prog="render_pov.sh", description="Renders an unmodified POV-Ray 3.7 scene into "
-                                "the EXR wavecam takes (R, G, B, planar depth Z, wavecam.fov). README: POV-Ray.")
+                                "the EXR wavecam takes (R, G, B, planar depth Z, wavecam.fov). See docs/povray.md.")
     p.add_argument("scene", help="a .pov scene (any case), an .ini naming one (Input_File_Name), or small/default/wide")
     p.add_argument("out", help="the EXR to write; with --frames a pattern: out.#.exr, out.%%04d.exr or out.@@@@.exr")
     p.add_argument("pov_options", nargs="*", metavar="POV-OPTION",
@@ -52,8 +56,10 @@ def parse_args(argv):
     p.add_argument("--fov", help="horizontal field of view, e.g. 50deg (only when the scene's camera cannot be read)")
     p.add_argument("--depth-scale", help="how long one scene unit is, e.g. 1cm, 2.54cm, 1m: Z is then written in "
                    "metres (and the scale recorded as wavecam.scene-unit)")
-    p.add_argument("--frames", help="animation frames A-B (POV-Ray +KFI A +KFF B; the clock runs from +KI to +KF, "
-                   "default 0 to 1): one EXR per frame, numbered as OUT's pattern says")
+    p.add_argument("--frames", help="animation frames A-B to render, one EXR per frame, numbered as OUT's pattern "
+                   "says (+SFA +EFB do the same). An animation whose frames are given (Initial_Frame/Final_Frame, "
+                   "+KFI/+KFF) keeps POV-Ray's own frame-to-clock mapping; otherwise the clock runs from +KI to +KF "
+                   "(default 0 to 1) over A-B")
     a = p.parse_intermixed_args(argv)
     if (a.width is None) != (a.height is None):
         p.error("give both --width and --height, or neither (POV-Ray's default size)")
@@ -104,14 +110,18 @@ def frame_path(pattern, frame):
     return os.path.join(folder, name[:m.start()] + f"{frame:0{digits}d}" + name[m.end():])
 
 
-def check_output(out, frames):
+def check_output(out):
     """The output is checked before anything runs: an EXR (what the harness writes), in a folder
-    that exists, a frame pattern exactly when frames are asked for."""
+    that exists."""
     if not out.lower().endswith(".exr"):
         raise Refusal(f"{out}: the harness writes OpenEXR only (R, G, B, Z and wavecam's metadata): name the output "
                       "*.exr; wavecam apply --png makes a viewable PNG of the diffracted result")
     if not os.path.isdir(os.path.dirname(out)):
         raise Refusal(f"{out}: its folder does not exist")
+
+
+def check_pattern(out, frames):
+    """A frame pattern in the output's name exactly when frames are asked for."""
     if frames is not None and frame_path(out, frames[0]) is None:
         raise Refusal(f"{out}: --frames needs a frame number pattern in the output's name (#, @ or %04d, as wavecam "
                       "apply --frames reads them), e.g. out.#.exr")
@@ -142,23 +152,16 @@ def read_ini(path):
     return items
 
 
-def check_option(option, where, in_ini=False, frames=None):
+def check_option(option, where, in_ini=False):
     """Refuse an option the harness sets itself on the command line; in an ini (where the
-    harness's later options override input and output) only frames without --frames and part
-    of the image."""
-    frames_text = ("give --frames FIRST-LAST instead (clock options +KI/+KF, Initial_Clock pass through)"
-                   if frames is None or not in_ini else None)
+    harness's later options override input and output) only part of the image. (Frame options
+    are read by animation_frames.)"""
     if option[0] in "+-":
-        if FRAME_SWITCHES.match(option):
-            if frames_text:
-                raise Refusal(f"{where}: '{option}' sets the animation's frames: {frames_text}")
-        elif OWNED_SWITCHES.match(option) and not (in_ini and IO_SWITCHES.match(option)):
+        if OWNED_SWITCHES.match(option) and not (in_ini and IO_SWITCHES.match(option)):
             raise Refusal(f"{where}: '{option}' is set by the harness itself (input, output, EXR, the whole image)")
     elif "=" in option:
         key = option.split("=", 1)[0].strip().lower()
         name = option.split("=", 1)[0].strip()
-        if key in FRAME_KEYS and frames_text:
-            raise Refusal(f"{where}: '{name}' sets the animation's frames: {frames_text}")
         if key in PART_KEYS:
             raise Refusal(f"{where}: '{name}' renders part of the image: the harness renders the whole image")
         if key in IO_KEYS and not in_ini:
@@ -174,7 +177,7 @@ def user_options(args):
             if not os.path.isfile(path):
                 raise Refusal(f"{option}: no such ini file")
             for key, value in read_ini(path):
-                check_option(value if key == "switch" else f"{key}={value}", path, True, args.frames)
+                check_option(value if key == "switch" else f"{key}={value}", path, True)
             options.append(quoted(path))
         elif option[:1] in "+-" or re.match(r"\w+\s*=", option):
             check_option(option, "option")
@@ -187,7 +190,7 @@ def user_options(args):
     return options
 
 
-def resolve_scene(name, frames=None):
+def resolve_scene(name):
     """(scene .pov path, ini options): SCENE is a .pov file (any case), an .ini that names one
     with Input_File_Name (relative to the ini's folder), or one of ours."""
     pov_dir = os.path.dirname(os.path.abspath(__file__))
@@ -198,7 +201,7 @@ def resolve_scene(name, frames=None):
         inputs = [v for k, v in read_ini(ini) if k == "input_file_name"]
         inputs += [v[2:].strip('"') for k, v in read_ini(ini) if k == "switch" and v[:2].upper() == "+I"]
         for key, value in read_ini(ini):
-            check_option(value if key == "switch" else f"{key}={value}", ini, True, frames)
+            check_option(value if key == "switch" else f"{key}={value}", ini, True)
         if not inputs:
             raise Refusal(f"{ini}: the ini names no scene (Input_File_Name=scene.pov)")
         scene = os.path.join(os.path.dirname(ini), inputs[-1])
@@ -207,6 +210,74 @@ def resolve_scene(name, frames=None):
     if not os.path.isfile(scene):
         raise Refusal(f"{scene}: no such POV-Ray scene")
     return os.path.realpath(scene), []
+
+
+def read_options(scene, args):
+    """[(key, value, where)] of the options in READ_KEYS POV-Ray will read, in its order: SCENE's
+    ini, then the options after OUT, each ini file in its place (a later one wins). Library
+    folders as absolute paths: given on the command line, from here; in an ini, from the scene's
+    folder, where POV-Ray runs."""
+    found = []
+
+    def read(option, where, folder):
+        m = READ_SWITCH.fullmatch(option) if option[:1] == "+" else None
+        key, value = (READ_SWITCHES[m.group(1).upper()], m.group(2)) if m else (
+            option.split("=", 1)[0].strip().lower(), option.split("=", 1)[1]) if "=" in option else (None, None)
+        if key in READ_KEYS:
+            value = value.strip().strip('"')
+            found.append((key, os.path.join(folder, value) if key == "library_path" else value, where))
+
+    sources = [args.scene] if args.scene.lower().endswith(".ini") else []
+    for option in sources + args.pov_options:
+        if option.lower().endswith(".ini"):
+            for key, value in read_ini(os.path.abspath(option)):
+                read(value if key == "switch" else f"{key}={value}", os.path.abspath(option), os.path.dirname(scene))
+        else:
+            read(option, "option", os.getcwd())
+    return found
+
+
+def animation_frames(args, options):
+    """(the frames to render (FIRST, LAST) or None, each frame's POV-Ray options). --frames, or
+    +SF/+EF (Subset_Start_Frame/Subset_End_Frame), say which. An animation whose frames are given
+    (Initial_Frame/Final_Frame, +KFI/+KFF) keeps them: POV-Ray maps frame N to its clock as
+    `povray scene.ini +SFN +EFN` does. Without them the frames asked for are the animation
+    (+KFI FIRST +KFF LAST: the clock from +KI to +KF over them)."""
+    last = {key: (value, where) for key, value, where in options}
+
+    def number(key):
+        if key not in last:
+            return None
+        value, where = last[key]
+        if not re.fullmatch(r"\s*-?\d+\s*", value):
+            raise Refusal(f"{where}: {key.replace('_', ' ')} '{value}': expected a whole frame number (a fraction "
+                          "of the animation is not read here: give the frame)")
+        return int(value)
+
+    initial, final = number("initial_frame"), number("final_frame")
+    start, end = number("subset_start_frame"), number("subset_end_frame")
+    frames = args.frames
+    if start is not None or end is not None:
+        if frames is not None:
+            raise Refusal("the frames are given twice (--frames and +SF/+EF, Subset_Start_Frame/Subset_End_Frame): "
+                          "give one")
+        first = start if start is not None else initial or 1
+        frames = (first, end if end is not None else max(first, final or 1))
+        if frames[1] < frames[0]:
+            raise Refusal(f"+SF/+EF: frames {frames[0]}-{frames[1]}: expected the first frame before the last")
+    animated = initial is not None or final is not None
+    if frames is None:
+        if animated and (final or 1) > (initial or 1):
+            raise Refusal(f"an animation of frames {initial or 1}-{final} ({last.get('final_frame', ('', 'option'))[1]}): "
+                          "give --frames FIRST-LAST (or +SF/+EF) for the frames to render, one EXR each")
+        return None, None
+    if not animated:
+        return frames, lambda f: [f"+KFI{frames[0]}", f"+KFF{frames[1]}", f"+SF{f}", f"+EF{f}"]
+    span = (initial or 1, final or 1)
+    if frames[0] < span[0] or frames[1] > span[1]:
+        raise Refusal(f"frames {frames[0]}-{frames[1]}: beyond the animation's frames {span[0]}-{span[1]} "
+                      "(Initial_Frame, Final_Frame)")
+    return frames, lambda f: [f"+SF{f}", f"+EF{f}"]
 
 
 def blank_blocks(words, keyword):
@@ -225,15 +296,32 @@ def blank_blocks(words, keyword):
     return "".join(chars)
 
 
-def scan_fog_and_media(scene):
-    """Refuse a scene whose own text (or a file it #includes from its own folder) has fog,
-    participating media (a media block in an object's interior or the global atmosphere) or
-    atmosphere: the depth pass adds a fog of its own and reads it back. photons { media on }
-    (photon settings in global_settings) is not participating media."""
-    seen, todo = set(), [scene]
+def find_include(name, including, scene, libraries):
+    """The file POV-Ray opens for `#include "name"`: the name itself if absolute, else the first
+    found in the including file's folder, the folder POV-Ray runs in (the scene's) and the
+    library folders (+L, Library_Path) in order, as given or with .inc added. None when it is
+    none of these (POV-Ray's own include library, or missing: POV-Ray says so)."""
+    folders = [""] if os.path.isabs(name) else [os.path.dirname(including), os.path.dirname(scene), *libraries]
+    names = [name] + ([name + ".inc"] if not os.path.splitext(name)[1] else [])
+    for folder in dict.fromkeys(folders):
+        for n in names:
+            path = os.path.join(folder, n)
+            if os.path.isfile(path):
+                return os.path.realpath(path)
+    return None
+
+
+def scan_fog_and_media(scene, libraries=()):
+    """Refuse a scene whose own text, or any file it #includes from its folder or a library
+    folder (+L, Library_Path), has fog, participating media (a media block in an object's
+    interior or the global atmosphere) or atmosphere: the depth pass adds a fog of its own and
+    reads it back. photons { media on } (photon settings in global_settings) is not
+    participating media. POV-Ray's own include library (colors.inc, textures.inc...) is not
+    read: it declares media for scenes to use by name, and places none."""
+    seen, todo = set(), [(scene, None)]
     while todo:
-        path = todo.pop()
-        if path in seen or not os.path.isfile(path):
+        path, parent = todo.pop()
+        if path is None or path in seen:
             continue
         seen.add(path)
         text = pov_camera.strip_comments(open(path, errors="replace").read())
@@ -242,16 +330,17 @@ def scan_fog_and_media(scene):
         for m in re.finditer(r"\b(fog|media|atmosphere)\b", words):
             line = text.count("\n", 0, m.start()) + 1
             what = "'media' (participating media)" if m.group(1) == "media" else f"'{m.group(1)}'"
-            raise Refusal(f"{path}:{line}: the scene has its own {what}; the depth pass measures "
+            where = f" (#included by {parent})" if parent else ""
+            raise Refusal(f"{path}:{line}{where}: the scene has its own {what}; the depth pass measures "
                           "distance with a fog of its own, which that would change: not supported")
         for inc in re.findall(r'#\s*include\s+"([^"]+)"', text):
-            todo.append(os.path.join(os.path.dirname(path), inc))
+            todo.append((find_include(inc, path, scene, libraries), path))
 
 
 def globalize_locals(text):
     """The scene's text (comments stripped, lines kept) with its top-level #local made #declare:
     POV-Ray forgets a file's top-level #local once the file is #included, and the camera probe
-    #includes the scene (shared/NOTES.md). #local inside a #macro is left alone."""
+    #includes the scene (docs/platform_notes.md). #local inside a #macro is left alone."""
     words = re.sub(r'"[^"\n]*"', lambda q: " " * len(q.group(0)), text)
     out, pos, blocks = [], 0, []
     for m in re.finditer(r"#\s*(\w+)", words):
@@ -420,18 +509,19 @@ def render_frame(args, scene, text, out, options, frame_options):
 
 def main(args):
     out = os.path.abspath(args.out)
-    check_output(out, args.frames)  # first: nothing runs for an output that cannot be written
-    scene, ini = resolve_scene(args.scene, args.frames)
+    check_output(out)  # first: nothing runs for an output that cannot be written
+    scene, ini = resolve_scene(args.scene)
     options = ini + user_options(args)
-    scan_fog_and_media(scene)
+    read = read_options(scene, args)
+    frames, frame_options = animation_frames(args, read)
+    check_pattern(out, frames)
+    scan_fog_and_media(scene, [value for key, value, _ in read if key == "library_path"])
     text = pov_camera.strip_comments(open(scene, errors="replace").read())
-    if args.frames is None:
+    if frames is None:
         render_frame(args, scene, text, out, options, [])
         return
-    first, last = args.frames
-    for frame in range(first, last + 1):
-        render_frame(args, scene, text, frame_path(out, frame), options,
-                     [f"+KFI{first}", f"+KFF{last}", f"+SF{frame}", f"+EF{frame}"])
+    for frame in range(frames[0], frames[1] + 1):
+        render_frame(args, scene, text, frame_path(out, frame), options, frame_options(frame))
 
 
 if __name__ == "__main__":

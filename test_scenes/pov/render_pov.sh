@@ -6,7 +6,7 @@
 # render, linear), Z (planar depth, 1e10 = sky; metres with --depth-scale, else scene units) and
 # wavecam.fov (horizontal, degrees). SCENE is a .pov file (any case), an .ini naming one, or a
 # name under test_scenes/pov (small, default, wide). With --frames, OUT is a pattern (out.#.exr).
-# How: render_pov.py; README, "POV-Ray".
+# How: render_pov.py; docs/povray.md.
 set -euo pipefail
 for tool in povray /usr/bin/python3; do
   command -v "$tool" >/dev/null || { echo "render_pov.sh: $tool not found (packaging/install-deps.sh)" >&2; exit 1; }

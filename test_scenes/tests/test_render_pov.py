@@ -282,7 +282,7 @@ class RenderPov(unittest.TestCase):
                      "camera inside a non-hollow object")
 
 
-    # --- issue 26: scenes as POV-Ray users keep them -------------------------------------------
+    # --- scenes as POV-Ray users keep them -------------------------------------------
 
     def test_folders_with_spaces_and_a_local_camera(self):
         # The scene in a folder with spaces, its camera from top-level #local values, a relative
@@ -419,6 +419,87 @@ class RenderPov(unittest.TestCase):
             spec_p, a_plugin = read(hinted)
             self.assertEqual(spec_p.getattribute("wavecam.depth-scale"), "0.01m")
             self.assertLess(diff(a_plugin, a_units), 1e-4)
+
+    def test_depth_scale_on_a_scaled_depth_is_refused(self):
+        # A harness output in metres (--depth-scale 1cm: wavecam.scene-unit) given a depth scale
+        # again is refused by the command and the plugin, naming the attribute; nothing written.
+        out = os.path.join(self.dir, "cm.exr")
+        rc, log = render(self.scaled_scene("cm.pov", 0.01), out, "--width", "32", "--height", "24", "--depth-scale", "1cm")
+        self.assertEqual(rc, 0, log)
+        if not WAVECAM:
+            return
+        opts = ["--film-distance", "20mm", "--pinhole", "0.2mm", "--wavelengths", "3"]
+        result = os.path.join(self.dir, "twice.exr")
+        proc = subprocess.run([WAVECAM, "apply", out, "-o", result, *opts, "--depth-scale", "1cm"],
+                              capture_output=True, text=True)
+        self.assertNotEqual(proc.returncode, 0)
+        self.assertIn("wavecam.scene-unit 0.01m", proc.stderr)
+        self.assertIn("--depth-scale", proc.stderr)
+        self.assertFalse(os.path.exists(result))
+        proc = subprocess.run([WAVECAM, "apply", out, "-o", result, *opts], capture_output=True, text=True)
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        # the output's depth is the input's: it keeps the unit, so it is refused again read back
+        self.assertEqual(read(result)[0].getattribute("wavecam.scene-unit"), "0.01m")
+        if PLUGIN_DIR:
+            proc = subprocess.run(["oiiotool", out + ".wavecam?depth-scale=1cm&film-distance=20mm", "-o",
+                                   os.path.join(self.dir, "p.exr")], capture_output=True, text=True,
+                                  env={**os.environ, "OIIO_LIBRARY_PATH": PLUGIN_DIR})
+            self.assertNotEqual(proc.returncode, 0)
+            self.assertIn("wavecam.scene-unit", proc.stdout + proc.stderr)
+
+    def test_ini_animation_keeps_povrays_frame_clock(self):
+        # An .ini animation of 51 frames (clock 0 to 1): --frames 2-3 renders the ini's frames 2
+        # and 3, clock 0.02 and 0.04, the very images `povray anim.ini +SF2 +EF3` renders; +SF2
+        # +EF3 in place of --frames give the same; a frame beyond the ini's is refused.
+        self.write("anim.pov", ANALYTIC + "sphere { <-1.5 + 60*clock, 0.5, 0>, 0.5 pigment { rgb 1 } }\n")
+        ini = self.write("anim.ini", "Input_File_Name=anim.pov\nInitial_Frame=1\nFinal_Frame=51\n"
+                         "Initial_Clock=0\nFinal_Clock=1\nWidth=32\nHeight=24\n")
+        rc, log = render(ini, os.path.join(self.dir, "h.#.exr"), "--frames", "2-3")
+        self.assertEqual(rc, 0, log)
+        rc, log = render(ini, os.path.join(self.dir, "s.#.exr"), "+SF2", "+EF3")
+        self.assertEqual(rc, 0, log)
+        own = os.path.join(self.dir, "own")
+        os.mkdir(own)
+        proc = subprocess.run(["povray", "+A0.3", "-J", ini, "+SF2", "+EF3", "-D", "-P", "-V", "+FE",
+                               "+O" + os.path.join(own, "own.exr")], cwd=self.dir, capture_output=True, text=True)
+        self.assertEqual(proc.returncode, 0, proc.stderr[-2000:])
+        for frame, clock in ((2, 0.02), (3, 0.04)):
+            spec, harness = read(os.path.join(self.dir, f"h.000{frame}.exr"))
+            self.assertEqual(spec.getattribute("wavecam.pov-frame"), frame)
+            self.assertAlmostEqual(spec.getattribute("wavecam.pov-clock"), clock, places=6)
+            _, povray = read(os.path.join(own, f"own{frame:02d}.exr"))
+            np.testing.assert_array_equal(harness[..., :3], povray[..., :3])
+            np.testing.assert_array_equal(read(os.path.join(self.dir, f"s.000{frame}.exr"))[1], harness)
+        self.assertGreater(np.abs(read(os.path.join(self.dir, "h.0002.exr"))[1][..., :3]
+                                  - read(os.path.join(self.dir, "h.0003.exr"))[1][..., :3]).max(), 0.1)
+        rc, log = render(ini, os.path.join(self.dir, "x.#.exr"), "--frames", "50-52")
+        self.assertEqual(rc, 1, log)
+        self.assertIn("beyond the animation's frames 1-51", log)
+        self.assertNotIn("POV-Ray run", log)
+        rc, log = render(ini, os.path.join(self.dir, "x.#.exr"), "--frames", "2", "+SF3")
+        self.assertEqual(rc, 1, log)
+        self.assertIn("given twice", log)
+
+    def test_fog_in_a_library_include_is_named(self):
+        # fog in an include found only through a +L library folder (and one more level of
+        # #include there): refused before any POV-Ray run, naming the file, its line and 'fog'.
+        lib = os.path.join(self.dir, "lib")
+        os.mkdir(lib)
+        with open(os.path.join(lib, "look.inc"), "w") as f:
+            f.write('#include "weather"\n')
+        with open(os.path.join(lib, "weather.inc"), "w") as f:
+            f.write("// the mood\n#declare Thick = 30;\nfog { distance Thick color rgb 0.7 }\n")
+        scene = self.write("lib.pov", '#include "look.inc"\n' + ANALYTIC)
+        rc, log = render(scene, os.path.join(self.dir, "lib.exr"), "--width", "32", "--height", "24", "+L" + lib)
+        self.assertEqual(rc, 1, log)
+        self.assertIn(os.path.join(os.path.realpath(lib), "weather.inc") + ":3", log)
+        self.assertIn("its own 'fog'", log)
+        self.assertNotIn("POV-Ray run", log)
+        # the same folder named by an ini's Library_Path
+        ini = self.write("lib.ini", f"Library_Path={lib}\n")
+        rc, log = render(scene, os.path.join(self.dir, "lib.exr"), "--width", "32", "--height", "24", ini)
+        self.assertEqual(rc, 1, log)
+        self.assertIn("its own 'fog'", log)
 
     def test_names_options_and_ini_files(self):
         size = ["--width", "32", "--height", "24"]

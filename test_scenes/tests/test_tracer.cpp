@@ -158,7 +158,7 @@ Seen classify(const SmallScene& s, float z, int i, int j) {
 
 }  // namespace
 
-// Lengths go through core's unit parser (tested in tests/test_units.cpp); the tracer adds
+// Lengths go through core's unit parser (tested in tests/core/test_units.cpp); the tracer adds
 // only that they be positive, and counts at most 65536.
 TEST(TracerCommandLine, LengthsNeedAUnitAndArePositive) {
     auto parse = [](std::vector<std::string> flags) {

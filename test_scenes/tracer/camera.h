@@ -1,4 +1,4 @@
-// The ideal pinhole camera, with POV-Ray's convention (shared/NOTES.md): pixel (i, j) of
+// The ideal pinhole camera, with POV-Ray's convention (docs/platform_notes.md): pixel (i, j) of
 // W x H looks along normalize(D + x R + y U), x = (i + 0.5)/W - 0.5, y = 0.5 - (j + 0.5)/H,
 // D the unit view axis, |R| = 2 tan(fov/2), |U| = |R| H / W. Row 0 is the top of the image.
 // The world is right-handed: R = D x up, U = R x D.

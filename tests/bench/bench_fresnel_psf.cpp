@@ -1,8 +1,8 @@
 // Cost of one fast-path PSF kernel (field_psf_kernel) against the pinhole's size, for the
-// issue-12 camera: a 512-wide frame, 40deg across, f = 50 mm, 550 nm, the source at infinity in
-// the frame's corner (the largest kernel). The radius is the one the fast path asks for,
+// benchmark camera: a 512-wide frame, 40deg across, f = 50 mm, 550 nm, the source at infinity in
+// the frame's corner (the largest kernel). The radius is the one the convolution method asks for,
 // psf_kernel_radius (kPsfKernelEnergy of the PSF), capped at the frame's half-width (256) or at
-// the fast path's default cap (32). Pinhole in micrometres is the benchmark's argument.
+// the convolution method's default cap (32). Pinhole in micrometres is the benchmark's argument.
 // Repeated requests share the transfer function's pupil spectrum, as a table's requests at one
 // depth do, so the large pinholes' times are the per-request work without its forward FFT.
 #include <benchmark/benchmark.h>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The fast path (the default) measured as issue 12 asks, each figure a ratio within this run:
+# The convolution method (the default) measured, each figure a ratio within this run:
 #   1. pinholes 0.02 ... 5 mm on a 512x512 frame: time against the optimum's (goal <= 3x);
 #   2. 1920x1080, default pinhole: time against `oiiotool --convolve` with one 65x65 kernel
 #      on the same RGB (goal <= 0.12x);

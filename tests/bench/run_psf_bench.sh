@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Times one fast-path PSF kernel per pinhole (0.02 to 5 mm, the issue-12 camera) and prints
+# Times one fast-path PSF kernel per pinhole (0.02 to 5 mm, a 512-wide 40deg frame at f = 50 mm) and prints
 # each as a ratio against the optimum 0.315 mm measured in the same run (goal: each <= 3x).
 # The kernel is built on one thread: CPU time is its cost, steady on a shared machine.
 # Usage: tests/bench/run_psf_bench.sh [build-dir]

@@ -3,6 +3,9 @@
 #   blender -b --python addon_steps.py -- scene OUT.blend RENDER_PREFIX (landscape | portrait)
 #   blender -b SCENE.blend --python addon_steps.py -- check FRAME...
 #   blender -b SCENE.blend --python addon_steps.py -- errors   (stills, and every refusal)
+#   blender -b SCENE.blend --python addon_steps.py -- settings (units, vignetting, ranges)
+#   blender -b --python addon_steps.py -- oldfile OUT.blend    (saved as the add-on once did)
+#   blender -b OUT.blend --python addon_steps.py -- loadold
 # The truth for the field of view is written here from the lens and sensor, independently of
 # the add-on: a sensor fit of Auto spans the sensor width across the frame's longer side.
 import math
@@ -48,7 +51,7 @@ def make_scene(blend, prefix, shape):
     cam.lens = 60
     cam.keyframe_insert("lens", frame=2)
     cam.wavecam.enabled = True  # turns on the Z pass and OpenEXR MultiLayer
-    cam.wavecam.wavelengths = "3"
+    cam.wavecam.wavelength_count = 3
     expect(scene.view_layers[0].use_pass_z, "enabling wavecam turned on the Z pass")
     expect(scene.render.image_settings.file_format == 'OPEN_EXR_MULTILAYER', "enabling wavecam chose EXR multilayer")
     bpy.ops.wm.save_as_mainfile(filepath=blend)
@@ -180,11 +183,143 @@ def errors():
     prefs.wavecam_path = "/nonexistent/wavecam"
     render("nowavecam")  # expect: "wavecam command was not found"
     prefs.wavecam_path = good
-    cam.wavecam.wavelengths = "banana"
-    render("badsetting")  # expect: wavecam's own message naming --wavelengths
-    cam.wavecam.wavelengths = "3"
+    cam.wavecam.use_wavelength_list = True
+    cam.wavecam.wavelength_list = "banana"
+    render("badsetting")  # expect: "Wavelength list: 'banana' is not a wavelength"
+    cam.wavecam.use_wavelength_list = False
     scene.view_layers[0].use_pass_z = False
     render("nodepth")  # expect: "has no Z pass"
+
+
+def channel(buf, name):
+    return buf.get_pixels()[:, :, list(buf.spec().channelnames).index(name)]
+
+
+def settings():
+    """Refusals are made when the render starts, before the frame is rendered, each naming the
+    setting; Unit Scale reaches wavecam as the depth scale; the vignetting switch divides out
+    cos^4 of the field angle; the wavelength list and the random-phase runs reach wavecam."""
+    import OpenImageIO as oiio
+    from wavecam_blender import reports
+    scene = bpy.context.scene
+    cam = scene.camera.data
+    w = cam.wavecam
+    folder = os.path.dirname(bpy.data.filepath)
+    errors, rendered = [], []
+    report_error = reports.error
+    reports.error = lambda message: (errors.append(message), report_error(message))
+    bpy.app.handlers.render_post.append(lambda *a: rendered.append(len(errors)))
+
+    def render(name):
+        del errors[:], rendered[:]
+        scene.render.filepath = os.path.join(folder, name)
+        bpy.ops.render.render(write_still=True)
+        return scene.render.filepath + ".wavecam.exr"
+
+    def refused(name, expected):
+        out = render(name)
+        expect(not os.path.exists(out), f"{name}: refused, yet {out} written")
+        said = [e for e in errors if expected in e]
+        expect(len(said) == 1, f"{name}: one error saying '{expected}'; got {errors}")
+        expect(rendered and rendered[0] >= 1, f"{name}: the refusal came before the frame was rendered ({rendered})")
+        print(f"{name}: {said[0] if said else errors}", flush=True)
+
+    # a pinhole between the longest wavelength and the film's width (36 mm at a 35 mm lens)
+    w.auto_pinhole = False
+    w.pinhole = 0
+    refused("pinhole0", "Pinhole 0 mm is smaller than the longest wavelength (700 nm)")
+    w.pinhole = 40
+    refused("pinhole40", "Pinhole 40 mm is wider than the film (36 mm across at 35 mm")
+    w.auto_pinhole = True
+    w.auto_film_distance = False
+    w.film_distance = -5  # below the hard minimum 0: held at 0, which is refused by name
+    refused("film0", "Film distance 0 mm: the film must lie behind the pinhole")
+    w.auto_film_distance = True
+    w.use_wavelength_list = True
+    w.wavelength_list = "450nm,400nm"
+    refused("decreasing", "Wavelength list: 400nm follows 450nm; expected an increasing list")
+    w.wavelength_list = "50nm"
+    refused("xray", "Wavelength list: 50nm is not light")
+    w.runs = 0
+    expect(w.runs == 1, f"runs held at its hard minimum 1, not {w.runs}")
+
+    # the listed wavelengths reach wavecam
+    w.wavelength_list = "500nm, 600nm"
+    out = render("listed")
+    spec = oiio.ImageInput.open(out).spec() if os.path.exists(out) else None
+    expect(spec is not None and spec.getattribute("wavecam.wavelengths") == "500nm,600nm",
+           f"listed: wavecam.wavelengths {spec and spec.getattribute('wavecam.wavelengths')}")
+    w.use_wavelength_list = False
+
+    # Unit Scale 0.01 (a scene in centimetres): the depth pass is in units of 1 cm
+    scene.unit_settings.scale_length = 0.01
+    out = render("centimetres")
+    spec = oiio.ImageInput.open(out).spec() if os.path.exists(out) else None
+    scale = spec.getattribute("wavecam.depth-scale") if spec else None
+    expect(scale is not None and scale.endswith("m") and abs(float(scale[:-1]) - 0.01) < 1e-12,
+           f"centimetres: wavecam.depth-scale {scale}, expected 0.01m")
+    print(f"centimetres: wavecam.depth-scale {scale}", flush=True)
+    scene.unit_settings.scale_length = 1.0
+
+    # vignetting off divides out cos^4 of each pixel's field angle: on a uniform background,
+    # off / on at a corner pixel is 1 / cos^4 there (tan = the pixel centre's place on the film
+    # over the film distance), and 1 near the centre
+    w.vignetting = True
+    on = oiio.ImageBuf(render("vignetting_on"))
+    w.vignetting = False
+    off = oiio.ImageBuf(render("vignetting_off"))
+    w.vignetting = True
+    width, height = scene.render.resolution_x, scene.render.resolution_y
+    half_tan = math.tan(math.radians(true_fov(scene, scene.frame_current)[0]) / 2)
+    pitch = 2 * half_tan / width  # tan units per pixel
+    tan_x, tan_y = (width / 2 - 0.5) * pitch, (height / 2 - 0.5) * pitch
+    expected = (1 + tan_x ** 2 + tan_y ** 2) ** 2  # 1 / cos^4
+    r_on, r_off = channel(on, "ViewLayer.Combined.R"), channel(off, "ViewLayer.Combined.R")
+    for (j, i) in ((0, 0), (0, width - 1), (height - 1, 0), (height - 1, width - 1)):
+        ratio = r_off[j, i] / r_on[j, i]
+        expect(abs(ratio / expected - 1) < 0.02, f"vignetting: corner ({i}, {j}) off/on {ratio:.4f}, "
+               f"expected 1/cos^4 = {expected:.4f}")
+    print(f"vignetting: corner off/on {r_off[0, 0] / r_on[0, 0]:.4f}, 1/cos^4 {expected:.4f}", flush=True)
+
+    # random-phase with its runs
+    w.method = 'random-phase'
+    w.runs = 2
+    w.wavelength_count = 1
+    out = render("random_phase")
+    spec = oiio.ImageInput.open(out).spec() if os.path.exists(out) else None
+    expect(spec is not None and spec.getattribute("wavecam.runs") == 2, "random-phase: wavecam.runs 2")
+
+
+OLD_METHODS = [('fast', "Fast", ""), ('exact', "Exact", ""), ('incoherent', "Incoherent", "")]
+
+
+def save_old_file(blend):
+    """A .blend as the add-on saved it when the methods were 'fast'/'exact' and the wavelengths
+    one text field: the same property group, defined as it was then (run without the add-on)."""
+    class OldSettings(bpy.types.PropertyGroup):
+        enabled: bpy.props.BoolProperty()
+        wavelengths: bpy.props.StringProperty(default="8")
+        method: bpy.props.EnumProperty(items=OLD_METHODS, default='fast')
+    bpy.utils.register_class(OldSettings)
+    bpy.types.Camera.wavecam = bpy.props.PointerProperty(type=OldSettings)
+    listed = bpy.context.scene.camera.data
+    listed.wavecam.method, listed.wavecam.wavelengths = 'exact', "450nm, 550nm,650nm"
+    counted = bpy.data.cameras.new("Counted")
+    counted.wavecam.method, counted.wavecam.wavelengths = 'fast', "5"
+    counted.use_fake_user = True
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+
+
+def load_old_file():
+    listed, counted = bpy.context.scene.camera.data.wavecam, bpy.data.cameras["Counted"].wavecam
+    expect(listed.method == 'random-phase', f"old 'exact' loads as random-phase, not {listed.method}")
+    expect(listed.use_wavelength_list and listed.wavelength_list == "450nm,550nm,650nm",
+           f"old list loads as the list: {listed.use_wavelength_list} {listed.wavelength_list}")
+    expect(counted.method == 'convolution', f"old 'fast' loads as convolution, not {counted.method}")
+    expect(not counted.use_wavelength_list and counted.wavelength_count == 5,
+           f"old count loads as the count: {counted.use_wavelength_list} {counted.wavelength_count}")
+    expect("wavelengths" not in listed.keys(), "the old text field is gone")
+    print(f"old file: {listed.method} {listed.wavelengths_text()}; {counted.method} {counted.wavelengths_text()}")
 
 
 if step == "install":
@@ -195,6 +330,12 @@ elif step == "check":
     check([int(f) for f in args[1:]])
 elif step == "errors":
     errors()
+elif step == "settings":
+    settings()
+elif step == "oldfile":
+    save_old_file(args[1])
+elif step == "loadold":
+    load_old_file()
 if failures:
     print(f"{len(failures)} check(s) failed", flush=True)
     sys.exit(1)

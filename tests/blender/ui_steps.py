@@ -2,7 +2,9 @@
 # handlers run on the render job's thread:
 #   1. F12: a still, no file written; the diffracted frame must be saved, made, reported and
 #      shown in an Image Editor by the add-on's main-thread timer, its fov the camera's.
-#   2. Ctrl+F12: the two-frame animation (lens 35 -> 60 mm) writes both diffracted frames,
+#      Its report ("wrote ...") must be in the Info editor's log, read back through the clipboard.
+#   2. F12 with the camera shifted: refused when the render starts, the error in the Info log.
+#   3. Ctrl+F12: the two-frame animation (lens 35 -> 60 mm) writes both diffracted frames,
 #      each with its own frame's fov, and the last is shown.
 import math
 import os
@@ -45,6 +47,21 @@ def check_fov(path, lens, what):
     print(f"{what}: {path}, wavecam.fov {fov:.4f} (camera {truth:.4f})", flush=True)
 
 
+def info_log():
+    """Every line of the Info editor's log (the reports the status bar showed), via the clipboard."""
+    window = bpy.context.window_manager.windows[0]
+    area = next(a for a in window.screen.areas if a.type == 'INFO')
+    region = next(r for r in area.regions if r.type == 'WINDOW')
+    with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
+        bpy.ops.info.select_all(action='SELECT')
+        bpy.ops.info.report_copy()
+    return bpy.context.window_manager.clipboard.splitlines()
+
+
+def logged(text):
+    return [line for line in info_log() if text in line]
+
+
 def render(animation):
     window = bpy.context.window_manager.windows[0]
     with bpy.context.temp_override(window=window, screen=window.screen):
@@ -63,19 +80,35 @@ def tick():
             if area.type == 'PROPERTIES':
                 area.spaces.active.context = 'DATA'
                 area.tag_redraw()
+        # the timeline becomes an Info editor, whose log the test reads
+        next(a for a in window.screen.areas if a.type == 'DOPESHEET_EDITOR').type = 'INFO'
         render(animation=False)
     elif state["phase"] == 1 and shown_wavecam_image():
-        check_fov(shown_wavecam_image(), 35, "F12 still shown in an Image Editor")
+        if "wrote" not in state:
+            check_fov(shown_wavecam_image(), 35, "F12 still shown in an Image Editor")
+            state["wrote"] = time.time()
+        if not logged("wavecam: frame 1: wrote "):
+            if time.time() - state["wrote"] > 10:
+                finish(1, f"FAIL: no 'wavecam: frame 1: wrote' in the Info log: {info_log()}")
+            return 0.5
+        print(f"Info log: {logged('wavecam: frame 1: wrote ')[0]}", flush=True)
+        scene.camera.data.shift_x = 0.1
         state["phase"] = 2
+        render(animation=False)
+    elif state["phase"] == 2 and logged("has shift"):
+        print(f"Info log: {logged('has shift')[0]}", flush=True)
+        scene.camera.data.shift_x = 0
+        state["phase"] = 3
         render(animation=True)
-    elif state["phase"] == 2:
+    elif state["phase"] == 3:
         last = scene.render.frame_path(frame=2)[:-4] + ".wavecam.exr"
         if shown_wavecam_image() == last:
             check_fov(scene.render.frame_path(frame=1)[:-4] + ".wavecam.exr", 35, "Ctrl+F12 frame 1")
             check_fov(last, 60, "Ctrl+F12 frame 2 shown in an Image Editor")
             finish(0, "ui: passed")
     if time.time() - start > 150:
-        finish(1, f"FAIL: phase {state['phase']}: no diffracted frame shown in an Image Editor within 150 s")
+        finish(1, f"FAIL: phase {state['phase']} not done within 150 s (1: the still shown, 2: the refusal in "
+                  f"the Info log, 3: the animation shown); Info log: {info_log()}")
     return 0.5
 
 

@@ -3,7 +3,7 @@
 // extreme numbers. Reading, resolving, the camera's range checks and the work and memory
 // estimates must end in a named refusal, never a crash, a hang or a huge allocation: the
 // limits are set to 1 byte and 1 term, so every job that passes the checks is refused by them
-// (issue 26: a pinhole of 1000m, a 2x128 frame, a depth of 1e-40 or fov of 179.999 degrees
+// (a pinhole of 1000m, a 2x128 frame, a depth of 1e-40 or fov of 179.999 degrees
 // aborted or hung before the checks existed).
 #include <OpenImageIO/imagebuf.h>
 
@@ -54,7 +54,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                                              "179.999deg", "1e300rad", "-5deg"};
         static const char* const counts[] = {"0", "1", "2", "3", "16", "1000", "100000", "99999999999"};
         static const char* const lists[] = {"1nm,2nm", "400nm,700nm", "1m,2m", "1e-40nm", "550nm", "10um"};
-        static const char* const methods[] = {"fast", "exact", "incoherent"};
+        static const char* const methods[] = {"convolution", "random-phase", "incoherent"};
         static const char* const apertures[] = {"circle", "square", "polygon:3", "polygon:100000", "zoneplate:1",
                                                 "zoneplate:100000", "sieve:3", "sieve:1000:0.1x:1%", "polygon:6:1e300deg"};
         static const char* const depths[] = {"planar", "ray"};

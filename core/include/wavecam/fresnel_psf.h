@@ -1,4 +1,4 @@
-// Point-source images for the fast path: Fresnel diffraction of the pupil with the wavefront's
+// Point-source images for the convolution method: Fresnel diffraction of the pupil with the wavefront's
 // quadratic phase about the chief ray, as shares of the power through the pinhole.
 //
 // Method. The path source -> pupil point xi -> film point, expanded to second order in xi
@@ -10,7 +10,7 @@
 // frequencies (d_r cos^3 / (lambda f), d_t cos / (lambda f)): the on-axis Fresnel PSF,
 // astigmatic in its defocus term and stretched 1/cos^3 radially, 1/cos tangentially.
 // Two evaluations of the same integral, the cheaper one chosen per request (both are exact to
-// the sampling stated in fresnel_psf.cpp):
+// the sampling stated in fresnel_mft.cpp and fresnel_transfer.cpp):
 //  - few zones: a matrix Fourier transform of the sampled pupil onto exactly the output grid
 //    needed (Soummer et al., Optics Express 15, 15935 (2007)); its pupil grid grows with the
 //    zone count, so its cost does too;

@@ -1,6 +1,6 @@
 // The image of one point source: `wavecam psf`, and the reference for every other path.
 #pragma once
-#include "wavecam/fast_summation.h"
+#include "wavecam/summation_plan.h"
 #include <cmath>
 #include <string>
 #include <vector>
@@ -21,7 +21,8 @@ struct PsfParams {
     double sin_theta_max = 1.0;      // aperture sampling at lambda / (2 sin theta_max)
     double max_terms = 5e12;         // refuse work beyond this many terms (samples x film points)
     int nthreads = 0;                // 0 = every core
-    Summation summation = default_summation();  // how the two sums are evaluated (fast_summation.h)
+    Summation summation = Summation::Auto;  // how the two sums are evaluated (summation_plan.h)
+    Device device = Device::Cpu;            // where their direct terms run
 };
 
 struct PsfImage {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include "wavecam/aperture.h"
-#include "wavecam/fast_summation.h"
+#include "wavecam/summation_plan.h"
 #include "wavecam/pinhole_camera.h"
 #include "wavecam/progress.h"
 #include "wavecam/result.h"
@@ -17,13 +17,13 @@ enum class CoherenceMethod {
     Incoherent,   // exact: every source propagated alone, irradiances summed (small images)
 };
 
-struct DiffractionSettings {
+struct ExactSettings {
     Aperture aperture{ApertureShape::Circle, 0.0};
     CoherenceMethod method = CoherenceMethod::RandomPhase;
     int runs = 4;              // K, random-phase runs averaged
     // Move the sources within their pixels: with coded phases all by one random offset a job, with
-    // independent phases each anew every run. Off by default: sources at pixel centres, as the fast
-    // path and the incoherent sum place them, so that the runs converge to the fast path's image.
+    // independent phases each anew every run. Off by default: sources at pixel centres, as the
+    // convolution method and the incoherent sum place them, so that the runs converge to its image.
     bool jitter = false;
     // Coded phases (phase_codes.h, docs/phase_codes.md): the runs' phases offset by 2 pi k m / K so
     // that sources of different classes cancel exactly over the K runs. false: the seed paper's
@@ -33,9 +33,12 @@ struct DiffractionSettings {
     double sin_theta_max = 0;  // aperture sampling lambda/(2 sin theta_max); 0 = from the frame
     int film_subsamples = 0;   // n: each film pixel averages n x n points; 0 = auto_film_subsamples
     int nthreads = 0;
-    // How the two sums are evaluated (fast_summation.h): the same terms either way.
-    Summation summation = default_summation();
+    // How the two sums are evaluated (summation_plan.h): the same terms either way.
+    Summation summation = Summation::Auto;
     double summation_tolerance = kSummationTolerance;
+    // Where the direct sums run (gpu_sums.h): the CPU, a Vulkan device (none is an error), or a
+    // discrete GPU when there is one, else the CPU.
+    Device device = Device::Cpu;
     // One share of the work (work_share.h): runs [run_begin, run_end) of the `runs` averaged, each
     // still weighted 1/runs, on output rows [row_begin, row_end); an end < 0 means the last.
     // Every run is averaged into the output on its own, so a job equals the sum of its shares.
@@ -81,15 +84,15 @@ Result<bool> check_pixels(const PinholeCamera& camera, const float* radiance, in
 // margin; never coarser than d / kMinSamplesAcross. A lit scene beyond the frame can need a
 // finer one (frame_margin.h).
 constexpr double kMinSamplesAcross = 128;
-double scene_sample_pitch(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength,
+double scene_sample_pitch(const ExactSettings& s, const PinholeCamera& camera, double wavelength,
                           double nearest_depth);
 
 // Work estimate in direct terms (the time of one term of the direct sums, so that --max-terms
 // and the time printed mean the same for either evaluator): direct, pinhole samples x (sources +
-// film points); fast, the NUFFTs' and chirps' work (fast_summation.h, summation_work), each sum by
+// film points); nufft, the NUFFTs' and chirps' work (summation_plan.h, choose_sum), each sum by
 // the evaluator s.summation picks for it; over the runs and rows set, the margin beyond the
 // frame counted as lit, for s.nearest_depth (NaN counts as all sky).
-double scene_terms(const DiffractionSettings& s, const PinholeCamera& camera, double wavelength);
+double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
 
 // Film points per pixel side so that the points are closer than the irradiance's finest
 // fringe, lambda f / span (span: the aperture's largest width): then a pixel's points average
@@ -108,7 +111,7 @@ double nearest_depth(const PinholeCamera& camera, const float* depth, DepthMeani
 // image of render pixel (i, j)), in units of power x steradian. The sources are every pixel and
 // the scene beyond the input (frame_margin.h); the film is the frame within s.overscan, whose
 // margin pixels are left untouched.
-Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const DiffractionSettings& s,
+Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const ExactSettings& s,
                                  float* irradiance, const ProgressFn& progress = {});
 
 }  // namespace wavecam

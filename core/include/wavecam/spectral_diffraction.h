@@ -21,7 +21,7 @@ struct SpectralScene {
 using MonochromePropagator = std::function<Result<bool>(const MonochromeScene& scene, double wavelength,
                                                         float* irradiance, const ProgressFn& progress)>;
 
-MonochromePropagator wave_propagator(const DiffractionSettings& settings);
+MonochromePropagator wave_propagator(const ExactSettings& settings);
 
 // Exposure: a uniform radiance L through a pinhole of area A at film distance f gives film
 // irradiance L A / f^2 at the centre (the cos^4 law at angle 0), so the film is scaled by

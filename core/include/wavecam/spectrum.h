@@ -29,7 +29,7 @@ Result<SpectralSampling> explicit_sampling(const std::vector<double>& wavelength
 // space, each of the Jakob-Hanika form a S(c0 + c1 t + c2 t^2), S(x) = 1/2 + x / (2 sqrt(1 + x^2)),
 // t = (lambda - 550 nm) / 150 nm (Jakob & Hanika 2019, "A Low-Dimensional Function Space for
 // Efficient Spectral Upsampling"; pbrt-v4 and Mitsuba 3 use it per colour). We fit it once per
-// PRIMARY, not per pixel, so the basis stays linear in RGB - the fast path folds the wavelength
+// PRIMARY, not per pixel, so the basis stays linear in RGB - the convolution method folds the wavelength
 // sum into RGB -> XYZ kernels through power(s, r, g, b) with unit primaries - and every
 // non-negative RGB is a non-negative spectrum. Linear also means emitted values above 1 need no
 // rescaling (a per-colour fit bounds S by 1 and must scale by the maximum; a sum of fixed

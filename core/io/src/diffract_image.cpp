@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "resolved_frame.h"
+#include "wavecam/gpu_sums.h"
 #include "wavecam/output_layout.h"
 #include "wavecam/pinhole_design.h"
 #include "wavecam/source.h"
@@ -41,9 +42,9 @@ Result<JobColour> resolve_colour(const DiffractOptions& opt, const std::string& 
     return R::success(std::move(c));
 }
 
-DiffractionSettings exact_settings(const DiffractOptions& opt, const PinholeCamera& camera,
+ExactSettings exact_settings(const DiffractOptions& opt, const PinholeCamera& camera,
                                    const std::vector<float>& depth, int nthreads = 0) {
-    DiffractionSettings s = opt.diffraction;
+    ExactSettings s = opt.exact;
     s.aperture = resolved_aperture(opt);
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     s.overscan = opt.overscan;
@@ -52,7 +53,7 @@ DiffractionSettings exact_settings(const DiffractOptions& opt, const PinholeCame
     return s;
 }
 
-double exact_terms(const DiffractionSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
+double exact_terms(const ExactSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
     // one propagation per basis sample: monochrome light has three per wavelength, one per
     // channel (spectrum.h), whether asked for or found (wavelengths too close to carry colour)
     double terms = 0;
@@ -60,8 +61,8 @@ double exact_terms(const DiffractionSettings& s, const PinholeCamera& camera, co
     return terms;
 }
 
-// What the camera's physics and sampling make sense for, checked before any work (README "Bad
-// input, limits, interrupts"): every field angle within kMaxFieldAngle of the axis (a wider
+// What the camera's physics and sampling make sense for, checked before any work (docs/errors.md):
+// every field angle within kMaxFieldAngle of the axis (a wider
 // frame's corners see the pinhole edge-on and its pixels' footprints grow without bound); a
 // pinhole at least a wavelength across (scalar diffraction through a smaller hole means
 // nothing) and no wider than the film; no source nearer than kNearestDiameters pinhole
@@ -69,6 +70,22 @@ double exact_terms(const DiffractionSettings& s, const PinholeCamera& camera, co
 constexpr double kMaxFieldAngleDeg = 80;
 constexpr double kMinFovDeg = 0.01;
 constexpr double kNearestDiameters = 10;
+
+std::string window_text(const OIIO::ROI& r) {
+    return "(" + std::to_string(r.xbegin) + ", " + std::to_string(r.ybegin) + ")-(" + std::to_string(r.xend - 1) +
+           ", " + std::to_string(r.yend - 1) + ")";
+}
+
+// The output's pixels out of the film's (XYZ rows): the data window within a widened frame. Each
+// row moves to a place before its own: a forward copy in place.
+void keep_data_window(std::vector<float>& xyz, int film_w, const OIIO::ROI& kept) {
+    if (3 * kept.npixels() == xyz.size()) return;
+    for (int j = 0; j < kept.height(); ++j) {
+        const float* row = &xyz[3 * (size_t(j + kept.ybegin) * film_w + kept.xbegin)];
+        std::copy(row, row + 3 * size_t(kept.width()), &xyz[3 * size_t(j) * kept.width()]);
+    }
+    xyz.resize(3 * kept.npixels());
+}
 
 std::string g6(double v) {
     std::ostringstream s;
@@ -125,6 +142,10 @@ Result<bool> check_camera(const ResolvedFrame& f, const std::string& name, const
 
 }  // namespace
 
+const char* method_word(DiffractMethod m) {
+    return m == DiffractMethod::Convolution ? "convolution" : m == DiffractMethod::RandomPhase ? "random-phase" : "incoherent";
+}
+
 Aperture resolved_aperture(const DiffractOptions& opt) {
     Aperture a = opt.aperture;
     a.diameter = opt.pinhole > 0 ? opt.pinhole : rayleigh_optimal_diameter(opt.film_distance, kDesignWavelength);
@@ -133,7 +154,7 @@ Aperture resolved_aperture(const DiffractOptions& opt) {
 
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
                       const std::string& file_colorspace) {
-    if (opt.method == DiffractMethod::Fast) return 0;  // PSF grid + FFTs: minutes at most
+    if (opt.method == DiffractMethod::Convolution) return 0;  // PSF grid + FFTs: minutes at most
     auto colour = resolve_colour(opt, file_colorspace);
     return colour.ok() ? exact_terms(exact_settings(opt, camera, depth), camera, colour.value.basis) : 0;
 }
@@ -141,7 +162,7 @@ double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, c
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) {
     const double pixels = double(camera.width) * camera.height;
     const double images = pixels * 4 * sizeof(float) * 4;  // source, its plain arrays, XYZ, output
-    if (opt.method == DiffractMethod::Fast) return images;  // + FastPlan::estimate_bytes, once the frame is known
+    if (opt.method == DiffractMethod::Convolution) return images;  // + ConvolutionPlan::estimate_bytes, once the frame is known
     const double lambda = 400e-9;  // the shortest wavelength sampled: the densest pinhole grid
     const Aperture ap = resolved_aperture(opt);
     const double samples = estimate_sample_count(ap, sample_pitch(lambda, 1.0));
@@ -167,23 +188,38 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
           << "; expected 0 to " << (std::min(in.width, in.height) - 1) / 2 << " pixels";
         return R::failure(m.str(), ErrorKind::Invalid, "overscan");
     }
+    const FrameWindows& w = in.windows;
+    if (w.declared && o != 0)
+        return R::failure(name + ": the file declares its own windows (data " + window_text(w.data) + ", display " +
+                              window_text(w.display) + "), which say what is overscan; expected no overscan setting",
+                          ErrorKind::Invalid, "overscan");
+    f.kept = w.declared ? OIIO::ROI(w.data.xbegin - in.x0, w.data.xend - in.x0, w.data.ybegin - in.y0,
+                                    w.data.yend - in.y0)
+                        : OIIO::ROI(0, f.out_w, 0, f.out_h);
     auto colour = resolve_colour(opt, in.colorspace);
     if (!colour.ok()) return R::failure(colour);
     f.colour = std::move(colour.value);
     f.aperture = resolved_aperture(opt);
     if (auto c = check_camera(f, name, opt.depth_meaning); !c.ok()) return R::failure(c);
-    if (opt.method == DiffractMethod::Fast) {
-        f.fast = {f.camera, o, f.aperture, f.colour.basis,
-                  1.0 / nearest_depth(f.camera, in.depth.data(), opt.depth_meaning), opt.fast};
-        f.fast.settings.nthreads = nthreads;
+    if (opt.method == DiffractMethod::Convolution) {
+        f.convolution = {f.camera, o, f.aperture, f.colour.basis,
+                  1.0 / nearest_depth(f.camera, in.depth.data(), opt.depth_meaning), opt.convolution};
+        f.convolution.settings.nthreads = nthreads;
         return R::success(std::move(f));
     }
     f.exact = exact_settings(opt, f.camera, in.depth, nthreads);
+    if (f.exact.device != Device::Cpu) {  // the Vulkan evaluator (gpu_sums.h); `auto` falls back quietly
+        auto gpu = GpuSums::shared(f.exact.device);
+        if (gpu.ok()) f.device = gpu.value->description();
+        else if (f.exact.device == Device::Gpu) return R::failure(name + ": device gpu: " + gpu.error, gpu.kind, "device");
+        else f.exact.device = Device::Cpu;
+    }
     f.terms = exact_terms(f.exact, f.camera, f.colour.basis);
     std::ostringstream job;
     job << in.width << "x" << in.height << " pixels x " << f.colour.sampling.wavelength.size() << " wavelengths x "
         << (f.exact.method == CoherenceMethod::Incoherent ? 1 : f.exact.runs) << " runs, "
-        << summation_name(f.exact.summation);
+        << summation_word(f.exact.summation) << " summation";
+    if (f.exact.device != Device::Cpu) job << " on " << f.device;
     f.job = job.str();
     return R::success(std::move(f));
 }
@@ -205,7 +241,7 @@ Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, co
         return Result<bool>::failure(m.str(), ErrorKind::TooLarge, "max-terms");
     }
     const double bytes =
-        estimate_memory(opt, f.camera) + (opt.method == DiffractMethod::Fast ? FastPlan::estimate_bytes(f.fast) : 0.0);
+        estimate_memory(opt, f.camera) + (opt.method == DiffractMethod::Convolution ? ConvolutionPlan::estimate_bytes(f.convolution) : 0.0);
     if (!(bytes <= opt.max_memory)) {
         std::ostringstream m;
         m << name << ": " << f.in.width << "x" << f.in.height << " pixels need about " << bytes / (1 << 20)
@@ -238,19 +274,22 @@ Result<bool> run_exact(const DiffractOptions& opt, const ResolvedFrame& f, std::
 OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& channels, const DiffractOptions& opt,
                             const ResolvedFrame& f, size_t mapped) {
     const RenderInput& in = f.in;
-    const DiffractionSettings& s = f.exact;
-    OIIO::ImageSpec spec = output_header(input, channels);
-    spec.width = spec.full_width = f.out_w;
-    spec.height = spec.full_height = f.out_h;
-    spec.x = spec.y = spec.full_x = spec.full_y = 0;
+    const ExactSettings& s = f.exact;
+    OIIO::ImageSpec spec = output_header(input, channels);  // the input's data and display windows
+    if (f.overscan > 0) {  // the frame within the overscan setting's margin, an image of its own
+        spec.width = spec.full_width = f.out_w;
+        spec.height = spec.full_height = f.out_h;
+        spec.x = spec.y = spec.full_x = spec.full_y = 0;
+    }
+    const int frame_w = in.windows.declared ? in.windows.display.width() : f.out_w;
     spec.attribute("oiio:ColorSpace", f.colour.out_space);
     spec.attribute("wavecam.pinhole", with_unit(f.aperture.diameter, 1e-3, "mm"));
     spec.attribute("wavecam.aperture", f.aperture.name());
     spec.attribute("wavecam.film-distance", with_unit(opt.film_distance, 1e-3, "mm"));
-    spec.attribute("wavecam.film-width", with_unit(f.camera.pixel_pitch() * f.out_w, 1e-3, "mm"));
-    // the output's own field of view: the cropped frame's when the input had an overscan
+    spec.attribute("wavecam.film-width", with_unit(f.camera.pixel_pitch() * frame_w, 1e-3, "mm"));
+    // the output's own field of view: its display window's, or the frame's within an overscan setting
     spec.attribute("wavecam.fov",
-                   static_cast<float>(2 * std::atan(std::tan(0.5 * in.fov_h) * f.out_w / in.width) * 180 / M_PI));
+                   static_cast<float>(2 * std::atan(std::tan(0.5 * in.fov_h) * frame_w / in.width) * 180 / M_PI));
     if (f.overscan > 0) spec.attribute("wavecam.cropped-overscan", f.overscan);  // not wavecam.overscan: none here
     spec.attribute("wavecam.fov-from", in.fov_from);
     spec.attribute("wavecam.depth", opt.depth_meaning == DepthMeaning::Planar ? "planar" : "ray");
@@ -260,19 +299,16 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
     for (double l : f.colour.sampling.wavelength) wl += (wl.empty() ? "" : ",") + with_unit(l, 1e-9, "nm");
     spec.attribute("wavecam.wavelengths", wl);
     spec.attribute("wavecam.light", f.colour.basis.description());
-    spec.attribute("wavecam.method", opt.method == DiffractMethod::Fast          ? "fast"
-                                     : opt.method == DiffractMethod::RandomPhase ? "exact"
-                                                                                 : "incoherent");
-    if (opt.method != DiffractMethod::Fast) {  // what only the exact sums use
+    spec.attribute("wavecam.method", method_word(opt.method));
+    if (opt.method != DiffractMethod::Convolution) {  // what only the exact sums use
         if (opt.method == DiffractMethod::RandomPhase) spec.attribute("wavecam.runs", s.runs);
         spec.attribute("wavecam.seed", std::to_string(s.seed));
         spec.attribute("wavecam.film-subsamples", s.film_subsamples);  // the setting: 0 = enough to resolve the PSF
         spec.attribute("wavecam.jitter", s.jitter ? "true" : "false");
-        spec.attribute("wavecam.summation", s.summation == Summation::Direct  ? "direct"
-                                            : s.summation == Summation::Nufft ? "nufft"
-                                                                              : "fast");
+        spec.attribute("wavecam.summation", summation_word(s.summation));
         if (opt.method == DiffractMethod::RandomPhase)
             spec.attribute("wavecam.phases", s.coded_phases ? "coded" : "independent");
+        spec.attribute("wavecam.device", f.device);
     }
     spec.attribute("wavecam.vignetting", opt.vignetting ? "true" : "false");
     spec.attribute("wavecam.input-colorspace", f.colour.in_space);
@@ -289,7 +325,7 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
     std::ostringstream summary;
     summary << f.colour.sampling.wavelength.size() << " wavelengths"
             << (f.colour.basis.monochrome() ? " (monochrome), " : ", ");
-    if (opt.method == DiffractMethod::Fast) summary << "fast method";
+    if (opt.method == DiffractMethod::Convolution) summary << "convolution method";
     else if (opt.method == DiffractMethod::RandomPhase) summary << s.runs << " runs, " << f.terms << " terms";
     else summary << "incoherent sum, " << f.terms << " terms";
     spec.attribute("wavecam.summary", summary.str());
@@ -298,22 +334,22 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
 
 }  // namespace
 
-// The fast path through the kept plan when it serves this frame, else a new one: the table costs
+// The convolution method through the kept plan when it serves this frame, else a new one: the table costs
 // about as much as applying it, so a new plan's building is the first 60% of the bar.
-Result<bool> DiffractPlan::run_fast(const DiffractOptions& opt, const ResolvedFrame& f, std::vector<float>& xyz) {
+Result<bool> DiffractPlan::run_convolution(const DiffractOptions& opt, const ResolvedFrame& f, std::vector<float>& xyz) {
     xyz.resize(3 * size_t(f.out_w) * f.out_h);
-    std::shared_ptr<const FastPlan> plan;
+    std::shared_ptr<const ConvolutionPlan> plan;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        if (fast_ && fast_->serves(f.fast)) plan = fast_;
+        if (convolution_ && convolution_->serves(f.convolution)) plan = convolution_;
     }
     const bool reused = plan != nullptr;
     if (!reused) {
-        auto made = FastPlan::create(f.fast, progress_part(opt.progress, 0.0, 0.6));
+        auto made = ConvolutionPlan::create(f.convolution, progress_part(opt.progress, 0.0, 0.6));
         if (!made.ok()) return Result<bool>::failure(made);
         plan = made.value;
         std::lock_guard<std::mutex> lock(mutex_);
-        fast_ = plan;
+        convolution_ = plan;
     }
     return plan->apply(f.scene(opt.depth_meaning), opt.vignetting, xyz.data(),
                        progress_part(opt.progress, reused ? 0.0 : 0.6, 1.0));
@@ -350,13 +386,14 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
             return false;
         };
     if (auto r = check_limits(opt, f, name, nthreads); !r.ok()) return r;
-    if (opt.on_estimate && opt.method != DiffractMethod::Fast) opt.on_estimate(f.job, f.terms);
+    if (opt.on_estimate && opt.method != DiffractMethod::Convolution) opt.on_estimate(f.job, f.terms);
 
     std::vector<float> xyz;
-    const Result<bool> r = opt.method == DiffractMethod::Fast ? run_fast(opt, f, xyz) : run_exact(opt, f, xyz);
+    const Result<bool> r = opt.method == DiffractMethod::Convolution ? run_convolution(opt, f, xyz) : run_exact(opt, f, xyz);
     if (!r.ok() && (*stopped || r.kind == ErrorKind::Cancelled))
         return Fail::failure(name + ": interrupted", ErrorKind::Cancelled);
     if (!r.ok()) return Fail::failure(name + ": " + r.error);
+    keep_data_window(xyz, f.out_w, f.kept);
     auto mapped = f.colour.config.output_colour(xyz.data(), xyz.size() / 3, f.colour.out_space, f.colour.in_space,
                                                 opt.desaturate_out_of_gamut);
     if (!mapped.ok()) return Fail::failure(mapped);

@@ -6,8 +6,13 @@ namespace wavecam {
 namespace Strutil = OIIO::Strutil;
 
 bool is_stale_camera_attribute(const std::string& name) {
-    if (Strutil::istarts_with(name, "wavecam.")) return !Strutil::iequals(name, "wavecam.scene");
+    if (Strutil::istarts_with(name, "wavecam."))  // the depth channel is copied: its unit stays true
+        return !Strutil::iequals(name, "wavecam.scene") && !Strutil::iequals(name, kSceneUnitAttribute);
     if (Strutil::istarts_with(name, "cycles.") || Strutil::iequals(name, "oiio:subimages")) return true;
+    // a texture's MIP and lookup description and its pixels' statistics (oiiotool -otex, maketx)
+    for (const char* texture : {"textureformat", "wrapmodes", "fovcot", "uvslopes_scale", "openexr:levelmode",
+                                "openexr:roundingmode", "oiio:AverageColor", "oiio:ConstantColor", "oiio:SHA-1"})
+        if (Strutil::iequals(name, texture)) return true;
     // lens and camera geometry under any naming: Blender's Lens, EXIF's FocalLength/FNumber/
     // LensModel/ApertureValue/SubjectDistance, OpenEXR's focus/aperture/worldToCamera/worldToNDC
     for (const char* part : {"lens", "focal", "aperture", "fnumber", "focus", "subjectdistance", "worldto"})
@@ -31,6 +36,8 @@ OIIO::ImageSpec output_header(const OIIO::ImageSpec& input, const RenderChannels
     spec.nchannels = int(spec.channelnames.size());
     spec.set_format(OIIO::TypeDesc::FLOAT);
     spec.channelformats.clear();
+    // level 0 alone, as scanlines: a MIP-mapped or tiled input's other levels are not remade
+    spec.tile_width = spec.tile_height = spec.tile_depth = 0;
     return spec;
 }
 
@@ -40,7 +47,8 @@ Result<bool> fill_output(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const R
     // from the same pixels of the source, inside its overscan margin
     const OIIO::ImageSpec& spec = dst.spec();
     const OIIO::stride_t pixel = spec.nchannels * sizeof(float), row = pixel * spec.width;
-    if (!dst.set_pixels(OIIO::ROI(0, spec.width, 0, spec.height, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, rgb))
+    if (!dst.set_pixels(OIIO::ROI(spec.x, spec.x + spec.width, spec.y, spec.y + spec.height, 0, 1, 0, 3),
+                        OIIO::TypeDesc::FLOAT, rgb))
         return Result<bool>::failure("cannot fill the output image: " + dst.geterror());
     const OIIO::ImageSpec& in = src.spec();
     int to = 3;

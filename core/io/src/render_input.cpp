@@ -1,11 +1,15 @@
 #include "wavecam/render_input.h"
 
+#include "render_parts.h"
+#include "render_windows.h"
 #include "wavecam/scene_diffraction.h"
 
 #include <OpenImageIO/strutil.h>
 
 #include <limits.h>
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cmath>
@@ -92,12 +96,12 @@ bool read_channels(const OIIO::ImageBuf& image, const int rgb[3], int depth, Ren
 }
 
 // The job's one check of the pixels: radiance finite, depth > 0; the first bad one named by its
-// channel and pixel ("" when all are good).
+// channel and pixel, in the file's pixel coordinates ("" when all are good).
 std::string bad_pixel(const RenderInput& in, const OIIO::ImageSpec& spec, const int rgb[3]) {
     for (size_t p = 0; p < in.depth.size(); ++p) {
         auto where = [&](const std::string& channel) {
-            return "channel '" + channel + "' at pixel (" + std::to_string(p % in.width) + ", " +
-                   std::to_string(p / in.width) + ")";
+            return "channel '" + channel + "' at pixel (" + std::to_string(spec.x + int(p % in.width)) + ", " +
+                   std::to_string(spec.y + int(p / in.width)) + ")";
         };
         for (int c = 0; c < 3; ++c)
             if (const float v = in.rgb[3 * p + c]; !radiance_in_range(v))
@@ -134,10 +138,15 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
     const RenderChannels ch = find_render_channels(spec, opt.depth_channel);
     const std::string channels = OIIO::Strutil::join(spec.channelnames, ", ");
     if (ch.r < 0 || ch.g < 0 || ch.b < 0)
-        return fail("channels R, G, B: not found (channels: " + channels + "), expected linear RGB radiance");
-    if (ch.depth < 0)
+        return fail("channels R, G, B: not found (channels: " + channels + "), expected linear RGB radiance" +
+                    detail::other_part_note(image, ch.r < 0 ? "R" : ch.g < 0 ? "G" : "B"));
+    if (ch.depth < 0) {
+        // in another part, naming a depth channel cannot help: the note says what does
+        const std::string elsewhere = detail::other_part_note(image, opt.depth_channel);
         return fail("channel '" + opt.depth_channel + "': not found (channels: " + channels +
-                    "), expected a depth channel", ErrorKind::Missing, "depth-channel");
+                        "), expected a depth channel" + elsewhere,
+                    elsewhere.empty() ? ErrorKind::Missing : ErrorKind::Failed, "depth-channel");
+    }
 
     RenderInput in;
     in.width = spec.width;
@@ -152,6 +161,13 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
     if (!(opt.depth_scale > 0 && std::isfinite(opt.depth_scale)))
         return fail("depth scale " + OIIO::Strutil::fmt::format("{:g}", opt.depth_scale) +
                     " m, expected a length > 0", ErrorKind::Invalid, "depth-scale");
+    // A file whose depth was scaled to metres when it was made says so (render_pov.sh
+    // --depth-scale writes wavecam.scene-unit): a second scale would shrink it again.
+    if (const std::string unit = spec.get_string_attribute(kSceneUnitAttribute); !unit.empty() && opt.depth_scale != 1.0)
+        return fail("its depth is in metres already (" + std::string(kSceneUnitAttribute) + " " + unit +
+                        ": one scene unit was " + unit + " when it was made), and a depth scale of " +
+                        with_unit(opt.depth_scale, 1.0, "m") + " would scale it again; expected no depth-scale setting",
+                    ErrorKind::Invalid, "depth-scale");
     if (opt.depth_scale != 1.0)
         for (float& d : in.depth)
             if (d < kInfiniteDepth) d = static_cast<float>(d * opt.depth_scale);
@@ -166,6 +182,7 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
         in.fov_h = fov.value;
         in.fov_from = std::string("the file's ") + kFovAttribute + " attribute";
     }
+    if (auto placed = detail::place_on_frame(spec, in); !placed.ok()) return fail(placed.error);
     return Result<RenderInput>::success(std::move(in));
 }
 
@@ -191,7 +208,15 @@ std::string not_a_file(const std::string& path) {
         return "a path of " + std::to_string(path.size()) + " characters, beyond the limit of " +
                std::to_string(PATH_MAX - 1) + " (PATH_MAX)";
     }
-    if (S_ISREG(st.st_mode)) return {};
+    if (S_ISREG(st.st_mode)) {
+        // a file that cannot be opened or read (permissions, an I/O error) says so, not that it is no image
+        const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd < 0) return std::strerror(errno);
+        char byte = 0;
+        const std::string why = ::read(fd, &byte, 1) < 0 ? std::strerror(errno) : "";
+        ::close(fd);
+        return why;
+    }
     const char* what = S_ISDIR(st.st_mode)    ? "a folder"
                        : S_ISFIFO(st.st_mode) ? "a named pipe (FIFO)"
                        : S_ISCHR(st.st_mode)  ? "a character device"
@@ -203,13 +228,20 @@ std::string not_a_file(const std::string& path) {
 
 }  // namespace
 
-Result<OIIO::ImageBuf> read_image(const std::string& path, double max_bytes) {
+Result<OIIO::ImageBuf> read_render(const std::string& path, const std::string& subimage, double max_bytes) {
+    if (!not_a_file(path).empty()) return read_image(path, max_bytes);  // (which says what it is)
+    auto part = detail::choose_part(path, subimage);
+    if (!part.ok()) return Result<OIIO::ImageBuf>::failure(part);
+    return read_image(path, max_bytes, part.value);
+}
+
+Result<OIIO::ImageBuf> read_image(const std::string& path, double max_bytes, int subimage) {
     if (const std::string why = not_a_file(path); !why.empty())
         return Result<OIIO::ImageBuf>::failure((path.size() > 200 ? path.substr(0, 40) + "..." : path) +
                                                ": cannot be read as an image (" + why + ")");
     OIIO::ImageBuf image(path);
     // the header first: what reading the pixels would take
-    if (image.init_spec(path, 0, 0)) {
+    if (image.init_spec(path, subimage, 0)) {
         const OIIO::ImageSpec& spec = image.spec();
         const double bytes = double(spec.width) * spec.height * std::max(1, spec.depth) * spec.nchannels * sizeof(float);
         if (bytes > max_bytes) {
@@ -220,7 +252,7 @@ Result<OIIO::ImageBuf> read_image(const std::string& path, double max_bytes) {
             return Result<OIIO::ImageBuf>::failure(m.str(), ErrorKind::TooLarge, "max-memory");
         }
     }
-    const bool read = image.read(0, 0, true, OIIO::TypeDesc::FLOAT);
+    const bool read = image.read(subimage, 0, true, OIIO::TypeDesc::FLOAT);
     if (read && !image.deep()) return Result<OIIO::ImageBuf>::success(std::move(image));
     // deep pixels hold lists of samples, not one value each: no pixel access wavecam makes fits them
     const std::string why = read ? "a deep image; expected a flat one" : image.geterror();

@@ -22,13 +22,15 @@ struct JobColour {
 struct ResolvedFrame {
     RenderInput in;
     PinholeCamera camera;
-    int overscan = 0, out_w = 0, out_h = 0;
+    int overscan = 0, out_w = 0, out_h = 0;  // the film: the frame within the overscan
+    OIIO::ROI kept;  // the film's pixels the output holds: all, or the data window within a widened frame
     Aperture aperture;
     JobColour colour;
-    DiffractionSettings exact;  // exact methods: the estimate's and the run's settings
-    FastPlanSpec fast;          // fast method: what its plan is built for
+    ExactSettings exact;  // exact methods: the estimate's and the run's settings
+    ConvolutionPlanSpec convolution;   // convolution method: what its plan is built for
     double terms = 0;           // exact methods: the sums' cost
     std::string job;            // "24x16 pixels x 3 wavelengths x 2 runs"
+    std::string device = "cpu";  // exact methods: where the direct sums run ("cpu" or the GPU and its driver)
 
     SpectralScene scene(DepthMeaning meaning) const {
         return {camera, in.rgb.data(), in.depth.data(), meaning, true};

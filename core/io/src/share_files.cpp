@@ -105,7 +105,7 @@ struct Share {
     detail::ResolvedFrame f;
     int S = 0, R = 1, per_wavelength = 1;  // wavelengths, runs, propagations per unit
     WorkShare sh;
-    DiffractionSettings s;  // the frame's exact settings, on the share's rows
+    ExactSettings s;  // the frame's exact settings, on the share's rows
     std::vector<double> unit_terms;
     double terms = 0;
     std::string fingerprint;
@@ -115,8 +115,8 @@ struct Share {
 Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_path, const DiffractOptions& opt,
                             int index, int count, int nthreads) {
     using R = Result<Share>;
-    if (opt.method == DiffractMethod::Fast)
-        return R::failure(input_path + ": shares are of the exact methods' work; expected method exact or incoherent",
+    if (opt.method == DiffractMethod::Convolution)
+        return R::failure(input_path + ": shares are of the exact methods' work; expected method random-phase or incoherent",
                           ErrorKind::Invalid, "method");
     auto input = load_render(src, input_path, opt.read);
     if (!input.ok()) return R::failure(input);
@@ -127,7 +127,7 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
     const std::vector<double>& wavelengths = j.f.colour.sampling.wavelength;
     j.S = int(wavelengths.size());
     j.per_wavelength = j.f.colour.basis.size() / j.S;
-    j.R = opt.method == DiffractMethod::Incoherent ? 1 : opt.diffraction.runs;
+    j.R = opt.method == DiffractMethod::Incoherent ? 1 : opt.exact.runs;
     auto share = work_share(index, count, j.S, j.R, j.f.in.height);
     if (!share.ok()) return R::failure(share.error);
     j.sh = share.value;
@@ -138,7 +138,7 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
     j.s.row_begin = j.sh.row_begin;
     j.s.row_end = j.sh.row_end;
     for (int u = j.sh.unit_begin; u < j.sh.unit_end; ++u) {
-        DiffractionSettings unit = j.s;
+        ExactSettings unit = j.s;
         unit.run_begin = u % j.R;
         unit.run_end = u % j.R + 1;
         j.unit_terms.push_back(j.per_wavelength * scene_terms(unit, j.f.camera, wavelengths[u / j.R]));
@@ -146,7 +146,7 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
     }
     std::ostringstream job;
     job << "share " << index << "/" << count << " of " << j.f.in.width << "x" << j.f.in.height << " pixels x " << j.S
-        << " wavelengths x " << j.R << " runs, " << summation_name(j.s.summation) << ": " << describe_share(j.sh, j.R);
+        << " wavelengths x " << j.R << " runs, " << summation_word(j.s.summation) << " summation" << ": " << describe_share(j.sh, j.R);
     j.job = job.str();
     if (j.terms > opt.max_terms) {
         std::ostringstream m;
@@ -165,7 +165,7 @@ MonochromePropagator unit_propagator(const Share& j, const ProgressFn& progress,
         for (int r = 0; r < j.R; ++r) {
             const int u = mono.spectral_index / j.per_wavelength * j.R + r;
             if (u < j.sh.unit_begin || u >= j.sh.unit_end) continue;
-            DiffractionSettings unit = j.s;
+            ExactSettings unit = j.s;
             unit.run_begin = r;
             unit.run_end = r + 1;
             // A wavelength's negative part (rare) is not in the estimate: count it at no weight;
@@ -205,6 +205,7 @@ OIIO::ImageSpec part_spec(OIIO::ImageSpec spec, const Share& j, const std::vecto
     spec.attribute("wavecam.part.summed", describe_share(j.sh, j.R));
     spec.attribute("wavecam.part.wavelength-count", j.S);
     spec.attribute("wavecam.part.runs", j.R);
+    spec.attribute("wavecam.part.propagations", j.per_wavelength);
     spec.attribute("wavecam.part.terms", float(j.terms));
     spec.attribute("wavecam.part.input", input_path);
     spec.attribute("wavecam.part.input-fingerprint", j.fingerprint);
@@ -260,6 +261,8 @@ Result<PartFile> read_part(const std::string& path) {
     int ub = 0, ue = 0, rb = 0, re = 0;
     p.wavelengths = spec.get_int_attribute("wavecam.part.wavelength-count");
     p.runs = spec.get_int_attribute("wavecam.part.runs");
+    // propagations per wavelength: 1 for colour light, 3 (one per channel) for monochrome light
+    const int per = spec.get_int_attribute("wavecam.part.propagations", 1);
     p.width = spec.full_width;
     p.height = spec.full_height;
     p.input = spec.get_string_attribute("wavecam.part.input");
@@ -267,7 +270,7 @@ Result<PartFile> read_part(const std::string& path) {
     p.job = spec.get_string_attribute("wavecam.part.job");
     if (!k.ok() || !parse_range(spec.get_string_attribute("wavecam.part.units"), ub, ue) ||
         !parse_range(spec.get_string_attribute("wavecam.part.rows"), rb, re) || p.wavelengths < 1 || p.runs < 1 ||
-        p.input.empty() || p.input_fingerprint.empty() || p.job.empty())
+        (per != 1 && per != 3) || p.input.empty() || p.input_fingerprint.empty() || p.job.empty())
         return fail("corrupt: its wavecam.part header is incomplete");
     auto layout = work_share(k.value.index, k.value.count, p.wavelengths, p.runs, p.height);
     if (!layout.ok() || layout.value.unit_begin != ub || layout.value.unit_end != ue ||
@@ -283,9 +286,11 @@ Result<PartFile> read_part(const std::string& path) {
     }
     if (job_fingerprint(p.input_fingerprint, p.settings) != p.job)
         return fail("corrupt: its settings do not match the job fingerprint in its header");
+    // unit u's propagations are spectral indices (u / runs) * per + c, c < per (spectrum.h)
     for (int u = ub; u < ue; ++u)
-        if (spec.channelindex(channel_name(u / p.runs, u % p.runs, +1)) < 0)
-            return fail("corrupt: channel " + channel_name(u / p.runs, u % p.runs, +1) + " is missing");
+        for (int c = 0; c < per; ++c)
+            if (const std::string name = channel_name(u / p.runs * per + c, u % p.runs, +1); spec.channelindex(name) < 0)
+                return fail("corrupt: channel " + name + " is missing");
     return Result<PartFile>::success(std::move(p));
 }
 

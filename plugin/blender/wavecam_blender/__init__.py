@@ -14,9 +14,9 @@ bl_info = {
     "category": "Render",
 }
 
-from . import camera_settings, frame_handler, panel, preferences, reports
+from . import camera_settings, frame_handler, old_files, panel, preferences, reports
 
-_modules = (preferences, camera_settings, panel, reports, frame_handler)
+_modules = (preferences, camera_settings, old_files, panel, reports, frame_handler)
 
 
 def register():

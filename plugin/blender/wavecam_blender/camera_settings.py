@@ -1,5 +1,11 @@
 # The wavecam settings a camera carries (camera.data.wavecam). The pinhole and film distance
 # follow the camera's lens unless set by hand.
+#
+# Hard limits are what has a meaning at all (a length >= 0, a count >= 1); soft limits are the
+# useful range the sliders drag over. Whether a value can be imaged (a pinhole between the
+# longest wavelength and the film's width, a film distance > 0, a wavelength list of light)
+# depends on other settings and the camera, so it is checked before each render
+# (settings_check.py) and refused with a message naming the setting, never clamped.
 import bpy
 
 from . import pinhole_design
@@ -20,6 +26,15 @@ def _turn_on_depth_output(settings, context):
         image.use_zbuffer = True
 
 
+# The numbers are what a .blend file stores for an enum (not the identifiers): files saved when
+# these were called 'fast' (0) and 'exact' (1) load as convolution and random-phase.
+METHODS = [
+    ('convolution', "Convolution", "PSF grid and FFT convolution (the default)", 0),
+    ('random-phase', "Random phase", "The seed paper's random-phase sum, averaged over runs (slow; small frames)", 1),
+    ('incoherent', "Incoherent", "Every source propagated alone: the limit of infinitely many runs (very slow)", 2),
+]
+
+
 class WavecamCameraSettings(bpy.types.PropertyGroup):
     enabled: bpy.props.BoolProperty(
         name="wavecam", default=False, update=_turn_on_depth_output,
@@ -28,25 +43,34 @@ class WavecamCameraSettings(bpy.types.PropertyGroup):
         name="Film at the lens", default=True,
         description="Film distance = the camera's focal length")
     film_distance: bpy.props.FloatProperty(
-        name="Film distance", default=50.0, min=0.1, soft_max=500.0, unit='CAMERA', subtype='DISTANCE_CAMERA',
-        description="Pinhole to film (mm)")
+        name="Film distance", default=50.0, min=0.0, soft_min=1.0, soft_max=500.0, precision=2,
+        unit='CAMERA', subtype='DISTANCE_CAMERA',
+        description="Pinhole to film (mm); must be > 0")
     auto_pinhole: bpy.props.BoolProperty(
         name="Optimal pinhole", default=True,
         description="Rayleigh's optimum 1.9 sqrt(f lambda) at 550 nm for the film distance")
     pinhole: bpy.props.FloatProperty(
-        name="Pinhole", default=0.3, min=0.001, soft_max=10.0, precision=3, unit='CAMERA',
-        subtype='DISTANCE_CAMERA', description="Pinhole diameter (mm)")
-    wavelengths: bpy.props.StringProperty(
-        name="Wavelengths", default="8",
-        description="A count over 400-700 nm (e.g. 8) or a list such as 450nm,550nm,650nm")
-    method: bpy.props.EnumProperty(
-        name="Method", default='fast',
-        items=[('fast', "Fast", "PSF grid and FFT convolution"),
-               ('exact', "Exact", "The seed paper's random-phase sum (slow; small frames)"),
-               ('incoherent', "Incoherent", "The exact sum with every source alone (very slow)")])
+        name="Pinhole", default=0.3, min=0.0, soft_min=0.002, soft_max=5.0, precision=4, step=1,
+        unit='CAMERA', subtype='DISTANCE_CAMERA',
+        description="Pinhole diameter (mm): from the longest wavelength (0.0007 mm at 700 nm; a few wavelengths "
+                    "to be useful) up to the film's width")
+    wavelength_count: bpy.props.IntProperty(
+        name="Wavelengths", default=8, min=1, max=1000, soft_min=1, soft_max=64,
+        description="Wavelengths sampled evenly over 400-700 nm; fewer than 3 give a grey (monochrome) image")
+    use_wavelength_list: bpy.props.BoolProperty(
+        name="List of wavelengths", default=False,
+        description="Diffract at the listed wavelengths instead of a count over 400-700 nm")
+    wavelength_list: bpy.props.StringProperty(
+        name="Wavelength list", default="450nm,550nm,650nm",
+        description="Increasing wavelengths from 100nm to 10um, e.g. 450nm,550nm,650nm")
+    method: bpy.props.EnumProperty(name="Method", default='convolution', items=METHODS)
     runs: bpy.props.IntProperty(
-        name="Runs", default=8, min=1, max=100000,
-        description="Exact method: random-phase runs averaged; noise falls as 1/sqrt(runs)")
+        name="Runs", default=8, min=1, max=100000, soft_max=256,
+        description="Random-phase runs averaged; noise falls as 1/sqrt(runs)")
+    vignetting: bpy.props.BoolProperty(
+        name="Vignetting", default=True,
+        description="Keep the pinhole's natural cos^4 fall-off toward the corners (physical); off divides it out, "
+                    "matching Blender's own brightness")
 
     def film_distance_mm(self, camera):
         return camera.lens if self.auto_film_distance else self.film_distance
@@ -55,6 +79,10 @@ class WavecamCameraSettings(bpy.types.PropertyGroup):
         if self.auto_pinhole:
             return pinhole_design.optimal_diameter_mm(self.film_distance_mm(camera))
         return self.pinhole
+
+    def wavelengths_text(self):
+        """What the command's --wavelengths gets: the count, or the list without spaces."""
+        return self.wavelength_list.replace(" ", "") if self.use_wavelength_list else str(self.wavelength_count)
 
 
 def register():

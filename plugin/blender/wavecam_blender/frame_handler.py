@@ -4,6 +4,10 @@
 # Blender's temporary folder first (render_complete with no render_write before it).
 # Nothing here may raise into Blender: every failure becomes a report.
 #
+# Every refusal that can be judged before the render (settings_check.py) is made in
+# render_init, when the job starts: the message appears before the frame is rendered, and the
+# job's frames are then left as Blender renders them. Python cannot cancel a render.
+#
 # The camera "as rendered" is the render depsgraph's evaluated camera (rendered_camera.py):
 # frame_change_post runs on that depsgraph before each rendered frame, so the camera is
 # captured there, and render_write uses the capture for its frame.
@@ -12,7 +16,7 @@ import os
 import bpy
 from bpy.app.handlers import persistent
 
-from . import exr_fov, reports
+from . import exr_fov, reports, settings_check
 from .rendered_camera import RenderedCamera
 from .wavecam_run import WavecamRunError, run_wavecam
 
@@ -42,24 +46,6 @@ def written_frame_path(scene):
     return max(existing, key=os.path.getmtime) if existing else frame
 
 
-def _check_output(scene, frame_path):
-    image = scene.render.image_settings
-    if image.file_format not in {'OPEN_EXR', 'OPEN_EXR_MULTILAYER'}:
-        raise FrameError(f"the frame was saved as {image.file_format}; wavecam needs OpenEXR "
-                         "(Output > Output > File Format: OpenEXR MultiLayer)")
-    if image.file_format == 'OPEN_EXR' and not image.use_zbuffer:
-        raise FrameError("the OpenEXR output has no depth: tick Z Buffer, or use OpenEXR MultiLayer")
-    layers = [layer for layer in scene.view_layers if layer.use]
-    if image.file_format == 'OPEN_EXR_MULTILAYER':
-        if len(layers) != 1:
-            raise FrameError(f"{len(layers)} view layers render into one file; wavecam diffracts one: "
-                             "untick 'Use for Rendering' on all but one")
-        if not layers[0].use_pass_z:
-            raise FrameError(f"view layer '{layers[0].name}' has no Z pass (View Layer > Passes > Z)")
-    if not os.path.isfile(frame_path):
-        raise FrameError(f"{frame_path}: Blender's frame is not there")
-
-
 # (scene name, frame) -> RenderedCamera captured from the render depsgraph
 _rendered = {}
 
@@ -67,10 +53,13 @@ _rendered = {}
 def diffract_frame(scene, frame_path, camera=None):
     """Tags and diffracts one written frame; returns the diffracted file's path. `camera`:
     the frame's RenderedCamera, by default the one captured for it (else the scene's)."""
-    _check_output(scene, frame_path)
     camera = camera or _rendered.pop((scene.name, scene.frame_current), None) or RenderedCamera(scene, scene.camera)
-    if camera.fov_error:
-        raise FrameError(camera.fov_error)
+    try:
+        settings_check.check_frame(scene, camera)
+    except settings_check.SettingError as e:
+        raise FrameError(str(e))
+    if not os.path.isfile(frame_path):
+        raise FrameError(f"{frame_path}: Blender's frame is not there")
     try:
         exr_fov.write_fov(frame_path, camera.fov)
         fov_in_file = True
@@ -131,24 +120,34 @@ def _diffract_unsaved_still(scene_name, camera):
 
 
 _written = set()  # scenes whose current render wrote a file
+_refused = set()  # scenes whose current render was refused when it started
 
 
 @persistent
 def on_render_init(scene, *args):
     _written.discard(scene.name)
+    _refused.discard(scene.name)
+    try:
+        if _enabled(scene):
+            settings_check.check_frame(scene, RenderedCamera(scene, scene.camera))
+    except settings_check.SettingError as e:
+        _refused.add(scene.name)
+        reports.error(f"frame {scene.frame_current} not diffracted: {e}")
+    except Exception as e:
+        reports.error(f"frame {scene.frame_current}: unexpected failure: {type(e).__name__}: {e}")
 
 
 @persistent
 def on_render_write(scene, *args):
     _written.add(scene.name)
-    if _enabled(scene):
+    if _enabled(scene) and scene.name not in _refused:
         _diffract_reported(scene, written_frame_path)
 
 
 @persistent
 def on_render_complete(scene, *args):
     try:
-        if scene.name not in _written and _enabled(scene):
+        if scene.name not in _written and scene.name not in _refused and _enabled(scene):
             camera = _rendered.pop((scene.name, scene.frame_current), None)
             reports.on_main_thread(_diffract_unsaved_still, scene.name, camera)
     except Exception as e:

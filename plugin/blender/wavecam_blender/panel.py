@@ -1,6 +1,18 @@
 # Properties > Camera data > wavecam.
 import bpy
 
+from . import camera_fov, settings_check
+
+
+def _problem(scene, camera_object):
+    """What settings_check would refuse for this camera now, or None."""
+    try:
+        fov = camera_fov.horizontal_fov_degrees(scene, camera_object)
+        settings_check.check_settings(camera_object.data, fov)
+    except (camera_fov.FovError, settings_check.SettingError) as e:
+        return str(e)
+    return None
+
 
 class DATA_PT_wavecam(bpy.types.Panel):
     bl_label = "wavecam pinhole"
@@ -32,12 +44,18 @@ class DATA_PT_wavecam(bpy.types.Panel):
             layout.label(text=f"Pinhole {w.pinhole_mm(cam):.3f} mm (1.9 sqrt(f lambda), 550 nm)")
         else:
             layout.prop(w, "pinhole")
-        layout.prop(w, "wavelengths")
+        layout.prop(w, "use_wavelength_list")
+        layout.prop(w, "wavelength_list" if w.use_wavelength_list else "wavelength_count")
         layout.prop(w, "method")
-        if w.method == 'exact':
+        if w.method == 'random-phase':
             layout.prop(w, "runs")
-        if cam.shift_x or cam.shift_y:
-            layout.label(text="Shift must be 0: wavecam needs a centred frame", icon='ERROR')
+        layout.prop(w, "vignetting")
+        scale = context.scene.unit_settings.scale_length
+        layout.label(text=f"Depth: 1 Blender unit = {scale:g} m (Scene > Units > Unit Scale)")
+        camera_object = context.object if context.object and context.object.data == cam else None
+        problem = _problem(context.scene, camera_object) if camera_object and w.enabled else None
+        if problem:
+            layout.label(text=problem, icon='ERROR')
 
 
 def register():

@@ -1,7 +1,13 @@
 # Messages and results reach the user without touching Blender's data from the render thread:
 # in background mode they are printed (stdout for information, stderr for errors); with a UI
-# they are queued and a main-thread timer turns them into operator reports (status bar, Info
-# editor) and shows the diffracted frame in an Image Editor.
+# they are also queued, and a main-thread timer turns them into reports in the status bar and
+# the Info editor, and shows the diffracted frame in an Image Editor.
+#
+# A report reaches the status bar and the Info editor only from an operator that the window
+# manager runs: an operator called from Python (a timer) has its reports printed and dropped,
+# and an ERROR report makes the call raise. So the timer invokes WAVECAM_OT_report in a
+# window's context; it starts modal, and reports from its first timer event, run by the
+# window manager's event loop.
 import os
 import queue
 import sys
@@ -41,7 +47,7 @@ def _emit(level, message):
 
 
 class WAVECAM_OT_report(bpy.types.Operator):
-    """Shows a wavecam message in Blender's reports"""
+    """Shows a wavecam message in the status bar and the Info editor"""
     bl_idname = "wavecam.report"
     bl_label = "wavecam report"
     bl_options = {'INTERNAL'}
@@ -49,9 +55,24 @@ class WAVECAM_OT_report(bpy.types.Operator):
     level: bpy.props.EnumProperty(items=[('INFO', "Info", ""), ('ERROR', "Error", "")])
     message: bpy.props.StringProperty()
 
-    def execute(self, context):
-        self.report({self.level}, self.message)
+    def invoke(self, context, event):
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(0.0, window=context.window)
+        wm.modal_handler_add(self)
+        return {'RUNNING_MODAL'}
+
+    def modal(self, context, event):
+        if event.type != 'TIMER':
+            return {'PASS_THROUGH'}
+        context.window_manager.event_timer_remove(self._timer)
+        self.report({self.level}, f"wavecam: {self.message}")
         return {'FINISHED'}
+
+
+def _report(level, message):
+    window = bpy.context.window_manager.windows[0]
+    with bpy.context.temp_override(window=window, screen=window.screen):
+        bpy.ops.wavecam.report('INVOKE_DEFAULT', level=level, message=message)
 
 
 def _load(path):
@@ -79,7 +100,7 @@ def _drain():
         item = _pending.get()
         try:
             if item[0] == 'report':
-                bpy.ops.wavecam.report(level=item[1], message=item[2])
+                _report(item[1], item[2])
             elif item[0] == 'call':
                 item[1](*item[2])
             else:

@@ -10,11 +10,14 @@ class WavecamRunError(Exception):
 
 def apply_command(exe, camera, frame_path, out_path, fov_in_file):
     cmd = [exe, "apply", frame_path, "-o", out_path, "--film-distance", f"{camera.film_distance_mm:.9g}mm",
-           "--wavelengths", camera.wavelengths, "--method", camera.method]
+           "--wavelengths", camera.wavelengths, "--method", camera.method,
+           "--depth-scale", f"{camera.depth_scale_m:.9g}m"]
     if camera.pinhole_mm is not None:
         cmd += ["--pinhole", f"{camera.pinhole_mm:.9g}mm"]
-    if camera.method == 'exact':
+    if camera.method == 'random-phase':
         cmd += ["--runs", str(camera.runs)]
+    if not camera.vignetting:
+        cmd += ["--no-vignetting"]
     if not fov_in_file:
         cmd += ["--fov", f"{camera.fov:.9g}deg"]
     return cmd

@@ -8,26 +8,29 @@
 #include <string>
 #include <vector>
 #include "wavecam/render_input.h"
-#include "wavecam/fast_diffraction.h"
+#include "wavecam/psf_convolution.h"
 #include "wavecam/scene_diffraction.h"
 #include "wavecam/spectral_diffraction.h"
 
 namespace wavecam {
 
-// Fast: PSF-grid convolution (the default, `--method fast`). The two exact sums over pinhole
-// samples: RandomPhase, the seed paper's random-phase sum (`--method random-phase`, also spelt
-// `exact`), and Incoherent, every source propagated alone (`--method incoherent`, small images).
-enum class DiffractMethod { Fast, RandomPhase, Incoherent };
+// Convolution: PSF-grid convolution (the default, `--method convolution`). The exact methods,
+// two sums over pinhole samples: RandomPhase, the seed paper's random-phase runs (`--method
+// random-phase`), and Incoherent, every source propagated alone (`--method incoherent`).
+enum class DiffractMethod { Convolution, RandomPhase, Incoherent };
+
+// "convolution", "random-phase", "incoherent": the setting's words, as headers record them.
+const char* method_word(DiffractMethod m);
 
 struct DiffractOptions {
-    DiffractMethod method = DiffractMethod::Fast;
+    DiffractMethod method = DiffractMethod::Convolution;
     RenderReadOptions read;                        // depth channel, fov
     DepthMeaning depth_meaning = DepthMeaning::Planar;
     double film_distance = 50e-3;                  // f, metres
     double pinhole = 0;                            // diameter (m); 0 = Rayleigh's optimum for f at 550 nm
     Aperture aperture;                             // shape (--aperture); its diameter comes from `pinhole`
-    DiffractionSettings diffraction;               // exact methods: runs, seed, jitter, film subsamples
-    FastSettings fast;                             // fast method: tiles, kernel size
+    ExactSettings exact;                           // exact methods: runs, seed, jitter, film subsamples, summation
+    ConvolutionSettings convolution;               // convolution method: tiles, kernel size
     int overscan = 0;                              // pixels of margin on every side: light sources, cropped
                                                    // from the output (the fov is the full input's)
     std::vector<double> wavelengths;               // explicit list (m); empty = wavelength_count in 400-700 nm
@@ -53,7 +56,7 @@ Aperture resolved_aperture(const DiffractOptions& opt);
 
 // Terms the job costs for an image of this size, field of view and depth (for refusing and
 // reporting): the exact sums' terms with the job's spectral basis (three propagations per
-// wavelength for monochrome light); 0 for the fast method or when that basis cannot be made.
+// wavelength for monochrome light); 0 for the convolution method or when that basis cannot be made.
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
                       const std::string& file_colorspace = "");
 
@@ -64,7 +67,7 @@ namespace detail {
 struct ResolvedFrame;  // one frame's render, camera, colours and method settings (core/io/src/resolved_frame.h)
 }
 
-// Options resolved once and the fast path's plan (PSF table, kernel spectra) kept for the next
+// Options resolved once and the convolution method's plan (PSF table, kernel spectra) kept for the next
 // frame that shares its camera, pinhole, colours and depth range: a sequence, or an OIIO host
 // opening the same shot again, pays for the table once. Safe to share between threads.
 class DiffractPlan {
@@ -82,10 +85,10 @@ public:
                           const std::string& name, int nthreads = 0);
 
 private:
-    Result<bool> run_fast(const DiffractOptions& opt, const detail::ResolvedFrame& frame, std::vector<float>& xyz);
+    Result<bool> run_convolution(const DiffractOptions& opt, const detail::ResolvedFrame& frame, std::vector<float>& xyz);
     DiffractOptions opt_;
     std::mutex mutex_;
-    std::shared_ptr<const FastPlan> fast_;
+    std::shared_ptr<const ConvolutionPlan> convolution_;
 };
 
 // One frame through a plan of its own; errors in dst.geterror(), naming the setting they are about.

@@ -12,16 +12,19 @@ namespace wavecam {
 // Whether an input header attribute describes the ideal camera or an earlier wavecam run, and
 // so would be stale in the diffracted image: lens and focal length (Blender's `Lens`, EXIF and
 // OpenEXR lens fields), camera matrices (`worldToCamera`, `worldToNDC`), the renderer's
-// statistics (`cycles.*`), and `wavecam.*` (rewritten for this run; `wavecam.scene` is kept).
+// statistics (`cycles.*`), a texture's MIP and lookup description and its pixels' statistics
+// (`textureformat`, `wrapmodes`, `oiio:AverageColor`, `oiio:SHA-1`...), and `wavecam.*`
+// (rewritten for this run; `wavecam.scene` and `wavecam.scene-unit` are kept).
 bool is_stale_camera_attribute(const std::string& name);
 
-// The output's header: the input's, stale attributes dropped, channels R, G, B named as the
-// input names them, then its alpha (if any) and its depth channel, all float.
+// The output's header: the input's (its data and display windows too), stale attributes
+// dropped, channels R, G, B named as the input names them, then its alpha (if any) and its depth
+// channel, all float; one level, as scanlines (a MIP-mapped or tiled input's level 0).
 OIIO::ImageSpec output_header(const OIIO::ImageSpec& input, const RenderChannels& channels);
 
-// Fills `dst` (already reset to output_header's spec, cropped by `margin` pixels of overscan
-// on every side): R, G, B from `rgb` (interleaved), alpha and depth copied unchanged from the
-// same pixels of `src`.
+// Fills `dst` (already reset to output_header's spec, its data window `src`'s, or cropped by
+// `margin` pixels of overscan on every side): R, G, B from `rgb` (interleaved), alpha and depth
+// copied unchanged from the same pixels of `src`.
 Result<bool> fill_output(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const RenderChannels& channels, int margin,
                          const float* rgb);
 

@@ -15,14 +15,29 @@ struct RenderReadOptions {
     std::string fov_from = "the fov setting";  // where fov_h came from, for the output's wavecam.fov-from
     double depth_scale = 1.0;         // metres per unit of the depth channel (the depth-scale setting, > 0);
                                       // a value >= 1e9 (or inf) in the file is sky whatever the scale
+    std::string subimage;             // the part (OIIO subimage) read, by name; "" = the file's only one
+};
+
+// Where the file's pixels lie on the camera's frame. OpenEXR's display window is the frame the
+// camera saw: its centre is the optical axis and the field of view (--fov, wavecam.fov) spans its
+// width. The data window holds the pixels: a crop of the frame (a compositor's bounding box) or
+// the frame and an overscan margin beyond it.
+struct FrameWindows {
+    bool declared = false;  // the file's data window differs from its display window
+    OIIO::ROI data, display;  // the file's pixel coordinates
 };
 
 // Radiance and depth as plain arrays, plus what the file says about itself.
 struct RenderInput {
+    // The frame the camera images: the data window, widened where needed to hold the display
+    // window and be centred on it (the widening continues the data window's edge, as beyond any frame).
     int width = 0, height = 0;
+    int x0 = 0, y0 = 0;        // the file's pixel coordinates of the frame's pixel (0, 0)
+    FrameWindows windows;
     std::vector<float> rgb;    // interleaved R, G, B
     std::vector<float> depth;  // metres (the file's values times RenderReadOptions::depth_scale)
-    double fov_h = 0;          // radians
+    double fov_h = 0;          // radians, across `width` (the display window's as given, widened with the frame)
+    double display_fov_h = 0;  // radians, across the display window (= fov_h for a file without windows)
     std::string fov_from;      // the setting or the attribute it came from
     std::string colorspace;    // the radiance's colour space as the file names it ("" = unknown)
     std::string depth_channel; // the channel actually used
@@ -35,6 +50,9 @@ struct RenderInput {
 // horizontal field of view in degrees, as a float, an int or a string ("40", "40deg",
 // "0.7rad"). Without it, the field of view must be given.
 constexpr const char* kFovAttribute = "wavecam.fov";
+// What a harness writes when it has scaled the depth channel to metres itself (render_pov.sh
+// --depth-scale 1cm writes "0.01m"): the depth-scale setting is then refused.
+constexpr const char* kSceneUnitAttribute = "wavecam.scene-unit";
 
 // Channel indices of R, G, B and depth (-1 where missing): the exact name first, then a layer
 // prefix such as "ViewLayer.Combined.R" (a "Combined" layer preferred) or "ViewLayer.Depth.Z".
@@ -49,11 +67,17 @@ RenderChannels find_render_channels(const OIIO::ImageSpec& spec, const std::stri
 // file, the channel or field, and what was expected.
 Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& name, const RenderReadOptions& opt);
 
+// Reads a render: the file's only part (OIIO subimage), else the one named `subimage`; a file of
+// several parts and no name (or a name it lacks) is refused, naming its parts and their channels.
+// MIP levels past the first are not read (the full-resolution image is level 0).
+Result<OIIO::ImageBuf> read_render(const std::string& path, const std::string& subimage,
+                                   double max_bytes = 16.0 * (1ull << 30));
+
 // Reads a whole image file (a render, a mask, a part file) through OpenImageIO as float; the
 // one reader every front and command uses. Errors read "PATH: cannot be read as an image (OIIO's reason)".
 // An image whose header says its pixels need more than `max_bytes` as float is refused before
 // they are read (a forged or corrupt header: 60000 x 60000 pixels in a 7 MB file); a name that
 // is on disk but no regular file (a FIFO, a device, a folder) before it is opened.
-Result<OIIO::ImageBuf> read_image(const std::string& path, double max_bytes = 16.0 * (1ull << 30));
+Result<OIIO::ImageBuf> read_image(const std::string& path, double max_bytes = 16.0 * (1ull << 30), int subimage = 0);
 
 }  // namespace wavecam

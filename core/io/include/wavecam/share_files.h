@@ -5,7 +5,7 @@
 // settings as given, a fingerprint of the input file's bytes and a checksum of its pixels.
 // Merging replays the stored units through the single-machine colour step in the
 // single-machine order, so the merged image equals the single-machine one bit for bit (on the
-// same build and CPU type; see README "Farm").
+// same build and CPU type; see docs/farm.md).
 #pragma once
 #include <OpenImageIO/imagebuf.h>
 #include <map>

@@ -1,0 +1,257 @@
+#include "wavecam/psf_convolution.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "anchored_convolution.h"
+#include "far_tail.h"
+#include "real_fft2d.h"
+#include "wavecam/fresnel_psf.h"
+
+namespace wavecam {
+
+struct ConvolutionPlan::Impl {
+    ConvolutionPlanSpec spec;
+    detail::AnchoredConvolution convolution;
+    int origin = 0;  // camera pixel coordinate of the source domain's pixel (0, 0), negated
+};
+
+namespace {
+
+bool same_camera(const PinholeCamera& a, const PinholeCamera& b) {
+    return a.width == b.width && a.height == b.height && a.fov_h == b.fov_h && a.film_distance == b.film_distance;
+}
+
+bool same_basis(const SpectralBasis& a, const SpectralBasis& b) {
+    if (a.size() != b.size()) return false;
+    for (int s = 0; s < a.size(); ++s) {
+        if (a.wavelength(s) != b.wavelength(s)) return false;
+        for (int p = 0; p < 3; ++p)
+            if (a.power(s, p == 0, p == 1, p == 2) != b.power(s, p == 0, p == 1, p == 2) ||
+                a.xyz_per_power(s)[p] != b.xyz_per_power(s)[p])
+                return false;
+    }
+    return true;
+}
+
+// Tile side: at least twice the kernel radius (the overlap-add passes need it), and large
+// enough that the FFT's padding (2 R) costs less than the tile itself; never more than the
+// whole source domain (one tile is then a whole-frame FFT).
+int tile_side(int requested, int radius, int domain) {
+    const int base = requested > 0 ? std::max(requested, 2 * radius) : std::max(128, 4 * radius);
+    const int tile = detail::fft_friendly_size(base + 2 * radius) - 2 * radius;
+    return std::min(tile, domain);
+}
+
+// Transform work (points x log2 points) per depth layer of a plan tiled as `t` says: 9 kernel
+// spectra per anchor, and per tile 3 forward transforms for each of its 4 anchors and 3 inverse.
+double transform_work(const detail::PsfTableSpec& t) {
+    const int n = detail::convolution_fft_size(t.tile, t.radius, t.domain_width, t.domain_height);
+    const double tiles = double((t.domain_width + t.tile - 1) / t.tile) * ((t.domain_height + t.tile - 1) / t.tile);
+    const double anchors = double(detail::anchor_axis(t, false).knots.size()) * detail::anchor_axis(t, true).knots.size();
+    const double points = double(n) * n;
+    return (9 * anchors + 15 * tiles) * points * std::log2(points);
+}
+
+}  // namespace
+
+ConvolutionPlan::ConvolutionPlan(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+ConvolutionPlan::~ConvolutionPlan() = default;
+int ConvolutionPlan::kernel_radius() const { return impl_->convolution.table().radius; }
+
+namespace {
+
+// The plan's geometry: kernel radius, source domain, tiles, anchors and depth layers.
+Result<detail::PsfTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
+    using R = Result<detail::PsfTableSpec>;
+    const PinholeCamera& c = spec.camera;
+    const int o = spec.overscan;
+    if (auto v = check_frame(c, o); !v.ok()) return R::failure(v);
+    // (the fronts refuse sources nearer than 10 pinhole diameters first, diffract_image.cpp; this
+    // keeps the layer count's arithmetic finite for any caller: a subnormal depth overflowed it)
+    if (!(spec.max_inverse_depth >= 0 && spec.max_inverse_depth <= 1e6)) {
+        char m[96];
+        std::snprintf(m, sizeof m, "depth: the nearest source is at %g m, expected 1 um or more",
+                      1.0 / spec.max_inverse_depth);
+        return R::failure(m);
+    }
+    const SpectralBasis& basis = spec.basis;
+    double lambda_min = basis.wavelength(0), lambda_max = basis.wavelength(0);
+    for (int s = 0; s < basis.size(); ++s) {
+        lambda_min = std::min(lambda_min, basis.wavelength(s));
+        lambda_max = std::max(lambda_max, basis.wavelength(s));
+    }
+    const int out_w = c.width - 2 * o, out_h = c.height - 2 * o;
+    const double pitch = c.pixel_pitch();
+    const double nearest = spec.max_inverse_depth > 0 ? 1.0 / spec.max_inverse_depth : INFINITY;
+    // The kernel radius depends on the widest field the sources reach, which depends on the
+    // radius: one refinement from the output frame's corners suffices (the radius only grows).
+    int radius = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        const double cmax = c.cos_widest(o - radius, o - radius, o + out_w + radius, o + out_h + radius);
+        radius = psf_kernel_radius(spec.aperture, c.film_distance, nearest, lambda_max, cmax, pitch,
+                                   spec.settings.max_radius);
+    }
+    detail::PsfTableSpec t;
+    t.camera = c;
+    t.origin = radius - o;
+    t.domain_width = out_w + 2 * radius;
+    t.domain_height = out_h + 2 * radius;
+    t.tile = tile_side(spec.settings.tile, radius, std::max(t.domain_width, t.domain_height));
+    t.anchor_cells = std::max(1, spec.settings.anchor_cells);
+    if (spec.settings.tile <= 0) {
+        // one whole-domain tile needs a transform only the domain's side (no 2 R of padding):
+        // cheaper than tiles where the kernels are large against the frame. Its anchors are the
+        // domain's corners (knots lie on tile boundaries), so it is taken only where the tiles
+        // have no more (cells of kMinCellRadii kernel radii already span the frame).
+        detail::PsfTableSpec whole = t;
+        whole.tile = std::max(t.domain_width, t.domain_height);
+        auto anchors = [](const detail::PsfTableSpec& s) {
+            return detail::anchor_axis(s, false).knots.size() * detail::anchor_axis(s, true).knots.size();
+        };
+        if (anchors(whole) == anchors(t) && transform_work(whole) < transform_work(t)) t.tile = whole.tile;
+    }
+    t.radius = radius;
+    t.aperture = spec.aperture;
+    t.basis = &spec.basis;
+    t.layers = detail::DepthLayers::spanning(spec.max_inverse_depth, spec.aperture.bounding_radius(), lambda_min,
+                                             c.film_distance, pitch);
+    t.nthreads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
+    return R::success(t);
+}
+
+}  // namespace
+
+double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
+    auto g = plan_geometry(spec);
+    if (!g.ok()) return 0;
+    const detail::PsfTableSpec& t = g.value;
+    const double anchors =
+        double(detail::anchor_axis(t, false).knots.size()) * detail::anchor_axis(t, true).knots.size();
+    const double side = 2.0 * t.radius + 1,
+                 n = detail::convolution_fft_size(t.tile, t.radius, t.domain_width, t.domain_height);
+    const double kernels = t.layers.count * anchors * 9 * (side * side * sizeof(float) + n * (n / 2 + 1) * 8);
+    const double domain = double(t.domain_width) * t.domain_height * 17;  // radiance, layer, share
+    const double tiles = t.nthreads * (n * n + 7 * n * (n / 2 + 1) * 2) * sizeof(float);
+    // each thread's working memory for one PSF of the table, at its largest: the nearest layer
+    // or the sky, on the axis or at the corner anchor, the shortest or the longest wavelength
+    double lambda_min = spec.basis.wavelength(0), lambda_max = lambda_min;
+    for (int s = 0; s < spec.basis.size(); ++s) {
+        lambda_min = std::min(lambda_min, spec.basis.wavelength(s));
+        lambda_max = std::max(lambda_max, spec.basis.wavelength(s));
+    }
+    double psf = 0;
+    const PinholeCamera& c = t.camera;
+    for (const double depth : {t.layers.count > 1 ? 1.0 / t.layers.inverse_depth(t.layers.count - 1) : INFINITY,
+                               double(INFINITY)})
+        for (const bool corner : {false, true})
+            for (const double wavelength : {lambda_min, lambda_max}) {
+                FieldPsfRequest q;
+                q.aperture = spec.aperture;
+                q.film_distance = c.film_distance;
+                q.depth = depth;
+                q.wavelength = wavelength;
+                if (corner)
+                    c.tangent(detail::anchor_axis(t, false).knots.front() - t.origin,
+                              detail::anchor_axis(t, true).knots.front() - t.origin, q.u, q.v);
+                q.pixel_pitch = c.pixel_pitch();
+                q.radius = psf_kernel_radius(q.aperture, q.film_distance, q.depth, q.wavelength,
+                                             1.0 / std::sqrt(1.0 + q.u * q.u + q.v * q.v), q.pixel_pitch, t.radius);
+                psf = std::max(psf, field_psf_scratch_bytes(q));
+            }
+    return kernels + domain + tiles + t.nthreads * psf;
+}
+
+Result<std::shared_ptr<const ConvolutionPlan>> ConvolutionPlan::create(const ConvolutionPlanSpec& spec, const ProgressFn& progress) {
+    using R = Result<std::shared_ptr<const ConvolutionPlan>>;
+    auto geometry = plan_geometry(spec);
+    if (!geometry.ok()) return R::failure(geometry.error);
+    detail::PsfTableSpec& t = geometry.value;
+    const int threads = t.nthreads;
+    // progress: the PSF table is most of the work, the kernels' transforms the rest
+    auto table = detail::build_psf_table(t, progress_part(progress, 0.0, 0.8));
+    if (!table.ok()) return R::failure(table.error);
+    auto conv = detail::AnchoredConvolution::create(std::move(table.value), t.tile, t.domain_width, t.domain_height,
+                                                    threads, progress_part(progress, 0.8, 1.0));
+    if (!conv.ok()) return R::failure(conv.error);
+    auto impl = std::make_unique<Impl>(Impl{spec, std::move(conv.value), t.origin});
+    return R::success(std::shared_ptr<const ConvolutionPlan>(new ConvolutionPlan(std::move(impl))));
+}
+
+bool ConvolutionPlan::serves(const ConvolutionPlanSpec& s) const {
+    const ConvolutionPlanSpec& p = impl_->spec;
+    if (!(same_camera(s.camera, p.camera) && s.overscan == p.overscan && s.aperture.name() == p.aperture.name() &&
+          s.aperture.diameter == p.aperture.diameter && s.settings.tile == p.settings.tile &&
+          s.settings.max_radius == p.settings.max_radius && s.settings.anchor_cells == p.settings.anchor_cells &&
+          same_basis(s.basis, p.basis)))
+        return false;
+    // the frame's depth range must lead to this very plan (kernel radius, layers, tiles), so that
+    // a frame's image never depends on the frames before it
+    auto g = plan_geometry(s);
+    const detail::PsfTable& t = impl_->convolution.table();
+    return g.ok() && g.value.radius == t.radius && g.value.layers.count == t.layers.count &&
+           g.value.layers.step == t.layers.step && g.value.tile == impl_->convolution.tile();
+}
+
+Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting, float* xyz, const ProgressFn& progress) const {
+    const ConvolutionPlanSpec& spec = impl_->spec;
+    const PinholeCamera& c = spec.camera;
+    if (!same_camera(scene.camera, c)) return Result<bool>::failure("image: not the camera this plan was made for");
+    const detail::PsfTable& table = impl_->convolution.table();
+    const int R = table.radius, o = spec.overscan, origin = impl_->origin;
+    const int out_w = c.width - 2 * o, out_h = c.height - 2 * o;
+
+    // The sources on the domain: the input where it reaches, its edge continued beyond.
+    detail::DomainSources src;
+    src.width = out_w + 2 * R;
+    src.height = out_h + 2 * R;
+    const size_t n = size_t(src.width) * src.height;
+    src.rgb.resize(3 * n);
+    src.lower.resize(n);
+    src.upper_share.resize(n);
+    const int threads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
+#pragma omp parallel for num_threads(threads)
+    for (int j = 0; j < src.height; ++j) {
+        const int cj = std::clamp(j - origin, 0, c.height - 1);
+        for (int i = 0; i < src.width; ++i) {
+            const int ci = std::clamp(i - origin, 0, c.width - 1);
+            const size_t p = size_t(j) * src.width + i, q = size_t(cj) * c.width + ci;
+            const double d = scene.depth[q];
+            const double w = d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(ci, cj, d, scene.depth_meaning);
+            int lower = 0;
+            table.layers.locate(w, lower, src.upper_share[p]);
+            src.lower[p] = uint8_t(lower);
+            // the natural cos^4 fall-off of the source's light, at the source's own field position
+            double u, v;
+            c.tangent(i - origin + 0.5, j - origin + 0.5, u, v);
+            const double c2 = 1.0 / (1.0 + u * u + v * v);
+            for (int k = 0; k < 3; ++k) src.rgb[3 * p + k] = float(scene.rgb[3 * q + k] * c2 * c2);
+        }
+    }
+    std::fill(xyz, xyz + 3 * size_t(out_w) * out_h, 0.0f);
+    if (auto r = impl_->convolution.apply(src, R, R, out_w, out_h, xyz, progress); !r.ok()) return r;
+    detail::add_far_tail(table, scene, origin, R, R, out_w, out_h, xyz, threads);
+    if (!vignetting)
+        for (int j = 0; j < out_h; ++j)
+            for (int i = 0; i < out_w; ++i) {
+                const float k = float(c.cos4(i + o, j + o));
+                for (int q = 0; q < 3; ++q) xyz[3 * (size_t(j) * out_w + i) + q] /= k;
+            }
+    return Result<bool>::success(true);
+}
+
+Result<bool> diffract_convolution(const SpectralScene& scene, const SpectralBasis& basis, const Aperture& aperture,
+                           bool vignetting, float* xyz, const ConvolutionSettings& settings, const ProgressFn& progress) {
+    if (!scene.checked)
+        if (auto v = check_pixels(scene.camera, scene.rgb, 3, false, scene.depth); !v.ok()) return v;
+    const double nearest = nearest_depth(scene.camera, scene.depth, scene.depth_meaning);
+    ConvolutionPlanSpec spec{scene.camera, 0, aperture, basis, 1.0 / nearest, settings};
+    auto plan = ConvolutionPlan::create(spec, progress_part(progress, 0.0, 0.5));
+    if (!plan.ok()) return Result<bool>::failure(plan.error);
+    return plan.value->apply(scene, vignetting, xyz, progress_part(progress, 0.5, 1.0));
+}
+
+}  // namespace wavecam

@@ -1,0 +1,22 @@
+// Each point's coefficients on a batch of skeleton nodes: sum_q L_q(p) coeff[q][j], L_q the point's
+// Lagrange weight on box node q (a product of per-axis values, axis 0 fastest), coeff the
+// skeleton's (node_skeleton.h). Internal to core.
+#pragma once
+#include <complex>
+#include <vector>
+
+#include "chirp_interpolation.h"
+
+namespace wavecam::detail {
+
+// Transforms run in batches of up to this many skeleton nodes: a point's kernel weights are
+// computed once per batch, at the memory of this many grids.
+constexpr int kNodeBatch = 8;
+
+// Nodes j0 .. j0 + batch - 1 for `count` points with weights `aw`, times factor[i] if given, into
+// out[i * batch + j - j0].
+void skeleton_coefficients(const AxisWeights& aw, int dims, const NodeSkeleton& sk, int j0, int batch, size_t count,
+                           int nodes, const std::complex<double>* factor, std::vector<std::complex<float>>& out,
+                           int nthreads);
+
+}  // namespace wavecam::detail

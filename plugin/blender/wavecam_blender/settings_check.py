@@ -1,0 +1,90 @@
+# Everything about a frame that can be judged before Blender renders it, checked by the
+# render_init handler (and again for each frame written): the camera can be modelled
+# (camera_fov.py), Blender will write what wavecam reads, the wavecam command is there, and
+# every setting can be imaged. Each refusal names the setting as the panel shows it and the
+# range expected. The ranges are the command's own (wavecam apply refuses the same values):
+# a pinhole from the longest wavelength to the film's width (scalar diffraction through a hole
+# smaller than the light means nothing; one wider than the film images nothing).
+import math
+import re
+
+from .preferences import wavecam_command
+
+VISIBLE_NM = (400.0, 700.0)  # the range a wavelength count samples
+LIGHT_NM = (100.0, 10000.0)  # what a listed wavelength may be: light, not X-rays or radio
+_NM_PER_UNIT = {"nm": 1.0, "um": 1e3, "µm": 1e3, "mm": 1e6}
+
+
+class SettingError(Exception):
+    pass
+
+
+def wavelengths_nm(settings):
+    """The listed wavelengths in nm (increasing, light), or the count's range; SettingError else."""
+    if not settings.use_wavelength_list:
+        return list(VISIBLE_NM)
+    text = settings.wavelength_list.replace(" ", "")
+    values = []
+    for item in text.split(","):
+        m = re.fullmatch(r"([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)(nm|um|µm|mm)", item)
+        if not m:
+            raise SettingError(f"Wavelength list: '{item}' is not a wavelength; expected wavelengths with a unit, "
+                               "e.g. 450nm,550nm,650nm")
+        nm = float(m.group(1)) * _NM_PER_UNIT[m.group(2)]
+        if not LIGHT_NM[0] <= nm <= LIGHT_NM[1]:
+            raise SettingError(f"Wavelength list: {item} is not light; expected wavelengths from 100nm to 10um")
+        if values and nm <= values[-1]:
+            raise SettingError(f"Wavelength list: {item} follows {values[-1]:g}nm; expected an increasing list")
+        values.append(nm)
+    return values
+
+
+def check_settings(camera, fov_degrees):
+    """The panel's values for `camera` (bpy Camera data) at a horizontal field of view."""
+    w = camera.wavecam
+    film_mm = w.film_distance_mm(camera)
+    if not film_mm > 0:
+        raise SettingError(f"Film distance {film_mm:g} mm: the film must lie behind the pinhole; expected a "
+                           "distance > 0 mm")
+    longest_nm = max(wavelengths_nm(w))
+    pinhole_mm = w.pinhole_mm(camera)
+    film_width_mm = 2 * film_mm * math.tan(math.radians(fov_degrees) / 2)
+    if not longest_nm * 1e-6 <= pinhole_mm <= film_width_mm:
+        why = (f"smaller than the longest wavelength ({longest_nm:g} nm): no image forms"
+               if pinhole_mm < longest_nm * 1e-6 else
+               f"wider than the film ({film_width_mm:.4g} mm across at {film_mm:g} mm and {fov_degrees:.4g} deg)")
+        raise SettingError(f"Pinhole {pinhole_mm:g} mm is {why}; expected {longest_nm * 1e-6:g} mm to "
+                           f"{film_width_mm:.4g} mm")
+
+
+def check_output(scene):
+    """Blender will write an OpenEXR with a depth pass, of one view layer."""
+    image = scene.render.image_settings
+    if image.file_format not in {'OPEN_EXR', 'OPEN_EXR_MULTILAYER'}:
+        raise SettingError(f"the frame is saved as {image.file_format}; wavecam needs OpenEXR "
+                           "(Output > Output > File Format: OpenEXR MultiLayer)")
+    if image.file_format == 'OPEN_EXR' and not image.use_zbuffer:
+        raise SettingError("the OpenEXR output has no depth: tick Z Buffer, or use OpenEXR MultiLayer")
+    layers = [layer for layer in scene.view_layers if layer.use]
+    if image.file_format == 'OPEN_EXR_MULTILAYER':
+        if len(layers) != 1:
+            raise SettingError(f"{len(layers)} view layers render into one file; wavecam diffracts one: "
+                               "untick 'Use for Rendering' on all but one")
+        if not layers[0].use_pass_z:
+            raise SettingError(f"view layer '{layers[0].name}' has no Z pass (View Layer > Passes > Z)")
+
+
+def check_command():
+    if not wavecam_command():
+        raise SettingError("the wavecam command was not found: install wavecam, or set its path in "
+                           "Preferences > Add-ons > wavecam")
+
+
+def check_frame(scene, rendered):
+    """All of the above for a frame whose camera is `rendered` (a RenderedCamera)."""
+    if rendered.fov_error:
+        raise SettingError(rendered.fov_error)
+    if rendered.settings_error:
+        raise SettingError(rendered.settings_error)
+    check_output(scene)
+    check_command()

@@ -1,0 +1,360 @@
+// The Vulkan evaluator of the direct sums (wavecam/gpu_sums.h), run on whatever Vulkan device the
+// environment gives: ctest points VK_ICD_FILENAMES at Mesa's lavapipe, so the GPU code runs on the
+// CPU in CI. Checked against the CPU's direct sums (relative RMS <= 1e-4, both float), against
+// analytic optics as the CPU is (the Airy pattern's first dark ring, Fresnel zones on axis), and
+// through a scene frame and the command line.
+#include <gtest/gtest.h>
+#include <OpenImageIO/imagebuf.h>
+
+#include <cmath>
+#include <complex>
+#include <cstdlib>
+#include <random>
+
+#include "command_runner.h"
+#include "wavecam/gpu_sums.h"
+#include "wavecam/propagation.h"
+#include "wavecam/scene_diffraction.h"
+
+using namespace wavecam;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::shared_ptr<GpuSums> device(bool double_blocks = true) {
+    auto g = GpuSums::create(Device::Gpu, double_blocks);
+    EXPECT_TRUE(g.ok()) << g.error;
+    return g.value;
+}
+
+// Skips where the build has no Vulkan evaluator; never passes silently otherwise.
+#ifdef WAVECAM_HAVE_VULKAN
+#define REQUIRE_VULKAN()
+#else
+#define REQUIRE_VULKAN() GTEST_SKIP() << "built without the Vulkan evaluator"
+#endif
+
+template <class A, class B>
+double relative_rms(const A& got, const B& want) {
+    double e = 0, n = 0;
+    for (size_t i = 0; i < want.size(); ++i) {
+        e += std::norm(std::complex<double>(got[i]) - std::complex<double>(want[i]));
+        n += std::norm(std::complex<double>(want[i]));
+    }
+    return std::sqrt(e / n);
+}
+
+std::vector<std::complex<float>> as_complex(const PinholeField& f) {
+    std::vector<std::complex<float>> v(f.re.size());
+    for (size_t i = 0; i < v.size(); ++i) v[i] = {f.re[i], f.im[i]};
+    return v;
+}
+
+// Sources within 10 degrees of the axis, 0.3 m to 3 m away (finite) or at infinity, with random
+// amplitudes and phases.
+std::vector<PointSource> random_sources(int finite, int plane, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::vector<PointSource> s;
+    for (int k = 0; k < finite + plane; ++k) {
+        const double ax = 0.17 * (2 * u(rng) - 1), ay = 0.17 * (2 * u(rng) - 1);
+        PointSource p;
+        p.at_infinity = k >= finite;
+        const double d = p.at_infinity ? 1.0 : 0.3 + 2.7 * u(rng);
+        const double n = std::sqrt(1 + ax * ax + ay * ay);
+        p.x = d * ax / n;
+        p.y = d * ay / n;
+        p.z = d / n;
+        p.amplitude = 0.2 + u(rng);
+        p.phase = 2 * M_PI * u(rng);
+        s.push_back(p);
+    }
+    return s;
+}
+
+// A 0.1 mm circular pinhole sampled for rays within 0.2 of the axis: about 3000-6000 samples.
+ApertureSamples pinhole(double lambda) { return sample_aperture({ApertureShape::Circle, 0.1e-3}, sample_pitch(lambda, 0.2)); }
+
+FilmPoints film_grid(int n, double half_width, double f) {
+    FilmPoints film;
+    film.film_distance = f;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            film.x.push_back(float(half_width * (2.0 * i / (n - 1) - 1)));
+            film.y.push_back(float(half_width * (2.0 * j / (n - 1) - 1)));
+        }
+    return film;
+}
+
+}  // namespace
+
+TEST(GpuSums, NamesItsDeviceAndDriver) {
+    REQUIRE_VULKAN();
+    auto g = device();
+    ASSERT_TRUE(g);
+    EXPECT_FALSE(g->device_name().empty());
+    EXPECT_FALSE(g->driver().empty());
+    EXPECT_NE(g->description().find(g->device_name()), std::string::npos);
+}
+
+// Sum 1, sources -> pinhole: finite sources, plane waves and both together, three wavelengths;
+// the blocks added in double and as a compensated float pair.
+TEST(GpuSums, PinholeSumMatchesTheCpu) {
+    REQUIRE_VULKAN();
+    for (bool f64 : {true, false})
+    for (double lambda : {450e-9, 550e-9, 650e-9}) {
+        auto g = device(f64);
+        ASSERT_TRUE(g);
+        if (!f64) {
+            EXPECT_FALSE(g->double_blocks());  // the compensated float pair is what runs
+        }
+        const ApertureSamples s = pinhole(lambda);
+        ASSERT_GT(s.size(), 2000u);
+        for (auto [finite, plane] : {std::pair{300, 0}, {0, 200}, {150, 100}}) {
+            const auto sources = random_sources(finite, plane, uint32_t(finite + 7 * plane));
+            PinholeField cpu, gpu;
+            illuminate_pinhole(s, sources, lambda, cpu);
+            auto r = g->illuminate_pinhole(s, sources, lambda, gpu);
+            ASSERT_TRUE(r.ok()) << r.error;
+            EXPECT_LE(relative_rms(as_complex(gpu), as_complex(cpu)), 1e-4)
+                << lambda << " m, " << finite << " finite, " << plane << " plane, double " << f64;
+        }
+    }
+}
+
+// Sum 2, pinhole -> film, from the CPU's pinhole field, three wavelengths.
+TEST(GpuSums, FilmSumMatchesTheCpu) {
+    REQUIRE_VULKAN();
+    for (bool f64 : {true, false})
+    for (double lambda : {450e-9, 550e-9, 650e-9}) {
+        auto g = device(f64);
+        ASSERT_TRUE(g);
+        const ApertureSamples s = pinhole(lambda);
+        PinholeField field;
+        illuminate_pinhole(s, random_sources(60, 20, 3), lambda, field);
+        const FilmPoints film = film_grid(24, 1e-3, 20e-3);
+        std::vector<std::complex<double>> cpu(film.size(), 0.0), gpu(film.size(), 0.0);
+        add_film_field(s, field, film, lambda, cpu.data());
+        auto r = g->add_film_field(s, field, film, lambda, gpu.data());
+        ASSERT_TRUE(r.ok()) << r.error;
+        EXPECT_LE(relative_rms(gpu, cpu), 1e-4) << lambda << " m, double " << f64;
+    }
+}
+
+// A sum of more terms than one invocation may loop over on every device (lavapipe stops a loop
+// after 65535 iterations): a 0.1 mm pinhole sampled at lambda / 2, 104517 samples, to a row of
+// film points, and to them from one plane wave.
+TEST(GpuSums, SumsOfMoreThanSixtyFiveThousandTermsMatchTheCpu) {
+    REQUIRE_VULKAN();
+    const double lambda = 550e-9;
+    auto g = device();
+    ASSERT_TRUE(g);
+    const ApertureSamples s = sample_aperture({ApertureShape::Circle, 0.1e-3}, sample_pitch(lambda, 1.0));
+    ASSERT_GT(s.size(), 100000u);
+    const std::vector<PointSource> sources = random_sources(0, 1, 5);
+    PinholeField cpu_field, gpu_field;
+    illuminate_pinhole(s, sources, lambda, cpu_field);
+    ASSERT_TRUE(g->illuminate_pinhole(s, sources, lambda, gpu_field).ok());
+    EXPECT_LE(relative_rms(as_complex(gpu_field), as_complex(cpu_field)), 1e-4);
+    FilmPoints film;
+    film.film_distance = 50e-3;
+    for (int i = 0; i < 64; ++i) film.x.push_back(float(i * 2e-6)), film.y.push_back(0.0f);
+    std::vector<std::complex<double>> cpu(film.size(), 0.0), gpu(film.size(), 0.0);
+    add_film_field(s, cpu_field, film, lambda, cpu.data());
+    ASSERT_TRUE(g->add_film_field(s, cpu_field, film, lambda, gpu.data()).ok());
+    EXPECT_LE(relative_rms(gpu, cpu), 1e-4);
+}
+
+// Several weight vectors in one dispatch (more runs than a workgroup sums together): each run
+// as the CPU computes it alone.
+TEST(GpuSums, RunsAtOnceMatchTheCpuRunByRun) {
+    REQUIRE_VULKAN();
+    auto g = device();
+    ASSERT_TRUE(g);
+    const double lambda = 550e-9;
+    const ApertureSamples s = pinhole(lambda);
+    std::vector<PointSource> sources = random_sources(100, 30, 11);
+    const int runs = 6;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(0, 2 * M_PI);
+    std::vector<std::complex<double>> w;
+    std::vector<std::vector<PointSource>> each(runs, sources);
+    for (int r = 0; r < runs; ++r)
+        for (PointSource& p : each[r]) {
+            p.phase = u(rng);
+            w.push_back(std::polar(p.amplitude, p.phase));
+        }
+    std::vector<PinholeField> fields;
+    auto r1 = g->illuminate_pinhole_runs(s, sources, w, runs, lambda, fields);
+    ASSERT_TRUE(r1.ok()) << r1.error;
+    ASSERT_EQ(fields.size(), size_t(runs));
+    const FilmPoints film = film_grid(12, 0.5e-3, 20e-3);
+    std::vector<std::vector<std::complex<double>>> gpu(runs, std::vector<std::complex<double>>(film.size()));
+    std::vector<std::complex<double>*> out;
+    for (auto& v : gpu) out.push_back(v.data());
+    auto r2 = g->add_film_field_runs(s, fields, film, lambda, out);
+    ASSERT_TRUE(r2.ok()) << r2.error;
+    for (int r = 0; r < runs; ++r) {
+        PinholeField cpu;
+        illuminate_pinhole(s, each[r], lambda, cpu);
+        EXPECT_LE(relative_rms(as_complex(fields[r]), as_complex(cpu)), 1e-4) << "run " << r;
+        std::vector<std::complex<double>> film_cpu(film.size(), 0.0);
+        add_film_field(s, cpu, film, lambda, film_cpu.data());
+        EXPECT_LE(relative_rms(gpu[r], film_cpu), 1e-4) << "run " << r;
+    }
+}
+
+// A point source's image by the GPU against analytic optics, with the CPU's own bounds
+// (test_psf_analytic.cpp): the Airy pattern's first dark ring at 1.22 lambda f / d (N = 0.02),
+// and the on-axis irradiance 4 sin^2(pi N / 2) of N Fresnel zones.
+TEST(GpuSums, PointSourceImageIsTheAiryPattern) {
+    REQUIRE_VULKAN();
+    auto g = device();
+    ASSERT_TRUE(g);
+    const double f = 50e-3, lambda = 550e-9, d = 47e-6;
+    const double ring = 1.22 * lambda * f / d;
+    const ApertureSamples s = sample_aperture({ApertureShape::Circle, d}, sample_pitch(lambda));
+    const PointSource src = source_at_field_angle(INFINITY, 0);
+    PinholeField field;
+    ASSERT_TRUE(g->illuminate_pinhole(s, {src}, lambda, field).ok());
+    FilmPoints film;
+    film.film_distance = f;
+    std::vector<double> xs;
+    for (int i = 0; i <= 400; ++i) {
+        xs.push_back(1.5 * ring * i / 400);
+        film.x.push_back(float(xs.back()));
+        film.y.push_back(0.0f);
+    }
+    std::vector<std::complex<double>> u(film.size(), 0.0);
+    ASSERT_TRUE(g->add_film_field(s, field, film, lambda, u.data()).ok());
+    std::vector<double> prof;
+    for (auto v : u) prof.push_back(std::norm(v));
+    size_t m = 1;
+    while (m + 1 < prof.size() && !(prof[m] <= prof[m - 1] && prof[m] <= prof[m + 1])) ++m;
+    ASSERT_LT(m + 1, prof.size());
+    const double y0 = prof[m - 1], y1 = prof[m], y2 = prof[m + 1];
+    const double radius = xs[m] + 0.5 * (y0 - y2) / (y0 - 2 * y1 + y2) * (xs[1] - xs[0]);
+    EXPECT_NEAR(radius / ring, 1.0, 0.02);
+    EXPECT_LT(prof[m] / prof[0], 1e-3);
+    // Fresnel zones on axis, the zone count from its definition (plane wave: film side only)
+    for (double n_target : {0.5, 1.0, 2.0, 3.0}) {
+        const double a = std::sqrt(n_target * lambda * f);
+        const double n = 2 * (std::sqrt(f * f + a * a) - f) / lambda;
+        const ApertureSamples big = sample_aperture({ApertureShape::Circle, 2 * a}, sample_pitch(lambda, 0.1));
+        PinholeField w;
+        ASSERT_TRUE(g->illuminate_pinhole(big, {src}, lambda, w).ok());
+        FilmPoints centre;
+        centre.film_distance = f;
+        centre.x = centre.y = {0.0f};
+        std::complex<double> c = 0;
+        ASSERT_TRUE(g->add_film_field(big, w, centre, lambda, &c).ok());
+        const double expected = 4 * std::pow(std::sin(M_PI * n / 2), 2);
+        EXPECT_NEAR(std::norm(c), expected, std::max(0.01 * expected, 0.01)) << "N = " << n;
+    }
+}
+
+// A small exact frame through the scene path with the device set: GPU and CPU agree.
+TEST(GpuSums, SceneFrameMatchesTheCpu) {
+    REQUIRE_VULKAN();
+    // the incoherent sum dispatches each source alone: a smaller frame (lavapipe is slow)
+    for (CoherenceMethod method : {CoherenceMethod::RandomPhase, CoherenceMethod::Incoherent}) {
+        const bool incoherent = method == CoherenceMethod::Incoherent;
+        PinholeCamera c;
+        c.width = incoherent ? 5 : 12;
+        c.height = incoherent ? 4 : 10;
+        c.film_distance = 10e-3;
+        c.fov_h = 2 * std::atan(c.width * 50e-6 / (2 * c.film_distance));
+        std::vector<float> power(c.width * c.height), depth(power.size(), 2.0f);
+        for (size_t p = 0; p < power.size(); ++p) power[p] = (p % 7) * 0.3f + 0.1f;
+        ExactSettings s;
+        s.aperture = {ApertureShape::Circle, 0.1e-3};
+        s.method = method;
+        s.runs = 2;
+        s.film_subsamples = 1;
+        s.summation = Summation::Direct;
+        s.sin_theta_max = 550e-9 * 36 / 0.1e-3;
+        std::vector<float> cpu(power.size(), 0.0f), gpu(power.size(), 0.0f), fallback(power.size(), 0.0f);
+        const MonochromeScene scene{c, power.data(), depth.data(), DepthMeaning::Planar};
+        ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, cpu.data()).ok());
+        s.device = Device::Gpu;
+        auto r = diffract_monochrome(scene, 550e-9, s, gpu.data());
+        ASSERT_TRUE(r.ok()) << r.error;
+        EXPECT_LE(relative_rms(gpu, cpu), 1e-4);
+        // `auto` with no discrete GPU (lavapipe is a CPU device): the CPU's image, bit for bit
+        s.device = Device::Auto;
+        ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, fallback.data()).ok());
+        if (!GpuSums::create(Device::Auto).ok()) {
+            EXPECT_EQ(fallback, cpu);
+        }
+    }
+}
+
+// The device choice's errors: `cpu` is no GPU, `auto` takes only a discrete GPU, and no driver
+// at all (or a build without Vulkan) is named as such.
+TEST(GpuSums, DeviceSelectionErrorsAreClear) {
+    auto cpu = GpuSums::create(Device::Cpu);
+    EXPECT_FALSE(cpu.ok());
+    EXPECT_EQ(cpu.field, "device");
+#ifndef WAVECAM_HAVE_VULKAN
+    auto absent = GpuSums::create(Device::Gpu);
+    ASSERT_FALSE(absent.ok());
+    EXPECT_NE(absent.error.find("built without"), std::string::npos) << absent.error;
+    return;
+#endif
+    auto any = GpuSums::create(Device::Gpu);
+    ASSERT_TRUE(any.ok()) << any.error;
+    auto discrete = GpuSums::create(Device::Auto);
+    if (!discrete.ok()) {
+        EXPECT_NE(discrete.error.find("no discrete GPU"), std::string::npos) << discrete.error;
+    }
+    const char* icd = std::getenv("VK_ICD_FILENAMES");
+    const std::string saved = icd ? icd : "";
+    setenv("VK_ICD_FILENAMES", "/nonexistent/wavecam_icd.json", 1);
+    auto none = GpuSums::create(Device::Gpu);
+    if (icd) setenv("VK_ICD_FILENAMES", saved.c_str(), 1);
+    else unsetenv("VK_ICD_FILENAMES");
+    ASSERT_FALSE(none.ok());
+    EXPECT_NE(none.error.find("Vulkan"), std::string::npos) << none.error;
+}
+
+// The command line: `--device gpu` gives the CPU's image, names the device in the header and the
+// estimate; with no Vulkan driver it is a clear error and writes nothing, and `auto` runs on.
+TEST(GpuSums, CommandLineDeviceKey) {
+    REQUIRE_VULKAN();
+    using namespace wavecam::test;
+    const fs::path dir = scratch("gpu_device");
+    const std::string in = (dir / "in.exr").string();
+    write_render(in, 10, 8, 2.0f, 30.0f);
+    const std::string quick = " --film-distance 20mm --pinhole 0.2mm --wavelengths 550nm --runs 1 "
+                              "--method random-phase --summation direct --film-subsamples 1 ";
+    auto apply = [&](const std::string& out, const std::string& extra, const std::string& env = "") {
+        return run_command(env + std::string(WAVECAM_BINARY) + " apply " + in + " -o " + (dir / out).string() +
+                           quick + extra);
+    };
+    const auto cpu = apply("cpu.exr", "--device cpu");
+    ASSERT_EQ(cpu.status, 0) << cpu.output;
+    const auto gpu = apply("gpu.exr", "--device gpu");
+    ASSERT_EQ(gpu.status, 0) << gpu.output;
+    auto g = device();
+    ASSERT_TRUE(g);
+    EXPECT_NE(gpu.output.find(g->device_name()), std::string::npos) << gpu.output;  // the estimate line
+    OIIO::ImageBuf a((dir / "cpu.exr").string()), b((dir / "gpu.exr").string());
+    ASSERT_TRUE(a.read() && b.read());
+    EXPECT_EQ(a.spec().get_string_attribute("wavecam.device"), "cpu");
+    EXPECT_EQ(b.spec().get_string_attribute("wavecam.device"), g->description());
+    std::vector<float> pa(a.spec().image_pixels() * 3), pb(pa.size());
+    a.get_pixels(OIIO::ROI(0, 10, 0, 8, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, pa.data());
+    b.get_pixels(OIIO::ROI(0, 10, 0, 8, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, pb.data());
+    EXPECT_LE(relative_rms(pb, pa), 1e-4);
+    const std::string no_driver = "VK_ICD_FILENAMES=/nonexistent/wavecam_icd.json ";
+    const auto missing = apply("missing.exr", "--device gpu", no_driver);
+    EXPECT_NE(missing.status, 0);
+    EXPECT_NE(missing.output.find("Vulkan"), std::string::npos) << missing.output;
+    EXPECT_FALSE(fs::exists(dir / "missing.exr"));
+    const auto fallback = apply("fallback.exr", "--device auto", no_driver);
+    ASSERT_EQ(fallback.status, 0) << fallback.output;
+    const auto bad = apply("bad.exr", "--device tpu");
+    EXPECT_NE(bad.status, 0);
+    EXPECT_NE(bad.output.find("'cpu', 'gpu', 'auto'"), std::string::npos) << bad.output;
+    fs::remove_all(dir);
+}
