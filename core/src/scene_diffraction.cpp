@@ -5,6 +5,7 @@
 #include <cstring>
 #include <sstream>
 
+#include "coherent_convolution.h"
 #include "counter_random.h"
 #include "frame_margin.h"
 #include "pixel_average.h"
@@ -22,6 +23,9 @@ Result<bool> check_settings(const PinholeCamera& c, double wavelength, const Exa
     if (!(c.fov_h > 0 && c.fov_h < M_PI * 0.999)) return fail("fov: expected a field of view in (0deg, 180deg)");
     if (!(wavelength > 0)) return fail("wavelengths: expected wavelengths > 0");
     if (s.runs < 1) return fail("runs: expected at least 1 run");
+    if (s.summation == Summation::Psf && s.jitter)
+        return fail("jitter: the psf summation places every source at its pixel's centre; expected no jitter, or "
+                    "summation auto, direct or nufft");
     return check_frame(c, s.overscan);
 }
 
@@ -300,8 +304,13 @@ struct SumPlan {
     PlanScope in, out;
     double in_work = 0, out_work = 0;  // the film's for the whole frame
 };
-SumPlan plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
-                  double nearest, bool single) {
+
+// The two sums' counts for the cost model (the film's for the whole frame).
+struct FrameCounts {
+    SumCounts in, out;
+};
+FrameCounts frame_counts(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
+                         double nearest, bool single) {
     const double pitch = sum.samples.pitch, radius = s.aperture.bounding_radius(), f = c.film_distance;
     const double samples = estimate_sample_count(s.aperture, pitch);
     // Samples off the lattice: the rim's cells (about 1.3 per pitch of perimeter, twice for a
@@ -313,25 +322,47 @@ SumPlan plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCame
     const int o = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);
     const double film = double(c.width - 2 * o) * (c.height - 2 * o) * sum.subsamples * sum.subsamples;
     const double rho = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
-    SumCounts in{samples - off, off, across, single ? 1.0 : double(sum.emitters.size()),
-                 direction_range(sum.source_extent, 0, rho), radius, wavelength, false, s.summation_tolerance};
-    SumCounts out = in;
-    out.points = film;
-    out.range = direction_range(sum.film_extent, 1 / f, 1 / f);
-    out.film = true;
+    FrameCounts n;
+    n.in = {samples - off, off, across, single ? 1.0 : double(sum.emitters.size()),
+            direction_range(sum.source_extent, 0, rho), radius, wavelength, false, s.summation_tolerance};
+    n.out = n.in;
+    n.out.points = film;
+    n.out.range = direction_range(sum.film_extent, 1 / f, 1 / f);
+    n.out.film = true;
+    return n;
+}
+
+SumPlan plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
+                  double nearest, bool single) {
+    const FrameCounts n = frame_counts(s, sum, c, wavelength, nearest, single);
     // One source at a time (the incoherent method): forcing the NUFFTs would pay a lattice of FFTs
     // per source; there the cheaper evaluator stands.
     const Summation asked = single && s.summation == Summation::Nufft ? Summation::Auto : s.summation;
     SumPlan plan;
     plan.settings = {asked, s.summation_tolerance, s.nthreads, s.device};
     plan.in.fixed_choice = plan.out.fixed_choice = true;
-    plan.in.choice = choose_sum(in, asked);
-    plan.out.choice = choose_sum(out, asked);
+    plan.in.choice = choose_sum(n.in, asked);
+    plan.out.choice = choose_sum(n.out, asked);
     plan.out.fixed_range = true;
-    plan.out.range = out.range;
+    plan.out.range = n.out.range;
     plan.in_work = plan.in.choice.work;
     plan.out_work = plan.out.choice.work;
     return plan;
+}
+
+// The runs as convolutions with amplitude PSFs (coherent_convolution.h) for this wavelength.
+detail::CoherentSpec coherent_spec(const ExactSettings& s, const PinholeCamera& c, double wavelength,
+                                   double nearest, int subsamples) {
+    detail::CoherentSpec spec;
+    spec.camera = c;
+    spec.overscan = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);
+    spec.aperture = s.aperture;
+    spec.wavelength = wavelength;
+    spec.max_inverse_depth = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
+    spec.subsamples = subsamples;
+    spec.incoherent = s.method == CoherenceMethod::Incoherent;
+    spec.settings = {Summation::Auto, s.summation_tolerance, s.nthreads, s.device};
+    return spec;
 }
 
 }  // namespace
@@ -341,6 +372,12 @@ double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double w
     const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
     const SceneSum sum = scene_sum({camera, nullptr, nullptr}, wavelength, s, nearest, w, false);
     const bool incoherent = s.method == CoherenceMethod::Incoherent;
+    if (s.summation == Summation::Psf) {  // a share computes every kernel, and the whole frame each run
+        const FrameCounts n = frame_counts(s, sum, camera, wavelength, nearest, false);
+        const detail::CoherentWork cw =
+            detail::coherent_work(coherent_spec(s, camera, wavelength, nearest, sum.subsamples), n.in, n.out);
+        return cw.kernels + cw.per_run * (incoherent ? 1 : w.run_end - w.run_begin);
+    }
     const SumPlan plan = plan_sums(s, sum, camera, wavelength, nearest, incoherent);
     // this share's rows: their part of the film's work
     const int o = std::clamp(s.overscan, 0, std::min(camera.width, camera.height) / 2);
@@ -458,6 +495,81 @@ Result<bool> random_phase_runs(const SceneSum& sum, const PinholeCamera& c, doub
     return Result<bool>::success(true);
 }
 
+// The runs as convolutions with amplitude PSFs (coherent_convolution.h). The sources are every
+// pixel of the convolution's domain at its centre: the input's, and beyond it the edge continued
+// pixel by pixel (each with the edge pixel's radiance and planar depth at its own field
+// position), each with the phases the direct sums give it (run_sources): an input pixel keeps its
+// key, so a scene whose edge is dark gets the direct sums' runs, kernel blends apart.
+Result<bool> psf_runs(const MonochromeScene& scene, const SceneSum& sum, double wavelength, const ExactSettings& s,
+                      double nearest, const WorkRange& range, float* irradiance, const ProgressFn& progress) {
+    const PinholeCamera& c = scene.camera;
+    const detail::CoherentSpec spec = coherent_spec(s, c, wavelength, nearest, sum.subsamples);
+    const bool incoherent = spec.incoherent;
+    const int runs = incoherent ? 1 : range.run_end - range.run_begin;
+    // progress: the kernels and the runs by their work
+    const FrameCounts counts = frame_counts(s, sum, c, wavelength, nearest, false);
+    const detail::CoherentWork work = detail::coherent_work(spec, counts.in, counts.out);
+    const double kernels = work.kernels / (work.kernels + runs * work.per_run);
+    auto unit = [&c](double x, double y, double w) {
+        return source_at(c, x, y, 1.0, w > 0 ? 1.0 / w : INFINITY, DepthMeaning::Planar, 0.0);
+    };
+    auto made = detail::CoherentConvolution::create(spec, sum.samples, unit, progress_part(progress, 0.0, kernels));
+    if (!made.ok()) return Result<bool>::failure(made);
+    const detail::CoherentConvolution& conv = made.value;
+    const int W = conv.domain_width(), H = conv.domain_height(), origin = conv.origin();
+    const size_t n = size_t(W) * H;
+    detail::CoherentSources sources;
+    sources.weight.resize(n);
+    sources.lower.resize(n);
+    sources.upper_share.resize(n);
+    std::vector<float> amplitude(n);
+    std::vector<double> base(n);  // coded: the cell's phase and ramp, in turns
+    std::vector<int> code_class(n);
+    std::vector<uint64_t> key(n);  // independent: the pixel's random numbers
+    const detail::PhaseCode code(s.runs);
+    const uint64_t stream = wavelength_stream(wavelength), pixels = uint64_t(c.width) * c.height;
+    for (int j = 0; j < H; ++j)
+        for (int i = 0; i < W; ++i) {
+            const size_t p = size_t(j) * W + i;
+            const int ci = i - origin, cj = j - origin;
+            const int qi = std::clamp(ci, 0, c.width - 1), qj = std::clamp(cj, 0, c.height - 1);
+            const size_t q = size_t(qj) * c.width + qi;
+            const double power = scene.power[q] * c.solid_angle(ci, cj), d = scene.depth[q];
+            const double w = d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(qi, qj, d, scene.depth_meaning);
+            int lower = 0;
+            conv.layers().locate(w, lower, sources.upper_share[p]);
+            sources.lower[p] = uint8_t(lower);
+            amplitude[p] = float(incoherent ? power : std::sqrt(power));
+            const detail::PhaseCode::CellPhase place = code.cell_phase(ci, cj);
+            base[p] = detail::counter_uniform(s.seed ^ stream, 0, place.key, 4) + place.ramp_turns;
+            code_class[p] = code.code_class(ci, cj);
+            key[p] = ci == qi && cj == qj ? uint64_t(q) : pixels + p;
+        }
+    const std::vector<float> balance = conv.power_balance(sources);
+    for (size_t p = 0; p < n; ++p) amplitude[p] *= balance[p];
+    // the far tail, in every run's mean (added with each run: a job is the sum of its shares)
+    std::vector<float> tail(size_t(c.width) * c.height, 0.0f);
+    conv.add_far_tail(scene.power, scene.depth, scene.depth_meaning, 1.0, range.row_begin, range.row_end, tail.data());
+    const double per_run = (1 - kernels) / runs;
+    for (int k = 0; k < runs; ++k) {
+        const int run = range.run_begin + k;
+        for (size_t p = 0; p < n; ++p) {
+            const double turns = incoherent       ? 0.0
+                                 : s.coded_phases ? base[p] + code.offset_turns(run, code_class[p])
+                                                  : detail::counter_uniform(s.seed ^ stream, run, key[p], 3);
+            sources.weight[p] = std::polar(amplitude[p], float(2 * M_PI * turns));
+        }
+        const double at = kernels + k * per_run;
+        if (auto r = conv.run(sources, incoherent ? 1.0 : 1.0 / s.runs, range.row_begin, range.row_end, irradiance,
+                              progress_part(progress, at, at + per_run));
+            !r.ok())
+            return r;
+        const float share = float(incoherent ? 1.0 : 1.0 / s.runs);
+        for (size_t p = 0; p < tail.size(); ++p) irradiance[p] += share * tail[p];
+    }
+    return Result<bool>::success(true);
+}
+
 }  // namespace
 
 Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const ExactSettings& s,
@@ -469,7 +581,12 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
     const WorkRange range = work_range(s, c.height);
     const double nearest =
         std::isnan(s.nearest_depth) ? nearest_depth(c, scene.depth, scene.depth_meaning) : s.nearest_depth;
+    if (s.summation == Summation::Psf &&  // refused before the lattice is sampled
+        detail::amplitude_layers(std::isinf(nearest) ? 0.0 : 1.0 / nearest, s.aperture.bounding_radius(), wavelength)
+                .count > detail::kMaxPsfLayers)
+        return detail::too_many_layers();
     const SceneSum sum = scene_sum(scene, wavelength, s, nearest, range, true);
+    if (s.summation == Summation::Psf) return psf_runs(scene, sum, wavelength, s, nearest, range, irradiance, progress);
     std::vector<float> points(sum.film.size(), 0.0f);  // irradiance at every film point
     const bool incoherent = s.method == CoherenceMethod::Incoherent;
     const SumPlan plan = plan_sums(s, sum, c, wavelength, nearest, incoherent);

@@ -137,11 +137,15 @@ const std::vector<SettingKey> kKeys = {
                              o.method);
      }},
     {"summation", "direct", "how the random-phase and incoherent methods evaluate their two sums: auto (the cheaper "
-     "of the two evaluators by the work estimate; default), direct (term by term, the reference) or nufft (NUFFTs "
-     "over the pinhole lattice, relative error ~3e-4)",
+     "of the two evaluators by the work estimate; default), direct (term by term, the reference), nufft (NUFFTs "
+     "over the pinhole lattice, relative error ~3e-4) or psf (each run a convolution with amplitude PSFs that the "
+     "sums compute at field anchors and depth layers; sources at pixel centres)",
      true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return parse_choice(n, v, {{"auto", Summation::Auto}, {"direct", Summation::Direct}, {"nufft", Summation::Nufft}},
+         return parse_choice(n, v, {{"auto", Summation::Auto},
+                                    {"direct", Summation::Direct},
+                                    {"nufft", Summation::Nufft},
+                                    {"psf", Summation::Psf}},
                              o.exact.summation);
      }},
     {"device", "gpu", "where the random-phase and incoherent methods run their direct sums: cpu (default), gpu "

@@ -24,9 +24,11 @@
 
 namespace wavecam {
 
-// What a user asks for: `auto` the cheaper evaluator by the cost model (default), or one of them.
-enum class Summation { Auto, Direct, Nufft };
-const char* summation_word(Summation s);  // "auto", "direct", "nufft"
+// What a user asks for: `auto` the cheaper evaluator by the cost model (default), or one of them;
+// or `psf`: a scene's runs as convolutions with amplitude PSFs that the sums compute at field
+// anchors and depth layers (scene_diffraction.h; its plans then take `auto`).
+enum class Summation { Auto, Direct, Nufft, Psf };
+const char* summation_word(Summation s);  // "auto", "direct", "nufft", "psf"
 
 // What a committed plan runs.
 enum class Evaluator { Direct, Nufft };

@@ -10,7 +10,7 @@
 namespace wavecam {
 
 const char* summation_word(Summation s) {
-    return s == Summation::Direct ? "direct" : s == Summation::Nufft ? "nufft" : "auto";
+    return s == Summation::Direct ? "direct" : s == Summation::Nufft ? "nufft" : s == Summation::Psf ? "psf" : "auto";
 }
 
 const char* evaluator_word(Evaluator e) { return e == Evaluator::Nufft ? "nufft" : "direct"; }

@@ -1,0 +1,357 @@
+#include "coherent_convolution.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "complex_fft2d.h"
+#include "far_tail.h"
+#include "real_fft2d.h"
+#include "summation/summation_cost.h"
+#include "wavecam/fresnel_psf.h"
+#include "wavecam/psf_convolution.h"
+
+namespace wavecam::detail {
+
+DepthLayers amplitude_layers(double max_inverse_depth, double aperture_radius, double wavelength) {
+    DepthLayers d;
+    if (!(max_inverse_depth > 0)) return d;
+    d.step = kMaxLayerPhase * wavelength / (M_PI * aperture_radius * aperture_radius);
+    const double steps = std::ceil(max_inverse_depth / d.step);  // (a double: no overflow)
+    d.count = int(std::min(steps, double(kMaxPsfLayers))) + 1;
+    return d;
+}
+
+Result<bool> too_many_layers() {
+    char m[200];
+    std::snprintf(m, sizeof m,
+                  "summation: psf serves depths to %d layers at this pinhole and wavelength, this scene needs more "
+                  "(its nearest source is too near for the pinhole's defocus); expected auto, direct or nufft",
+                  kMaxPsfLayers);
+    return Result<bool>::failure(m, ErrorKind::Invalid, "summation");
+}
+
+namespace {
+
+// The convolution's geometry: kernel radius, domain, transform size, anchors and layers.
+struct Geometry {
+    int radius = 0, origin = 0, width = 0, height = 0, nx = 0, ny = 0;
+    AnchorAxis ax, ay;
+    DepthLayers layers;
+    int anchors() const { return int(ax.knots.size() * ay.knots.size()); }
+};
+
+Geometry geometry_of(const CoherentSpec& s) {
+    const PinholeCamera& c = s.camera;
+    const int o = s.overscan, out_w = c.width - 2 * o, out_h = c.height - 2 * o;
+    const double nearest = s.max_inverse_depth > 0 ? 1.0 / s.max_inverse_depth : INFINITY;
+    Geometry g;
+    // the radius depends on the widest field its sources reach: one refinement (it only grows)
+    for (int pass = 0; pass < 2; ++pass) {
+        const double cmax = c.cos_widest(o - g.radius, o - g.radius, o + out_w + g.radius, o + out_h + g.radius);
+        g.radius = psf_kernel_radius(s.aperture, c.film_distance, nearest, s.wavelength, cmax, c.pixel_pitch(),
+                                     ConvolutionSettings{}.max_radius);
+    }
+    g.origin = g.radius - o;
+    g.width = out_w + 2 * g.radius;
+    g.height = out_h + 2 * g.radius;
+    // one transform over the whole domain: light wrapped round its period (at most R beyond the
+    // domain) lands in the margin, which is never read
+    g.nx = fft_friendly_size(g.width);
+    g.ny = fft_friendly_size(g.height);
+    const int longest = std::max(g.width, g.height), cells = std::max(1, s.anchor_cells);
+    const int min_cell = kMinAmplitudeCellRadii * g.radius;
+    g.ax = AnchorAxis::across(g.width, 1, std::max(1, int(std::lround(double(cells) * g.width / longest))), min_cell,
+                              g.radius);
+    g.ay = AnchorAxis::across(g.height, 1, std::max(1, int(std::lround(double(cells) * g.height / longest))),
+                              min_cell, g.radius);
+    g.layers = amplitude_layers(s.max_inverse_depth, s.aperture.bounding_radius(), s.wavelength);
+    return g;
+}
+
+// The bilinear hat of knot `k` at pixel `i`: 1 on the knot itself, falling to 0 at its
+// neighbours; the outermost knots keep 1 beyond them.
+double hat(const AnchorAxis& axis, int k, int i) {
+    const int cell = axis.cell_of(i);
+    const double t = std::clamp(double(i - axis.knots[cell]) / (axis.knots[cell + 1] - axis.knots[cell]), 0.0, 1.0);
+    return k == cell ? 1 - t : k == cell + 1 ? t : 0.0;
+}
+
+// Pixels [first, last] that knot k's hat reaches.
+void hat_support(const AnchorAxis& axis, int k, int length, int& first, int& last) {
+    first = k == 0 ? 0 : axis.knots[k - 1] + 1;
+    last = k + 1 == int(axis.knots.size()) ? length - 1 : axis.knots[k + 1] - 1;
+}
+
+}  // namespace
+
+struct CoherentConvolution::Impl {
+    CoherentSpec spec;
+    Geometry g;
+    int threads = 1;
+    std::unique_ptr<ComplexFft2D> fft;
+    std::vector<std::complex<float>> spectra;  // [layer][anchor][sub-point][ny x nx]
+    PsfTable tail;  // layers, anchors and, in deficit's first entry, the light beyond each kernel
+    // Re <K_i, K_j> (the pixel-mean over sub-points) for kernels i = layer x anchors + anchor
+    // and their neighbours j in layer and both anchor axes, 0 elsewhere
+    std::vector<double> gram;
+    size_t kernel_index(int layer, int anchor) const { return size_t(layer) * g.anchors() + anchor; }
+
+    int points() const { return spec.subsamples * spec.subsamples; }
+    std::complex<float>* spectrum(int layer, int anchor, int sub) {
+        return &spectra[((size_t(layer) * g.anchors() + anchor) * points() + sub) * fft->size()];
+    }
+    const std::complex<float>* spectrum(int layer, int anchor, int sub) const {
+        return &spectra[((size_t(layer) * g.anchors() + anchor) * points() + sub) * fft->size()];
+    }
+};
+
+CoherentConvolution::CoherentConvolution() = default;
+CoherentConvolution::~CoherentConvolution() = default;
+CoherentConvolution::CoherentConvolution(CoherentConvolution&&) noexcept = default;
+CoherentConvolution& CoherentConvolution::operator=(CoherentConvolution&&) noexcept = default;
+int CoherentConvolution::radius() const { return impl_->g.radius; }
+int CoherentConvolution::domain_width() const { return impl_->g.width; }
+int CoherentConvolution::domain_height() const { return impl_->g.height; }
+int CoherentConvolution::origin() const { return impl_->g.origin; }
+const DepthLayers& CoherentConvolution::layers() const { return impl_->g.layers; }
+
+Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec, const ApertureSamples& samples,
+                                                        const UnitSource& unit_source, const ProgressFn& progress) {
+    using R = Result<CoherentConvolution>;
+    auto impl = std::make_unique<Impl>();
+    impl->spec = spec;
+    Geometry& g = impl->g;
+    g = geometry_of(spec);
+    if (g.layers.count > kMaxPsfLayers) return R::failure(too_many_layers());
+    impl->threads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
+    impl->fft = std::make_unique<ComplexFft2D>(g.nx, g.ny, impl->threads);
+    const int n = spec.subsamples, S = impl->points(), side = 2 * g.radius + 1, A = g.anchors();
+    const size_t N = impl->fft->size();
+    impl->spectra.assign(size_t(g.layers.count) * A * S * N, {});
+    const PinholeCamera& c = spec.camera;
+    PsfTable& tail = impl->tail;
+    tail.radius = g.radius;
+    tail.layers = g.layers;
+    tail.ax = g.ax;
+    tail.ay = g.ay;
+    tail.deficit.assign(size_t(g.layers.count) * A * 9, 0.0f);
+    PinholeField field;
+    std::vector<std::complex<double>> film_field;
+    std::vector<std::vector<std::complex<double>>> kernel(size_t(g.layers.count) * A);  // for the Gram matrix
+    for (int a = 0; a < A; ++a) {
+        // the anchor's pixel (camera coordinates) and its kernel's film points, as the direct sums
+        // place them (n x n per pixel), sub-point by sub-point
+        const int px = g.ax.knots[a % g.ax.knots.size()] - g.origin, py = g.ay.knots[a / g.ax.knots.size()] - g.origin;
+        FilmPoints film;
+        film.film_distance = c.film_distance;
+        for (int sb = 0; sb < n; ++sb)
+            for (int sa = 0; sa < n; ++sa)
+                for (int dy = -g.radius; dy <= g.radius; ++dy)
+                    for (int dx = -g.radius; dx <= g.radius; ++dx) {
+                        double u, v;
+                        c.tangent(px + dx + (sa + 0.5) / n, py + dy + (sb + 0.5) / n, u, v);
+                        film.x.push_back(float(-c.film_distance * u));
+                        film.y.push_back(float(-c.film_distance * v));
+                    }
+        SummationPlan to_film = SummationPlan::create(SumKind::PinholeToFilm, samples, spec.wavelength, spec.settings);
+        if (auto r = to_film.set_points(film); !r.ok()) return R::failure(r);
+        for (int l = 0; l < g.layers.count; ++l) {
+            const std::vector<PointSource> one{unit_source(px + 0.5, py + 0.5, g.layers.inverse_depth(l))};
+            SummationPlan to_pinhole =
+                SummationPlan::create(SumKind::SourcesToPinhole, samples, spec.wavelength, spec.settings);
+            if (auto r = to_pinhole.set_points(one); !r.ok()) return R::failure(r);
+            if (auto r = to_pinhole.execute(source_weights(one), field); !r.ok()) return R::failure(r);
+            film_field.assign(film.size(), 0.0);
+            const double kernels = double(A) * g.layers.count, done = (a * g.layers.count + l) / kernels;
+            if (auto r = to_film.execute(field, film_field.data(), progress_part(progress, done, done + 1 / kernels));
+                !r.ok())
+                return R::failure(r);
+            // the light beyond the kernel: its share of the Fresnel PSF's power, times the light
+            // within it, per unit of the far tail's source light (radiance x cos^4, far_tail.cpp;
+            // a source here is radiance x its solid angle t^2 cos^3)
+            FieldPsfRequest q;
+            q.aperture = spec.aperture;
+            q.film_distance = c.film_distance;
+            q.depth = g.layers.inverse_depth(l) > 0 ? 1.0 / g.layers.inverse_depth(l) : INFINITY;
+            q.wavelength = spec.wavelength;
+            c.tangent(px + 0.5, py + 0.5, q.u, q.v);
+            q.pixel_pitch = c.pixel_pitch();
+            q.radius = g.radius;
+            q.subsamples = n;
+            double held = 0, within = 0;
+            for (const float x : field_psf_kernel(q).weight) held += x;
+            for (const std::complex<double>& k : film_field) within += std::norm(k) / S;
+            const double missing = held > 0 && held < 1 ? within * (1 - held) / held : 0.0;
+            tail.deficit[(size_t(l) * A + a) * 9] =
+                float(missing * c.tan_pitch() * c.tan_pitch() * std::sqrt(1 + q.u * q.u + q.v * q.v));
+            if (!spec.incoherent) kernel[impl->kernel_index(l, a)] = film_field;
+            // each sub-point's kernel, wrapped round the transform's period, and its spectrum
+            for (int sub = 0; sub < S; ++sub) {
+                std::complex<float>* spectrum = impl->spectrum(l, a, sub);
+                for (int dy = -g.radius; dy <= g.radius; ++dy)
+                    for (int dx = -g.radius; dx <= g.radius; ++dx) {
+                        const std::complex<double> k =
+                            film_field[(size_t(sub) * side + dy + g.radius) * side + dx + g.radius];
+                        const size_t at = size_t((dy + g.ny) % g.ny) * g.nx + (dx + g.nx) % g.nx;
+                        spectrum[at] = spec.incoherent ? std::complex<float>(float(std::norm(k)), 0.0f)
+                                                       : std::complex<float>(k);
+                    }
+                impl->fft->forward(spectrum);
+            }
+        }
+    }
+    if (!spec.incoherent) {
+        const size_t K = kernel.size();
+        const int nax = int(g.ax.knots.size());
+        impl->gram.assign(K * K, 0.0);
+        for (size_t i = 0; i < K; ++i)
+            for (size_t j = 0; j < K; ++j) {
+                const int ai = int(i % A), aj = int(j % A);
+                if (std::abs(int(i / A) - int(j / A)) > 1 || std::abs(ai % nax - aj % nax) > 1 ||
+                    std::abs(ai / nax - aj / nax) > 1)
+                    continue;
+                double dot = 0;
+                for (size_t t = 0; t < kernel[i].size(); ++t) dot += (kernel[i][t] * std::conj(kernel[j][t])).real();
+                impl->gram[i * K + j] = dot / S;
+            }
+    }
+    CoherentConvolution conv;
+    conv.impl_ = std::move(impl);
+    return R::success(std::move(conv));
+}
+
+Result<bool> CoherentConvolution::run(const CoherentSources& sources, double scale, int row_begin, int row_end,
+                                      float* irradiance, const ProgressFn& progress) const {
+    const Impl& m = *impl_;
+    const Geometry& g = m.g;
+    const int S = m.points(), A = g.anchors(), L = g.layers.count, nax = int(g.ax.knots.size());
+    const size_t N = m.fft->size();
+    std::vector<std::vector<std::complex<float>>> total(S, std::vector<std::complex<float>>(N));
+    std::vector<std::complex<float>> image(N);
+    const double steps = double(L) * A + S;
+    for (int l = 0; l < L; ++l)
+        for (int a = 0; a < A; ++a) {
+            if (progress && !progress((double(l) * A + a) / steps)) return Result<bool>::failure("cancelled", ErrorKind::Cancelled);
+            // the sources' weights times their share of this layer and of this anchor's hat
+            int x0, x1, y0, y1;
+            hat_support(g.ax, a % nax, g.width, x0, x1);
+            hat_support(g.ay, a / nax, g.height, y0, y1);
+            std::fill(image.begin(), image.end(), std::complex<float>(0));
+            bool lit = false;
+#pragma omp parallel for num_threads(m.threads) reduction(|| : lit)
+            for (int j = y0; j <= y1; ++j) {
+                const double hy = hat(g.ay, a / nax, j);
+                for (int i = x0; i <= x1; ++i) {
+                    const size_t p = size_t(j) * g.width + i;
+                    const int lower = sources.lower[p];
+                    const double share = l == lower ? 1.0 - sources.upper_share[p]
+                                                    : l == lower + 1 ? sources.upper_share[p] : 0.0;
+                    const float w = float(share * hy * hat(g.ax, a % nax, i));
+                    if (w == 0 || sources.weight[p] == std::complex<float>(0)) continue;
+                    image[size_t(j) * g.nx + i] = w * sources.weight[p];
+                    lit = true;
+                }
+            }
+            if (!lit) continue;
+            m.fft->forward(image.data(), y1 + 1);
+            for (int sub = 0; sub < S; ++sub) {
+                const std::complex<float>* k = m.spectrum(l, a, sub);
+                std::complex<float>* t = total[sub].data();
+#pragma omp parallel for num_threads(m.threads)
+                for (size_t q = 0; q < N; ++q) t[q] += image[q] * k[q];
+            }
+        }
+    // back to the film, and each pixel's mean over its points
+    const PinholeCamera& c = m.spec.camera;
+    const int o = m.spec.overscan;
+    const double coherent = 1.0 / (double(N) * N), incoherent = 1.0 / double(N);
+    const double norm = scale / S * (m.spec.incoherent ? incoherent : coherent);
+    std::vector<double> pixel(size_t(c.width) * std::max(0, row_end - row_begin), 0.0);
+    for (int sub = 0; sub < S; ++sub) {
+        if (progress && !progress((double(L) * A + sub) / steps)) return Result<bool>::failure("cancelled", ErrorKind::Cancelled);
+        m.fft->inverse(total[sub].data());
+        const std::complex<float>* u = total[sub].data();
+#pragma omp parallel for num_threads(m.threads)
+        for (int cj = row_begin; cj < row_end; ++cj)
+            for (int ci = o; ci < c.width - o; ++ci) {
+                const std::complex<float> v = u[size_t(cj + g.origin) * g.nx + ci + g.origin];
+                pixel[size_t(cj - row_begin) * c.width + ci] += m.spec.incoherent ? v.real() : std::norm(v);
+            }
+    }
+    for (int cj = row_begin; cj < row_end; ++cj)
+        for (int ci = o; ci < c.width - o; ++ci)
+            irradiance[size_t(cj) * c.width + ci] += float(pixel[size_t(cj - row_begin) * c.width + ci] * norm);
+    if (progress && !progress(1.0)) return Result<bool>::failure("cancelled", ErrorKind::Cancelled);
+    return Result<bool>::success(true);
+}
+
+std::vector<float> CoherentConvolution::power_balance(const CoherentSources& sources) const {
+    const Impl& m = *impl_;
+    const Geometry& g = m.g;
+    const size_t n = size_t(g.width) * g.height, K = size_t(g.layers.count) * g.anchors();
+    const int nax = int(g.ax.knots.size());
+    std::vector<float> factor(n, 1.0f);
+    if (m.spec.incoherent) return factor;
+#pragma omp parallel for num_threads(m.threads)
+    for (int j = 0; j < g.height; ++j) {
+        const int cy = g.ay.cell_of(j);
+        for (int i = 0; i < g.width; ++i) {
+            const size_t p = size_t(j) * g.width + i;
+            const int cx = g.ax.cell_of(i), lower = sources.lower[p];
+            // the (up to) eight kernels this source blends, and their weights
+            size_t index[8];
+            double weight[8];
+            int used = 0;
+            for (int dl = 0; dl < 2; ++dl) {
+                const double share = dl == 0 ? 1.0 - sources.upper_share[p] : sources.upper_share[p];
+                if (share == 0 || lower + dl >= g.layers.count) continue;
+                for (int corner = 0; corner < 4; ++corner) {
+                    const int kx = cx + (corner & 1), ky = cy + (corner >> 1);
+                    const double w = share * hat(g.ax, kx, i) * hat(g.ay, ky, j);
+                    if (w == 0) continue;
+                    index[used] = m.kernel_index(lower + dl, ky * nax + kx);
+                    weight[used++] = w;
+                }
+            }
+            double blended = 0, target = 0;
+            for (int a = 0; a < used; ++a) {
+                target += weight[a] * m.gram[index[a] * K + index[a]];
+                for (int b = 0; b < used; ++b) blended += weight[a] * weight[b] * m.gram[index[a] * K + index[b]];
+            }
+            if (blended > 0 && target > 0) factor[p] = float(std::sqrt(target / blended));
+        }
+    }
+    return factor;
+}
+
+void CoherentConvolution::add_far_tail(const float* radiance, const float* depth, DepthMeaning meaning, double scale,
+                                       int row_begin, int row_end, float* irradiance) const {
+    const Impl& m = *impl_;
+    const PinholeCamera& c = m.spec.camera;
+    const int o = m.spec.overscan, out_w = c.width - 2 * o, out_h = c.height - 2 * o, R = m.g.radius;
+    std::vector<float> rgb(3 * size_t(c.width) * c.height, 0.0f), xyz(3 * size_t(out_w) * out_h, 0.0f);
+    for (size_t q = 0; q < size_t(c.width) * c.height; ++q) rgb[3 * q] = radiance[q];
+    const SpectralScene scene{c, rgb.data(), depth, meaning, true};
+    detail::add_far_tail(m.tail, scene, m.g.origin, R, R, out_w, out_h, xyz.data(), m.threads);
+    for (int cj = std::max(row_begin, o); cj < std::min(row_end, c.height - o); ++cj)
+        for (int ci = o; ci < c.width - o; ++ci)
+            irradiance[size_t(cj) * c.width + ci] += float(scale * xyz[3 * (size_t(cj - o) * out_w + ci - o)]);
+}
+
+CoherentWork coherent_work(const CoherentSpec& spec, SumCounts in, SumCounts out) {
+    const Geometry g = geometry_of(spec);
+    const double side = 2.0 * g.radius + 1, S = double(spec.subsamples) * spec.subsamples;
+    const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxPsfLayers + 1);
+    in.points = 1;
+    out.points = side * side * S;
+    const double N = double(g.nx) * g.ny, transform = kFftCost * N * std::log2(N);
+    CoherentWork w;
+    w.kernels = kernels * (choose_sum(in, Summation::Auto).work + choose_sum(out, Summation::Auto).work + S * transform);
+    w.per_run = kernels * transform + (kernels + 1) * S * N * kMacCost + S * transform;
+    return w;
+}
+
+}  // namespace wavecam::detail

@@ -1,0 +1,139 @@
+// The exact methods' runs as convolutions with amplitude PSFs: the `psf` summation
+// (docs/summation.md, "The runs as convolutions"). Internal to core.
+//
+// The two sums composed carry a source s to a film point t through
+//   T(t, s) = sum_xi [exp(i k (r_s - |P_s|)) / r_s] [exp(i k (r_t - |T_t|)) f / r_t^2] dA / lambda,
+// both phases measured from the pinhole's centre (summation_plan.h). To second order in the
+// pinhole coordinate xi (fresnel_psf.h) it depends on t only through t's offset from s's
+// geometric image, stretched with the field angle, and on s only through that field angle and
+// its defocus 1/z + 1/f: a shift-invariant amplitude PSF per depth and field. One run,
+//   U(t) = sum_s w_s T(t, s),
+// is then a convolution of the sources' complex weights with complex kernels, which the runs'
+// random phases leave alone: the convolution method's machinery (anchored_convolution.h) with
+// amplitudes instead of powers, |U|^2 taken after the sum.
+//
+// Kernels. Each is the exact sums themselves (summation_plan.h, `auto`) from one source at a
+// field anchor and a depth layer to the film points of the (2 R + 1)^2 pixels round its image:
+// the same lattice, film points, amplitudes and obliquity as the direct sums, so a source at an
+// anchor on a layer gets its exact image; elsewhere the kernel is blended, as the convolution
+// method blends its intensities, per source: bilinearly over the four anchors round it,
+// linearly in 1/z between its two layers. Layers lie evenly in 1/z with the defocus phase
+// pi a^2 dw / lambda at most kMaxLayerPhase between neighbours, so a blend of two amplitudes
+// stays within (0.3)^2 / 8 of the kernel between them; beyond kMaxPsfLayers the scene's depth
+// range is refused (large pinholes over deep scenes: the direct or nufft sums serve them).
+//
+// Energy. Amplitudes blended over anchors whose kernels differ (wider off axis, 1/cos^3
+// radially) carry less power than the same blend of their powers: |sum phi_a K_a|^2 sums to
+// sum phi_a phi_b Re<K_a, K_b> <= sum phi_a |K_a|^2 (a wall at 50 deg, 48 px, lost 9% midway
+// between anchors). Each source's weight is scaled so that its blended kernel carries the blend
+// of its kernels' powers, as the intensity blend of the convolution method and of the
+// incoherent case does; the image's shape within a pixel stays the amplitudes' blend.
+//
+// The far tail. A kernel holds kPsfKernelEnergy of its PSF's power; what lies beyond it is added
+// to the runs' mean as the convolution method adds it (far_tail.h): each source's missing share,
+// from the Fresnel PSF of the same radius (fresnel_psf.h), spread over the annulus beyond the
+// kernel. Its cross terms with other sources have random phases and average out over the runs;
+// within one run they are part of its speckle, as the runs' noise is.
+//
+// Incoherent (the random phases' limit): the same kernels' powers |T|^2 convolve the sources'
+// powers, blended the same way.
+#pragma once
+#include <complex>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "psf_table.h"
+#include "wavecam/summation_plan.h"
+
+namespace wavecam::detail {
+
+constexpr double kMaxLayerPhase = 0.3;
+// Anchor cells at least this many kernel radii wide (the convolution method's kMinCellRadii is
+// 6): amplitudes of neighbouring anchors blend less well than powers, so anchors lie closer. A
+// source between the corner anchors of a 24 px frame at 50 deg (f = 2 mm, 0.05 mm, R = 9) got 95%
+// of its exact peak at cells of 6 R, 99-101% at 2 R.
+constexpr int kMinAmplitudeCellRadii = 2;
+constexpr int kMaxPsfLayers = 32;
+
+// Depth layers for amplitude kernels at one wavelength: even in 1/z from the sky (0) to the
+// nearest source, kMaxLayerPhase apart in defocus phase (one layer where the whole range is
+// within it). count > kMaxPsfLayers: the range needs more than the evaluator takes.
+DepthLayers amplitude_layers(double max_inverse_depth, double aperture_radius, double wavelength);
+// The refusal when they are more: names the setting `summation`.
+Result<bool> too_many_layers();
+
+struct CoherentSpec {
+    PinholeCamera camera;
+    int overscan = 0;
+    Aperture aperture{ApertureShape::Circle, 0.0};
+    double wavelength = 0;
+    double max_inverse_depth = 0;  // planar 1/z of the nearest source (0: all sky)
+    int subsamples = 1;            // n x n film points per pixel, as the direct sums place them
+    int anchor_cells = 4;          // field-anchor cells across the frame's long side
+    bool incoherent = false;       // powers through |T|^2 instead of amplitudes through T
+    SummationSettings settings;    // how the kernels' sums are evaluated
+};
+
+// The source a kernel starts from: unit power at image position (x, y) (camera pixels), at planar
+// inverse depth w (0: a plane wave), as the exact sums place a source.
+using UnitSource = std::function<PointSource(double x, double y, double inverse_depth)>;
+
+// The sources on the convolution's domain (the output frame widened by the kernel radius on
+// every side), row-major: complex weights (coherent) or powers in .real() (incoherent), and each
+// pixel's layer and the share of it that goes to the layer above.
+struct CoherentSources {
+    std::vector<std::complex<float>> weight;
+    std::vector<uint8_t> lower;
+    std::vector<float> upper_share;
+};
+
+class CoherentConvolution {
+public:
+    CoherentConvolution();
+    ~CoherentConvolution();
+    CoherentConvolution(CoherentConvolution&&) noexcept;
+    CoherentConvolution& operator=(CoherentConvolution&&) noexcept;
+
+    // Kernels from the exact sums and their spectra; fails when cancelled, or where the depth
+    // range needs more than kMaxPsfLayers layers.
+    static Result<CoherentConvolution> create(const CoherentSpec& spec, const ApertureSamples& samples,
+                                              const UnitSource& unit_source, const ProgressFn& progress);
+
+    int radius() const;
+    int domain_width() const;
+    int domain_height() const;
+    // Domain pixel (i, j) is camera pixel (i - origin, j - origin).
+    int origin() const;
+    const DepthLayers& layers() const;
+
+    // Adds scale x the film pixels' irradiance (the mean of |U|^2 over each pixel's n x n points)
+    // of camera rows [row_begin, row_end), columns within the overscan, to irradiance (camera
+    // width x height). Fails only when cancelled through `progress`.
+    Result<bool> run(const CoherentSources& sources, double scale, int row_begin, int row_end, float* irradiance,
+                     const ProgressFn& progress) const;
+
+    // Per domain pixel, the factor on its weight that gives its blended kernel the blend of its
+    // kernels' powers (1 for the incoherent case).
+    std::vector<float> power_balance(const CoherentSources& sources) const;
+
+    // Adds scale x the far tail of the scene (radiance and depth per camera pixel, the edge
+    // continued beyond) on the same rows.
+    void add_far_tail(const float* radiance, const float* depth, DepthMeaning meaning, double scale, int row_begin,
+                      int row_end, float* irradiance) const;
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+// Work of one convolution in direct terms (summation_plan.h): the kernels' sums (`in` and `out`:
+// the frame's two sums' counts, their points replaced by one source and a kernel's film points),
+// and per run the transforms and products.
+struct CoherentWork {
+    double kernels = 0, per_run = 0;
+};
+CoherentWork coherent_work(const CoherentSpec& spec, SumCounts in, SumCounts out);
+
+}  // namespace wavecam::detail

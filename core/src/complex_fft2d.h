@@ -1,0 +1,69 @@
+// Complex 2D FFTs of one rectangular size through kissfft (BSD-3-Clause; see docs/install.md):
+// complex 1D transforms along the rows, then along the columns, rows and columns spread over
+// threads (kissfft's configurations are read-only during a transform). Internal to core.
+#pragma once
+#include <kiss_fft.h>
+#include <omp.h>
+
+#include <complex>
+#include <vector>
+
+namespace wavecam::detail {
+
+class ComplexFft2D {
+public:
+    ComplexFft2D(int width, int height, int nthreads)
+        : w_(width),
+          h_(height),
+          threads_(nthreads),
+          row_forward_(kiss_fft_alloc(width, 0, nullptr, nullptr)),
+          row_inverse_(kiss_fft_alloc(width, 1, nullptr, nullptr)),
+          column_forward_(kiss_fft_alloc(height, 0, nullptr, nullptr)),
+          column_inverse_(kiss_fft_alloc(height, 1, nullptr, nullptr)) {}
+    ~ComplexFft2D() {
+        kiss_fft_free(row_forward_);
+        kiss_fft_free(row_inverse_);
+        kiss_fft_free(column_forward_);
+        kiss_fft_free(column_inverse_);
+    }
+    ComplexFft2D(const ComplexFft2D&) = delete;
+    ComplexFft2D& operator=(const ComplexFft2D&) = delete;
+
+    bool ok() const { return row_forward_ && row_inverse_ && column_forward_ && column_inverse_; }
+    int width() const { return w_; }
+    int height() const { return h_; }
+    size_t size() const { return size_t(w_) * h_; }
+
+    // In place, height x width row-major. Rows at or beyond `rows` are known to be zero (their
+    // transforms are skipped). The inverse is scaled by width x height (kissfft does not normalise).
+    void forward(std::complex<float>* data, int rows = -1) const { transform(data, rows, row_forward_, column_forward_); }
+    void inverse(std::complex<float>* data) const { transform(data, -1, row_inverse_, column_inverse_); }
+
+private:
+    static kiss_fft_cpx* cpx(std::complex<float>* p) { return reinterpret_cast<kiss_fft_cpx*>(p); }
+
+    void transform(std::complex<float>* data, int rows, kiss_fft_cfg row_cfg, kiss_fft_cfg column_cfg) const {
+        const int busy = rows < 0 ? h_ : std::min(rows, h_);
+#pragma omp parallel num_threads(threads_)
+        {
+            std::vector<std::complex<float>> in(std::max(w_, h_)), out(std::max(w_, h_));
+#pragma omp for schedule(static)
+            for (int r = 0; r < busy; ++r) {
+                std::complex<float>* row = data + size_t(r) * w_;
+                std::copy(row, row + w_, in.begin());
+                kiss_fft(row_cfg, cpx(in.data()), cpx(row));
+            }
+#pragma omp for schedule(static)
+            for (int k = 0; k < w_; ++k) {
+                for (int r = 0; r < h_; ++r) in[r] = data[size_t(r) * w_ + k];
+                kiss_fft(column_cfg, cpx(in.data()), cpx(out.data()));
+                for (int r = 0; r < h_; ++r) data[size_t(r) * w_ + k] = out[r];
+            }
+        }
+    }
+
+    int w_, h_, threads_;
+    kiss_fft_cfg row_forward_, row_inverse_, column_forward_, column_inverse_;
+};
+
+}  // namespace wavecam::detail
