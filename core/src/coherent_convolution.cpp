@@ -141,6 +141,10 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
     PinholeField field;
     std::vector<std::complex<double>> film_field;
     std::vector<std::vector<std::complex<double>>> kernel(size_t(g.layers.count) * A);  // for the Gram matrix
+    // one source's sum is direct (a lattice of transforms for one source never pays)
+    SummationSettings one_source = spec.settings;
+    one_source.summation = Summation::Direct;
+    PlanScope film_scope;
     for (int a = 0; a < A; ++a) {
         // the anchor's pixel (camera coordinates) and its kernel's film points, as the direct sums
         // place them (n x n per pixel), sub-point by sub-point
@@ -156,12 +160,14 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
                         film.x.push_back(float(-c.film_distance * u));
                         film.y.push_back(float(-c.film_distance * v));
                     }
-        SummationPlan to_film = SummationPlan::create(SumKind::PinholeToFilm, samples, spec.wavelength, spec.settings);
+        SummationPlan to_film =
+            SummationPlan::create(SumKind::PinholeToFilm, samples, spec.wavelength, spec.settings, film_scope);
         if (auto r = to_film.set_points(film); !r.ok()) return R::failure(r);
+        film_scope.fixed_choice = true;  // every anchor's film points count alike: one decision
+        film_scope.choice = to_film.choice();
         for (int l = 0; l < g.layers.count; ++l) {
             const std::vector<PointSource> one{unit_source(px + 0.5, py + 0.5, g.layers.inverse_depth(l))};
-            SummationPlan to_pinhole =
-                SummationPlan::create(SumKind::SourcesToPinhole, samples, spec.wavelength, spec.settings);
+            SummationPlan to_pinhole = SummationPlan::create(SumKind::SourcesToPinhole, samples, spec.wavelength, one_source);
             if (auto r = to_pinhole.set_points(one); !r.ok()) return R::failure(r);
             if (auto r = to_pinhole.execute(source_weights(one), field); !r.ok()) return R::failure(r);
             film_field.assign(film.size(), 0.0);

@@ -312,7 +312,7 @@ TEST(ApplyCommand, DepthScaleTurnsTheDepthChannelIntoMetres) {
 TEST(ApplyCommand, TheEnvironmentChangesNoImageAndNoWordMeansTwoThings) {
     const fs::path dir = scratch("apply_environment");
     write_render((dir / "in.exr").string(), 16, 12, 2.0f, 30.0f);
-    for (const std::string summation : {"auto", "direct", "nufft"}) {
+    for (const std::string summation : {"auto", "direct", "nufft", "psf"}) {
         const std::string args = " apply " + (dir / "in.exr").string() + " --method random-phase --runs 2 --seed 3" +
                                  kQuick.substr(0, kQuick.find("--runs")) + " --summation " + summation + " -o ";
         const auto plain = run_command(kWavecam + args + (dir / "plain.exr").string());
@@ -342,6 +342,6 @@ TEST(ApplyCommand, TheEnvironmentChangesNoImageAndNoWordMeansTwoThings) {
     };
     const std::set<std::string> methods = words("method"), summations = words("summation");
     EXPECT_EQ(methods, (std::set<std::string>{"convolution", "random-phase", "incoherent"}));
-    EXPECT_EQ(summations, (std::set<std::string>{"auto", "direct", "nufft"}));
+    EXPECT_EQ(summations, (std::set<std::string>{"auto", "direct", "nufft", "psf"}));
     fs::remove_all(dir);
 }
