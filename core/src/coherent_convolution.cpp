@@ -235,6 +235,7 @@ Result<bool> CoherentConvolution::run(const CoherentSources& sources, double sca
     const Geometry& g = m.g;
     const int S = m.points(), A = g.anchors(), L = g.layers.count, nax = int(g.ax.knots.size());
     const size_t N = m.fft->size();
+    const bool parallel = N >= (1u << 16);  // small frames on one thread (complex_fft2d.h says why)
     std::vector<std::vector<std::complex<float>>> total(S, std::vector<std::complex<float>>(N));
     std::vector<std::complex<float>> image(N);
     const double steps = double(L) * A + S;
@@ -247,7 +248,7 @@ Result<bool> CoherentConvolution::run(const CoherentSources& sources, double sca
             hat_support(g.ay, a / nax, g.height, y0, y1);
             std::fill(image.begin(), image.end(), std::complex<float>(0));
             bool lit = false;
-#pragma omp parallel for num_threads(m.threads) reduction(|| : lit)
+#pragma omp parallel for num_threads(m.threads) reduction(|| : lit) if (parallel)
             for (int j = y0; j <= y1; ++j) {
                 const double hy = hat(g.ay, a / nax, j);
                 for (int i = x0; i <= x1; ++i) {
@@ -266,7 +267,7 @@ Result<bool> CoherentConvolution::run(const CoherentSources& sources, double sca
             for (int sub = 0; sub < S; ++sub) {
                 const std::complex<float>* k = m.spectrum(l, a, sub);
                 std::complex<float>* t = total[sub].data();
-#pragma omp parallel for num_threads(m.threads)
+#pragma omp parallel for num_threads(m.threads) if (parallel)
                 for (size_t q = 0; q < N; ++q) t[q] += image[q] * k[q];
             }
         }
@@ -280,7 +281,7 @@ Result<bool> CoherentConvolution::run(const CoherentSources& sources, double sca
         if (progress && !progress((double(L) * A + sub) / steps)) return Result<bool>::failure("cancelled", ErrorKind::Cancelled);
         m.fft->inverse(total[sub].data());
         const std::complex<float>* u = total[sub].data();
-#pragma omp parallel for num_threads(m.threads)
+#pragma omp parallel for num_threads(m.threads) if (parallel)
         for (int cj = row_begin; cj < row_end; ++cj)
             for (int ci = o; ci < c.width - o; ++ci) {
                 const std::complex<float> v = u[size_t(cj + g.origin) * g.nx + ci + g.origin];

@@ -44,7 +44,9 @@ private:
 
     void transform(std::complex<float>* data, int rows, kiss_fft_cfg row_cfg, kiss_fft_cfg column_cfg) const {
         const int busy = rows < 0 ? h_ : std::min(rows, h_);
-#pragma omp parallel num_threads(threads_)
+        // (small transforms on one thread: a parallel region per transform costs more than it
+        // saves, and far more where other processes share the cores)
+#pragma omp parallel num_threads(threads_) if (size() >= kParallelPoints)
         {
             std::vector<std::complex<float>> in(std::max(w_, h_)), out(std::max(w_, h_));
 #pragma omp for schedule(static)
@@ -62,6 +64,7 @@ private:
         }
     }
 
+    static constexpr size_t kParallelPoints = 1 << 16;
     int w_, h_, threads_;
     kiss_fft_cfg row_forward_, row_inverse_, column_forward_, column_inverse_;
 };
