@@ -405,6 +405,17 @@ PointSource centred(const PinholeCamera& c, const Emitter& e, double phase) {
     return source_at(c, e.x + 0.5 * e.w, e.y + 0.5 * e.h, e.power, e.depth, e.meaning, phase);
 }
 
+// A source's phase in one run, in turns. Coded (phase_codes.h): its cell's random phase and ramp
+// at pixel (i, j) plus its class's offset for the run; independent: a fresh draw per run for
+// `key`, the source's random numbers.
+double source_turns(const ExactSettings& s, const detail::PhaseCode& code, long i, long j, uint64_t key, int run,
+                    uint64_t stream) {
+    if (!s.coded_phases) return detail::counter_uniform(s.seed ^ stream, uint64_t(run), key, 3);
+    const detail::PhaseCode::CellPhase place = code.cell_phase(i, j);
+    return detail::counter_uniform(s.seed ^ stream, 0, place.key, 4) + place.ramp_turns +
+           code.offset_turns(run, code.code_class(i, j));
+}
+
 // One run's sources. Coded (phase_codes.h): each emitter's phase 2 pi (theta + k m / K), theta
 // uniform per emitter and wavelength, m its class; with jitter, every emitter moved by one common
 // random offset within its cell, the same in every run: the codes cancel the cross terms of
@@ -419,15 +430,7 @@ std::vector<PointSource> run_sources(const PinholeCamera& c, const std::vector<E
     const uint64_t draw = s.coded_phases ? 0 : uint64_t(run);  // the counter the random numbers use
     for (const Emitter& e : emitters) {
         const long i = long(std::floor(e.x)), j = long(std::floor(e.y));
-        double turns;
-        if (s.coded_phases) {
-            const detail::PhaseCode::CellPhase place = code.cell_phase(i, j);
-            turns = detail::counter_uniform(s.seed ^ stream, 0, place.key, 4) + place.ramp_turns +
-                    code.offset_turns(run, code.code_class(i, j));
-        } else {
-            turns = detail::counter_uniform(s.seed ^ stream, draw, e.key, 3);
-        }
-        const double phase = 2 * M_PI * turns;
+        const double phase = 2 * M_PI * source_turns(s, code, i, j, e.key, run, stream);
         if (!s.jitter) {
             sources.push_back(centred(c, e, phase));
             continue;
@@ -523,8 +526,6 @@ Result<bool> psf_runs(const MonochromeScene& scene, const SceneSum& sum, double 
     sources.lower.resize(n);
     sources.upper_share.resize(n);
     std::vector<float> amplitude(n);
-    std::vector<double> base(n);  // coded: the cell's phase and ramp, in turns
-    std::vector<int> code_class(n);
     std::vector<uint64_t> key(n);  // independent: the pixel's random numbers
     const detail::PhaseCode code(s.runs);
     const uint64_t stream = wavelength_stream(wavelength), pixels = uint64_t(c.width) * c.height;
@@ -540,9 +541,6 @@ Result<bool> psf_runs(const MonochromeScene& scene, const SceneSum& sum, double 
             conv.layers().locate(w, lower, sources.upper_share[p]);
             sources.lower[p] = uint8_t(lower);
             amplitude[p] = float(incoherent ? power : std::sqrt(power));
-            const detail::PhaseCode::CellPhase place = code.cell_phase(ci, cj);
-            base[p] = detail::counter_uniform(s.seed ^ stream, 0, place.key, 4) + place.ramp_turns;
-            code_class[p] = code.code_class(ci, cj);
             key[p] = ci == qi && cj == qj ? uint64_t(q) : pixels + p;
         }
     const std::vector<float> balance = conv.power_balance(sources);
@@ -554,9 +552,8 @@ Result<bool> psf_runs(const MonochromeScene& scene, const SceneSum& sum, double 
     for (int k = 0; k < runs; ++k) {
         const int run = range.run_begin + k;
         for (size_t p = 0; p < n; ++p) {
-            const double turns = incoherent       ? 0.0
-                                 : s.coded_phases ? base[p] + code.offset_turns(run, code_class[p])
-                                                  : detail::counter_uniform(s.seed ^ stream, run, key[p], 3);
+            const long ci = long(p % W) - origin, cj = long(p / W) - origin;
+            const double turns = incoherent ? 0.0 : source_turns(s, code, ci, cj, key[p], run, stream);
             sources.weight[p] = std::polar(amplitude[p], float(2 * M_PI * turns));
         }
         const double at = kernels + k * per_run;
