@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <mutex>
 
 #include "complex_fft2d.h"
 #include "far_tail.h"
+#include "gpu/gpu_convolution.h"
 #include "real_fft2d.h"
 #include "summation/summation_cost.h"
 #include "wavecam/fresnel_psf.h"
@@ -79,6 +81,13 @@ double hat(const AnchorAxis& axis, int k, int i) {
     return k == cell ? 1 - t : k == cell + 1 ? t : 0.0;
 }
 
+// A transform side the GPU's FFTs take (gpu_convolution.h): the next power of two.
+int gpu_side(int n) {
+    int p = 2;
+    while (p < n) p *= 2;
+    return p;
+}
+
 // Pixels [first, last] that knot k's hat reaches.
 void hat_support(const AnchorAxis& axis, int k, int length, int& first, int& last) {
     first = k == 0 ? 0 : axis.knots[k - 1] + 1;
@@ -92,7 +101,10 @@ struct CoherentConvolution::Impl {
     Geometry g;
     int threads = 1;
     std::unique_ptr<ComplexFft2D> fft;
-    std::vector<std::complex<float>> spectra;  // [layer][anchor][sub-point][ny x nx]
+    std::vector<std::complex<float>> spectra;  // [layer][anchor][sub-point][ny x nx] (none on a GPU)
+    // the runs on a Vulkan device (the spectra kept there), or none: on the CPU
+    std::unique_ptr<GpuConvolution> gpu;
+    mutable std::mutex gpu_busy;
     PsfTable tail;  // layers, anchors and, in deficit's first entry, the light beyond each kernel
     // Re <K_i, K_j> (the pixel-mean over sub-points) for kernels i = layer x anchors + anchor
     // and their neighbours j in layer and both anchor axes, 0 elsewhere
@@ -127,10 +139,22 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
     g = geometry_of(spec);
     if (g.layers.count > kMaxPsfLayers) return R::failure(too_many_layers());
     impl->threads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
-    impl->fft = std::make_unique<ComplexFft2D>(g.nx, g.ny, impl->threads);
     const int n = spec.subsamples, S = impl->points(), side = 2 * g.radius + 1, A = g.anchors();
+    if (spec.settings.device != Device::Cpu) {  // the device's transforms are powers of two
+        const int nx = gpu_side(g.width), ny = gpu_side(g.height);
+        auto made = GpuConvolution::create(spec.settings.device, nx, ny, g.layers.count * A, S);
+        if (made.ok()) {
+            impl->gpu = std::move(made.value);
+            g.nx = nx;
+            g.ny = ny;
+        } else if (spec.settings.device == Device::Gpu) {
+            return R::failure("device gpu: " + made.error, made.kind, "device");
+        }  // auto: quietly the CPU
+    }
+    impl->fft = std::make_unique<ComplexFft2D>(g.nx, g.ny, impl->threads);
     const size_t N = impl->fft->size();
-    impl->spectra.assign(size_t(g.layers.count) * A * S * N, {});
+    if (!impl->gpu) impl->spectra.assign(size_t(g.layers.count) * A * S * N, {});
+    std::vector<std::complex<float>> scratch(impl->gpu ? N : 0);
     const PinholeCamera& c = spec.camera;
     PsfTable& tail = impl->tail;
     tail.radius = g.radius;
@@ -196,7 +220,8 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
             if (!spec.incoherent) kernel[impl->kernel_index(l, a)] = film_field;
             // each sub-point's kernel, wrapped round the transform's period, and its spectrum
             for (int sub = 0; sub < S; ++sub) {
-                std::complex<float>* spectrum = impl->spectrum(l, a, sub);
+                std::complex<float>* spectrum = impl->gpu ? scratch.data() : impl->spectrum(l, a, sub);
+                if (impl->gpu) std::fill(scratch.begin(), scratch.end(), std::complex<float>(0));
                 for (int dy = -g.radius; dy <= g.radius; ++dy)
                     for (int dx = -g.radius; dx <= g.radius; ++dx) {
                         const std::complex<double> k =
@@ -206,6 +231,9 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
                                                        : std::complex<float>(k);
                     }
                 impl->fft->forward(spectrum);
+                if (impl->gpu)
+                    if (auto r = impl->gpu->set_spectrum(int(impl->kernel_index(l, a)), sub, spectrum); !r.ok())
+                        return R::failure(r);
             }
         }
     }
@@ -236,62 +264,81 @@ Result<bool> CoherentConvolution::run(const CoherentSources& sources, double sca
     const int S = m.points(), A = g.anchors(), L = g.layers.count, nax = int(g.ax.knots.size());
     const size_t N = m.fft->size();
     const bool parallel = N >= (1u << 16);  // small frames on one thread (complex_fft2d.h says why)
-    std::vector<std::vector<std::complex<float>>> total(S, std::vector<std::complex<float>>(N));
-    std::vector<std::complex<float>> image(N);
-    const double steps = double(L) * A + S;
-    for (int l = 0; l < L; ++l)
-        for (int a = 0; a < A; ++a) {
-            if (progress && !progress((double(l) * A + a) / steps)) return Result<bool>::failure("cancelled", ErrorKind::Cancelled);
-            // the sources' weights times their share of this layer and of this anchor's hat
-            int x0, x1, y0, y1;
-            hat_support(g.ax, a % nax, g.width, x0, x1);
-            hat_support(g.ay, a / nax, g.height, y0, y1);
-            std::fill(image.begin(), image.end(), std::complex<float>(0));
-            bool lit = false;
+    // the sources' weights times their share of layer l and of anchor a's hat, on the transform's
+    // grid (zero elsewhere); false where none has light
+    auto share_of = [&](int l, int a, std::complex<float>* image, int& last_row) {
+        int x0, x1, y0, y1;
+        hat_support(g.ax, a % nax, g.width, x0, x1);
+        hat_support(g.ay, a / nax, g.height, y0, y1);
+        std::fill(image, image + N, std::complex<float>(0));
+        bool lit = false;
 #pragma omp parallel for num_threads(m.threads) reduction(|| : lit) if (parallel)
-            for (int j = y0; j <= y1; ++j) {
-                const double hy = hat(g.ay, a / nax, j);
-                for (int i = x0; i <= x1; ++i) {
-                    const size_t p = size_t(j) * g.width + i;
-                    const int lower = sources.lower[p];
-                    const double share = l == lower ? 1.0 - sources.upper_share[p]
-                                                    : l == lower + 1 ? sources.upper_share[p] : 0.0;
-                    const float w = float(share * hy * hat(g.ax, a % nax, i));
-                    if (w == 0 || sources.weight[p] == std::complex<float>(0)) continue;
-                    image[size_t(j) * g.nx + i] = w * sources.weight[p];
-                    lit = true;
-                }
-            }
-            if (!lit) continue;
-            m.fft->forward(image.data(), y1 + 1);
-            for (int sub = 0; sub < S; ++sub) {
-                const std::complex<float>* k = m.spectrum(l, a, sub);
-                std::complex<float>* t = total[sub].data();
-#pragma omp parallel for num_threads(m.threads) if (parallel)
-                for (size_t q = 0; q < N; ++q) t[q] += image[q] * k[q];
+        for (int j = y0; j <= y1; ++j) {
+            const double hy = hat(g.ay, a / nax, j);
+            for (int i = x0; i <= x1; ++i) {
+                const size_t p = size_t(j) * g.width + i;
+                const int lower = sources.lower[p];
+                const double share = l == lower ? 1.0 - sources.upper_share[p]
+                                                : l == lower + 1 ? sources.upper_share[p] : 0.0;
+                const float w = float(share * hy * hat(g.ax, a % nax, i));
+                if (w == 0 || sources.weight[p] == std::complex<float>(0)) continue;
+                image[size_t(j) * g.nx + i] = w * sources.weight[p];
+                lit = true;
             }
         }
-    // back to the film, and each pixel's mean over its points
+        last_row = y1;
+        return lit;
+    };
+    const auto cancelled = [] { return Result<bool>::failure("cancelled", ErrorKind::Cancelled); };
+    const double steps = double(L) * A + S;
+    // per domain point of the transform's grid, the sum over sub-points of |u|^2 (or Re u)
+    std::vector<double> film(N, 0.0);
+    if (m.gpu) {
+        std::lock_guard<std::mutex> lock(m.gpu_busy);
+        m.gpu->begin_run();
+        for (int l = 0; l < L; ++l)
+            for (int a = 0; a < A; ++a) {
+                if (progress && !progress((double(l) * A + a) / steps)) return cancelled();
+                int last_row;
+                if (!share_of(l, a, m.gpu->sources(), last_row)) continue;
+                if (auto r = m.gpu->add_sources(int(m.kernel_index(l, a))); !r.ok()) return r;
+            }
+        std::vector<float> sum;
+        if (auto r = m.gpu->finish_run(m.spec.incoherent, sum); !r.ok()) return r;
+        std::copy(sum.begin(), sum.end(), film.begin());
+    } else {
+        std::vector<std::vector<std::complex<float>>> total(S, std::vector<std::complex<float>>(N));
+        std::vector<std::complex<float>> image(N);
+        for (int l = 0; l < L; ++l)
+            for (int a = 0; a < A; ++a) {
+                if (progress && !progress((double(l) * A + a) / steps)) return cancelled();
+                int last_row;
+                if (!share_of(l, a, image.data(), last_row)) continue;
+                m.fft->forward(image.data(), last_row + 1);
+                for (int sub = 0; sub < S; ++sub) {
+                    const std::complex<float>* k = m.spectrum(l, a, sub);
+                    std::complex<float>* t = total[sub].data();
+#pragma omp parallel for num_threads(m.threads) if (parallel)
+                    for (size_t q = 0; q < N; ++q) t[q] += image[q] * k[q];
+                }
+            }
+        for (int sub = 0; sub < S; ++sub) {
+            if (progress && !progress((double(L) * A + sub) / steps)) return cancelled();
+            m.fft->inverse(total[sub].data());
+            const std::complex<float>* u = total[sub].data();
+#pragma omp parallel for num_threads(m.threads) if (parallel)
+            for (size_t q = 0; q < N; ++q) film[q] += m.spec.incoherent ? u[q].real() : std::norm(u[q]);
+        }
+    }
+    // each pixel's mean over its points
     const PinholeCamera& c = m.spec.camera;
     const int o = m.spec.overscan;
     const double coherent = 1.0 / (double(N) * N), incoherent = 1.0 / double(N);
     const double norm = scale / S * (m.spec.incoherent ? incoherent : coherent);
-    std::vector<double> pixel(size_t(c.width) * std::max(0, row_end - row_begin), 0.0);
-    for (int sub = 0; sub < S; ++sub) {
-        if (progress && !progress((double(L) * A + sub) / steps)) return Result<bool>::failure("cancelled", ErrorKind::Cancelled);
-        m.fft->inverse(total[sub].data());
-        const std::complex<float>* u = total[sub].data();
-#pragma omp parallel for num_threads(m.threads) if (parallel)
-        for (int cj = row_begin; cj < row_end; ++cj)
-            for (int ci = o; ci < c.width - o; ++ci) {
-                const std::complex<float> v = u[size_t(cj + g.origin) * g.nx + ci + g.origin];
-                pixel[size_t(cj - row_begin) * c.width + ci] += m.spec.incoherent ? v.real() : std::norm(v);
-            }
-    }
     for (int cj = row_begin; cj < row_end; ++cj)
         for (int ci = o; ci < c.width - o; ++ci)
-            irradiance[size_t(cj) * c.width + ci] += float(pixel[size_t(cj - row_begin) * c.width + ci] * norm);
-    if (progress && !progress(1.0)) return Result<bool>::failure("cancelled", ErrorKind::Cancelled);
+            irradiance[size_t(cj) * c.width + ci] += float(film[size_t(cj + g.origin) * g.nx + ci + g.origin] * norm);
+    if (progress && !progress(1.0)) return cancelled();
     return Result<bool>::success(true);
 }
 

@@ -148,7 +148,7 @@ const std::vector<SettingKey> kKeys = {
                                     {"psf", Summation::Psf}},
                              o.exact.summation);
      }},
-    {"device", "gpu", "where the random-phase and incoherent methods run their direct sums: cpu (default), gpu "
+    {"device", "gpu", "where the random-phase and incoherent methods run their direct sums and psf runs: cpu (default), gpu "
      "(a Vulkan device, a discrete GPU first; an error if there is none) or auto (a discrete GPU when there is one, "
      "else the CPU); the machine's choice, never a source's metadata",
      false,

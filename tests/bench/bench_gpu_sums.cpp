@@ -2,6 +2,8 @@
 // (propagation.cpp, all cores) and the Vulkan evaluator (gpu_sums.h) on the device `gpu` picks
 // (set VK_ICD_FILENAMES to choose a driver, e.g. Mesa's lavapipe). One term = one pinhole sample
 // contributing to one film point (sum 2) or one source to one pinhole sample (sum 1).
+// And the psf summation's frames (coherent_convolution.h) on each device: 1 and 16 runs of a
+// 96 x 96 frame, so that the script can take one run's time as the difference over 15.
 // Run: tests/bench/run_gpu_bench.sh [build-dir]
 #include <benchmark/benchmark.h>
 
@@ -10,6 +12,7 @@
 
 #include "wavecam/gpu_sums.h"
 #include "wavecam/propagation.h"
+#include "wavecam/scene_diffraction.h"
 
 using namespace wavecam;
 
@@ -102,8 +105,38 @@ void BM_PinholeSumGpu(benchmark::State& state) {
             state.SkipWithError(r.error.c_str());
     rate(state, c.pinhole_terms());
 }
+// A textured 96 x 96 frame at 30 deg, f = 2 mm, a 0.05 mm pinhole, 550 nm, two depths: the psf
+// summation with state.range(0) runs on `device`.
+void psf_frame(benchmark::State& state, Device device) {
+    PinholeCamera c{96, 96, 30 * M_PI / 180, 2e-3};
+    std::vector<float> power(size_t(c.width) * c.height), depth(power.size()), out(power.size());
+    for (size_t p = 0; p < power.size(); ++p) {
+        power[p] = float(0.2 + 0.8 * ((p * 2654435761u) >> 8 & 0xffff) / 65535.0);
+        depth[p] = p % c.width < 48 ? 0.05f : 2.0f;
+    }
+    ExactSettings s;
+    s.aperture = {ApertureShape::Circle, 0.05e-3};
+    s.runs = int(state.range(0));
+    s.summation = Summation::Psf;
+    s.device = device;
+    const MonochromeScene scene{c, power.data(), depth.data(), DepthMeaning::Planar};
+    for (auto _ : state)
+        if (auto r = diffract_monochrome(scene, 550e-9, s, out.data()); !r.ok()) state.SkipWithError(r.error.c_str());
+}
+
+void BM_PsfFrameCpu(benchmark::State& state) {
+    state.SetLabel("CPU");
+    psf_frame(state, Device::Cpu);
+}
+
+void BM_PsfFrameGpu(benchmark::State& state) {
+    if (!gpu(state)) return;
+    psf_frame(state, Device::Gpu);
+}
 }  // namespace
 
+BENCHMARK(BM_PsfFrameCpu)->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+BENCHMARK(BM_PsfFrameGpu)->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 BENCHMARK(BM_FilmSumCpu)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_PinholeSumCpu)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_FilmSumGpu)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);

@@ -1,7 +1,8 @@
 // The `psf` summation: the exact methods' runs as convolutions with amplitude PSFs that the
 // direct or nufft sums compute at field anchors and depth layers (coherent_convolution.h),
 // against the exact sums themselves (direct, incoherent: no noise) and the random phases' own
-// limit.
+// limit. Started with --device=gpu (tests/core/CMakeLists.txt), the same checks with the
+// kernels' direct sums and the runs' transforms on the Vulkan device.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "summation_flag.h"
 #include "wavecam/scene_diffraction.h"
 
 using namespace wavecam;
@@ -51,6 +53,7 @@ ExactSettings settings(Summation summation, CoherenceMethod method, int runs = 1
     s.method = method;
     s.runs = runs;
     s.summation = summation;
+    s.device = test_device();  // --device=gpu: the kernels' sums and the runs on the Vulkan device
     return s;
 }
 

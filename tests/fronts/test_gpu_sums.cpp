@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <cstdlib>
 #include <random>
 
@@ -289,6 +290,48 @@ TEST(GpuSums, SceneFrameMatchesTheCpu) {
     }
 }
 
+// The psf summation's runs on the device (transforms, products and film powers in its shaders,
+// the kernels' one-source sums through its direct terms) against the same runs on the CPU: a
+// textured frame at 30 deg over two depths (two layers), random-phase and incoherent; `auto`
+// without a discrete GPU gives the CPU's image bit for bit.
+TEST(GpuSums, PsfSummationRunsMatchTheCpu) {
+    REQUIRE_VULKAN();
+    PinholeCamera c{20, 16, 30 * M_PI / 180, 2e-3};
+    std::vector<float> power(size_t(c.width) * c.height), depth(power.size());
+    uint32_t state = 11;
+    for (size_t p = 0; p < power.size(); ++p) {
+        state = state * 1664525u + 1013904223u;
+        power[p] = float((state >> 8) / double(1 << 24));
+        depth[p] = (p % c.width) < size_t(c.width / 2) ? 0.05f : 2.0f;
+    }
+    for (CoherenceMethod method : {CoherenceMethod::RandomPhase, CoherenceMethod::Incoherent}) {
+        ExactSettings s;
+        s.aperture = {ApertureShape::Circle, 0.05e-3};
+        s.method = method;
+        s.runs = 3;
+        s.summation = Summation::Psf;
+        std::vector<float> cpu(power.size(), 0.0f), gpu(power.size(), 0.0f), fallback(power.size(), 0.0f);
+        const MonochromeScene scene{c, power.data(), depth.data(), DepthMeaning::Planar};
+        auto r = diffract_monochrome(scene, 550e-9, s, cpu.data());
+        ASSERT_TRUE(r.ok()) << r.error;
+        s.device = Device::Gpu;
+        r = diffract_monochrome(scene, 550e-9, s, gpu.data());
+        ASSERT_TRUE(r.ok()) << r.error;
+        double light = 0;
+        for (const float x : cpu) light += x;
+        EXPECT_GT(light, 0);
+        const double rms = relative_rms(gpu, cpu);
+        EXPECT_LE(rms, 1e-4) << (method == CoherenceMethod::Incoherent ? "incoherent" : "runs");
+        std::printf("psf on the device vs the CPU (%s): relative RMS %.2e\n",
+                    method == CoherenceMethod::Incoherent ? "incoherent" : "3 runs", rms);
+        s.device = Device::Auto;
+        ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, fallback.data()).ok());
+        if (!GpuSums::create(Device::Auto).ok()) {
+            EXPECT_EQ(fallback, cpu);
+        }
+    }
+}
+
 // The device choice's errors: `cpu` is no GPU, `auto` takes only a discrete GPU, and no driver
 // at all (or a build without Vulkan) is named as such.
 TEST(GpuSums, DeviceSelectionErrorsAreClear) {
@@ -317,8 +360,9 @@ TEST(GpuSums, DeviceSelectionErrorsAreClear) {
     EXPECT_NE(none.error.find("Vulkan"), std::string::npos) << none.error;
 }
 
-// The command line: `--device gpu` gives the CPU's image, names the device in the header and the
-// estimate; with no Vulkan driver it is a clear error and writes nothing, and `auto` runs on.
+// The command line: `--device gpu` gives the CPU's image (direct sums, and the psf summation's
+// runs), names the device in the header and the estimate; with no Vulkan driver it is a clear
+// error and writes nothing, and `auto` runs on.
 TEST(GpuSums, CommandLineDeviceKey) {
     REQUIRE_VULKAN();
     using namespace wavecam::test;
@@ -326,14 +370,14 @@ TEST(GpuSums, CommandLineDeviceKey) {
     const std::string in = (dir / "in.exr").string();
     write_render(in, 10, 8, 2.0f, 30.0f);
     const std::string quick = " --film-distance 20mm --pinhole 0.2mm --wavelengths 550nm --runs 1 "
-                              "--method random-phase --summation direct --film-subsamples 1 ";
+                              "--method random-phase --film-subsamples 1 ";
     auto apply = [&](const std::string& out, const std::string& extra, const std::string& env = "") {
         return run_command(env + std::string(WAVECAM_BINARY) + " apply " + in + " -o " + (dir / out).string() +
                            quick + extra);
     };
-    const auto cpu = apply("cpu.exr", "--device cpu");
+    const auto cpu = apply("cpu.exr", "--summation direct --device cpu");
     ASSERT_EQ(cpu.status, 0) << cpu.output;
-    const auto gpu = apply("gpu.exr", "--device gpu");
+    const auto gpu = apply("gpu.exr", "--summation direct --device gpu");
     ASSERT_EQ(gpu.status, 0) << gpu.output;
     auto g = device();
     ASSERT_TRUE(g);
@@ -346,14 +390,26 @@ TEST(GpuSums, CommandLineDeviceKey) {
     a.get_pixels(OIIO::ROI(0, 10, 0, 8, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, pa.data());
     b.get_pixels(OIIO::ROI(0, 10, 0, 8, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, pb.data());
     EXPECT_LE(relative_rms(pb, pa), 1e-4);
+    // the psf summation: its runs on the device, the same image and header
+    const auto psf_cpu = apply("psf_cpu.exr", "--summation psf --device cpu");
+    ASSERT_EQ(psf_cpu.status, 0) << psf_cpu.output;
+    const auto psf_gpu = apply("psf_gpu.exr", "--summation psf --device gpu");
+    ASSERT_EQ(psf_gpu.status, 0) << psf_gpu.output;
+    EXPECT_NE(psf_gpu.output.find("psf summation on " + g->device_name()), std::string::npos) << psf_gpu.output;
+    OIIO::ImageBuf c((dir / "psf_cpu.exr").string()), d((dir / "psf_gpu.exr").string());
+    ASSERT_TRUE(c.read() && d.read());
+    EXPECT_EQ(d.spec().get_string_attribute("wavecam.device"), g->description());
+    c.get_pixels(OIIO::ROI(0, 10, 0, 8, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, pa.data());
+    d.get_pixels(OIIO::ROI(0, 10, 0, 8, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, pb.data());
+    EXPECT_LE(relative_rms(pb, pa), 1e-4);
     const std::string no_driver = "VK_ICD_FILENAMES=/nonexistent/wavecam_icd.json ";
-    const auto missing = apply("missing.exr", "--device gpu", no_driver);
+    const auto missing = apply("missing.exr", "--summation direct --device gpu", no_driver);
     EXPECT_NE(missing.status, 0);
     EXPECT_NE(missing.output.find("Vulkan"), std::string::npos) << missing.output;
     EXPECT_FALSE(fs::exists(dir / "missing.exr"));
-    const auto fallback = apply("fallback.exr", "--device auto", no_driver);
+    const auto fallback = apply("fallback.exr", "--summation direct --device auto", no_driver);
     ASSERT_EQ(fallback.status, 0) << fallback.output;
-    const auto bad = apply("bad.exr", "--device tpu");
+    const auto bad = apply("bad.exr", "--summation direct --device tpu");
     EXPECT_NE(bad.status, 0);
     EXPECT_NE(bad.output.find("'cpu', 'gpu', 'auto'"), std::string::npos) << bad.output;
     fs::remove_all(dir);

@@ -34,8 +34,9 @@ const char* summation_word(Summation s);  // "auto", "direct", "nufft", "psf"
 enum class Evaluator { Direct, Nufft };
 const char* evaluator_word(Evaluator e);  // "direct", "nufft"
 
-// Where the direct terms run: `cpu`; `gpu` (any Vulkan device, a discrete GPU preferred; none is
-// an error); `auto` (a discrete GPU when there is one, else quietly the CPU).
+// Where the direct terms and the psf summation's runs run: `cpu`; `gpu` (any Vulkan device, a
+// discrete GPU preferred; none is an error); `auto` (a discrete GPU when there is one, else
+// quietly the CPU).
 enum class Device { Cpu, Gpu, Auto };
 const char* device_word(Device d);  // "cpu", "gpu", "auto"
 

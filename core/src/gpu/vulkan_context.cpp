@@ -137,6 +137,7 @@ Result<std::unique_ptr<Context>> Context::create(bool discrete_only) {
     c->driver_ = driver_of(c->physical_, props);
     c->float64_ = have.shaderFloat64;
     c->max_buffer_ = std::min<size_t>(props.limits.maxStorageBufferRange, size_t(64) << 20);
+    c->shared_memory_ = props.limits.maxComputeSharedMemorySize;
 
     const float priority = 1.0f;
     VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -164,9 +165,9 @@ Result<std::unique_ptr<Context>> Context::create(bool discrete_only) {
     cai.commandBufferCount = 1;
     if (VkResult r = vkAllocateCommandBuffers(c->device_, &cai, &c->commands_); r != VK_SUCCESS)
         return failed<std::unique_ptr<Context>>("vkAllocateCommandBuffers", r);
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 8};
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 8 * kMaxSteps};
     VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    dpi.maxSets = 1;
+    dpi.maxSets = kMaxSteps;
     dpi.poolSizeCount = 1;
     dpi.pPoolSizes = &size;
     if (VkResult r = vkCreateDescriptorPool(c->device_, &dpi, nullptr, &c->descriptors_); r != VK_SUCCESS)
@@ -262,39 +263,61 @@ Result<Pipeline> Context::pipeline(const unsigned char* spirv, size_t bytes, uin
 
 Result<bool> Context::dispatch(const Pipeline& p, const std::vector<const Buffer*>& buffers, const void* push,
                                uint32_t groups_x, uint32_t groups_y) {
+    Step step{&p, buffers, {}, groups_x, groups_y};
+    std::memcpy(step.push.data(), push, p.push_bytes_);
+    return submit({step});
+}
+
+Result<bool> Context::submit(const std::vector<Step>& steps) {
     using R = Result<bool>;
-    if (buffers.size() != p.bindings_) return R::failure("Vulkan: dispatch with the wrong number of buffers");
+    if (steps.size() > kMaxSteps) return R::failure("Vulkan: more dispatches in one submission than the pool holds");
     vkResetDescriptorPool(device_, descriptors_, 0);
-    VkDescriptorSetAllocateInfo dai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    dai.descriptorPool = descriptors_;
-    dai.descriptorSetCount = 1;
-    dai.pSetLayouts = &p.set_layout_;
-    VkDescriptorSet set;
-    if (VkResult r = vkAllocateDescriptorSets(device_, &dai, &set); r != VK_SUCCESS)
-        return failed<bool>("vkAllocateDescriptorSets", r);
-    std::vector<VkDescriptorBufferInfo> info(buffers.size());
-    std::vector<VkWriteDescriptorSet> writes(buffers.size());
-    for (size_t i = 0; i < buffers.size(); ++i) {
-        info[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
-        writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-        writes[i].dstSet = set;
-        writes[i].dstBinding = uint32_t(i);
-        writes[i].descriptorCount = 1;
-        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        writes[i].pBufferInfo = &info[i];
+    std::vector<VkDescriptorSet> sets(steps.size());
+    for (size_t k = 0; k < steps.size(); ++k) {
+        const Step& s = steps[k];
+        if (s.buffers.size() != s.pipeline->bindings_) return R::failure("Vulkan: dispatch with the wrong number of buffers");
+        VkDescriptorSetAllocateInfo dai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        dai.descriptorPool = descriptors_;
+        dai.descriptorSetCount = 1;
+        dai.pSetLayouts = &s.pipeline->set_layout_;
+        if (VkResult r = vkAllocateDescriptorSets(device_, &dai, &sets[k]); r != VK_SUCCESS)
+            return failed<bool>("vkAllocateDescriptorSets", r);
+        std::vector<VkDescriptorBufferInfo> info(s.buffers.size());
+        std::vector<VkWriteDescriptorSet> writes(s.buffers.size());
+        for (size_t i = 0; i < s.buffers.size(); ++i) {
+            info[i] = {s.buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+            writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+            writes[i].dstSet = sets[k];
+            writes[i].dstBinding = uint32_t(i);
+            writes[i].descriptorCount = 1;
+            writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            writes[i].pBufferInfo = &info[i];
+        }
+        vkUpdateDescriptorSets(device_, uint32_t(writes.size()), writes.data(), 0, nullptr);
     }
-    vkUpdateDescriptorSets(device_, uint32_t(writes.size()), writes.data(), 0, nullptr);
 
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     vkResetCommandBuffer(commands_, 0);
     if (VkResult r = vkBeginCommandBuffer(commands_, &begin); r != VK_SUCCESS)
         return failed<bool>("vkBeginCommandBuffer", r);
-    vkCmdBindPipeline(commands_, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline_);
-    vkCmdBindDescriptorSets(commands_, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout_, 0, 1, &set, 0, nullptr);
-    vkCmdPushConstants(commands_, p.layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, p.push_bytes_, push);
-    vkCmdDispatch(commands_, groups_x, groups_y, 1);
-    // the shader's writes made visible to the host's reads of the mapped memory
+    for (size_t k = 0; k < steps.size(); ++k) {
+        const Step& s = steps[k];
+        if (k > 0) {  // each step reads what the one before wrote
+            VkMemoryBarrier between{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_SHADER_WRITE_BIT,
+                                    VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT};
+            vkCmdPipelineBarrier(commands_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                                 0, 1, &between, 0, nullptr, 0, nullptr);
+        }
+        vkCmdBindPipeline(commands_, VK_PIPELINE_BIND_POINT_COMPUTE, s.pipeline->pipeline_);
+        vkCmdBindDescriptorSets(commands_, VK_PIPELINE_BIND_POINT_COMPUTE, s.pipeline->layout_, 0, 1, &sets[k], 0,
+                                nullptr);
+        if (s.pipeline->push_bytes_)
+            vkCmdPushConstants(commands_, s.pipeline->layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                               s.pipeline->push_bytes_, s.push.data());
+        vkCmdDispatch(commands_, s.groups_x, s.groups_y, 1);
+    }
+    // the shaders' writes made visible to the host's reads of the mapped memory
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_SHADER_WRITE_BIT,
                             VK_ACCESS_HOST_READ_BIT};
     vkCmdPipelineBarrier(commands_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier,

@@ -4,6 +4,7 @@
 #pragma once
 #include <vulkan/vulkan.h>
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -66,10 +67,22 @@ public:
 
     Result<Buffer> buffer(size_t bytes);
     Result<Pipeline> pipeline(const unsigned char* spirv, size_t bytes, uint32_t bindings, uint32_t push_bytes);
+    // The most shared memory one workgroup may use, in bytes.
+    size_t shared_memory_bytes() const { return shared_memory_; }
     // Binds `buffers` to bindings 0.. in order, pushes `push`, dispatches groups_x x groups_y
     // workgroups and waits for them.
     Result<bool> dispatch(const Pipeline& p, const std::vector<const Buffer*>& buffers, const void* push,
                           uint32_t groups_x, uint32_t groups_y);
+    // Several dispatches in one submission, each after the one before has written its buffers,
+    // waited for as one (at most kMaxSteps).
+    struct Step {
+        const Pipeline* pipeline;
+        std::vector<const Buffer*> buffers;
+        std::array<unsigned char, 128> push;  // the pipeline's push constants (Vulkan's minimum 128 bytes)
+        uint32_t groups_x, groups_y;
+    };
+    static constexpr uint32_t kMaxSteps = 256;
+    Result<bool> submit(const std::vector<Step>& steps);
 
 private:
     Context() = default;
@@ -84,7 +97,7 @@ private:
     VkFence fence_ = VK_NULL_HANDLE;
     std::string name_, driver_;
     bool float64_ = false;
-    size_t max_buffer_ = 0;
+    size_t max_buffer_ = 0, shared_memory_ = 0;
 };
 
 }  // namespace wavecam::gpu

@@ -1,0 +1,173 @@
+// The psf summation's runs on a Vulkan device (gpu_convolution.h).
+#include "gpu_convolution.h"
+
+#include <cmath>
+#include <cstring>
+
+#include "fft_lines.h"
+#include "film_power.h"
+#include "spectrum_product.h"
+#include "vulkan_context.h"
+
+namespace wavecam::detail {
+
+namespace {
+
+struct FftPush {
+    uint32_t n, log2n, element_step, line_step, twiddle_offset, inverse;
+};
+struct ProductPush {
+    uint32_t n, spectrum_offset;
+};
+struct PowerPush {
+    uint32_t n, powers;
+};
+constexpr uint32_t kGroup = 256;  // local_size_x of the shaders
+
+int log2_of(int n) {
+    int k = 0;
+    while ((1 << k) < n) ++k;
+    return k;
+}
+
+template <class P>
+gpu::Context::Step step(const gpu::Pipeline& p, std::vector<const gpu::Buffer*> buffers, const P& push, uint32_t gx) {
+    gpu::Context::Step s{&p, std::move(buffers), {}, gx, 1};
+    std::memcpy(s.push.data(), &push, sizeof push);
+    return s;
+}
+
+}  // namespace
+
+struct GpuConvolution::Impl {
+    std::unique_ptr<gpu::Context> ctx;
+    gpu::Pipeline fft, product, power;
+    int nx = 0, ny = 0, kernels = 0, points = 0;
+    size_t per_slab = 1;            // spectra per buffer
+    std::vector<gpu::Buffer> slabs;  // the spectra, kernel by kernel, sub-point by sub-point
+    gpu::Buffer twiddles;           // rows' table, then columns'
+    gpu::Buffer image, pixel;
+    std::vector<gpu::Buffer> totals;  // one per sub-point
+    size_t size() const { return size_t(nx) * ny; }
+
+    // Both passes of a 2D transform of `data`, in place.
+    void transform(const gpu::Buffer& data, bool inverse, std::vector<gpu::Context::Step>& steps) const {
+        steps.push_back(step(fft, {&data, &twiddles},
+                             FftPush{uint32_t(nx), uint32_t(log2_of(nx)), 1, uint32_t(nx), 0, inverse}, ny));
+        steps.push_back(step(fft, {&data, &twiddles},
+                             FftPush{uint32_t(ny), uint32_t(log2_of(ny)), uint32_t(nx), 1, uint32_t(nx / 2), inverse},
+                             nx));
+    }
+    uint32_t groups() const { return uint32_t((size() + kGroup - 1) / kGroup); }
+};
+
+GpuConvolution::GpuConvolution(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+GpuConvolution::~GpuConvolution() = default;
+
+Result<std::unique_ptr<GpuConvolution>> GpuConvolution::create(Device choice, int nx, int ny, int kernels,
+                                                               int points) {
+    using R = Result<std::unique_ptr<GpuConvolution>>;
+    const auto power_of_two = [](int n) { return n >= 2 && n <= kMaxSide && (n & (n - 1)) == 0; };
+    if (!power_of_two(nx) || !power_of_two(ny))
+        return R::failure("GPU convolution: transforms of " + std::to_string(nx) + " x " + std::to_string(ny) +
+                              " points; the device's take powers of two up to " + std::to_string(kMaxSide) + " a side",
+                          ErrorKind::Invalid, "device");
+    if (choice == Device::Cpu) return R::failure("GPU convolution: the device `cpu` is no GPU", ErrorKind::Invalid, "device");
+    auto ctx = gpu::Context::create(choice == Device::Auto);
+    if (!ctx.ok()) return R::failure(ctx.error, ErrorKind::Failed, "device");
+    auto m = std::make_unique<Impl>();
+    m->ctx = std::move(ctx.value);
+    m->nx = nx;
+    m->ny = ny;
+    m->kernels = kernels;
+    m->points = points;
+    const size_t bytes = m->size() * 8, max = m->ctx->max_buffer_bytes();
+    if (m->ctx->shared_memory_bytes() < size_t(kMaxSide) * 8 || bytes > max)
+        return R::failure("GPU convolution: " + m->ctx->name() + " holds too little for transforms of " +
+                              std::to_string(nx) + " x " + std::to_string(ny) + " points",
+                          ErrorKind::Failed, "device");
+    auto fft = m->ctx->pipeline(gpu::spirv::fft_lines, sizeof gpu::spirv::fft_lines, 2, sizeof(FftPush));
+    auto product = m->ctx->pipeline(gpu::spirv::spectrum_product, sizeof gpu::spirv::spectrum_product, 3,
+                                    sizeof(ProductPush));
+    auto power = m->ctx->pipeline(gpu::spirv::film_power, sizeof gpu::spirv::film_power, 2, sizeof(PowerPush));
+    for (auto* p : {&fft, &product, &power})
+        if (!p->ok()) return R::failure(p->error, ErrorKind::Failed, "device");
+    m->fft = std::move(fft.value);
+    m->product = std::move(product.value);
+    m->power = std::move(power.value);
+    // buffers: twiddles exp(-2 pi i j / n) for both sides (double, rounded once), image, pixel,
+    // one total per sub-point, and the spectra in slabs of at most the binding range
+    auto buffer = [&](size_t b, gpu::Buffer& into) -> Result<bool> {
+        auto r = m->ctx->buffer(b);
+        if (!r.ok()) return Result<bool>::failure(r.error, ErrorKind::Failed, "device");
+        into = std::move(r.value);
+        return Result<bool>::success(true);
+    };
+    if (auto r = buffer(size_t(nx / 2 + ny / 2) * 8, m->twiddles); !r.ok()) return R::failure(r);
+    auto* tw = static_cast<float*>(m->twiddles.data());
+    size_t at = 0;
+    for (int n : {nx, ny})
+        for (int j = 0; j < n / 2; ++j, ++at) {
+            tw[2 * at] = float(std::cos(2 * M_PI * j / n));
+            tw[2 * at + 1] = float(-std::sin(2 * M_PI * j / n));
+        }
+    if (auto r = buffer(bytes, m->image); !r.ok()) return R::failure(r);
+    if (auto r = buffer(m->size() * 4, m->pixel); !r.ok()) return R::failure(r);
+    m->totals.resize(points);
+    for (auto& t : m->totals)
+        if (auto r = buffer(bytes, t); !r.ok()) return R::failure(r);
+    const size_t spectra = size_t(kernels) * points;
+    m->per_slab = std::max<size_t>(1, max / bytes);
+    m->slabs.resize((spectra + m->per_slab - 1) / m->per_slab);
+    for (size_t k = 0; k < m->slabs.size(); ++k)
+        if (auto r = buffer(std::min(m->per_slab, spectra - k * m->per_slab) * bytes, m->slabs[k]); !r.ok())
+            return R::failure(r);
+    return R::success(std::unique_ptr<GpuConvolution>(new GpuConvolution(std::move(m))));
+}
+
+std::string GpuConvolution::description() const { return impl_->ctx->name() + " (" + impl_->ctx->driver() + ")"; }
+
+Result<bool> GpuConvolution::set_spectrum(int kernel, int point, const std::complex<float>* spectrum) {
+    const Impl& m = *impl_;
+    const size_t index = size_t(kernel) * m.points + point;
+    std::memcpy(static_cast<std::complex<float>*>(m.slabs[index / m.per_slab].data()) + (index % m.per_slab) * m.size(),
+                spectrum, m.size() * 8);
+    return Result<bool>::success(true);
+}
+
+void GpuConvolution::begin_run() {
+    for (auto& t : impl_->totals) std::memset(t.data(), 0, t.bytes());
+}
+
+std::complex<float>* GpuConvolution::sources() { return static_cast<std::complex<float>*>(impl_->image.data()); }
+
+Result<bool> GpuConvolution::add_sources(int kernel) {
+    const Impl& m = *impl_;
+    std::vector<gpu::Context::Step> steps;
+    m.transform(m.image, false, steps);
+    for (int p = 0; p < m.points; ++p) {
+        const size_t index = size_t(kernel) * m.points + p;
+        steps.push_back(step(m.product, {&m.image, &m.slabs[index / m.per_slab], &m.totals[p]},
+                             ProductPush{uint32_t(m.size()), uint32_t((index % m.per_slab) * m.size())}, m.groups()));
+    }
+    return m.ctx->submit(steps);
+}
+
+Result<bool> GpuConvolution::finish_run(bool powers, std::vector<float>& sum) {
+    const Impl& m = *impl_;
+    std::memset(m.pixel.data(), 0, m.pixel.bytes());
+    std::vector<gpu::Context::Step> steps;
+    for (int p = 0; p < m.points; ++p) {
+        m.transform(m.totals[p], true, steps);
+        steps.push_back(step(m.power, {&m.totals[p], &m.pixel}, PowerPush{uint32_t(m.size()), powers}, m.groups()));
+        if (steps.size() + 3 > gpu::Context::kMaxSteps || p + 1 == m.points) {
+            if (auto r = m.ctx->submit(steps); !r.ok()) return r;
+            steps.clear();
+        }
+    }
+    const float* v = static_cast<const float*>(m.pixel.data());
+    sum.assign(v, v + m.size());
+    return Result<bool>::success(true);
+}
+
+}  // namespace wavecam::detail

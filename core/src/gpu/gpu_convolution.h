@@ -1,0 +1,50 @@
+// The psf summation's runs (coherent_convolution.h) on a Vulkan device (docs/gpu.md): the
+// kernels' spectra kept on the device; per run, each kernel's share of the sources transformed
+// there, multiplied by its spectra and summed per film sub-point, then transformed back and
+// squared (or, for powers, taken as they are) into one value per domain point. Transforms are
+// radix-2 FFTs in shared memory (shaders/fft_lines.comp): both sides powers of two up to 4096.
+// Internal to core; errors are values.
+#pragma once
+#include <complex>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "wavecam/result.h"
+#include "wavecam/summation_plan.h"  // Device
+
+namespace wavecam::detail {
+
+class GpuConvolution {
+public:
+    // The largest transform side the device's shaders take.
+    static constexpr int kMaxSide = 4096;
+    // Opens a Vulkan device as the GPU sums do (Gpu: any, a discrete GPU first; Auto: a discrete
+    // GPU only) for transforms of nx x ny points (powers of two), `kernels` kernels of `points`
+    // sub-points each. Fails naming what is missing or what the device cannot hold.
+    static Result<std::unique_ptr<GpuConvolution>> create(Device choice, int nx, int ny, int kernels, int points);
+    ~GpuConvolution();
+    GpuConvolution(const GpuConvolution&) = delete;
+    GpuConvolution& operator=(const GpuConvolution&) = delete;
+
+    std::string description() const;  // "name (driver)", as GpuSums::description
+
+    // The spectrum (nx x ny, row-major) of kernel `kernel`'s sub-point `point`.
+    Result<bool> set_spectrum(int kernel, int point, const std::complex<float>* spectrum);
+
+    // A run: begin; for each kernel with light, fill sources() (nx x ny, row-major, in the
+    // device's mapped memory) and add it; finish with each domain point's sum over sub-points of
+    // |u|^2 (or of Re u where `powers`), unnormalised as kissfft's transforms.
+    void begin_run();
+    std::complex<float>* sources();
+    Result<bool> add_sources(int kernel);
+    Result<bool> finish_run(bool powers, std::vector<float>& sum);
+
+    struct Impl;
+
+private:
+    explicit GpuConvolution(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace wavecam::detail
