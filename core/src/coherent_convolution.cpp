@@ -408,4 +408,12 @@ CoherentWork coherent_work(const CoherentSpec& spec, SumCounts in, SumCounts out
     return w;
 }
 
+double coherent_bytes(const CoherentSpec& spec) {
+    const Geometry g = geometry_of(spec);
+    const double N = double(g.nx) * g.ny, S = double(spec.subsamples) * spec.subsamples;
+    const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxPsfLayers + 1);
+    const double complex_float = 8;
+    return complex_float * N * (kernels * S + S + 1) + sizeof(double) * N;
+}
+
 }  // namespace wavecam::detail

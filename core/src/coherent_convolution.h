@@ -135,5 +135,8 @@ struct CoherentWork {
     double kernels = 0, per_run = 0;
 };
 CoherentWork coherent_work(const CoherentSpec& spec, SumCounts in, SumCounts out);
+// Bytes a convolution holds at once: the kernels' spectra and a run's sums (on the CPU; a GPU
+// holds the same in its memory, padded to powers of two).
+double coherent_bytes(const CoherentSpec& spec);
 
 }  // namespace wavecam::detail

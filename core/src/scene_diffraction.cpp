@@ -386,6 +386,13 @@ double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double w
     return incoherent ? double(sum.emitters.size()) * work : work * (w.run_end - w.run_begin);
 }
 
+double scene_summation_bytes(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {
+    if (s.summation != Summation::Psf) return 0;
+    const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
+    const int n = s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, camera, wavelength);
+    return detail::coherent_bytes(coherent_spec(s, camera, wavelength, nearest, n));
+}
+
 namespace {
 
 // The film points' irradiance of one sum, n x n points per output pixel averaged into the output

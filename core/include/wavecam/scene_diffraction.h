@@ -94,6 +94,11 @@ double scene_sample_pitch(const ExactSettings& s, const PinholeCamera& camera, d
 // frame counted as lit, for s.nearest_depth (NaN counts as all sky).
 double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
 
+// Bytes the psf summation holds at once for one wavelength (its kernels' spectra: layers x
+// anchors x film points per pixel transforms of the frame; the runs' sums), for
+// s.nearest_depth (NaN counts as all sky); 0 for the other summations.
+double scene_summation_bytes(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
+
 // Film points per pixel side so that the points are closer than the irradiance's finest
 // fringe, lambda f / span (span: the aperture's largest width): then a pixel's points average
 // its Fresnel structure instead of sampling it; and so that they average the pixel's area to

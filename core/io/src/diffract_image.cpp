@@ -240,12 +240,18 @@ Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, co
           << " at the " << rate << " terms/s measured here, beyond the max-terms limit of " << opt.max_terms;
         return Result<bool>::failure(m.str(), ErrorKind::TooLarge, "max-terms");
     }
-    const double bytes =
-        estimate_memory(opt, f.camera) + (opt.method == DiffractMethod::Convolution ? ConvolutionPlan::estimate_bytes(f.convolution) : 0.0);
+    double summation = 0;  // the psf summation's kernels: the largest wavelength's (one at a time)
+    if (opt.method != DiffractMethod::Convolution)
+        for (int k = 0; k < f.colour.basis.size(); ++k)
+            summation = std::max(summation, scene_summation_bytes(f.exact, f.camera, f.colour.basis.wavelength(k)));
+    const double bytes = estimate_memory(opt, f.camera) + summation +
+                         (opt.method == DiffractMethod::Convolution ? ConvolutionPlan::estimate_bytes(f.convolution) : 0.0);
     if (!(bytes <= opt.max_memory)) {
         std::ostringstream m;
         m << name << ": " << f.in.width << "x" << f.in.height << " pixels need about " << bytes / (1 << 20)
-          << " MiB, beyond the max-memory limit of " << opt.max_memory / (1 << 20) << " MiB";
+          << " MiB";
+        if (summation > 0) m << " (" << summation / (1 << 20) << " MiB of them the psf summation's kernels)";
+        m << ", beyond the max-memory limit of " << opt.max_memory / (1 << 20) << " MiB";
         return Result<bool>::failure(m.str(), ErrorKind::TooLarge, "max-memory");
     }
     return Result<bool>::success(true);
