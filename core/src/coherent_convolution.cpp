@@ -10,6 +10,7 @@
 #include "complex_fft2d.h"
 #include "far_tail.h"
 #include "gpu/gpu_convolution.h"
+#include "kernel_basis.h"
 #include "real_fft2d.h"
 #include "summation/summation_cost.h"
 #include "wavecam/fresnel_psf.h"
@@ -88,12 +89,6 @@ int gpu_side(int n) {
     return p;
 }
 
-// Pixels [first, last] that knot k's hat reaches.
-void hat_support(const AnchorAxis& axis, int k, int length, int& first, int& last) {
-    first = k == 0 ? 0 : axis.knots[k - 1] + 1;
-    last = k + 1 == int(axis.knots.size()) ? length - 1 : axis.knots[k + 1] - 1;
-}
-
 }  // namespace
 
 struct CoherentConvolution::Impl {
@@ -101,22 +96,42 @@ struct CoherentConvolution::Impl {
     Geometry g;
     int threads = 1;
     std::unique_ptr<ComplexFft2D> fft;
-    std::vector<std::complex<float>> spectra;  // [layer][anchor][sub-point][ny x nx] (none on a GPU)
+    KernelBasis basis;  // the kernels (layer x anchors + anchor) as combinations of a few
+    std::vector<std::complex<float>> spectra;  // [basis kernel][sub-point][ny x nx] (none on a GPU)
     // the runs on a Vulkan device (the spectra kept there), or none: on the CPU
     std::unique_ptr<GpuConvolution> gpu;
     mutable std::mutex gpu_busy;
     PsfTable tail;  // layers, anchors and, in deficit's first entry, the light beyond each kernel
     // Re <K_i, K_j> (the pixel-mean over sub-points) for kernels i = layer x anchors + anchor
-    // and their neighbours j in layer and both anchor axes, 0 elsewhere
+    // and, where there are more than kMaxBasisKernels, only their neighbours j in layer and
+    // both anchor axes (0 elsewhere)
     std::vector<double> gram;
     size_t kernel_index(int layer, int anchor) const { return size_t(layer) * g.anchors() + anchor; }
 
     int points() const { return spec.subsamples * spec.subsamples; }
-    std::complex<float>* spectrum(int layer, int anchor, int sub) {
-        return &spectra[((size_t(layer) * g.anchors() + anchor) * points() + sub) * fft->size()];
+    std::complex<float>* spectrum(int r, int sub) { return &spectra[(size_t(r) * points() + sub) * fft->size()]; }
+    const std::complex<float>* spectrum(int r, int sub) const {
+        return &spectra[(size_t(r) * points() + sub) * fft->size()];
     }
-    const std::complex<float>* spectrum(int layer, int anchor, int sub) const {
-        return &spectra[((size_t(layer) * g.anchors() + anchor) * points() + sub) * fft->size()];
+    // The kernels domain pixel (i, j)'s source blends and their weights (at most 8): bilinear
+    // over the anchors round it, linear between its two layers.
+    int blend_of(const CoherentSources& s, int i, int j, size_t* index, double* weight) const {
+        const size_t p = size_t(j) * g.width + i;
+        const int cx = g.ax.cell_of(i), cy = g.ay.cell_of(j), lower = s.lower[p], nax = int(g.ax.knots.size());
+        int used = 0;
+        for (int dl = 0; dl < 2; ++dl) {
+            const double share = dl == 0 ? 1.0 - s.upper_share[p] : s.upper_share[p];
+            if (share == 0 || lower + dl >= g.layers.count) continue;
+            for (int corner = 0; corner < 4; ++corner) {
+                const int kx = cx + (corner & 1), ky = cy + (corner >> 1);
+                if (kx >= nax || ky >= int(g.ay.knots.size())) continue;
+                const double w = share * hat(g.ax, kx, i) * hat(g.ay, ky, j);
+                if (w == 0) continue;
+                index[used] = kernel_index(lower + dl, ky * nax + kx);
+                weight[used++] = w;
+            }
+        }
+        return used;
     }
 };
 
@@ -140,21 +155,6 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
     if (g.layers.count > kMaxPsfLayers) return R::failure(too_many_layers());
     impl->threads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
     const int n = spec.subsamples, S = impl->points(), side = 2 * g.radius + 1, A = g.anchors();
-    if (spec.settings.device != Device::Cpu) {  // the device's transforms are powers of two
-        const int nx = gpu_side(g.width), ny = gpu_side(g.height);
-        auto made = GpuConvolution::create(spec.settings.device, nx, ny, g.layers.count * A, S);
-        if (made.ok()) {
-            impl->gpu = std::move(made.value);
-            g.nx = nx;
-            g.ny = ny;
-        } else if (spec.settings.device == Device::Gpu) {
-            return R::failure("device gpu: " + made.error, made.kind, "device");
-        }  // auto: quietly the CPU
-    }
-    impl->fft = std::make_unique<ComplexFft2D>(g.nx, g.ny, impl->threads);
-    const size_t N = impl->fft->size();
-    if (!impl->gpu) impl->spectra.assign(size_t(g.layers.count) * A * S * N, {});
-    std::vector<std::complex<float>> scratch(impl->gpu ? N : 0);
     const PinholeCamera& c = spec.camera;
     PsfTable& tail = impl->tail;
     tail.radius = g.radius;
@@ -164,7 +164,8 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
     tail.deficit.assign(size_t(g.layers.count) * A * 9, 0.0f);
     PinholeField field;
     std::vector<std::complex<double>> film_field;
-    std::vector<std::vector<std::complex<double>>> kernel(size_t(g.layers.count) * A);  // for the Gram matrix
+    // every kernel (sub-point by sub-point, (2R + 1)^2 each): amplitudes, or powers in .real()
+    std::vector<std::vector<std::complex<double>>> kernel(size_t(g.layers.count) * A);
     // one source's sum is direct (a lattice of transforms for one source never pays)
     SummationSettings one_source = spec.settings;
     one_source.summation = Summation::Direct;
@@ -217,41 +218,68 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
             const double missing = held > 0 && held < 1 ? within * (1 - held) / held : 0.0;
             tail.deficit[(size_t(l) * A + a) * 9] =
                 float(missing * c.tan_pitch() * c.tan_pitch() * std::sqrt(1 + q.u * q.u + q.v * q.v));
-            if (!spec.incoherent) kernel[impl->kernel_index(l, a)] = film_field;
-            // each sub-point's kernel, wrapped round the transform's period, and its spectrum
-            for (int sub = 0; sub < S; ++sub) {
-                std::complex<float>* spectrum = impl->gpu ? scratch.data() : impl->spectrum(l, a, sub);
-                if (impl->gpu) std::fill(scratch.begin(), scratch.end(), std::complex<float>(0));
-                for (int dy = -g.radius; dy <= g.radius; ++dy)
-                    for (int dx = -g.radius; dx <= g.radius; ++dx) {
-                        const std::complex<double> k =
-                            film_field[(size_t(sub) * side + dy + g.radius) * side + dx + g.radius];
-                        const size_t at = size_t((dy + g.ny) % g.ny) * g.nx + (dx + g.nx) % g.nx;
-                        spectrum[at] = spec.incoherent ? std::complex<float>(float(std::norm(k)), 0.0f)
-                                                       : std::complex<float>(k);
-                    }
-                impl->fft->forward(spectrum);
-                if (impl->gpu)
-                    if (auto r = impl->gpu->set_spectrum(int(impl->kernel_index(l, a)), sub, spectrum); !r.ok())
-                        return R::failure(r);
-            }
+            if (spec.incoherent)
+                for (auto& k : film_field) k = std::norm(k);
+            kernel[impl->kernel_index(l, a)] = std::move(film_field);
         }
     }
+    // their Gram matrix, the pixel-mean over sub-points
+    const int K = int(kernel.size()), nax = int(g.ax.knots.size());
+    const bool whole = K <= kMaxBasisKernels;
+    std::vector<std::complex<double>> gram(size_t(K) * K, 0.0);
+#pragma omp parallel for num_threads(impl->threads) schedule(dynamic)
+    for (int i = 0; i < K; ++i)
+        for (int j = i; j < K; ++j) {
+            const int ai = i % A, aj = j % A;
+            if (!whole && (std::abs(i / A - j / A) > 1 || std::abs(ai % nax - aj % nax) > 1 ||
+                           std::abs(ai / nax - aj / nax) > 1))
+                continue;
+            std::complex<double> dot = 0;
+            for (size_t t = 0; t < kernel[i].size(); ++t) dot += kernel[i][t] * std::conj(kernel[j][t]);
+            gram[size_t(i) * K + j] = dot / double(S);
+            gram[size_t(j) * K + i] = std::conj(dot) / double(S);
+        }
     if (!spec.incoherent) {
-        const size_t K = kernel.size();
-        const int nax = int(g.ax.knots.size());
-        impl->gram.assign(K * K, 0.0);
-        for (size_t i = 0; i < K; ++i)
-            for (size_t j = 0; j < K; ++j) {
-                const int ai = int(i % A), aj = int(j % A);
-                if (std::abs(int(i / A) - int(j / A)) > 1 || std::abs(ai % nax - aj % nax) > 1 ||
-                    std::abs(ai / nax - aj / nax) > 1)
-                    continue;
-                double dot = 0;
-                for (size_t t = 0; t < kernel[i].size(); ++t) dot += (kernel[i][t] * std::conj(kernel[j][t])).real();
-                impl->gram[i * K + j] = dot / S;
-            }
+        impl->gram.resize(gram.size());
+        for (size_t q = 0; q < gram.size(); ++q) impl->gram[q] = gram[q].real();
     }
+    // the few kernels the runs transform, and their spectra: on the device where one is asked
+    // for (its transforms take powers of two), else here
+    const KernelBasis& basis = impl->basis = whole ? kernel_basis(gram, K) : kernel_basis({}, K);
+    if (spec.settings.device != Device::Cpu) {
+        const int nx = gpu_side(g.width), ny = gpu_side(g.height);
+        auto made = GpuConvolution::create(spec.settings.device, nx, ny, basis.rank, S);
+        if (made.ok()) {
+            impl->gpu = std::move(made.value);
+            g.nx = nx;
+            g.ny = ny;
+        } else if (spec.settings.device == Device::Gpu) {
+            return R::failure("device gpu: " + made.error, made.kind, "device");
+        }  // auto: quietly the CPU
+    }
+    impl->fft = std::make_unique<ComplexFft2D>(g.nx, g.ny, impl->threads);
+    const size_t N = impl->fft->size();
+    if (!impl->gpu) impl->spectra.assign(size_t(basis.rank) * S * N, {});
+    std::vector<std::complex<float>> scratch(impl->gpu ? N : 0);
+    for (int r = 0; r < basis.rank; ++r)
+        for (int sub = 0; sub < S; ++sub) {
+            // basis kernel r at this sub-point, wrapped round the transform's period
+            std::complex<float>* spectrum = impl->gpu ? scratch.data() : impl->spectrum(r, sub);
+            if (impl->gpu) std::fill(scratch.begin(), scratch.end(), std::complex<float>(0));
+            for (int dy = -g.radius; dy <= g.radius; ++dy)
+                for (int dx = -g.radius; dx <= g.radius; ++dx) {
+                    const size_t t = (size_t(sub) * side + dy + g.radius) * side + dx + g.radius;
+                    std::complex<double> v = 0;
+                    for (int k = 0; k < K; ++k) {
+                        const std::complex<double> m = basis.mix[size_t(r) * K + k];
+                        if (m != 0.0) v += m * kernel[k][t];
+                    }
+                    spectrum[size_t((dy + g.ny) % g.ny) * g.nx + (dx + g.nx) % g.nx] = std::complex<float>(v);
+                }
+            impl->fft->forward(spectrum);
+            if (impl->gpu)
+                if (auto e = impl->gpu->set_spectrum(r, sub, spectrum); !e.ok()) return R::failure(e);
+        }
     CoherentConvolution conv;
     conv.impl_ = std::move(impl);
     return R::success(std::move(conv));
@@ -261,69 +289,60 @@ Result<bool> CoherentConvolution::run(const CoherentSources& sources, double sca
                                       float* irradiance, const ProgressFn& progress) const {
     const Impl& m = *impl_;
     const Geometry& g = m.g;
-    const int S = m.points(), A = g.anchors(), L = g.layers.count, nax = int(g.ax.knots.size());
+    const KernelBasis& basis = m.basis;
+    const int S = m.points(), B = basis.rank;
     const size_t N = m.fft->size();
     const bool parallel = N >= (1u << 16);  // small frames on one thread (complex_fft2d.h says why)
-    // the sources' weights times their share of layer l and of anchor a's hat, on the transform's
-    // grid (zero elsewhere); false where none has light
-    auto share_of = [&](int l, int a, std::complex<float>* image, int& last_row) {
-        int x0, x1, y0, y1;
-        hat_support(g.ax, a % nax, g.width, x0, x1);
-        hat_support(g.ay, a / nax, g.height, y0, y1);
-        std::fill(image, image + N, std::complex<float>(0));
-        bool lit = false;
-#pragma omp parallel for num_threads(m.threads) reduction(|| : lit) if (parallel)
-        for (int j = y0; j <= y1; ++j) {
-            const double hy = hat(g.ay, a / nax, j);
-            for (int i = x0; i <= x1; ++i) {
-                const size_t p = size_t(j) * g.width + i;
-                const int lower = sources.lower[p];
-                const double share = l == lower ? 1.0 - sources.upper_share[p]
-                                                : l == lower + 1 ? sources.upper_share[p] : 0.0;
-                const float w = float(share * hy * hat(g.ax, a % nax, i));
-                if (w == 0 || sources.weight[p] == std::complex<float>(0)) continue;
-                image[size_t(j) * g.nx + i] = w * sources.weight[p];
-                lit = true;
-            }
-        }
-        last_row = y1;
-        return lit;
-    };
     const auto cancelled = [] { return Result<bool>::failure("cancelled", ErrorKind::Cancelled); };
-    const double steps = double(L) * A + S;
+    const double steps = double(B) + S + 1;
+    if (progress && !progress(0.0)) return cancelled();
+    // per basis kernel r, the sources' weights times the share of r in their blended kernel,
+    // sum over the blend of weight x coefficient[k][r], on the transform's grid
+    std::vector<std::complex<float>> image(size_t(B) * N, std::complex<float>(0));
+#pragma omp parallel for num_threads(m.threads) if (parallel)
+    for (int j = 0; j < g.height; ++j) {
+        std::vector<std::complex<double>> share(B);
+        for (int i = 0; i < g.width; ++i) {
+            const std::complex<float> w = sources.weight[size_t(j) * g.width + i];
+            if (w == std::complex<float>(0)) continue;
+            size_t index[8];
+            double weight[8];
+            const int used = m.blend_of(sources, i, j, index, weight);
+            std::fill(share.begin(), share.end(), 0.0);
+            for (int u = 0; u < used; ++u)
+                for (int r = 0; r < B; ++r) share[r] += weight[u] * basis.coefficient[index[u] * B + r];
+            for (int r = 0; r < B; ++r)
+                image[size_t(r) * N + size_t(j) * g.nx + i] = std::complex<float>(share[r]) * w;
+        }
+    }
     // per domain point of the transform's grid, the sum over sub-points of |u|^2 (or Re u)
     std::vector<double> film(N, 0.0);
     if (m.gpu) {
         std::lock_guard<std::mutex> lock(m.gpu_busy);
         m.gpu->begin_run();
-        for (int l = 0; l < L; ++l)
-            for (int a = 0; a < A; ++a) {
-                if (progress && !progress((double(l) * A + a) / steps)) return cancelled();
-                int last_row;
-                if (!share_of(l, a, m.gpu->sources(), last_row)) continue;
-                if (auto r = m.gpu->add_sources(int(m.kernel_index(l, a))); !r.ok()) return r;
-            }
+        for (int r = 0; r < B; ++r) {
+            if (progress && !progress((r + 1.0) / steps)) return cancelled();
+            std::copy(image.begin() + size_t(r) * N, image.begin() + size_t(r + 1) * N, m.gpu->sources());
+            if (auto e = m.gpu->add_sources(r); !e.ok()) return e;
+        }
         std::vector<float> sum;
-        if (auto r = m.gpu->finish_run(m.spec.incoherent, sum); !r.ok()) return r;
+        if (auto e = m.gpu->finish_run(m.spec.incoherent, sum); !e.ok()) return e;
         std::copy(sum.begin(), sum.end(), film.begin());
     } else {
         std::vector<std::vector<std::complex<float>>> total(S, std::vector<std::complex<float>>(N));
-        std::vector<std::complex<float>> image(N);
-        for (int l = 0; l < L; ++l)
-            for (int a = 0; a < A; ++a) {
-                if (progress && !progress((double(l) * A + a) / steps)) return cancelled();
-                int last_row;
-                if (!share_of(l, a, image.data(), last_row)) continue;
-                m.fft->forward(image.data(), last_row + 1);
-                for (int sub = 0; sub < S; ++sub) {
-                    const std::complex<float>* k = m.spectrum(l, a, sub);
-                    std::complex<float>* t = total[sub].data();
+        for (int r = 0; r < B; ++r) {
+            if (progress && !progress((r + 1.0) / steps)) return cancelled();
+            std::complex<float>* im = image.data() + size_t(r) * N;
+            m.fft->forward(im, g.height);
+            for (int sub = 0; sub < S; ++sub) {
+                const std::complex<float>* k = m.spectrum(r, sub);
+                std::complex<float>* t = total[sub].data();
 #pragma omp parallel for num_threads(m.threads) if (parallel)
-                    for (size_t q = 0; q < N; ++q) t[q] += image[q] * k[q];
-                }
+                for (size_t q = 0; q < N; ++q) t[q] += im[q] * k[q];
             }
+        }
         for (int sub = 0; sub < S; ++sub) {
-            if (progress && !progress((double(L) * A + sub) / steps)) return cancelled();
+            if (progress && !progress((B + 1.0 + sub) / steps)) return cancelled();
             m.fft->inverse(total[sub].data());
             const std::complex<float>* u = total[sub].data();
 #pragma omp parallel for num_threads(m.threads) if (parallel)
@@ -346,38 +365,21 @@ std::vector<float> CoherentConvolution::power_balance(const CoherentSources& sou
     const Impl& m = *impl_;
     const Geometry& g = m.g;
     const size_t n = size_t(g.width) * g.height, K = size_t(g.layers.count) * g.anchors();
-    const int nax = int(g.ax.knots.size());
     std::vector<float> factor(n, 1.0f);
     if (m.spec.incoherent) return factor;
 #pragma omp parallel for num_threads(m.threads)
-    for (int j = 0; j < g.height; ++j) {
-        const int cy = g.ay.cell_of(j);
+    for (int j = 0; j < g.height; ++j)
         for (int i = 0; i < g.width; ++i) {
-            const size_t p = size_t(j) * g.width + i;
-            const int cx = g.ax.cell_of(i), lower = sources.lower[p];
-            // the (up to) eight kernels this source blends, and their weights
             size_t index[8];
             double weight[8];
-            int used = 0;
-            for (int dl = 0; dl < 2; ++dl) {
-                const double share = dl == 0 ? 1.0 - sources.upper_share[p] : sources.upper_share[p];
-                if (share == 0 || lower + dl >= g.layers.count) continue;
-                for (int corner = 0; corner < 4; ++corner) {
-                    const int kx = cx + (corner & 1), ky = cy + (corner >> 1);
-                    const double w = share * hat(g.ax, kx, i) * hat(g.ay, ky, j);
-                    if (w == 0) continue;
-                    index[used] = m.kernel_index(lower + dl, ky * nax + kx);
-                    weight[used++] = w;
-                }
-            }
+            const int used = m.blend_of(sources, i, j, index, weight);
             double blended = 0, target = 0;
             for (int a = 0; a < used; ++a) {
                 target += weight[a] * m.gram[index[a] * K + index[a]];
                 for (int b = 0; b < used; ++b) blended += weight[a] * weight[b] * m.gram[index[a] * K + index[b]];
             }
-            if (blended > 0 && target > 0) factor[p] = float(std::sqrt(target / blended));
+            if (blended > 0 && target > 0) factor[size_t(j) * g.width + i] = float(std::sqrt(target / blended));
         }
-    }
     return factor;
 }
 
@@ -413,7 +415,8 @@ double coherent_bytes(const CoherentSpec& spec) {
     const double N = double(g.nx) * g.ny, S = double(spec.subsamples) * spec.subsamples;
     const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxPsfLayers + 1);
     const double complex_float = 8;
-    return complex_float * N * (kernels * S + S + 1) + sizeof(double) * N;
+    // (upper bounds: the basis holds at most every kernel) spectra, a run's images and sums
+    return complex_float * N * (kernels * S + kernels + S) + sizeof(double) * N;
 }
 
 }  // namespace wavecam::detail

@@ -1,8 +1,9 @@
 // Parts of the exact method's evaluation checked on their own against independent math
 // (docs/summation.md): the interpolative decomposition of node functions
 // (core/src/node_skeleton.h), the band-limited stencil that reads and spreads off-lattice
-// samples (core/src/band_limited_stencil.h), and the film points' average of a pixel
-// (core/src/pixel_average.h).
+// samples (core/src/band_limited_stencil.h), the film points' average of a pixel
+// (core/src/pixel_average.h), and the few kernels the psf summation's runs transform
+// (core/src/kernel_basis.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "band_limited_stencil.h"
+#include "kernel_basis.h"
 #include "node_skeleton.h"
 #include "pixel_average.h"
 
@@ -126,4 +128,99 @@ TEST(PixelAverage, StatesTheMidpointRulesErrorOverTheOpticsBand) {
             last = stated;
         }
     }
+}
+
+namespace {
+
+// Kernels (rows of `points` values) as combinations of `rank` random vectors, plus `noise` times
+// a random vector of each kernel's own.
+std::vector<std::vector<cdouble>> kernels_of_rank(int K, int points, int rank, double noise, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> g;
+    auto random_vector = [&] {
+        std::vector<cdouble> v(points);
+        for (auto& x : v) x = {g(rng), g(rng)};
+        return v;
+    };
+    std::vector<std::vector<cdouble>> base(rank);
+    for (auto& b : base) b = random_vector();
+    std::vector<std::vector<cdouble>> k(K, std::vector<cdouble>(points, 0.0));
+    for (int i = 0; i < K; ++i) {
+        for (int r = 0; r < rank; ++r) {
+            const cdouble c{g(rng), g(rng)};
+            for (int t = 0; t < points; ++t) k[i][t] += c * base[r][t];
+        }
+        const auto own = random_vector();
+        for (int t = 0; t < points; ++t) k[i][t] += noise * own[t];
+    }
+    return k;
+}
+
+std::vector<cdouble> gram_of(const std::vector<std::vector<cdouble>>& k) {
+    const size_t K = k.size();
+    std::vector<cdouble> g(K * K);
+    for (size_t i = 0; i < K; ++i)
+        for (size_t j = 0; j < K; ++j)
+            for (size_t t = 0; t < k[i].size(); ++t) g[i * K + j] += k[i][t] * std::conj(k[j][t]);
+    return g;
+}
+
+// Each kernel rebuilt from the basis (basis_r = sum_k mix k_k, kernel = sum_r coefficient basis_r):
+// the largest power left out, relative to the kernel's.
+double worst_left_out(const std::vector<std::vector<cdouble>>& k, const wavecam::detail::KernelBasis& b) {
+    const int K = int(k.size()), P = int(k[0].size());
+    std::vector<std::vector<cdouble>> basis(b.rank, std::vector<cdouble>(P, 0.0));
+    for (int r = 0; r < b.rank; ++r)
+        for (int i = 0; i < K; ++i)
+            for (int t = 0; t < P; ++t) basis[r][t] += b.mix[size_t(r) * K + i] * k[i][t];
+    double worst = 0;
+    for (int i = 0; i < K; ++i) {
+        double e = 0, n = 0;
+        for (int t = 0; t < P; ++t) {
+            cdouble v = 0;
+            for (int r = 0; r < b.rank; ++r) v += b.coefficient[size_t(i) * b.rank + r] * basis[r][t];
+            e += std::norm(v - k[i][t]);
+            n += std::norm(k[i][t]);
+        }
+        worst = std::max(worst, e / n);
+    }
+    return worst;
+}
+
+}  // namespace
+
+// Kernels that are combinations of five vectors: five basis kernels rebuild each to rounding.
+TEST(KernelBasis, FindsTheRankOfAnExactlyLowRankSet) {
+    const auto k = kernels_of_rank(20, 300, 5, 0.0, 3);
+    const auto b = wavecam::detail::kernel_basis(gram_of(k), 20);
+    EXPECT_EQ(b.rank, 5);
+    EXPECT_LT(worst_left_out(k, b), 1e-12);
+}
+
+// Each kernel a little apart from a rank-4 family (its own part about 1e-6 of its power): the
+// basis keeps the family alone where the tolerance allows that, more where it does not, and no
+// kernel loses more than asked.
+TEST(KernelBasis, LeavesNoKernelMoreThanTheTolerance) {
+    const auto k = kernels_of_rank(30, 400, 4, 3e-3, 5);
+    for (const double tolerance : {1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8}) {
+        const auto b = wavecam::detail::kernel_basis(gram_of(k), 30, tolerance);
+        EXPECT_LE(worst_left_out(k, b), tolerance) << tolerance;
+        if (tolerance >= 1e-3) {
+            EXPECT_EQ(b.rank, 4) << tolerance;
+        }
+        if (tolerance <= 1e-8) {
+            EXPECT_GT(b.rank, 4) << tolerance;
+        }
+    }
+}
+
+// Kernels with nothing in common, or more than the decomposition takes: each its own.
+TEST(KernelBasis, IsTheKernelsThemselvesWhenNothingIsShared) {
+    const auto k = kernels_of_rank(12, 100, 0, 1.0, 7);
+    const auto b = wavecam::detail::kernel_basis(gram_of(k), 12);
+    ASSERT_EQ(b.rank, 12);
+    for (int i = 0; i < 12; ++i)
+        for (int r = 0; r < 12; ++r) EXPECT_EQ(b.coefficient[size_t(i) * 12 + r], cdouble(i == r ? 1.0 : 0.0));
+    const int many = wavecam::detail::kMaxBasisKernels + 1;
+    EXPECT_EQ(wavecam::detail::kernel_basis({}, many).rank, many);
 }

@@ -1,0 +1,37 @@
+// A few kernels whose combinations give every kernel of a set within a tolerance: the psf
+// summation's runs transform one image per basis kernel instead of one per anchor and layer
+// (coherent_convolution.h). Internal to core.
+//
+// With the kernels as the rows of M (K x P) and their Gram matrix G = M M^H = V L V^H
+// (eigenvectors v_r, eigenvalues l_r, largest first), the kernels are
+//   K_k = sum_r V_kr sqrt(l_r) B_r,   B_r = sum_k conj(V_kr) K_k / sqrt(l_r)
+// (B_r orthonormal: the singular value decomposition of M). Kept: the fewest r that leave no
+// kernel with more than `tolerance` of its power outside them; the power kernel k leaves out is
+// G_kk - sum_{r kept} |V_kr|^2 l_r.
+#pragma once
+#include <complex>
+#include <vector>
+
+namespace wavecam::detail {
+
+// Above this many kernels no basis is sought (a Jacobi eigen-decomposition of 2K x 2K): each
+// kernel is its own basis kernel.
+constexpr int kMaxBasisKernels = 128;
+// A kernel's power left out of its basis, as a fraction: amplitudes within sqrt of it (0.3%).
+constexpr double kBasisTolerance = 1e-5;
+
+struct KernelBasis {
+    int kernels = 0, rank = 0;
+    // kernel k = sum_r coefficient[k * rank + r] basis_r
+    std::vector<std::complex<double>> coefficient;
+    // basis_r = sum_k mix[r * kernels + k] kernel_k
+    std::vector<std::complex<double>> mix;
+};
+
+// The basis of `kernels` kernels from their Gram matrix (row-major, Hermitian, positive
+// semi-definite): gram[i * K + j] = <K_i, K_j>. More than kMaxBasisKernels kernels, or none
+// fewer than the kernels themselves: the identity (rank = kernels).
+KernelBasis kernel_basis(const std::vector<std::complex<double>>& gram, int kernels,
+                         double tolerance = kBasisTolerance);
+
+}  // namespace wavecam::detail
