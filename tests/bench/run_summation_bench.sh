@@ -15,6 +15,8 @@
 #   6. the same frame through --summation psf (the runs as convolutions with amplitude PSFs):
 #      random-phase at 16 and 64 runs, and --method incoherent; prints each time, the estimate
 #      printed before work, and 64 runs / convolution (goal <= 30).
+#   7. part 3's frame and job through --summation psf (about 8 minutes here; goal 5 minutes), with
+#      the convolution method's time on the same frame and the estimate printed before work.
 # Frames: uniform noise x a checker (radiance), depth from 0.3 m to 20 m (top to bottom).
 # Usage: tests/bench/run_summation_bench.sh [build-dir] [part...]
 set -euo pipefail
@@ -96,5 +98,12 @@ case $part in
   t_inc=$(seconds "$wavecam" apply f128.exr -o pinc.exr --method incoherent --summation psf --wavelengths 3)
   estimate=$("$wavecam" apply f128.exr -o p64.exr $psf --runs 64 --max-terms 1 2>&1 | sed -n 's/.*, about \([^,]*\) at .*/\1/p' || true)
   echo "6. 128x128, 3 wavelengths, 50deg, psf summation: convolution ${t_conv} s; random-phase 16 runs ${t16} s, 64 runs ${t64} s (estimated ${estimate:-?}); incoherent ${t_inc} s; 64 runs / convolution $(ratio "$t64" "$t_conv") (goal <= 30)" ;;
+7)
+  frame 1920 1080 50.0 f1080.exr
+  psf="--method random-phase --summation psf --wavelengths 16 --runs 16"
+  t_conv=$(seconds "$wavecam" apply f1080.exr -o conv.exr --method convolution --wavelengths 16)
+  t=$(seconds "$wavecam" apply f1080.exr -o p1080.exr $psf)
+  estimate=$("$wavecam" apply f1080.exr -o p1080.exr $psf --max-terms 1 2>&1 | sed -n 's/.*, about \([^,]*\) at .*/\1/p' || true)
+  echo "7. 1920x1080, 16 wavelengths, 16 runs, 50deg, psf summation: the job ${t} s, $(python3 -c "print(f'{$t / 60:.1f}')") min (goal 5 min; estimated ${estimate:-?}); convolution ${t_conv} s; job / convolution $(ratio "$t" "$t_conv")" ;;
 esac
 done
