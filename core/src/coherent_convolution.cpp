@@ -100,7 +100,11 @@ struct CoherentConvolution::Impl {
     std::vector<std::complex<float>> spectra;  // [basis kernel][sub-point][ny x nx] (none on a GPU)
     // the runs on a Vulkan device (the spectra kept there), or none: on the CPU
     std::unique_ptr<GpuConvolution> gpu;
-    mutable std::mutex gpu_busy;
+    // a run's images (one per basis kernel), sums (one per sub-point) and film values, kept from
+    // run to run (hundreds of MiB at 1080p: allocated once, not every run); one run at a time
+    mutable std::mutex busy;
+    mutable std::vector<std::complex<float>> image, total;
+    mutable std::vector<double> film;
     PsfTable tail;  // layers, anchors and, in deficit's first entry, the light beyond each kernel
     // Re <K_i, K_j> (the pixel-mean over sub-points) for kernels i = layer x anchors + anchor
     // and, where there are more than kMaxBasisKernels, only their neighbours j in layer and
@@ -296,9 +300,11 @@ Result<bool> CoherentConvolution::run(const CoherentSources& sources, double sca
     const auto cancelled = [] { return Result<bool>::failure("cancelled", ErrorKind::Cancelled); };
     const double steps = double(B) + S + 1;
     if (progress && !progress(0.0)) return cancelled();
+    std::lock_guard<std::mutex> lock(m.busy);
     // per basis kernel r, the sources' weights times the share of r in their blended kernel,
     // sum over the blend of weight x coefficient[k][r], on the transform's grid
-    std::vector<std::complex<float>> image(size_t(B) * N, std::complex<float>(0));
+    std::vector<std::complex<float>>& image = m.image;
+    image.assign(size_t(B) * N, std::complex<float>(0));
 #pragma omp parallel for num_threads(m.threads) if (parallel)
     for (int j = 0; j < g.height; ++j) {
         std::vector<std::complex<double>> share(B);
@@ -316,9 +322,9 @@ Result<bool> CoherentConvolution::run(const CoherentSources& sources, double sca
         }
     }
     // per domain point of the transform's grid, the sum over sub-points of |u|^2 (or Re u)
-    std::vector<double> film(N, 0.0);
+    std::vector<double>& film = m.film;
+    film.assign(N, 0.0);
     if (m.gpu) {
-        std::lock_guard<std::mutex> lock(m.gpu_busy);
         m.gpu->begin_run();
         for (int r = 0; r < B; ++r) {
             if (progress && !progress((r + 1.0) / steps)) return cancelled();
@@ -329,22 +335,32 @@ Result<bool> CoherentConvolution::run(const CoherentSources& sources, double sca
         if (auto e = m.gpu->finish_run(m.spec.incoherent, sum); !e.ok()) return e;
         std::copy(sum.begin(), sum.end(), film.begin());
     } else {
-        std::vector<std::vector<std::complex<float>>> total(S, std::vector<std::complex<float>>(N));
         for (int r = 0; r < B; ++r) {
             if (progress && !progress((r + 1.0) / steps)) return cancelled();
-            std::complex<float>* im = image.data() + size_t(r) * N;
-            m.fft->forward(im, g.height);
+            m.fft->forward(image.data() + size_t(r) * N, g.height);
+        }
+        // the products, summed over the basis per sub-point: a block of points at a time, so
+        // that each sum stays in cache while the basis streams past
+        std::vector<std::complex<float>>& total = m.total;
+        total.assign(size_t(S) * N, std::complex<float>(0));
+        constexpr size_t kBlock = 2048;
+        const long blocks = long((N + kBlock - 1) / kBlock);
+#pragma omp parallel for num_threads(m.threads) schedule(static) if (parallel)
+        for (long b = 0; b < blocks; ++b) {
+            const size_t q0 = size_t(b) * kBlock, q1 = std::min(N, q0 + kBlock);
             for (int sub = 0; sub < S; ++sub) {
-                const std::complex<float>* k = m.spectrum(r, sub);
-                std::complex<float>* t = total[sub].data();
-#pragma omp parallel for num_threads(m.threads) if (parallel)
-                for (size_t q = 0; q < N; ++q) t[q] += im[q] * k[q];
+                std::complex<float>* t = total.data() + size_t(sub) * N;
+                for (int r = 0; r < B; ++r) {
+                    const std::complex<float>* k = m.spectrum(r, sub);
+                    const std::complex<float>* im = image.data() + size_t(r) * N;
+                    for (size_t q = q0; q < q1; ++q) t[q] += im[q] * k[q];
+                }
             }
         }
         for (int sub = 0; sub < S; ++sub) {
             if (progress && !progress((B + 1.0 + sub) / steps)) return cancelled();
-            m.fft->inverse(total[sub].data());
-            const std::complex<float>* u = total[sub].data();
+            std::complex<float>* u = total.data() + size_t(sub) * N;
+            m.fft->inverse(u);
 #pragma omp parallel for num_threads(m.threads) if (parallel)
             for (size_t q = 0; q < N; ++q) film[q] += m.spec.incoherent ? u[q].real() : std::norm(u[q]);
         }
