@@ -117,7 +117,7 @@ struct CoherentConvolution::Impl {
     const std::complex<float>* spectrum(int r, int sub) const {
         return &spectra[(size_t(r) * points() + sub) * fft->size()];
     }
-    // The kernels domain pixel (i, j)'s source blends and their weights (at most 8): bilinear
+    // The kernels that domain pixel (i, j)'s source blends, and their weights (at most 8): bilinear
     // over the anchors round it, linear between its two layers.
     int blend_of(const CoherentSources& s, int i, int j, size_t* index, double* weight) const {
         const size_t p = size_t(j) * g.width + i;
