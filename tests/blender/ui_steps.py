@@ -70,6 +70,11 @@ def render(animation):
 
 def tick():
     scene = bpy.context.scene
+    if bpy.app.is_job_running('RENDER') and time.time() - start <= 150:
+        # nothing touched while a render job runs or winds down (a refused render's job still
+        # cancelling when the Info log was read and the next render started crashed Blender
+        # under load)
+        return 0.5
     if state["phase"] == 0:
         state["phase"] = 1
         window = bpy.context.window_manager.windows[0]
