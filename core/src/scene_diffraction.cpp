@@ -234,6 +234,11 @@ double nearest_depth(const PinholeCamera& camera, const float* depth, DepthMeani
 
 namespace {
 
+// Film points per pixel side: as asked, or auto_film_subsamples.
+int film_subsamples(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {
+    return s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, camera, wavelength);
+}
+
 // The frame's sources (the input's pixels and its margin's cells), the pinhole lattice and the
 // film points of one wavelength's sum.
 struct SceneSum {
@@ -278,7 +283,7 @@ SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const ExactS
     sum.film_extent = film;
     if (with_samples) sum.samples = sample_aperture(s.aperture, pitch);
     else sum.samples.pitch = pitch;
-    sum.subsamples = s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, c, wavelength);
+    sum.subsamples = film_subsamples(s, c, wavelength);
     if (with_samples) sum.film = camera_film(c, sum.subsamples, range.row_begin, range.row_end, o, c.width - o);
     else sum.film.x.resize(size_t(c.width - 2 * o) * (range.row_end - range.row_begin) * sum.subsamples * sum.subsamples);
     return sum;
@@ -389,8 +394,7 @@ double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double w
 double scene_summation_bytes(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {
     if (s.summation != Summation::Psf) return 0;
     const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
-    const int n = s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, camera, wavelength);
-    return detail::coherent_bytes(coherent_spec(s, camera, wavelength, nearest, n));
+    return detail::coherent_bytes(coherent_spec(s, camera, wavelength, nearest, film_subsamples(s, camera, wavelength)));
 }
 
 namespace {

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <string>
 
 #include "fft_lines.h"
 #include "film_power.h"
@@ -42,7 +43,7 @@ gpu::Context::Step step(const gpu::Pipeline& p, std::vector<const gpu::Buffer*> 
 struct GpuConvolution::Impl {
     std::unique_ptr<gpu::Context> ctx;
     gpu::Pipeline fft, product, power;
-    int nx = 0, ny = 0, kernels = 0, points = 0;
+    int nx = 0, ny = 0, points = 0;
     size_t per_slab = 1;            // spectra per buffer
     std::vector<gpu::Buffer> slabs;  // the spectra, kernel by kernel, sub-point by sub-point
     gpu::Buffer twiddles;           // rows' table, then columns'
@@ -79,7 +80,6 @@ Result<std::unique_ptr<GpuConvolution>> GpuConvolution::create(Device choice, in
     m->ctx = std::move(ctx.value);
     m->nx = nx;
     m->ny = ny;
-    m->kernels = kernels;
     m->points = points;
     const size_t bytes = m->size() * 8, max = m->ctx->max_buffer_bytes();
     if (m->ctx->shared_memory_bytes() < size_t(kMaxSide) * 8 || bytes > max)
@@ -124,8 +124,6 @@ Result<std::unique_ptr<GpuConvolution>> GpuConvolution::create(Device choice, in
             return R::failure(r);
     return R::success(std::unique_ptr<GpuConvolution>(new GpuConvolution(std::move(m))));
 }
-
-std::string GpuConvolution::description() const { return impl_->ctx->name() + " (" + impl_->ctx->driver() + ")"; }
 
 Result<bool> GpuConvolution::set_spectrum(int kernel, int point, const std::complex<float>* spectrum) {
     const Impl& m = *impl_;

@@ -7,7 +7,6 @@
 #pragma once
 #include <complex>
 #include <memory>
-#include <string>
 #include <vector>
 
 #include "wavecam/result.h"
@@ -26,8 +25,6 @@ public:
     ~GpuConvolution();
     GpuConvolution(const GpuConvolution&) = delete;
     GpuConvolution& operator=(const GpuConvolution&) = delete;
-
-    std::string description() const;  // "name (driver)", as GpuSums::description
 
     // The spectrum (nx x ny, row-major) of kernel `kernel`'s sub-point `point`.
     Result<bool> set_spectrum(int kernel, int point, const std::complex<float>* spectrum);

@@ -16,7 +16,6 @@ Result<std::unique_ptr<GpuConvolution>> GpuConvolution::create(Device choice, in
 // Unreachable without an object; defined so that the class links.
 GpuConvolution::GpuConvolution(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 GpuConvolution::~GpuConvolution() = default;
-std::string GpuConvolution::description() const { return {}; }
 Result<bool> GpuConvolution::set_spectrum(int, int, const std::complex<float>*) {
     return Result<bool>::failure("no Vulkan evaluator in this build");
 }
