@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <atomic>
 #include <mutex>
 
 #include "complex_fft2d.h"
@@ -15,6 +16,7 @@
 #include "summation/summation_cost.h"
 #include "wavecam/fresnel_psf.h"
 #include "wavecam/psf_convolution.h"
+#include "wavecam/scene_diffraction.h"
 
 namespace wavecam::detail {
 
@@ -82,6 +84,46 @@ double hat(const AnchorAxis& axis, int k, int i) {
     return k == cell ? 1 - t : k == cell + 1 ? t : 0.0;
 }
 
+// The widest turn, in direction sines along either axis, of any kernel's sum over the pinhole
+// (kernel_lattice_pitch): from each anchor's source at the nearest layer to its kernel's film
+// points' corners, the wavefronts' curvature at the rim added.
+double widest_kernel_turn(const CoherentSpec& s, const Geometry& g) {
+    const PinholeCamera& c = s.camera;
+    const double a = s.aperture.bounding_radius(), w = g.layers.inverse_depth(std::max(0, g.layers.count - 1));
+    double widest = 0;
+    for (const int kx : g.ax.knots)
+        for (const int ky : g.ay.knots) {
+            const double px = kx - g.origin + 0.5, py = ky - g.origin + 0.5;
+            double us, vs;
+            c.tangent(px, py, us, vs);
+            const double ns = std::sqrt(1 + us * us + vs * vs);
+            for (const int dx : {-1, 1})
+                for (const int dy : {-1, 1}) {
+                    // the film point at the kernel's corner (its geometric image's direction, -d_t)
+                    double ut, vt;
+                    c.tangent(px + dx * (g.radius + 0.5), py + dy * (g.radius + 0.5), ut, vt);
+                    const double nt = std::sqrt(1 + ut * ut + vt * vt);
+                    const double turn = std::max(std::abs(us / ns - ut / nt), std::abs(vs / ns - vt / nt));
+                    const double curvature = a * (w / ns + 1 / (c.film_distance * nt));
+                    widest = std::max(widest, turn + curvature);
+                }
+        }
+    return widest;
+}
+
+// t[q] += a[q] b[q] for n complex values, written out so that it vectorises (std::complex's
+// product checks for infinities).
+void multiply_add(const std::complex<float>* a, const std::complex<float>* b, std::complex<float>* t, size_t n) {
+    const float* x = reinterpret_cast<const float*>(a);
+    const float* y = reinterpret_cast<const float*>(b);
+    float* z = reinterpret_cast<float*>(t);
+    for (size_t q = 0; q < 2 * n; q += 2) {
+        const float xr = x[q], xi = x[q + 1], yr = y[q], yi = y[q + 1];
+        z[q] += xr * yr - xi * yi;
+        z[q + 1] += xr * yi + xi * yr;
+    }
+}
+
 // A transform side the GPU's FFTs take (gpu_convolution.h): the next power of two.
 int gpu_side(int n) {
     int p = 2;
@@ -113,9 +155,12 @@ struct CoherentConvolution::Impl {
     size_t kernel_index(int layer, int anchor) const { return size_t(layer) * g.anchors() + anchor; }
 
     int points() const { return spec.subsamples * spec.subsamples; }
-    std::complex<float>* spectrum(int r, int sub) { return &spectra[(size_t(r) * points() + sub) * fft->size()]; }
-    const std::complex<float>* spectrum(int r, int sub) const {
-        return &spectra[(size_t(r) * points() + sub) * fft->size()];
+    // The film's sub-point fields U_sub, as the runs sum them: modes U_m = sum_sub mode[m][sub] U_sub
+    // (sub_point_modes)
+    SubPointModes modes;
+    std::complex<float>* spectrum(int r, int m) { return &spectra[(size_t(r) * modes.count + m) * fft->size()]; }
+    const std::complex<float>* spectrum(int r, int m) const {
+        return &spectra[(size_t(r) * modes.count + m) * fft->size()];
     }
     // The kernels that domain pixel (i, j)'s source blends, and their weights (at most 8): bilinear
     // over the anchors round it, linear between its two layers.
@@ -149,7 +194,7 @@ int CoherentConvolution::domain_height() const { return impl_->g.height; }
 int CoherentConvolution::origin() const { return impl_->g.origin; }
 const DepthLayers& CoherentConvolution::layers() const { return impl_->g.layers; }
 
-Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec, const ApertureSamples& samples,
+Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec, double lattice_pitch,
                                                         const UnitSource& unit_source, const ProgressFn& progress) {
     using R = Result<CoherentConvolution>;
     auto impl = std::make_unique<Impl>();
@@ -166,17 +211,15 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
     tail.ax = g.ax;
     tail.ay = g.ay;
     tail.deficit.assign(size_t(g.layers.count) * A * 9, 0.0f);
-    PinholeField field;
-    std::vector<std::complex<double>> film_field;
     // every kernel (sub-point by sub-point, (2R + 1)^2 each): amplitudes, or powers in .real()
     std::vector<std::vector<std::complex<double>>> kernel(size_t(g.layers.count) * A);
     // one source's sum is direct (a lattice of transforms for one source never pays)
     SummationSettings one_source = spec.settings;
     one_source.summation = Summation::Direct;
-    PlanScope film_scope;
-    for (int a = 0; a < A; ++a) {
-        // the anchor's pixel (camera coordinates) and its kernel's film points, as the direct sums
-        // place them (n x n per pixel), sub-point by sub-point
+    const ApertureSamples samples = sample_aperture(spec.aperture, lattice_pitch);
+    // The kernels of anchor a, every layer: its pixel (camera coordinates), its kernel's film
+    // points as the direct sums place them (n x n per pixel, sub-point by sub-point), the sums.
+    auto anchor_kernels = [&](int a, const SummationSettings& settings, PlanScope& film_scope) -> Result<bool> {
         const int px = g.ax.knots[a % g.ax.knots.size()] - g.origin, py = g.ay.knots[a / g.ax.knots.size()] - g.origin;
         FilmPoints film;
         film.film_distance = c.film_distance;
@@ -189,21 +232,20 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
                         film.x.push_back(float(-c.film_distance * u));
                         film.y.push_back(float(-c.film_distance * v));
                     }
-        SummationPlan to_film =
-            SummationPlan::create(SumKind::PinholeToFilm, samples, spec.wavelength, spec.settings, film_scope);
-        if (auto r = to_film.set_points(film); !r.ok()) return R::failure(r);
+        SummationPlan to_film = SummationPlan::create(SumKind::PinholeToFilm, samples, spec.wavelength, settings, film_scope);
+        if (auto r = to_film.set_points(film); !r.ok()) return r;
         film_scope.fixed_choice = true;  // every anchor's film points count alike: one decision
         film_scope.choice = to_film.choice();
+        SummationSettings to_source = one_source;
+        to_source.nthreads = settings.nthreads;
+        PinholeField field;
         for (int l = 0; l < g.layers.count; ++l) {
             const std::vector<PointSource> one{unit_source(px + 0.5, py + 0.5, g.layers.inverse_depth(l))};
-            SummationPlan to_pinhole = SummationPlan::create(SumKind::SourcesToPinhole, samples, spec.wavelength, one_source);
-            if (auto r = to_pinhole.set_points(one); !r.ok()) return R::failure(r);
-            if (auto r = to_pinhole.execute(source_weights(one), field); !r.ok()) return R::failure(r);
-            film_field.assign(film.size(), 0.0);
-            const double kernels = double(A) * g.layers.count, done = (a * g.layers.count + l) / kernels;
-            if (auto r = to_film.execute(field, film_field.data(), progress_part(progress, done, done + 1 / kernels));
-                !r.ok())
-                return R::failure(r);
+            SummationPlan to_pinhole = SummationPlan::create(SumKind::SourcesToPinhole, samples, spec.wavelength, to_source);
+            if (auto r = to_pinhole.set_points(one); !r.ok()) return r;
+            if (auto r = to_pinhole.execute(source_weights(one), field); !r.ok()) return r;
+            std::vector<std::complex<double>> film_field(film.size(), 0.0);
+            if (auto r = to_film.execute(field, film_field.data()); !r.ok()) return r;
             // the light beyond the kernel: its share of the Fresnel PSF's power, times the light
             // within it, per unit of the far tail's source light (radiance x cos^4, far_tail.cpp;
             // a source here is radiance x its solid angle t^2 cos^3)
@@ -226,7 +268,33 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
                 for (auto& k : film_field) k = std::norm(k);
             kernel[impl->kernel_index(l, a)] = std::move(film_field);
         }
+        return Result<bool>::success(true);
+    };
+    // The first anchor fixes the film sums' evaluator; the others follow, one anchor per thread
+    // on the CPU (a device's plans are not for concurrent use), reporting from the first thread.
+    PlanScope film_scope;
+    const auto cancelled = [] { return R::failure("cancelled", ErrorKind::Cancelled); };
+    if (auto r = anchor_kernels(0, spec.settings, film_scope); !r.ok()) return R::failure(r);
+    if (progress && !progress(1.0 / A)) return cancelled();
+    const bool on_cpu = spec.settings.device == Device::Cpu;
+    SummationSettings one_thread = spec.settings;
+    one_thread.nthreads = on_cpu ? 1 : spec.settings.nthreads;
+    std::atomic<int> done{1};
+    std::atomic<bool> stop{false};
+    Result<bool> failed = Result<bool>::success(true);
+#pragma omp parallel for num_threads(on_cpu ? impl->threads : 1) schedule(dynamic)
+    for (int a = 1; a < A; ++a) {
+        if (stop) continue;
+        PlanScope scope = film_scope;
+        if (auto r = anchor_kernels(a, one_thread, scope); !r.ok()) {
+#pragma omp critical(coherent_kernels)
+            if (!stop.exchange(true)) failed = r;
+            continue;
+        }
+        const int finished = ++done;
+        if (progress && omp_get_thread_num() == 0 && !progress(double(finished) / A)) stop = true;
     }
+    if (stop) return failed.ok() ? cancelled() : R::failure(failed);
     // their Gram matrix, the pixel-mean over sub-points
     const int K = int(kernel.size()), nax = int(g.ax.knots.size());
     const bool whole = K <= kMaxBasisKernels;
@@ -250,9 +318,11 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
     // the few kernels the runs transform, and their spectra: on the device where one is asked
     // for (its transforms take powers of two), else here
     const KernelBasis& basis = impl->basis = whole ? kernel_basis(gram, K) : kernel_basis({}, K);
+    const SubPointModes& modes = impl->modes = sub_point_modes(kernel, S, spec.incoherent);
+    const int M = modes.count;
     if (spec.settings.device != Device::Cpu) {
         const int nx = gpu_side(g.width), ny = gpu_side(g.height);
-        auto made = GpuConvolution::create(spec.settings.device, nx, ny, basis.rank, S);
+        auto made = GpuConvolution::create(spec.settings.device, nx, ny, basis.rank, M);
         if (made.ok()) {
             impl->gpu = std::move(made.value);
             g.nx = nx;
@@ -263,118 +333,153 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
     }
     impl->fft = std::make_unique<ComplexFft2D>(g.nx, g.ny, impl->threads);
     const size_t N = impl->fft->size();
-    if (!impl->gpu) impl->spectra.assign(size_t(basis.rank) * S * N, {});
-    std::vector<std::complex<float>> scratch(impl->gpu ? N : 0);
-    for (int r = 0; r < basis.rank; ++r)
-        for (int sub = 0; sub < S; ++sub) {
-            // basis kernel r at this sub-point, wrapped round the transform's period
-            std::complex<float>* spectrum = impl->gpu ? scratch.data() : impl->spectrum(r, sub);
-            if (impl->gpu) std::fill(scratch.begin(), scratch.end(), std::complex<float>(0));
-            for (int dy = -g.radius; dy <= g.radius; ++dy)
-                for (int dx = -g.radius; dx <= g.radius; ++dx) {
+    if (!impl->gpu) impl->spectra.assign(size_t(basis.rank) * M * N, {});
+    // basis kernel r in mode m, wrapped round the transform's period, and its transform
+    auto spectrum_of = [&](int r, int m, std::complex<float>* spectrum) {
+        for (int dy = -g.radius; dy <= g.radius; ++dy)
+            for (int dx = -g.radius; dx <= g.radius; ++dx) {
+                std::complex<double> v = 0;
+                for (int sub = 0; sub < S; ++sub) {
+                    const std::complex<double> in_mode = modes.weight[size_t(m) * S + sub];
+                    if (in_mode == 0.0) continue;
                     const size_t t = (size_t(sub) * side + dy + g.radius) * side + dx + g.radius;
-                    std::complex<double> v = 0;
+                    std::complex<double> u = 0;
                     for (int k = 0; k < K; ++k) {
-                        const std::complex<double> m = basis.mix[size_t(r) * K + k];
-                        if (m != 0.0) v += m * kernel[k][t];
+                        const std::complex<double> c = basis.mix[size_t(r) * K + k];
+                        if (c != 0.0) u += c * kernel[k][t];
                     }
-                    spectrum[size_t((dy + g.ny) % g.ny) * g.nx + (dx + g.nx) % g.nx] = std::complex<float>(v);
+                    v += in_mode * u;
                 }
-            impl->fft->forward(spectrum);
-            if (impl->gpu)
-                if (auto e = impl->gpu->set_spectrum(r, sub, spectrum); !e.ok()) return R::failure(e);
-        }
+                spectrum[size_t((dy + g.ny) % g.ny) * g.nx + (dx + g.nx) % g.nx] = std::complex<float>(v);
+            }
+        impl->fft->forward(spectrum);
+    };
+    if (impl->gpu) {
+        std::vector<std::complex<float>> scratch(N);
+        for (int r = 0; r < basis.rank; ++r)
+            for (int m = 0; m < M; ++m) {
+                std::fill(scratch.begin(), scratch.end(), std::complex<float>(0));
+                spectrum_of(r, m, scratch.data());
+                if (auto e = impl->gpu->set_spectrum(r, m, scratch.data()); !e.ok()) return R::failure(e);
+            }
+    } else {
+        // small transforms one per thread (complex_fft2d.h), large ones spread over the threads
+#pragma omp parallel for num_threads(impl->threads) schedule(dynamic) if (N < ComplexFft2D::kParallelPoints)
+        for (int rm = 0; rm < basis.rank * M; ++rm) spectrum_of(rm / M, rm % M, impl->spectrum(rm / M, rm % M));
+    }
     CoherentConvolution conv;
     conv.impl_ = std::move(impl);
     return R::success(std::move(conv));
 }
 
 Result<bool> CoherentConvolution::run(const CoherentSources& sources, double scale, int row_begin, int row_end,
-                                      float* irradiance, const ProgressFn& progress) const {
+                                      const float* each, float* irradiance, const ProgressFn& progress) const {
     const Impl& m = *impl_;
     const Geometry& g = m.g;
     const KernelBasis& basis = m.basis;
-    const int S = m.points(), B = basis.rank;
-    const size_t N = m.fft->size();
-    const bool parallel = N >= (1u << 16);  // small frames on one thread (complex_fft2d.h says why)
+    const int S = m.points(), M = m.modes.count, B = basis.rank, runs = sources.runs;
+    const size_t N = m.fft->size(), n = size_t(g.width) * g.height;
     const auto cancelled = [] { return Result<bool>::failure("cancelled", ErrorKind::Cancelled); };
-    const double steps = double(B) + S + 1;
     if (progress && !progress(0.0)) return cancelled();
     std::lock_guard<std::mutex> lock(m.busy);
-    // per basis kernel r, the sources' weights times the share of r in their blended kernel,
-    // sum over the blend of weight x coefficient[k][r], on the transform's grid
+    // per run and basis kernel r, the sources' weights times the share of r in their blended
+    // kernel, sum over the blend of weight x coefficient[k][r], on the transform's grid
     std::vector<std::complex<float>>& image = m.image;
-    image.assign(size_t(B) * N, std::complex<float>(0));
-#pragma omp parallel for num_threads(m.threads) if (parallel)
+    image.assign(size_t(runs) * B * N, std::complex<float>(0));
+#pragma omp parallel for num_threads(m.threads)
     for (int j = 0; j < g.height; ++j) {
         std::vector<std::complex<double>> share(B);
         for (int i = 0; i < g.width; ++i) {
-            const std::complex<float> w = sources.weight[size_t(j) * g.width + i];
-            if (w == std::complex<float>(0)) continue;
             size_t index[8];
             double weight[8];
             const int used = m.blend_of(sources, i, j, index, weight);
             std::fill(share.begin(), share.end(), 0.0);
             for (int u = 0; u < used; ++u)
                 for (int r = 0; r < B; ++r) share[r] += weight[u] * basis.coefficient[index[u] * B + r];
-            for (int r = 0; r < B; ++r)
-                image[size_t(r) * N + size_t(j) * g.nx + i] = std::complex<float>(share[r]) * w;
-        }
-    }
-    // per domain point of the transform's grid, the sum over sub-points of |u|^2 (or Re u)
-    std::vector<double>& film = m.film;
-    film.assign(N, 0.0);
-    if (m.gpu) {
-        m.gpu->begin_run();
-        for (int r = 0; r < B; ++r) {
-            if (progress && !progress((r + 1.0) / steps)) return cancelled();
-            std::copy(image.begin() + size_t(r) * N, image.begin() + size_t(r + 1) * N, m.gpu->sources());
-            if (auto e = m.gpu->add_sources(r); !e.ok()) return e;
-        }
-        std::vector<float> sum;
-        if (auto e = m.gpu->finish_run(m.spec.incoherent, sum); !e.ok()) return e;
-        std::copy(sum.begin(), sum.end(), film.begin());
-    } else {
-        for (int r = 0; r < B; ++r) {
-            if (progress && !progress((r + 1.0) / steps)) return cancelled();
-            m.fft->forward(image.data() + size_t(r) * N, g.height);
-        }
-        // the products, summed over the basis per sub-point: a block of points at a time, so
-        // that each sum stays in cache while the basis streams past
-        std::vector<std::complex<float>>& total = m.total;
-        total.assign(size_t(S) * N, std::complex<float>(0));
-        constexpr size_t kBlock = 2048;
-        const long blocks = long((N + kBlock - 1) / kBlock);
-#pragma omp parallel for num_threads(m.threads) schedule(static) if (parallel)
-        for (long b = 0; b < blocks; ++b) {
-            const size_t q0 = size_t(b) * kBlock, q1 = std::min(N, q0 + kBlock);
-            for (int sub = 0; sub < S; ++sub) {
-                std::complex<float>* t = total.data() + size_t(sub) * N;
-                for (int r = 0; r < B; ++r) {
-                    const std::complex<float>* k = m.spectrum(r, sub);
-                    const std::complex<float>* im = image.data() + size_t(r) * N;
-                    for (size_t q = q0; q < q1; ++q) t[q] += im[q] * k[q];
-                }
+            for (int k = 0; k < runs; ++k) {
+                const std::complex<float> w = sources.weight[size_t(k) * n + size_t(j) * g.width + i];
+                if (w == std::complex<float>(0)) continue;
+                for (int r = 0; r < B; ++r)
+                    image[(size_t(k) * B + r) * N + size_t(j) * g.nx + i] = std::complex<float>(share[r]) * w;
             }
         }
-        for (int sub = 0; sub < S; ++sub) {
-            if (progress && !progress((B + 1.0 + sub) / steps)) return cancelled();
-            std::complex<float>* u = total.data() + size_t(sub) * N;
-            m.fft->inverse(u);
-#pragma omp parallel for num_threads(m.threads) if (parallel)
-            for (size_t q = 0; q < N; ++q) film[q] += m.spec.incoherent ? u[q].real() : std::norm(u[q]);
+    }
+    // per run and domain point of the transform's grid, the sum over sub-points of |u|^2 (or Re u)
+    std::vector<double>& film = m.film;
+    film.assign(size_t(runs) * N, 0.0);
+    if (m.gpu) {
+        for (int k = 0; k < runs; ++k) {
+            m.gpu->begin_run();
+            for (int r = 0; r < B; ++r) {
+                if (progress && !progress((k * (B + 1.0) + r + 1) / (runs * (B + 1.0)))) return cancelled();
+                const auto first = image.begin() + (size_t(k) * B + r) * N;
+                std::copy(first, first + N, m.gpu->sources());
+                if (auto e = m.gpu->add_sources(r); !e.ok()) return e;
+            }
+            std::vector<float> sum;
+            if (auto e = m.gpu->finish_run(m.spec.incoherent, sum); !e.ok()) return e;
+            std::copy(sum.begin(), sum.end(), film.begin() + size_t(k) * N);
+        }
+    } else {
+        // A large grid's transforms are spread over the threads one at a time; a small one's
+        // (complex_fft2d.h: one thread each) go to the threads whole.
+        const bool whole = N < ComplexFft2D::kParallelPoints;
+#pragma omp parallel for num_threads(m.threads) schedule(dynamic) if (whole)
+        for (int kr = 0; kr < runs * B; ++kr) m.fft->forward(image.data() + size_t(kr) * N, g.height);
+        if (progress && !progress(0.4)) return cancelled();
+        // the products, summed over the basis per run and mode: a block of points at a
+        // time, so that the runs' images stay in cache while each spectrum streams past once
+        std::vector<std::complex<float>>& total = m.total;
+        total.assign(size_t(runs) * M * N, std::complex<float>(0));
+        const size_t block = std::max<size_t>(256, 8192 / runs);
+        const long blocks = long((N + block - 1) / block);
+#pragma omp parallel for num_threads(m.threads) schedule(static)
+        for (long b = 0; b < blocks; ++b) {
+            const size_t q0 = size_t(b) * block, count = std::min(N, q0 + block) - q0;
+            for (int mode = 0; mode < M; ++mode)
+                for (int r = 0; r < B; ++r)
+                    for (int k = 0; k < runs; ++k)
+                        multiply_add(image.data() + (size_t(k) * B + r) * N + q0, m.spectrum(r, mode) + q0,
+                                     total.data() + (size_t(k) * M + mode) * N + q0, count);
+        }
+        if (progress && !progress(0.7)) return cancelled();
+#pragma omp parallel for num_threads(m.threads) schedule(dynamic) if (whole)
+        for (int km = 0; km < runs * M; ++km) m.fft->inverse(total.data() + size_t(km) * N);
+        const bool incoherent = m.spec.incoherent;
+#pragma omp parallel for num_threads(m.threads) schedule(static)
+        for (long b = 0; b < blocks; ++b) {
+            const size_t q0 = size_t(b) * block, q1 = std::min(N, q0 + block);
+            for (int k = 0; k < runs; ++k)
+                for (int mode = 0; mode < M; ++mode) {
+                    const std::complex<float>* u = total.data() + (size_t(k) * M + mode) * N;
+                    double* f = film.data() + size_t(k) * N;
+                    for (size_t q = q0; q < q1; ++q) f[q] += incoherent ? u[q].real() : std::norm(u[q]);
+                }
         }
     }
-    // each pixel's mean over its points
+    // run by run, each pixel's mean over its points, then `each`
     const PinholeCamera& c = m.spec.camera;
     const int o = m.spec.overscan;
     const double coherent = 1.0 / (double(N) * N), incoherent = 1.0 / double(N);
     const double norm = scale / S * (m.spec.incoherent ? incoherent : coherent);
-    for (int cj = row_begin; cj < row_end; ++cj)
-        for (int ci = o; ci < c.width - o; ++ci)
-            irradiance[size_t(cj) * c.width + ci] += float(film[size_t(cj + g.origin) * g.nx + ci + g.origin] * norm);
+    for (int k = 0; k < runs; ++k) {
+        const double* f = film.data() + size_t(k) * N;
+        for (int cj = row_begin; cj < row_end; ++cj)
+            for (int ci = o; ci < c.width - o; ++ci)
+                irradiance[size_t(cj) * c.width + ci] += float(f[size_t(cj + g.origin) * g.nx + ci + g.origin] * norm);
+        if (each)
+            for (size_t p = 0; p < size_t(c.width) * c.height; ++p) irradiance[p] += float(scale) * each[p];
+    }
     if (progress && !progress(1.0)) return cancelled();
     return Result<bool>::success(true);
+}
+
+int CoherentConvolution::runs_at_once(double most) const {
+    const Impl& m = *impl_;
+    const double N = double(m.fft->size()), B = m.basis.rank, M = m.modes.count;
+    // a run's images, sums and film against the kernels' spectra (none kept here on a GPU)
+    const double run = N * (8 * (B + M) + 8), spectra = m.gpu ? 0 : 8 * N * B * M;
+    return int(std::clamp(std::floor(std::min(spectra, most) / run), 1.0, double(kMaxRunsAtOnce)));
 }
 
 std::vector<float> CoherentConvolution::power_balance(const CoherentSources& sources) const {
@@ -413,6 +518,34 @@ void CoherentConvolution::add_far_tail(const float* radiance, const float* depth
             irradiance[size_t(cj) * c.width + ci] += float(scale * xyz[3 * (size_t(cj - o) * out_w + ci - o)]);
 }
 
+Result<std::shared_ptr<const CoherentConvolution>> CoherentMemo::get(const CoherentSpec& spec, double pitch,
+                                                                     const Make& make) {
+    using R = Result<std::shared_ptr<const CoherentConvolution>>;
+    std::lock_guard<std::mutex> lock(busy_);
+    const PinholeCamera &a = spec.camera, &b = spec_.camera;
+    const bool same = kept_ && a.width == b.width && a.height == b.height && a.fov_h == b.fov_h &&
+                      a.film_distance == b.film_distance && spec.overscan == spec_.overscan &&
+                      spec.wavelength == spec_.wavelength && spec.max_inverse_depth == spec_.max_inverse_depth &&
+                      spec.subsamples == spec_.subsamples && spec.incoherent == spec_.incoherent && pitch == pitch_;
+    if (!same) {
+        kept_.reset();  // (its memory free before the next is made)
+        auto made = make();
+        if (!made.ok()) return R::failure(made);
+        kept_ = std::make_shared<const CoherentConvolution>(std::move(made.value));
+        spec_ = spec;
+        pitch_ = pitch;
+    }
+    return R::success(kept_);
+}
+
+double kernel_lattice_pitch(const CoherentSpec& spec, double frame_pitch) {
+    const Geometry g = geometry_of(spec);
+    const double need = widest_kernel_turn(spec, g) + spec.wavelength / spec.aperture.diameter;
+    const double pitch = std::min(spec.wavelength / (kKernelLatticeMargin * need),
+                                  spec.aperture.diameter / kMinSamplesAcross);
+    return std::max(frame_pitch, pitch);
+}
+
 CoherentWork coherent_work(const CoherentSpec& spec, SumCounts in, SumCounts out) {
     const Geometry g = geometry_of(spec);
     const double side = 2.0 * g.radius + 1, S = double(spec.subsamples) * spec.subsamples;
@@ -431,8 +564,10 @@ double coherent_bytes(const CoherentSpec& spec) {
     const double N = double(g.nx) * g.ny, S = double(spec.subsamples) * spec.subsamples;
     const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxPsfLayers + 1);
     const double complex_float = 8;
-    // (upper bounds: the basis holds at most every kernel) spectra, a run's images and sums
-    return complex_float * N * (kernels * S + kernels + S) + sizeof(double) * N;
+    // (upper bounds: the basis holds at most every kernel) spectra, and the runs at once' images,
+    // sums and film (runs_at_once: within the spectra's size, one run at least)
+    const double spectra = complex_float * N * kernels * S, run = N * (complex_float * (kernels + S) + sizeof(double));
+    return spectra + std::max(run, std::min(spectra, kMaxRunsAtOnce * run));
 }
 
 }  // namespace wavecam::detail

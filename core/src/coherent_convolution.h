@@ -47,9 +47,11 @@
 #include <complex>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "psf_table.h"
+#include "wavecam/scene_diffraction.h"
 #include "wavecam/summation_plan.h"
 
 namespace wavecam::detail {
@@ -61,6 +63,7 @@ constexpr double kMaxLayerPhase = 0.3;
 // of its exact peak at cells of 6 R, 99-101% at 2 R.
 constexpr int kMinAmplitudeCellRadii = 2;
 constexpr int kMaxPsfLayers = 32;
+constexpr int kMaxRunsAtOnce = 8;
 
 // Depth layers for amplitude kernels at one wavelength: even in 1/z from the sky (0) to the
 // nearest source, kMaxLayerPhase apart in defocus phase (one layer where the whole range is
@@ -89,6 +92,7 @@ using UnitSource = std::function<PointSource(double x, double y, double inverse_
 // every side), row-major: complex weights (coherent) or powers in .real() (incoherent), and each
 // pixel's layer and the share of it that goes to the layer above.
 struct CoherentSources {
+    int runs = 1;  // runs at once: `weight` holds runs x the domain's pixels, run by run
     std::vector<std::complex<float>> weight;
     std::vector<uint8_t> lower;
     std::vector<float> upper_share;
@@ -101,9 +105,10 @@ public:
     CoherentConvolution(CoherentConvolution&&) noexcept;
     CoherentConvolution& operator=(CoherentConvolution&&) noexcept;
 
-    // Kernels from the exact sums and their spectra; fails when cancelled, or where the depth
-    // range needs more than kMaxPsfLayers layers.
-    static Result<CoherentConvolution> create(const CoherentSpec& spec, const ApertureSamples& samples,
+    // Kernels from the exact sums on the pinhole lattice of `lattice_pitch` (kernel_lattice_pitch)
+    // and their spectra; fails when cancelled, or where the depth range needs more than
+    // kMaxPsfLayers layers.
+    static Result<CoherentConvolution> create(const CoherentSpec& spec, double lattice_pitch,
                                               const UnitSource& unit_source, const ProgressFn& progress);
 
     int radius() const;
@@ -113,11 +118,17 @@ public:
     int origin() const;
     const DepthLayers& layers() const;
 
-    // Adds scale x the film pixels' irradiance (the mean of |U|^2 over each pixel's n x n points)
-    // of camera rows [row_begin, row_end), columns within the overscan, to irradiance (camera
-    // width x height). Fails only when cancelled through `progress`.
-    Result<bool> run(const CoherentSources& sources, double scale, int row_begin, int row_end, float* irradiance,
-                     const ProgressFn& progress) const;
+    // Adds, run by run, scale x the film pixels' irradiance (the mean of |U|^2 over each pixel's
+    // n x n points) of camera rows [row_begin, row_end), columns within the overscan, and then
+    // scale x `each` (camera width x height; may be null) to irradiance (camera width x height).
+    // The runs at once share each pass over the kernels' spectra. Fails only when cancelled
+    // through `progress`, or on the device.
+    Result<bool> run(const CoherentSources& sources, double scale, int row_begin, int row_end, const float* each,
+                     float* irradiance, const ProgressFn& progress) const;
+    // How many runs to give run() at once: as many as keep their work buffers within the
+    // spectra's size (a run's pass over them is memory-bound) and `most` bytes, at least 1, at
+    // most kMaxRunsAtOnce.
+    int runs_at_once(double most) const;
 
     // Per domain pixel, the factor on its weight that gives its blended kernel the blend of its
     // kernels' powers (1 for the incoherent case).
@@ -133,6 +144,42 @@ public:
 private:
     std::unique_ptr<Impl> impl_;
 };
+
+// The kernels' pinhole lattice. A kernel's phases are measured from the pinhole's centre, so its
+// sum over the pinhole turns, along each axis, only at k (d_s + d_t) (d: the unit directions from
+// the centre to its source and to a film point; 0 at the source's geometric image) plus the
+// wavefronts' curvature, k a (1/|P_s| + 1/|T_t|) at the rim: slowly for film points near the
+// image, where the frame's sums must serve every source and film point at once. A square lattice
+// of pitch h repeats a kernel's field at direction shifts of lambda / h along each axis (the
+// frame's own condition, lattice_pitch in scene_diffraction.cpp); at kKernelLatticeMargin times
+// the kernels' widest turn, their core's width lambda / D added, the repeats of every kernel's
+// core lie kKernelLatticeMargin - 1 kernel widths beyond it, and what falls on the kernel is
+// the far tail's (docs/summation.md gives the error against the frame's lattice). Never coarser
+// than d / kMinSamplesAcross (the rim resolved as a quadrature), never finer than
+// `frame_pitch`, the frame's sums' own.
+constexpr double kKernelLatticeMargin = 4;
+double kernel_lattice_pitch(const CoherentSpec& spec, double frame_pitch);
+
+// The last convolution made, kept for the next call of the same job that asks for the same one:
+// a wavelength's positive and negative parts are two calls (spectral_diffraction.cpp), and its
+// kernels are the same for both. A job's settings are fixed; what may change between calls is
+// the camera, the wavelength, the depth range and the lattice, and they are the key.
+class CoherentMemo {
+public:
+    using Make = std::function<Result<CoherentConvolution>()>;
+    // The kept convolution where `spec` and `pitch` match it, else `make`'s (then kept instead).
+    Result<std::shared_ptr<const CoherentConvolution>> get(const CoherentSpec& spec, double pitch, const Make& make);
+
+private:
+    std::mutex busy_;
+    CoherentSpec spec_;
+    double pitch_ = 0;
+    std::shared_ptr<const CoherentConvolution> kept_;
+};
+
+// diffract_monochrome (scene_diffraction.h) with the job's memo: one job's calls, one at a time.
+Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const ExactSettings& s,
+                                 float* irradiance, const ProgressFn& progress, CoherentMemo* memo);
 
 // Work of one convolution in direct terms (summation_plan.h): the kernels' sums (`in` and `out`:
 // the frame's two sums' counts, their points replaced by one source and a kernel's film points),

@@ -39,6 +39,9 @@ public:
     void forward(std::complex<float>* data, int rows = -1) const { transform(data, rows, row_forward_, column_forward_); }
     void inverse(std::complex<float>* data) const { transform(data, -1, row_inverse_, column_inverse_); }
 
+    // Transforms of fewer points run on one thread.
+    static constexpr size_t kParallelPoints = 1 << 16;
+
 private:
     static kiss_fft_cpx* cpx(std::complex<float>* p) { return reinterpret_cast<kiss_fft_cpx*>(p); }
 
@@ -48,23 +51,30 @@ private:
         // saves, and far more where other processes share the cores)
 #pragma omp parallel num_threads(threads_) if (size() >= kParallelPoints)
         {
-            std::vector<std::complex<float>> in(std::max(w_, h_)), out(std::max(w_, h_));
+            std::vector<std::complex<float>> in(size_t(std::max(w_, h_)) * kColumns), out(std::max(w_, h_));
 #pragma omp for schedule(static)
             for (int r = 0; r < busy; ++r) {
                 std::complex<float>* row = data + size_t(r) * w_;
                 std::copy(row, row + w_, in.begin());
                 kiss_fft(row_cfg, cpx(in.data()), cpx(row));
             }
+            // columns kColumns at a time: each row's run of them is read and written whole
 #pragma omp for schedule(static)
-            for (int k = 0; k < w_; ++k) {
-                for (int r = 0; r < h_; ++r) in[r] = data[size_t(r) * w_ + k];
-                kiss_fft(column_cfg, cpx(in.data()), cpx(out.data()));
-                for (int r = 0; r < h_; ++r) data[size_t(r) * w_ + k] = out[r];
+            for (int k0 = 0; k0 < w_; k0 += kColumns) {
+                const int n = std::min(kColumns, w_ - k0);
+                for (int r = 0; r < h_; ++r)
+                    for (int c = 0; c < n; ++c) in[size_t(c) * h_ + r] = data[size_t(r) * w_ + k0 + c];
+                for (int c = 0; c < n; ++c) {
+                    kiss_fft(column_cfg, cpx(in.data() + size_t(c) * h_), cpx(out.data()));
+                    std::copy(out.begin(), out.begin() + h_, in.begin() + size_t(c) * h_);
+                }
+                for (int r = 0; r < h_; ++r)
+                    for (int c = 0; c < n; ++c) data[size_t(r) * w_ + k0 + c] = in[size_t(c) * h_ + r];
             }
         }
     }
 
-    static constexpr size_t kParallelPoints = 1 << 16;
+    static constexpr int kColumns = 8;
     int w_, h_, threads_;
     kiss_fft_cfg row_forward_, row_inverse_, column_forward_, column_inverse_;
 };

@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <complex>
+#include <vector>
+
+#include "complex_fft2d.h"
+#include "real_fft2d.h"
 
 namespace wavecam::detail {
 
@@ -158,29 +163,50 @@ std::vector<float> missing_light(const PsfTable& t, const SpectralScene& scene, 
     return missing;
 }
 
-// The missing light spread over the annulus R..reach by tail_kernel (a direct sum: the coarse
-// kernel is small), only in the cells [I0, I1) x [J0, J1) where the output is.
+// The missing light spread over the annulus R..reach by tail_kernel, by transforms (the annulus
+// is wide: (2 reach / cell)^2 cells), only read in the cells [I0, I1) x [J0, J1) where the output
+// is. The kernel is real, so two channels go through one complex transform, one as its real
+// part, one as its imaginary part; channels without light are skipped.
 std::vector<float> spread_over_annulus(const std::vector<float>& missing, const CoarseGrid& g, int R, int reach,
                                        int I0, int I1, int J0, int J1, int nthreads) {
     const int half = reach / g.cell + 1, kw = 2 * half + 1;
     const std::vector<double> k = tail_kernel(R, reach, g.cell, half);
     std::vector<float> spread(3 * size_t(g.cw) * g.ch, 0.0f);
-#pragma omp parallel for num_threads(nthreads)
-    for (int J = J0; J < J1; ++J)
-        for (int I = I0; I < I1; ++I) {
-            double acc[3] = {0, 0, 0};
-            for (int b = -half; b <= half; ++b) {
-                const int sj = J - b;
-                if (sj < 0 || sj >= g.ch) continue;
-                for (int a = -half; a <= half; ++a) {
-                    const int si = I - a;
-                    if (si < 0 || si >= g.cw) continue;
-                    const double kk = k[size_t(b + half) * kw + (a + half)];
-                    for (int q = 0; q < 3; ++q) acc[q] += kk * missing[3 * (size_t(sj) * g.cw + si) + q];
-                }
+    std::vector<int> lit;
+    for (int q = 0; q < 3; ++q)
+        for (size_t p = 0; p < missing.size() / 3; ++p)
+            if (missing[3 * p + q] != 0) {
+                lit.push_back(q);
+                break;
             }
-            for (int q = 0; q < 3; ++q) spread[3 * (size_t(J) * g.cw + I) + q] = float(acc[q]);
-        }
+    if (lit.empty()) return spread;
+    // a period wider than the grid and the kernel's reach: nothing wraps onto the cells read
+    const int nx = fft_friendly_size(g.cw + half + 1), ny = fft_friendly_size(g.ch + half + 1);
+    const ComplexFft2D fft(nx, ny, nthreads);
+    std::vector<std::complex<float>> kernel(fft.size()), grid(fft.size());
+    for (int b = -half; b <= half; ++b)
+        for (int a = -half; a <= half; ++a)
+            kernel[size_t((b + ny) % ny) * nx + (a + nx) % nx] = float(k[size_t(b + half) * kw + (a + half)]);
+    fft.forward(kernel.data());
+    const float scale = 1.0f / float(fft.size());
+    for (size_t pair = 0; pair < lit.size(); pair += 2) {
+        const int re = lit[pair], im = pair + 1 < lit.size() ? lit[pair + 1] : -1;
+        std::fill(grid.begin(), grid.end(), std::complex<float>(0));
+        for (int J = 0; J < g.ch; ++J)
+            for (int I = 0; I < g.cw; ++I) {
+                const size_t c = size_t(J) * g.cw + I;
+                grid[size_t(J) * nx + I] = {missing[3 * c + re], im < 0 ? 0.0f : missing[3 * c + im]};
+            }
+        fft.forward(grid.data(), g.ch);
+        for (size_t q = 0; q < grid.size(); ++q) grid[q] *= kernel[q] * scale;
+        fft.inverse(grid.data());
+        for (int J = J0; J < J1; ++J)
+            for (int I = I0; I < I1; ++I) {
+                const std::complex<float> v = grid[size_t(J) * nx + I];
+                spread[3 * (size_t(J) * g.cw + I) + re] = v.real();
+                if (im >= 0) spread[3 * (size_t(J) * g.cw + I) + im] = v.imag();
+            }
+    }
     return spread;
 }
 

@@ -135,4 +135,39 @@ KernelBasis kernel_basis(const std::vector<std::complex<double>>& gram, int K, d
     return b;
 }
 
+SubPointModes sub_point_modes(const std::vector<std::vector<std::complex<double>>>& kernels, int points,
+                              bool incoherent) {
+    SubPointModes modes;
+    if (incoherent || points == 1) {
+        modes.count = 1;
+        modes.weight.assign(points, 1.0);
+        return modes;
+    }
+    const int S = points;
+    std::vector<std::complex<double>> gram(size_t(S) * S, 0.0);
+    for (const auto& k : kernels) {
+        const size_t length = k.size() / S;
+        for (int i = 0; i < S; ++i)
+            for (int j = i; j < S; ++j) {
+                std::complex<double> dot = 0;
+                for (size_t t = 0; t < length; ++t) dot += k[i * length + t] * std::conj(k[j * length + t]);
+                gram[size_t(i) * S + j] += dot;
+            }
+    }
+    for (int i = 0; i < S; ++i)
+        for (int j = 0; j < i; ++j) gram[size_t(i) * S + j] = std::conj(gram[size_t(j) * S + i]);
+    // basis_m = sum_sub mix[m][sub] U_sub = sum_sub conj(V_sub,m) U_sub / sigma_m, and
+    // coefficient[sub][m] = V_sub,m sigma_m: the unit mix is mix x sigma
+    const KernelBasis b = kernel_basis(gram, S, kSubPointTolerance);
+    modes.count = b.rank;
+    modes.weight.resize(size_t(b.rank) * S);
+    for (int m = 0; m < b.rank; ++m) {
+        double sigma = 0;
+        for (int sub = 0; sub < S; ++sub) sigma += std::norm(b.coefficient[size_t(sub) * b.rank + m]);
+        sigma = std::sqrt(sigma);
+        for (int sub = 0; sub < S; ++sub) modes.weight[size_t(m) * S + sub] = b.mix[size_t(m) * S + sub] * sigma;
+    }
+    return modes;
+}
+
 }  // namespace wavecam::detail

@@ -34,4 +34,24 @@ struct KernelBasis {
 KernelBasis kernel_basis(const std::vector<std::complex<double>>& gram, int kernels,
                          double tolerance = kBasisTolerance);
 
+// The film's n x n sub-point fields U_sub, as the psf runs sum their powers: sum_sub |U_sub|^2 is
+// unchanged by a unitary mix of them, U_m = sum_sub weight[m][sub] U_sub, and the sub-points of a
+// pixel many fringes wide sample one band-limited field, so neighbouring sub-points' fields are
+// much alike. With the sub-points' Gram matrix over every kernel, G = F F^H = V L V^H (F's rows:
+// each sub-point's values of every kernel), the mix weight[m][sub] = conj(V_sub,m) keeps the
+// fewest modes (kernel_basis) that leave no sub-point more than kSubPointTolerance of its power
+// out: a run transforms back one sum per mode instead of one per sub-point (24 of 36 on the
+// 128 x 128 bench frame at 550 nm). What is left out is light lost, at most that share of any
+// sub-point's; on that frame, against every mode kept, the image's mean was 0.016% lower, 0.03%
+// RMS, 0.5% at worst. Incoherent (Re U summed, linear): one mode, every weight 1, exact.
+constexpr double kSubPointTolerance = 1e-3;
+struct SubPointModes {
+    int count = 0;
+    std::vector<std::complex<double>> weight;  // [mode * sub-points + sub]
+};
+
+// `kernels`: each kernel's values, sub-point by sub-point (`points` blocks of equal length).
+SubPointModes sub_point_modes(const std::vector<std::vector<std::complex<double>>>& kernels, int points,
+                              bool incoherent);
+
 }  // namespace wavecam::detail

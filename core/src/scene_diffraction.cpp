@@ -370,6 +370,14 @@ detail::CoherentSpec coherent_spec(const ExactSettings& s, const PinholeCamera& 
     return spec;
 }
 
+// The psf summation's work: its kernels' sums counted on their own lattice of `pitch`.
+detail::CoherentWork psf_work(const ExactSettings& s, SceneSum sum, const detail::CoherentSpec& spec, double nearest,
+                              double pitch) {
+    sum.samples.pitch = pitch;
+    const FrameCounts n = frame_counts(s, sum, spec.camera, spec.wavelength, nearest, false);
+    return detail::coherent_work(spec, n.in, n.out);
+}
+
 }  // namespace
 
 double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {
@@ -378,9 +386,9 @@ double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double w
     const SceneSum sum = scene_sum({camera, nullptr, nullptr}, wavelength, s, nearest, w, false);
     const bool incoherent = s.method == CoherenceMethod::Incoherent;
     if (s.summation == Summation::Psf) {  // a share computes every kernel, and the whole frame each run
-        const FrameCounts n = frame_counts(s, sum, camera, wavelength, nearest, false);
+        const detail::CoherentSpec spec = coherent_spec(s, camera, wavelength, nearest, sum.subsamples);
         const detail::CoherentWork cw =
-            detail::coherent_work(coherent_spec(s, camera, wavelength, nearest, sum.subsamples), n.in, n.out);
+            psf_work(s, sum, spec, nearest, detail::kernel_lattice_pitch(spec, sum.samples.pitch));
         return cw.kernels + cw.per_run * (incoherent ? 1 : w.run_end - w.run_begin);
     }
     const SumPlan plan = plan_sums(s, sum, camera, wavelength, nearest, incoherent);
@@ -515,21 +523,24 @@ Result<bool> random_phase_runs(const SceneSum& sum, const PinholeCamera& c, doub
 // position), each with the phases the direct sums give it (run_sources): an input pixel keeps its
 // key, so a scene whose edge is dark gets the direct sums' runs, kernel blends apart.
 Result<bool> psf_runs(const MonochromeScene& scene, const SceneSum& sum, double wavelength, const ExactSettings& s,
-                      double nearest, const WorkRange& range, float* irradiance, const ProgressFn& progress) {
+                      double nearest, const WorkRange& range, float* irradiance, const ProgressFn& progress,
+                      detail::CoherentMemo* memo) {
     const PinholeCamera& c = scene.camera;
     const detail::CoherentSpec spec = coherent_spec(s, c, wavelength, nearest, sum.subsamples);
     const bool incoherent = spec.incoherent;
     const int runs = incoherent ? 1 : range.run_end - range.run_begin;
     // progress: the kernels and the runs by their work
-    const FrameCounts counts = frame_counts(s, sum, c, wavelength, nearest, false);
-    const detail::CoherentWork work = detail::coherent_work(spec, counts.in, counts.out);
+    const double pitch = detail::kernel_lattice_pitch(spec, sum.samples.pitch);
+    const detail::CoherentWork work = psf_work(s, sum, spec, nearest, pitch);
     const double kernels = work.kernels / (work.kernels + runs * work.per_run);
     auto unit = [&c](double x, double y, double w) {
         return source_at(c, x, y, 1.0, w > 0 ? 1.0 / w : INFINITY, DepthMeaning::Planar, 0.0);
     };
-    auto made = detail::CoherentConvolution::create(spec, sum.samples, unit, progress_part(progress, 0.0, kernels));
+    auto make = [&] { return detail::CoherentConvolution::create(spec, pitch, unit, progress_part(progress, 0.0, kernels)); };
+    detail::CoherentMemo none;
+    auto made = (memo ? memo : &none)->get(spec, pitch, make);
     if (!made.ok()) return Result<bool>::failure(made);
-    const detail::CoherentConvolution& conv = made.value;
+    const detail::CoherentConvolution& conv = *made.value;
     const int W = conv.domain_width(), H = conv.domain_height(), origin = conv.origin();
     const size_t n = size_t(W) * H;
     detail::CoherentSources sources;
@@ -560,20 +571,23 @@ Result<bool> psf_runs(const MonochromeScene& scene, const SceneSum& sum, double 
     std::vector<float> tail(size_t(c.width) * c.height, 0.0f);
     conv.add_far_tail(scene.power, scene.depth, scene.depth_meaning, 1.0, range.row_begin, range.row_end, tail.data());
     const double per_run = (1 - kernels) / runs;
-    for (int k = 0; k < runs; ++k) {
-        const int run = range.run_begin + k;
-        for (size_t p = 0; p < n; ++p) {
-            const long ci = long(p % W) - origin, cj = long(p / W) - origin;
-            const double turns = incoherent ? 0.0 : source_turns(s, code, ci, cj, key[p], run, stream);
-            sources.weight[p] = std::polar(amplitude[p], float(2 * M_PI * turns));
+    const int at_once = conv.runs_at_once(INFINITY);
+    for (int k0 = 0; k0 < runs; k0 += at_once) {
+        sources.runs = std::min(at_once, runs - k0);
+        sources.weight.resize(size_t(sources.runs) * n);
+        for (int k = 0; k < sources.runs; ++k) {
+            const int run = range.run_begin + k0 + k;
+            for (size_t p = 0; p < n; ++p) {
+                const long ci = long(p % W) - origin, cj = long(p / W) - origin;
+                const double turns = incoherent ? 0.0 : source_turns(s, code, ci, cj, key[p], run, stream);
+                sources.weight[size_t(k) * n + p] = std::polar(amplitude[p], float(2 * M_PI * turns));
+            }
         }
-        const double at = kernels + k * per_run;
-        if (auto r = conv.run(sources, incoherent ? 1.0 : 1.0 / s.runs, range.row_begin, range.row_end, irradiance,
-                              progress_part(progress, at, at + per_run));
+        const double at = kernels + k0 * per_run;
+        if (auto r = conv.run(sources, incoherent ? 1.0 : 1.0 / s.runs, range.row_begin, range.row_end, tail.data(),
+                              irradiance, progress_part(progress, at, at + sources.runs * per_run));
             !r.ok())
             return r;
-        const float share = float(incoherent ? 1.0 : 1.0 / s.runs);
-        for (size_t p = 0; p < tail.size(); ++p) irradiance[p] += share * tail[p];
     }
     return Result<bool>::success(true);
 }
@@ -582,6 +596,11 @@ Result<bool> psf_runs(const MonochromeScene& scene, const SceneSum& sum, double 
 
 Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const ExactSettings& s,
                                  float* irradiance, const ProgressFn& progress) {
+    return detail::diffract_monochrome(scene, wavelength, s, irradiance, progress, nullptr);
+}
+
+Result<bool> detail::diffract_monochrome(const MonochromeScene& scene, double wavelength, const ExactSettings& s,
+                                         float* irradiance, const ProgressFn& progress, CoherentMemo* memo) {
     const PinholeCamera& c = scene.camera;
     if (auto v = check_settings(c, wavelength, s); !v.ok()) return v;
     if (!scene.checked)
@@ -593,8 +612,9 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
         detail::amplitude_layers(std::isinf(nearest) ? 0.0 : 1.0 / nearest, s.aperture.bounding_radius(), wavelength)
                 .count > detail::kMaxPsfLayers)
         return detail::too_many_layers();
-    const SceneSum sum = scene_sum(scene, wavelength, s, nearest, range, true);
-    if (s.summation == Summation::Psf) return psf_runs(scene, sum, wavelength, s, nearest, range, irradiance, progress);
+    // (the psf summation samples the pinhole for its kernels alone)
+    const SceneSum sum = scene_sum(scene, wavelength, s, nearest, range, s.summation != Summation::Psf);
+    if (s.summation == Summation::Psf) return psf_runs(scene, sum, wavelength, s, nearest, range, irradiance, progress, memo);
     std::vector<float> points(sum.film.size(), 0.0f);  // irradiance at every film point
     const bool incoherent = s.method == CoherenceMethod::Incoherent;
     const SumPlan plan = plan_sums(s, sum, c, wavelength, nearest, incoherent);

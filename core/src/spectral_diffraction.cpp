@@ -1,12 +1,18 @@
 #include "wavecam/spectral_diffraction.h"
 
 #include <cmath>
+#include <memory>
+
+#include "coherent_convolution.h"
 
 namespace wavecam {
 
 MonochromePropagator wave_propagator(const ExactSettings& settings) {
-    return [settings](const MonochromeScene& scene, double wavelength, float* irradiance, const ProgressFn& progress) {
-        return diffract_monochrome(scene, wavelength, settings, irradiance, progress);
+    // one memo per propagator: a wavelength's negative part reuses its positive part's kernels
+    auto memo = std::make_shared<detail::CoherentMemo>();
+    return [settings, memo](const MonochromeScene& scene, double wavelength, float* irradiance,
+                            const ProgressFn& progress) {
+        return detail::diffract_monochrome(scene, wavelength, settings, irradiance, progress, memo.get());
     };
 }
 

@@ -112,7 +112,9 @@ NufftEvaluator::NufftEvaluator(const SumGeometry& g, const SumChoice& choice) : 
     if (g.scope.fixed_range) range = g.scope.range;
     geo_ = {film, film ? g.film->film_distance : 0.0, k, g.settings.tolerance};
     const SampleCount n = count_samples(samples);
-    const StencilChoice sc = choose_stencil(range, k, h_, n.reach, n.on, n.off, g.settings.tolerance);
+    // (none designed where the choice takes none)
+    const StencilChoice sc =
+        choice.stencil ? choose_stencil(range, k, h_, n.reach, n.on, n.off, g.settings.tolerance) : StencilChoice{};
     // the points the stencil serves, and the rest
     std::vector<size_t> inner, outer;
     for (size_t i = 0; i < p.size(); ++i) (within(sc.inner, p[i][0], p[i][1]) ? inner : outer).push_back(i);
