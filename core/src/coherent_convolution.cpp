@@ -478,12 +478,12 @@ Result<bool> CoherentConvolution::run(const CoherentSources& sources, double sca
     return Result<bool>::success(true);
 }
 
-int CoherentConvolution::runs_at_once(double most) const {
+int CoherentConvolution::runs_at_once() const {
     const Impl& m = *impl_;
     const double N = double(m.fft->size()), B = m.basis.rank, M = m.modes.count;
     // a run's images, sums and film against the kernels' spectra (none kept here on a GPU)
     const double run = N * (8 * (B + M) + 8), spectra = m.gpu ? 0 : 8 * N * B * M;
-    return int(std::clamp(std::floor(std::min(spectra, most) / run), 1.0, double(kMaxRunsAtOnce)));
+    return int(std::clamp(std::floor(spectra / run), 1.0, double(kMaxRunsAtOnce)));
 }
 
 std::vector<float> CoherentConvolution::power_balance(const CoherentSources& sources) const {

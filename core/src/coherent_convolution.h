@@ -126,9 +126,9 @@ public:
     Result<bool> run(const CoherentSources& sources, double scale, int row_begin, int row_end, const float* each,
                      float* irradiance, const ProgressFn& progress) const;
     // How many runs to give run() at once: as many as keep their work buffers within the
-    // spectra's size (a run's pass over them is memory-bound) and `most` bytes, at least 1, at
-    // most kMaxRunsAtOnce.
-    int runs_at_once(double most) const;
+    // spectra's size (a run's pass over them streams them all), at least 1, at most
+    // kMaxRunsAtOnce.
+    int runs_at_once() const;
 
     // Per domain pixel, the factor on its weight that gives its blended kernel the blend of its
     // kernels' powers (1 for the incoherent case).

@@ -144,6 +144,12 @@ SubPointModes sub_point_modes(const std::vector<std::vector<std::complex<double>
         return modes;
     }
     const int S = points;
+    if (S > kMaxBasisKernels) {  // (as kernel_basis: each sub-point its own mode)
+        modes.count = S;
+        modes.weight.assign(size_t(S) * S, 0.0);
+        for (int sub = 0; sub < S; ++sub) modes.weight[size_t(sub) * S + sub] = 1.0;
+        return modes;
+    }
     std::vector<std::complex<double>> gram(size_t(S) * S, 0.0);
     for (const auto& k : kernels) {
         const size_t length = k.size() / S;

@@ -15,7 +15,7 @@
 #   6. the same frame through --summation psf (the runs as convolutions with amplitude PSFs):
 #      random-phase at 16 and 64 runs, and --method incoherent; prints each time, the estimate
 #      printed before work, and 64 runs / convolution (goal <= 30).
-#   7. part 3's frame and job through --summation psf (about 7 minutes here; goal 5 minutes), with
+#   7. part 3's frame and job through --summation psf (about 5 minutes here; goal 5 minutes), with
 #      the convolution method's time on the same frame and the estimate printed before work.
 # Frames: uniform noise x a checker (radiance), depth from 0.3 m to 20 m (top to bottom).
 # Usage: tests/bench/run_summation_bench.sh [build-dir] [part...]
@@ -39,7 +39,7 @@ seconds() {
 import subprocess, sys, time
 t = time.monotonic()
 subprocess.run(sys.argv[1:], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-print(f"{time.monotonic() - t:.1f}")
+print(f"{time.monotonic() - t:.2f}")
 PY
 }
 ratio() { python3 -c "print(f'{$1 / $2:.1f}')"; }
