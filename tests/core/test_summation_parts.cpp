@@ -3,8 +3,8 @@
 // (core/src/node_skeleton.h), the band-limited stencil that reads and spreads off-lattice
 // samples (core/src/band_limited_stencil.h), the film points' average of a pixel
 // (core/src/pixel_average.h), the few kernels and sub-point modes the psf summation's runs
-// transform (core/src/kernel_basis.h), and its kernels' own pinhole lattice
-// (core/src/coherent_convolution.h).
+// transform (core/src/kernel_basis.h), its kernels' own pinhole lattice and the memo that keeps
+// them for a wavelength's two parts (core/src/coherent_convolution.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -337,4 +337,58 @@ TEST(KernelLattice, GivesTheKernelTheFramesLatticeGives) {
                 worst, tb / ta);
     EXPECT_LT(worst, 1e-3);
     EXPECT_NEAR(tb / ta, 1.0, 1e-3);
+}
+
+// A job's memo makes a convolution once for the calls that ask for the same one (a wavelength's
+// positive and negative parts) and again when the wavelength changes; a call through it gives
+// the image a call without it gives, bit for bit.
+TEST(CoherentMemo, KeepsTheConvolutionForTheSameWavelength) {
+    using namespace wavecam;
+    const PinholeCamera camera{12, 12, 30 * M_PI / 180, 2e-3};
+    std::vector<float> depth(144, 1.0f), first(144), second(144);
+    for (size_t p = 0; p < 144; ++p) {
+        first[p] = float((p * 37 % 11) / 10.0);
+        second[p] = float((p * 53 % 7) / 6.0);
+    }
+    ExactSettings s;
+    s.aperture = {ApertureShape::Circle, 0.05e-3};
+    s.summation = Summation::Psf;
+    s.runs = 2;
+    detail::CoherentMemo memo;
+    int made = 0;
+    detail::CoherentSpec spec;
+    spec.camera = camera;
+    spec.aperture = s.aperture;
+    spec.wavelength = 550e-9;
+    spec.max_inverse_depth = 1.0;
+    spec.subsamples = 2;
+    const double pitch = detail::kernel_lattice_pitch(spec, sample_pitch(550e-9));
+    auto unit = [&camera](double x, double y, double w) {
+        double u, v;
+        camera.tangent(x, y, u, v);
+        const double z = w > 0 ? 1 / w : 1.0;
+        return w > 0 ? PointSource{z * u, z * v, z, false, 1.0, 0.0}
+                     : PointSource{u / std::hypot(u, v, 1.0), v / std::hypot(u, v, 1.0), 1 / std::hypot(u, v, 1.0),
+                                   true, 1.0, 0.0};
+    };
+    auto make = [&] {
+        ++made;
+        return detail::CoherentConvolution::create(spec, pitch, unit, {});
+    };
+    auto a = memo.get(spec, pitch, make), b = memo.get(spec, pitch, make);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_EQ(made, 1);
+    EXPECT_EQ(a.value.get(), b.value.get());
+    spec.wavelength = 600e-9;
+    ASSERT_TRUE(memo.get(spec, pitch, make).ok());
+    EXPECT_EQ(made, 2);
+
+    detail::CoherentMemo job;
+    for (const std::vector<float>* power : {&first, &second}) {
+        const MonochromeScene scene{camera, power->data(), depth.data(), DepthMeaning::Planar};
+        std::vector<float> with(144, 0.0f), without(144, 0.0f);
+        ASSERT_TRUE(detail::diffract_monochrome(scene, 550e-9, s, with.data(), {}, &job).ok());
+        ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, without.data()).ok());
+        for (size_t p = 0; p < 144; ++p) ASSERT_EQ(with[p], without[p]) << p;
+    }
 }
