@@ -43,7 +43,7 @@ errors)
 settings)
   "${blender[@]}" "$work/scene.blend" --python "$steps" -- settings > "$work/settings.log" 2>&1 ||
     { cat "$work/settings.log"; exit 1; }
-  grep -E "^(pinhole|film|decreasing|xray|centimetres|vignetting)" "$work/settings.log"
+  grep -E "^(pinhole|film|decreasing|xray|centimetres|vignetting|summation)" "$work/settings.log"
   ;;
 oldfile)  # saved without the add-on, as its earlier version did; loaded with it
   "${blender[@]}" --factory-startup --python "$steps" -- oldfile "$work/old.blend" > "$work/old.log" 2>&1 ||

@@ -288,6 +288,17 @@ def settings():
     out = render("random_phase")
     spec = oiio.ImageInput.open(out).spec() if os.path.exists(out) else None
     expect(spec is not None and spec.getattribute("wavecam.runs") == 2, "random-phase: wavecam.runs 2")
+    expect(spec is not None and spec.getattribute("wavecam.summation") == "auto", "random-phase: summation auto")
+    # the psf summation, and the device
+    w.summation = 'psf'
+    w.device = 'cpu'
+    out = render("random_phase_psf")
+    spec = oiio.ImageInput.open(out).spec() if os.path.exists(out) else None
+    expect(spec is not None and spec.getattribute("wavecam.summation") == "psf", "psf: wavecam.summation psf")
+    expect(spec is not None and str(spec.getattribute("wavecam.device")).startswith("cpu"), "psf: wavecam.device cpu")
+    if spec is not None:
+        print(f"summation: {spec.getattribute('wavecam.summation')} on {spec.getattribute('wavecam.device')}",
+              flush=True)
 
 
 OLD_METHODS = [('fast', "Fast", ""), ('exact', "Exact", ""), ('incoherent', "Incoherent", "")]

@@ -34,6 +34,19 @@ METHODS = [
     ('incoherent', "Incoherent", "Every source propagated alone: the limit of infinitely many runs (very slow)", 2),
 ]
 
+SUMMATIONS = [
+    ('auto', "Auto", "The exact sums through the cheaper of their two evaluators (the default)", 0),
+    ('direct', "Direct", "The exact sums term by term: the reference (slowest)", 1),
+    ('nufft', "NUFFT", "The exact sums through NUFFTs over the pinhole lattice", 2),
+    ('psf', "PSF", "Each run as a convolution with amplitude PSFs from the exact sums: within a few percent of "
+     "them, far cheaper", 3),
+]
+DEVICES = [
+    ('cpu', "CPU", "The processor (the default)", 0),
+    ('gpu', "GPU", "A Vulkan device, a discrete GPU first; none is an error", 1),
+    ('auto', "Auto", "A discrete GPU where there is one, else the processor", 2),
+]
+
 
 class WavecamCameraSettings(bpy.types.PropertyGroup):
     enabled: bpy.props.BoolProperty(
@@ -67,6 +80,12 @@ class WavecamCameraSettings(bpy.types.PropertyGroup):
     runs: bpy.props.IntProperty(
         name="Runs", default=8, min=1, max=100000, soft_max=256,
         description="Random-phase runs averaged; noise falls as 1/sqrt(runs)")
+    summation: bpy.props.EnumProperty(
+        name="Summation", default='auto', items=SUMMATIONS,
+        description="How the random-phase and incoherent methods evaluate their sums")
+    device: bpy.props.EnumProperty(
+        name="Device", default='cpu', items=DEVICES,
+        description="Where the exact sums' direct terms and the psf summation's runs run")
     vignetting: bpy.props.BoolProperty(
         name="Vignetting", default=True,
         description="Keep the pinhole's natural cos^4 fall-off toward the corners (physical); off divides it out, "

@@ -49,6 +49,9 @@ class DATA_PT_wavecam(bpy.types.Panel):
         layout.prop(w, "method")
         if w.method == 'random-phase':
             layout.prop(w, "runs")
+        if w.method != 'convolution':
+            layout.prop(w, "summation")
+            layout.prop(w, "device")
         layout.prop(w, "vignetting")
         scale = context.scene.unit_settings.scale_length
         layout.label(text=f"Depth: 1 Blender unit = {scale:g} m (Scene > Units > Unit Scale)")

@@ -22,6 +22,8 @@ class RenderedCamera:
         self.wavelengths = w.wavelengths_text()
         self.method = w.method
         self.runs = w.runs
+        self.summation = w.summation
+        self.device = w.device
         self.vignetting = w.vignetting
         # Blender's Unit Scale: metres per Blender unit, the unit of the depth pass
         self.depth_scale_m = scene.unit_settings.scale_length

@@ -16,6 +16,8 @@ def apply_command(exe, camera, frame_path, out_path, fov_in_file):
         cmd += ["--pinhole", f"{camera.pinhole_mm:.9g}mm"]
     if camera.method == 'random-phase':
         cmd += ["--runs", str(camera.runs)]
+    if camera.method != 'convolution':
+        cmd += ["--summation", camera.summation, "--device", camera.device]
     if not camera.vignetting:
         cmd += ["--no-vignetting"]
     if not fov_in_file:
