@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <atomic>
+#include <cstdio>
 #include <mutex>
 
 #include "complex_fft2d.h"
@@ -114,7 +114,9 @@ double widest_kernel_turn(const CoherentSpec& s, const Geometry& g) {
 // t[q] += a[q] b[q] for n complex values, written out so that it vectorises (std::complex's
 // product checks for infinities); built for AVX2 too, chosen when the processor has it (the
 // same multiplies and adds, wider: the same bits).
-__attribute__((target_clones("avx2", "default"))) void multiply_add(const std::complex<float>* a, const std::complex<float>* b, std::complex<float>* t, size_t n) {
+__attribute__((target_clones("avx2", "default"))) void multiply_add(const std::complex<float>* a,
+                                                                    const std::complex<float>* b,
+                                                                    std::complex<float>* t, size_t n) {
     const float* x = reinterpret_cast<const float*>(a);
     const float* y = reinterpret_cast<const float*>(b);
     float* z = reinterpret_cast<float*>(t);
@@ -233,7 +235,8 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
                         film.x.push_back(float(-c.film_distance * u));
                         film.y.push_back(float(-c.film_distance * v));
                     }
-        SummationPlan to_film = SummationPlan::create(SumKind::PinholeToFilm, samples, spec.wavelength, settings, film_scope);
+        SummationPlan to_film =
+            SummationPlan::create(SumKind::PinholeToFilm, samples, spec.wavelength, settings, film_scope);
         if (auto r = to_film.set_points(film); !r.ok()) return r;
         film_scope.fixed_choice = true;  // every anchor's film points count alike: one decision
         film_scope.choice = to_film.choice();
@@ -242,7 +245,8 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
         PinholeField field;
         for (int l = 0; l < g.layers.count; ++l) {
             const std::vector<PointSource> one{unit_source(px + 0.5, py + 0.5, g.layers.inverse_depth(l))};
-            SummationPlan to_pinhole = SummationPlan::create(SumKind::SourcesToPinhole, samples, spec.wavelength, to_source);
+            SummationPlan to_pinhole =
+                SummationPlan::create(SumKind::SourcesToPinhole, samples, spec.wavelength, to_source);
             if (auto r = to_pinhole.set_points(one); !r.ok()) return r;
             if (auto r = to_pinhole.execute(source_weights(one), field); !r.ok()) return r;
             std::vector<std::complex<double>> film_field(film.size(), 0.0);
@@ -566,7 +570,8 @@ CoherentWork coherent_work(const CoherentSpec& spec, SumCounts in, SumCounts out
     const double N = double(g.nx) * g.ny, transform = kFftCost * N * std::log2(N);
     CoherentWork w;
     // (one source to the pinhole: direct, as create sums it)
-    w.kernels = kernels * (choose_sum(in, Summation::Direct).work + choose_sum(out, Summation::Auto).work + S * transform);
+    w.kernels =
+        kernels * (choose_sum(in, Summation::Direct).work + choose_sum(out, Summation::Auto).work + S * transform);
     w.per_run = kernels * transform + (kernels + 1) * S * N * kMacCost + S * transform;
     return w;
 }

@@ -483,7 +483,9 @@ Result<bool> random_phase_runs(const SceneSum& sum, const PinholeCamera& c, doub
 // pixel of the convolution's domain at its centre: the input's, and beyond it the edge continued
 // pixel by pixel (each with the edge pixel's radiance and planar depth at its own field
 // position), each with the phases the direct sums give it (run_sources): an input pixel keeps its
-// key, so a scene whose edge is dark gets the direct sums' runs, kernel blends apart.
+// key, so a scene whose edge is dark gets the direct sums' runs, kernel blends apart. The
+// convolution comes from the job's memo where one is given (the kernels of a wavelength's other
+// part), and the runs go through it several at once.
 Result<bool> psf_runs(const MonochromeScene& scene, const SceneSum& sum, double wavelength, const ExactSettings& s,
                       double nearest, const WorkRange& range, float* irradiance, const ProgressFn& progress,
                       detail::CoherentMemo* memo) {
@@ -498,7 +500,9 @@ Result<bool> psf_runs(const MonochromeScene& scene, const SceneSum& sum, double 
     auto unit = [&c](double x, double y, double w) {
         return source_at(c, x, y, 1.0, w > 0 ? 1.0 / w : INFINITY, DepthMeaning::Planar, 0.0);
     };
-    auto make = [&] { return detail::CoherentConvolution::create(spec, pitch, unit, progress_part(progress, 0.0, kernels)); };
+    auto make = [&] {
+        return detail::CoherentConvolution::create(spec, pitch, unit, progress_part(progress, 0.0, kernels));
+    };
     detail::CoherentMemo none;
     auto made = (memo ? memo : &none)->get(spec, pitch, make);
     if (!made.ok()) return Result<bool>::failure(made);

@@ -248,7 +248,8 @@ TEST(SubPointModes, KeepTheSubPointsPowerInFewerModes) {
             for (int t = 0; t < P; ++t) {
                 const double x = t % 15 + (sub % n + 0.5) / n, y = t / 15 + (sub / n + 0.5) / n;
                 cdouble v = 0;
-                for (const auto& w : waves) v += cdouble(w[2], w[3]) * std::polar(1.0, 2 * M_PI * (w[0] * x + w[1] * y));
+                for (const auto& w : waves)
+                    v += cdouble(w[2], w[3]) * std::polar(1.0, 2 * M_PI * (w[0] * x + w[1] * y));
                 k[size_t(sub) * P + t] = v;
             }
     }
