@@ -272,13 +272,14 @@ struct SumPlan {
     double in_work = 0, out_work = 0;  // the film's for the whole frame
 };
 
-// The two sums' counts for the cost model (the film's for the whole frame).
+// The two sums' counts for the cost model (the film's for the whole frame), on a pinhole lattice of
+// `pitch` (the frame's, or the psf kernels' own).
 struct FrameCounts {
     SumCounts in, out;
 };
-FrameCounts frame_counts(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
-                         double nearest, bool single) {
-    const double pitch = sum.samples.pitch, radius = s.aperture.bounding_radius(), f = c.film_distance;
+FrameCounts frame_counts(const ExactSettings& s, const SceneSum& sum, double pitch, const PinholeCamera& c,
+                         double wavelength, double nearest, bool single) {
+    const double radius = s.aperture.bounding_radius(), f = c.film_distance;
     const double samples = estimate_sample_count(s.aperture, pitch);
     // Samples off the lattice: the rim's cells (about 1.3 per pitch of perimeter, twice for a
     // zone plate's every zone edge); every sample of a grey mask or a sieve's holes.
@@ -301,7 +302,7 @@ FrameCounts frame_counts(const ExactSettings& s, const SceneSum& sum, const Pinh
 
 SumPlan plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
                   double nearest, bool single) {
-    const FrameCounts n = frame_counts(s, sum, c, wavelength, nearest, single);
+    const FrameCounts n = frame_counts(s, sum, sum.samples.pitch, c, wavelength, nearest, single);
     // One source at a time (the incoherent method): forcing the NUFFTs would pay a lattice of FFTs
     // per source; there the cheaper evaluator stands.
     const Summation asked = single && s.summation == Summation::Nufft ? Summation::Auto : s.summation;
@@ -333,10 +334,9 @@ detail::CoherentSpec coherent_spec(const ExactSettings& s, const PinholeCamera& 
 }
 
 // The psf summation's work: its kernels' sums counted on their own lattice of `pitch`.
-detail::CoherentWork psf_work(const ExactSettings& s, SceneSum sum, const detail::CoherentSpec& spec, double nearest,
-                              double pitch) {
-    sum.samples.pitch = pitch;
-    const FrameCounts n = frame_counts(s, sum, spec.camera, spec.wavelength, nearest, false);
+detail::CoherentWork psf_work(const ExactSettings& s, const SceneSum& sum, const detail::CoherentSpec& spec,
+                              double nearest, double pitch) {
+    const FrameCounts n = frame_counts(s, sum, pitch, spec.camera, spec.wavelength, nearest, false);
     return detail::coherent_work(spec, n.in, n.out);
 }
 
