@@ -477,13 +477,18 @@ Result<bool> CoherentConvolution::run(const CoherentSources& sources, double sca
     const int o = m.spec.overscan;
     const double coherent = 1.0 / (double(N) * N), incoherent = 1.0 / double(N);
     const double norm = scale / S * (m.spec.incoherent ? incoherent : coherent);
+    // (each run one addition per pixel, as the exact sums' runs: a job is then the sum of its
+    // shares' runs to the bit)
     for (int k = 0; k < runs; ++k) {
         const double* f = film.data() + size_t(k) * N;
-        for (int cj = row_begin; cj < row_end; ++cj)
-            for (int ci = o; ci < c.width - o; ++ci)
-                irradiance[size_t(cj) * c.width + ci] += float(f[size_t(cj + g.origin) * g.nx + ci + g.origin] * norm);
-        if (each)
-            for (size_t p = 0; p < size_t(c.width) * c.height; ++p) irradiance[p] += float(scale) * each[p];
+        for (int cj = 0; cj < c.height; ++cj)
+            for (int ci = 0; ci < c.width; ++ci) {
+                const size_t p = size_t(cj) * c.width + ci;
+                const bool lit = cj >= row_begin && cj < row_end && ci >= o && ci < c.width - o;
+                const double v = (lit ? f[size_t(cj + g.origin) * g.nx + ci + g.origin] * norm : 0.0) +
+                                 (each ? scale * each[p] : 0.0);
+                if (v != 0) irradiance[p] += float(v);
+            }
     }
     if (progress && !progress(1.0)) return cancelled();
     return Result<bool>::success(true);

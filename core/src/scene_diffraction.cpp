@@ -247,7 +247,6 @@ SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const ExactS
     else sum.samples.pitch = pitch;
     sum.subsamples = film_subsamples(s, c, wavelength);
     if (with_samples) sum.film = camera_film(c, sum.subsamples, range.row_begin, range.row_end, o, c.width - o);
-    else sum.film.x.resize(size_t(c.width - 2 * o) * (range.row_end - range.row_begin) * sum.subsamples * sum.subsamples);
     return sum;
 }
 
@@ -341,6 +340,30 @@ detail::CoherentWork psf_work(const ExactSettings& s, const SceneSum& sum, const
 }
 
 }  // namespace
+
+Summation chosen_summation(const ExactSettings& asked, const PinholeCamera& c, double wavelength) {
+    const double nearest = std::isnan(asked.nearest_depth) ? INFINITY : asked.nearest_depth;
+    if (asked.summation != Summation::Auto) return asked.summation;
+    const ApertureShape shape = asked.aperture.shape;
+    const bool one_opening =
+        shape == ApertureShape::Circle || shape == ApertureShape::Square || shape == ApertureShape::Polygon;
+    const double rho = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
+    if (asked.jitter || !one_opening ||
+        detail::amplitude_layers(rho, asked.aperture.bounding_radius(), wavelength).count > detail::kMaxPsfLayers)
+        return Summation::Auto;
+    ExactSettings s = asked;  // the whole job: every row and run
+    s.row_begin = s.run_begin = 0;
+    s.row_end = s.run_end = -1;
+    const SceneSum sum = scene_sum({c, nullptr, nullptr}, wavelength, s, nearest, work_range(s, c.height), false);
+    const bool incoherent = s.method == CoherenceMethod::Incoherent;
+    const double runs = incoherent ? 1.0 : double(s.runs);
+    const detail::CoherentSpec spec = coherent_spec(s, c, wavelength, nearest, sum.subsamples);
+    const detail::CoherentWork psf =
+        psf_work(s, sum, spec, nearest, detail::kernel_lattice_pitch(spec, sum.samples.pitch));
+    const SumPlan plan = plan_sums(s, sum, c, wavelength, nearest, incoherent);
+    const double exact = (plan.in_work + plan.out_work) * (incoherent ? double(sum.emitters.size()) : runs);
+    return psf.kernels + psf.per_run * runs < exact ? Summation::Psf : Summation::Auto;
+}
 
 double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {
     const WorkRange w = work_range(s, camera.height);

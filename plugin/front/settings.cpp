@@ -123,7 +123,7 @@ const std::vector<SettingKey> kKeys = {
     {"monochrome", "true", "true: every channel diffracted with the same light (the wavelengths' mean PSF), grey in, "
      "grey out; automatic for fewer than 3 wavelengths", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) { return take(parse_bool(n, v), o.monochrome); }},
-    {"runs", "8", "random-phase runs averaged; noise falls as 1/sqrt(runs)", true,
+    {"runs", "16", "random-phase runs averaged (default 64: every colour channel's noise within 2%)", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          return take(parse_whole_number(v, n, 1, 100000), o.exact.runs);
      }},
@@ -136,8 +136,8 @@ const std::vector<SettingKey> kKeys = {
                               {"incoherent", DiffractMethod::Incoherent}},
                              o.method);
      }},
-    {"summation", "direct", "how the random-phase and incoherent methods evaluate their two sums: auto (the cheaper "
-     "of the two evaluators by the work estimate; default), direct (term by term, the reference), nufft (NUFFTs "
+    {"summation", "direct", "how the random-phase and incoherent methods evaluate their two sums: auto (default: psf where "
+     "it applies and is cheaper, else the cheaper of direct and nufft by the work estimate), direct (term by term, the reference), nufft (NUFFTs "
      "over the pinhole lattice, relative error ~3e-4) or psf (each run a convolution with amplitude PSFs that the "
      "sums compute at field anchors and depth layers; sources at pixel centres)",
      true,

@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # The exact (random-phase) method's summation measured, whole process, each
 # figure from this run:
-#   1. 96x96, 1 wavelength, 1 run, 50deg: --summation direct against auto (goal: direct / auto >= 80);
-#   2. 256x256, 3 wavelengths, 16 runs, default pinhole, 50deg: auto (goal <= 300 s);
-#   3. 1920x1080, 16 wavelengths, 16 runs, 50deg: auto, the whole job (about 30 minutes here; goal
-#      5 minutes), with the estimate it printed before work.
+# Parts 1 to 5 measure the exact sums (--summation nufft, the lattice evaluator; part 1 against
+# direct), parts 6 and 7 the psf summation and the defaults (64 runs, auto: psf where it applies).
+#   1. 96x96, 1 wavelength, 1 run, 50deg: --summation direct against nufft (goal: direct / nufft >= 80);
+#   2. 256x256, 3 wavelengths, 16 runs, default pinhole, 50deg: nufft (goal <= 300 s);
+#   3. 1920x1080, 16 wavelengths, 16 runs, 50deg: nufft, the whole job (about 30 minutes here),
+#      with the estimate it printed before work.
 #   4. noise of 16 random-phase runs: 48x48 uniform grey wall at 2 m, 0.2 mm, f = 50 mm, 3
 #      wavelengths, coded and independent phases, per-pixel RMS of (R+G+B) / the convolution
 #      method's - 1 over the interior (4 pixels in), and of each channel R, G, B alone, at 5, 10, 20
@@ -13,8 +15,9 @@
 #      --method convolution, then random-phase at 16 and 64 runs (64 brings the wall's every channel
 #      under 2%); prints each time and 64 runs / convolution (goal <= 30).
 #   6. the same frame through --summation psf (the runs as convolutions with amplitude PSFs):
-#      random-phase at 16 and 64 runs, and --method incoherent; prints each time, the estimate
-#      printed before work, and 64 runs / convolution (goal <= 30).
+#      random-phase at 16 and 64 runs, and --method incoherent; then random-phase with every
+#      other setting at its default (64 runs, auto); prints each time, the estimate printed before
+#      work, and 64 runs / convolution and the default / convolution (goal <= 30).
 #   7. part 3's frame and job through --summation psf (about 5 minutes here; goal 5 minutes), with
 #      the convolution method's time on the same frame and the estimate printed before work.
 # Frames: uniform noise x a checker (radiance), depth from 0.3 m to 20 m (top to bottom).
@@ -48,26 +51,27 @@ noise() {  # noise IMAGE REFERENCE [CHANNEL]: RMS of (R+G+B, or one channel) / t
   oiiotool "$1" --ch "$ch" --chsum "$2" --ch "$ch" --chsum --div --crop 40x40+4+4 --printstats |
     awk '/Stats Avg/ {a = $3} /Stats StdDev/ {s = $3} END {printf "%.2f", 100 * sqrt(s * s + (a - 1) * (a - 1))}'
 }
-exact="--method random-phase --max-terms 1e15"
+exact_sums="--method random-phase --max-terms 1e15"
+exact="$exact_sums --summation nufft"
 
 for part in $parts; do
 case $part in
 1)
   frame 96 96 50.0 f96.exr
-  t_auto=$(seconds "$wavecam" apply f96.exr -o auto.exr $exact --wavelengths 550nm --runs 1 --summation auto)
-  t_direct=$(seconds "$wavecam" apply f96.exr -o direct.exr $exact --wavelengths 550nm --runs 1 --summation direct)
-  diff=$( (oiiotool auto.exr direct.exr --diff 2>&1 || true) | sed -n 's/.*Max error  = \([^ ]*\).*/\1/p' | head -1)
-  echo "1. 96x96, 1 wavelength, 1 run, 50deg: direct ${t_direct} s, auto ${t_auto} s, direct/auto $(ratio "$t_direct" "$t_auto") (goal >= 80); largest difference ${diff:-?} (values about 0.5)" ;;
+  t_nufft=$(seconds "$wavecam" apply f96.exr -o nufft.exr $exact --wavelengths 550nm --runs 1)
+  t_direct=$(seconds "$wavecam" apply f96.exr -o direct.exr $exact_sums --wavelengths 550nm --runs 1 --summation direct)
+  diff=$( (oiiotool nufft.exr direct.exr --diff 2>&1 || true) | sed -n 's/.*Max error  = \([^ ]*\).*/\1/p' | head -1)
+  echo "1. 96x96, 1 wavelength, 1 run, 50deg: direct ${t_direct} s, nufft ${t_nufft} s, direct/nufft $(ratio "$t_direct" "$t_nufft") (goal >= 80); largest difference ${diff:-?} (values about 0.5)" ;;
 2)
   frame 256 256 50.0 f256.exr
   t=$(seconds "$wavecam" apply f256.exr -o o256.exr $exact --wavelengths 3 --runs 16)
-  echo "2. 256x256, 3 wavelengths, 16 runs, 50deg: auto ${t} s (goal <= 300 s)" ;;
+  echo "2. 256x256, 3 wavelengths, 16 runs, 50deg: nufft ${t} s (goal <= 300 s)" ;;
 3)
   frame 1920 1080 50.0 f1080.exr
   t=$(seconds "$wavecam" apply f1080.exr -o o1080.exr $exact --wavelengths 16 --runs 16)
-  estimate=$("$wavecam" apply f1080.exr -o o1080.exr --method random-phase --wavelengths 16 --runs 16 --max-terms 1 2>&1 |
+  estimate=$("$wavecam" apply f1080.exr -o o1080.exr $exact --wavelengths 16 --runs 16 --max-terms 1 2>&1 |
              sed -n 's/.*, about \([^,]*\) at .*/\1/p' || true)
-  echo "3. 1920x1080, 16 wavelengths, 16 runs, 50deg: the job ${t} s, $(python3 -c "print(f'{$t / 60:.0f}')") min (goal 5 min); estimated before work: ${estimate:-?}" ;;
+  echo "3. 1920x1080, 16 wavelengths, 16 runs, 50deg, nufft: the job ${t} s, $(python3 -c "print(f'{$t / 60:.0f}')") min; estimated before work: ${estimate:-?}" ;;
 4)
   camera="--pinhole 0.2mm --film-distance 50mm --wavelengths 3"
   for fov in 5 10 20 50; do
@@ -96,8 +100,9 @@ case $part in
   t16=$(seconds "$wavecam" apply f128.exr -o p16.exr $psf --runs 16)
   t64=$(seconds "$wavecam" apply f128.exr -o p64.exr $psf --runs 64)
   t_inc=$(seconds "$wavecam" apply f128.exr -o pinc.exr --method incoherent --summation psf --wavelengths 3)
+  t_default=$(seconds "$wavecam" apply f128.exr -o pdef.exr --method random-phase --wavelengths 3)
   estimate=$("$wavecam" apply f128.exr -o p64.exr $psf --runs 64 --max-terms 1 2>&1 | sed -n 's/.*, about \([^,]*\) at .*/\1/p' || true)
-  echo "6. 128x128, 3 wavelengths, 50deg, psf summation: convolution ${t_conv} s; random-phase 16 runs ${t16} s, 64 runs ${t64} s (estimated ${estimate:-?}); incoherent ${t_inc} s; 64 runs / convolution $(ratio "$t64" "$t_conv") (goal <= 30)" ;;
+  echo "6. 128x128, 3 wavelengths, 50deg, psf summation: convolution ${t_conv} s; random-phase 16 runs ${t16} s, 64 runs ${t64} s (estimated ${estimate:-?}); incoherent ${t_inc} s; 64 runs / convolution $(ratio "$t64" "$t_conv") (goal <= 30); random-phase at its defaults (64 runs, auto) ${t_default} s, / convolution $(ratio "$t_default" "$t_conv")" ;;
 7)
   frame 1920 1080 50.0 f1080.exr
   psf="--method random-phase --summation psf --wavelengths 16 --runs 16"

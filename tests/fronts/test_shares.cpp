@@ -282,6 +282,8 @@ TEST(Shares, EstimateCountsMonochromeLightThreeTimes) {
         wavecam::ExactSettings s = opt.exact;
         s.aperture = wavecam::resolved_aperture(opt);
         s.nearest_depth = wavecam::nearest_depth(camera, depth.data(), opt.depth_meaning);
+        // `auto` decided as a job decides it: once, at the middle of its wavelengths
+        s.summation = wavecam::chosen_summation(s, camera, wavelengths[wavelengths.size() / 2]);
         double sum = 0;
         for (double l : wavelengths) sum += wavecam::scene_terms(s, camera, l);
         return sum;

@@ -20,7 +20,7 @@ enum class CoherenceMethod {
 struct ExactSettings {
     Aperture aperture{ApertureShape::Circle, 0.0};
     CoherenceMethod method = CoherenceMethod::RandomPhase;
-    int runs = 4;              // K, random-phase runs averaged
+    int runs = 64;             // K, random-phase runs averaged (64: every channel within 2% of the limit)
     // Move the sources within their pixels: with coded phases all by one random offset a job, with
     // independent phases each anew every run. Off by default: sources at pixel centres, as the
     // convolution method and the incoherent sum place them, so that the runs converge to its image.
@@ -33,7 +33,9 @@ struct ExactSettings {
     double sin_theta_max = 0;  // aperture sampling lambda/(2 sin theta_max); 0 = from the frame
     int film_subsamples = 0;   // n: each film pixel averages n x n points; 0 = auto_film_subsamples
     int nthreads = 0;
-    // How the two sums are evaluated (summation_plan.h): the same terms either way.
+    // How the two sums are evaluated (summation_plan.h): direct and nufft evaluate the same terms;
+    // psf, convolutions with the amplitude PSFs they compute. `auto` here: each sum the cheaper of
+    // direct and nufft; a job first weighs psf against them (chosen_summation).
     Summation summation = Summation::Auto;
     double summation_tolerance = kSummationTolerance;
     // Where the direct sums run (gpu_sums.h): the CPU, a Vulkan device (none is an error), or a
@@ -87,16 +89,25 @@ constexpr double kMinSamplesAcross = 128;
 double scene_sample_pitch(const ExactSettings& s, const PinholeCamera& camera, double wavelength,
                           double nearest_depth);
 
+// What a job runs for `auto` summation (diffract_image decides it once per job): `psf` where it
+// applies — sources at their pixels' centres (no jitter), an opening of one piece (circle, square,
+// polygon), the scene's depths within kMaxPsfLayers amplitude layers — and its work at this
+// wavelength (kernels, then every run) is below the exact sums'; else `auto`, each of the two sums
+// the cheaper of direct and nufft (choose_sum), as diffract_monochrome reads `auto`. Counted for
+// the whole job (every run and row, the frame as lit), so every share decides as its job; for
+// s.nearest_depth (NaN counts as all sky). A summation asked by name is returned as it is.
+Summation chosen_summation(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
+
 // Work estimate in direct terms (the time of one term of the direct sums, so that --max-terms
 // and the time printed mean the same for either evaluator): direct, pinhole samples x (sources +
 // film points); nufft, the NUFFTs' and chirps' work (summation_plan.h, choose_sum), each sum by
-// the evaluator s.summation picks for it; over the runs and rows set, the margin beyond the
+// the evaluator s.summation picks for it, psf where chosen_summation picks it; over the runs and rows set, the margin beyond the
 // frame counted as lit, for s.nearest_depth (NaN counts as all sky).
 double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
 
 // Bytes the psf summation holds at once for one wavelength (its kernels' spectra: layers x
 // anchors x film points per pixel transforms of the frame; the runs' sums), for
-// s.nearest_depth (NaN counts as all sky); 0 for the other summations.
+// s.nearest_depth (NaN counts as all sky); 0 where chosen_summation is another.
 double scene_summation_bytes(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
 
 // Film points per pixel side so that the points are closer than the irradiance's finest

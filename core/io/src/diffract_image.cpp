@@ -42,14 +42,18 @@ Result<JobColour> resolve_colour(const DiffractOptions& opt, const std::string& 
     return R::success(std::move(c));
 }
 
-ExactSettings exact_settings(const DiffractOptions& opt, const PinholeCamera& camera,
-                                   const std::vector<float>& depth, int nthreads = 0) {
+// The job's settings for the exact methods, `auto` summation decided once for the whole job
+// (chosen_summation) at the middle of its wavelengths: both ways' work scales alike with the
+// wavelength, and every wavelength then runs the same way.
+ExactSettings exact_settings(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
+                             const SpectralBasis& basis, int nthreads = 0) {
     ExactSettings s = opt.exact;
     s.aperture = resolved_aperture(opt);
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     s.overscan = opt.overscan;
     s.nthreads = nthreads;
     s.nearest_depth = nearest_depth(camera, depth.data(), opt.depth_meaning);
+    if (basis.size() > 0) s.summation = chosen_summation(s, camera, basis.wavelength(basis.size() / 2));
     return s;
 }
 
@@ -59,6 +63,13 @@ double exact_terms(const ExactSettings& s, const PinholeCamera& camera, const Sp
     double terms = 0;
     for (int k = 0; k < basis.size(); ++k) terms += scene_terms(s, camera, basis.wavelength(k));
     return terms;
+}
+
+// What `auto` chose (chosen_summation), as the job line and the header state it: " (psf)" or
+// " (direct or nufft)"; "" for a summation asked by name.
+std::string auto_choice(Summation asked, Summation chosen) {
+    if (asked != Summation::Auto) return "";
+    return chosen == Summation::Psf ? " (psf)" : " (direct or nufft)";
 }
 
 // What the camera's physics and sampling make sense for, checked before any work (docs/errors.md):
@@ -156,7 +167,8 @@ double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, c
                       const std::string& file_colorspace) {
     if (opt.method == DiffractMethod::Convolution) return 0;  // PSF grid + FFTs: minutes at most
     auto colour = resolve_colour(opt, file_colorspace);
-    return colour.ok() ? exact_terms(exact_settings(opt, camera, depth), camera, colour.value.basis) : 0;
+    if (!colour.ok()) return 0;
+    return exact_terms(exact_settings(opt, camera, depth, colour.value.basis), camera, colour.value.basis);
 }
 
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) {
@@ -207,7 +219,7 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
         f.convolution.settings.nthreads = nthreads;
         return R::success(std::move(f));
     }
-    f.exact = exact_settings(opt, f.camera, in.depth, nthreads);
+    f.exact = exact_settings(opt, f.camera, in.depth, f.colour.basis, nthreads);
     if (f.exact.device != Device::Cpu) {  // the Vulkan evaluator (gpu_sums.h); `auto` falls back quietly
         auto gpu = GpuSums::shared(f.exact.device);
         if (gpu.ok()) f.device = gpu.value->description();
@@ -218,7 +230,7 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
     std::ostringstream job;
     job << in.width << "x" << in.height << " pixels x " << f.colour.sampling.wavelength.size() << " wavelengths x "
         << (f.exact.method == CoherenceMethod::Incoherent ? 1 : f.exact.runs) << " runs, "
-        << summation_word(f.exact.summation) << " summation";
+        << summation_word(opt.exact.summation) << " summation" << auto_choice(opt.exact.summation, f.exact.summation);
     if (f.exact.device != Device::Cpu) job << " on " << f.device;
     f.job = job.str();
     return R::success(std::move(f));
@@ -311,7 +323,9 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
         spec.attribute("wavecam.seed", std::to_string(s.seed));
         spec.attribute("wavecam.film-subsamples", s.film_subsamples);  // the setting: 0 = enough to resolve the PSF
         spec.attribute("wavecam.jitter", s.jitter ? "true" : "false");
-        spec.attribute("wavecam.summation", summation_word(s.summation));
+        spec.attribute("wavecam.summation", summation_word(opt.exact.summation));  // the setting, and what it ran
+        if (opt.exact.summation == Summation::Auto)
+            spec.attribute("wavecam.summation-chosen", s.summation == Summation::Psf ? "psf" : "direct or nufft");
         if (opt.method == DiffractMethod::RandomPhase)
             spec.attribute("wavecam.phases", s.coded_phases ? "coded" : "independent");
         spec.attribute("wavecam.device", f.device);

@@ -78,7 +78,7 @@ class WavecamCameraSettings(bpy.types.PropertyGroup):
         description="Increasing wavelengths from 100nm to 10um, e.g. 450nm,550nm,650nm")
     method: bpy.props.EnumProperty(name="Method", default='convolution', items=METHODS)
     runs: bpy.props.IntProperty(
-        name="Runs", default=8, min=1, max=100000, soft_max=256,
+        name="Runs", default=64, min=1, max=100000, soft_max=256,
         description="Random-phase runs averaged; noise falls as 1/sqrt(runs)")
     summation: bpy.props.EnumProperty(
         name="Summation", default='auto', items=SUMMATIONS,
