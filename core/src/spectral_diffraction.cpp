@@ -16,6 +16,17 @@ MonochromePropagator wave_propagator(const ExactSettings& settings) {
     };
 }
 
+RunPropagator run_propagator(const ExactSettings& settings) {
+    auto memo = std::make_shared<detail::CoherentMemo>();
+    return [settings, memo](const MonochromeScene& scene, double wavelength, int run, float* irradiance,
+                            const ProgressFn& progress) {
+        ExactSettings one = settings;
+        one.run_begin = run;
+        one.run_end = run + 1;
+        return detail::diffract_monochrome(scene, wavelength, one, irradiance, progress, memo.get());
+    };
+}
+
 double exposure_scale(const Aperture& aperture, double film_distance) {
     return film_distance * film_distance / aperture.area();
 }

@@ -161,13 +161,12 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
 // each unit's share of the estimated terms.
 MonochromePropagator unit_propagator(const Share& j, const ProgressFn& progress,
                                      std::map<std::string, std::vector<float>>& units, double& done) {
-    return [&j, progress, &units, &done](const MonochromeScene& mono, double wavelength, float*, const ProgressFn&) {
+    const RunPropagator run = run_propagator(j.s);  // the runs of a wavelength share its psf kernels
+    return [&j, progress, &units, &done, run](const MonochromeScene& mono, double wavelength, float*,
+                                              const ProgressFn&) {
         for (int r = 0; r < j.R; ++r) {
             const int u = mono.spectral_index / j.per_wavelength * j.R + r;
             if (u < j.sh.unit_begin || u >= j.sh.unit_end) continue;
-            ExactSettings unit = j.s;
-            unit.run_begin = r;
-            unit.run_end = r + 1;
             // A wavelength's negative part (rare) is not in the estimate: count it at no weight;
             // monochrome light's three channels share their unit's weight.
             const double weight = mono.sign > 0 ? j.unit_terms[u - j.sh.unit_begin] / j.terms / j.per_wavelength : 0;
@@ -176,7 +175,7 @@ MonochromePropagator unit_propagator(const Share& j, const ProgressFn& progress,
             if (progress)
                 report = [&progress, before, weight](double f) { return progress(std::min(1.0, before + weight * f)); };
             std::vector<float> irradiance(size_t(j.f.in.width) * j.f.in.height, 0.0f);
-            if (auto rr = diffract_monochrome(mono, wavelength, unit, irradiance.data(), report); !rr.ok()) return rr;
+            if (auto rr = run(mono, wavelength, r, irradiance.data(), report); !rr.ok()) return rr;
             done += weight;
             units[channel_name(mono.spectral_index, r, mono.sign)] = std::move(irradiance);
         }
