@@ -65,12 +65,8 @@ double exact_terms(const ExactSettings& s, const PinholeCamera& camera, const Sp
     return terms;
 }
 
-// What `auto` chose (chosen_summation), as the job line and the header state it: " (psf)" or
-// " (direct or nufft)"; "" for a summation asked by name.
-std::string auto_choice(Summation asked, Summation chosen) {
-    if (asked != Summation::Auto) return "";
-    return chosen == Summation::Psf ? " (psf)" : " (direct or nufft)";
-}
+// What `auto` chose (chosen_summation), as the job line and the header state it.
+const char* auto_choice(Summation chosen) { return chosen == Summation::Psf ? "psf" : "direct or nufft"; }
 
 // What the camera's physics and sampling make sense for, checked before any work (docs/errors.md):
 // every field angle within kMaxFieldAngle of the axis (a wider
@@ -230,7 +226,8 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
     std::ostringstream job;
     job << in.width << "x" << in.height << " pixels x " << f.colour.sampling.wavelength.size() << " wavelengths x "
         << (f.exact.method == CoherenceMethod::Incoherent ? 1 : f.exact.runs) << " runs, "
-        << summation_word(opt.exact.summation) << " summation" << auto_choice(opt.exact.summation, f.exact.summation);
+        << summation_word(opt.exact.summation) << " summation";
+    if (opt.exact.summation == Summation::Auto) job << " (" << auto_choice(f.exact.summation) << ")";
     if (f.exact.device != Device::Cpu) job << " on " << f.device;
     f.job = job.str();
     return R::success(std::move(f));
@@ -325,7 +322,7 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
         spec.attribute("wavecam.jitter", s.jitter ? "true" : "false");
         spec.attribute("wavecam.summation", summation_word(opt.exact.summation));  // the setting, and what it ran
         if (opt.exact.summation == Summation::Auto)
-            spec.attribute("wavecam.summation-chosen", s.summation == Summation::Psf ? "psf" : "direct or nufft");
+            spec.attribute("wavecam.summation-chosen", auto_choice(s.summation));
         if (opt.method == DiffractMethod::RandomPhase)
             spec.attribute("wavecam.phases", s.coded_phases ? "coded" : "independent");
         spec.attribute("wavecam.device", f.device);
