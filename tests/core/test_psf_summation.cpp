@@ -177,3 +177,37 @@ TEST(PsfSummation, RefusesWhatItCannotServe) {
     EXPECT_EQ(r.field, "summation") << r.error;
 }
 
+
+// What a job's `auto` runs (chosen_summation): psf for the wall-sized frames a user diffracts at
+// the default 64 runs, where it applies; the exact sums' own choice wherever psf does not apply
+// (sources moved off their pixels' centres, a sieve's or zone plate's structure finer than the
+// kernels' lattice) and for a single run of a tiny frame, whose few sources cost less than the
+// kernels; a summation asked by name as it is.
+TEST(AutoSummation, TakesPsfWhereItAppliesAndCostsLess) {
+    const PinholeCamera camera{128, 128, 50 * M_PI / 180, 50e-3};
+    ExactSettings s;
+    s.aperture = {ApertureShape::Circle, 0.3e-3};
+    s.nearest_depth = 0.3;
+    EXPECT_EQ(s.runs, 64);
+    EXPECT_EQ(chosen_summation(s, camera, 550e-9), Summation::Psf);
+    s.method = CoherenceMethod::Incoherent;
+    EXPECT_EQ(chosen_summation(s, camera, 550e-9), Summation::Psf);
+    s.method = CoherenceMethod::RandomPhase;
+    for (Summation asked : {Summation::Direct, Summation::Nufft, Summation::Psf}) {
+        ExactSettings named = s;
+        named.summation = asked;
+        EXPECT_EQ(chosen_summation(named, camera, 550e-9), asked);
+    }
+    ExactSettings jitter = s;
+    jitter.jitter = true;
+    EXPECT_EQ(chosen_summation(jitter, camera, 550e-9), Summation::Auto);
+    for (ApertureShape shape : {ApertureShape::ZonePlate, ApertureShape::PhotonSieve}) {
+        ExactSettings zones = s;
+        zones.aperture.shape = shape;
+        zones.aperture.zones = 8;
+        EXPECT_EQ(chosen_summation(zones, camera, 550e-9), Summation::Auto);
+    }
+    ExactSettings tiny = s;
+    tiny.runs = 1;
+    EXPECT_EQ(chosen_summation(tiny, PinholeCamera{4, 4, 30 * M_PI / 180, 20e-3}, 550e-9), Summation::Auto);
+}
