@@ -332,6 +332,13 @@ detail::CoherentSpec coherent_spec(const ExactSettings& s, const PinholeCamera& 
     return spec;
 }
 
+// Whether the scene's depths, nearest at `nearest`, need more amplitude layers than the psf
+// summation takes (coherent_convolution.h).
+bool too_deep_for_psf(double nearest, const Aperture& aperture, double wavelength) {
+    const double rho = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
+    return detail::amplitude_layers(rho, aperture.bounding_radius(), wavelength).count > detail::kMaxPsfLayers;
+}
+
 // The psf summation's work: its kernels' sums counted on their own lattice of `pitch`.
 detail::CoherentWork psf_work(const ExactSettings& s, const SceneSum& sum, const detail::CoherentSpec& spec,
                               double nearest, double pitch) {
@@ -342,15 +349,12 @@ detail::CoherentWork psf_work(const ExactSettings& s, const SceneSum& sum, const
 }  // namespace
 
 Summation chosen_summation(const ExactSettings& asked, const PinholeCamera& c, double wavelength) {
-    const double nearest = std::isnan(asked.nearest_depth) ? INFINITY : asked.nearest_depth;
     if (asked.summation != Summation::Auto) return asked.summation;
+    const double nearest = std::isnan(asked.nearest_depth) ? INFINITY : asked.nearest_depth;
     const ApertureShape shape = asked.aperture.shape;
     const bool one_opening =
         shape == ApertureShape::Circle || shape == ApertureShape::Square || shape == ApertureShape::Polygon;
-    const double rho = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
-    if (asked.jitter || !one_opening ||
-        detail::amplitude_layers(rho, asked.aperture.bounding_radius(), wavelength).count > detail::kMaxPsfLayers)
-        return Summation::Auto;
+    if (asked.jitter || !one_opening || too_deep_for_psf(nearest, asked.aperture, wavelength)) return Summation::Auto;
     ExactSettings s = asked;  // the whole job: every row and run
     s.row_begin = s.run_begin = 0;
     s.row_end = s.run_end = -1;
@@ -597,10 +601,8 @@ Result<bool> detail::diffract_monochrome(const MonochromeScene& scene, double wa
     const WorkRange range = work_range(s, c.height);
     const double nearest =
         std::isnan(s.nearest_depth) ? nearest_depth(c, scene.depth, scene.depth_meaning) : s.nearest_depth;
-    if (s.summation == Summation::Psf &&  // refused before the lattice is sampled
-        detail::amplitude_layers(std::isinf(nearest) ? 0.0 : 1.0 / nearest, s.aperture.bounding_radius(), wavelength)
-                .count > detail::kMaxPsfLayers)
-        return detail::too_many_layers();
+    if (s.summation == Summation::Psf && too_deep_for_psf(nearest, s.aperture, wavelength))
+        return detail::too_many_layers();  // refused before the lattice is sampled
     // (the psf summation samples the pinhole for its kernels alone)
     const SceneSum sum = scene_sum(scene, wavelength, s, nearest, range, s.summation != Summation::Psf);
     if (s.summation == Summation::Psf) return psf_runs(scene, sum, wavelength, s, nearest, range, irradiance, progress, memo);

@@ -101,13 +101,13 @@ Summation chosen_summation(const ExactSettings& s, const PinholeCamera& camera, 
 // Work estimate in direct terms (the time of one term of the direct sums, so that --max-terms
 // and the time printed mean the same for either evaluator): direct, pinhole samples x (sources +
 // film points); nufft, the NUFFTs' and chirps' work (summation_plan.h, choose_sum), each sum by
-// the evaluator s.summation picks for it, psf where chosen_summation picks it; over the runs and rows set, the margin beyond the
-// frame counted as lit, for s.nearest_depth (NaN counts as all sky).
+// the evaluator s.summation picks for it (psf: its kernels and runs); over the runs and rows set,
+// the margin beyond the frame counted as lit, for s.nearest_depth (NaN counts as all sky).
 double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
 
 // Bytes the psf summation holds at once for one wavelength (its kernels' spectra: layers x
 // anchors x film points per pixel transforms of the frame; the runs' sums), for
-// s.nearest_depth (NaN counts as all sky); 0 where chosen_summation is another.
+// s.nearest_depth (NaN counts as all sky); 0 for the other summations.
 double scene_summation_bytes(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
 
 // Film points per pixel side so that the points are closer than the irradiance's finest
