@@ -30,6 +30,18 @@ oiiotool --colorconfig ocio_configs/wavecam.ocio \
   out/pinhole_0.315mm.exr --ch R,G,B --ociodisplay sRGB Standard --cut 128x128+192+192 --resize:filter=box 512x512 \
   out/pinhole_1.26mm.exr --ch R,G,B --ociodisplay sRGB Standard --cut 128x128+192+192 --resize:filter=box 512x512 \
   --mosaic:pad=4 4x2 -d uint8 -o out/contact_sheet.png
+# A star field over the same 60 deg frame through the too-small pinhole: each star's image is its
+# PSF at its own field, 1/cos^3 wider radially and 1/cos tangentially off axis, the centre's the
+# on-axis Airy pattern. The stars at the centre, half way to the corner and in the corner,
+# enlarged 8x and exposed 16x brighter.
+python3 test_scenes/star_field.py out/stars.exr --size 512 --fov 60
+"$wavecam" apply out/stars.exr -o out/stars_0.08mm.exr --pinhole 0.08mm --film-distance 50mm --wavelengths 16
+crop() {  # crop X Y LABEL: 40x40 round star (X, Y), enlarged 8x
+  echo out/stars_0.08mm.exr --ch R,G,B --mulc 16 --ociodisplay sRGB Standard --cut "40x40+$(($1 - 20))+$(($2 - 20))" \
+    --resize:filter=box 320x320 --text:x=8:y=24:size=18:color=1,1,0.2:font=$font "$3"
+}
+oiiotool --colorconfig ocio_configs/wavecam.ocio $(crop 256 256 centre) $(crop 160 160 "half way") \
+  $(crop 32 32 corner) --mosaic:pad=4 3x1 -d uint8 -o out/star_field.png
 # The paper's figure: PSFs over pinhole diameters, spot size against diameter, the optimum.
 "$wavecam" sweep --film-distance 50mm --wavelength 550nm -o out/sweep
-echo "wrote out/scene.exr, out/pinhole_*.exr, out/contact_sheet.png, out/sweep*"
+echo "wrote out/scene.exr, out/pinhole_*.exr, out/contact_sheet.png, out/star_field.png, out/sweep*"

@@ -15,23 +15,39 @@ int convolution_fft_size(int tile, int radius, int width, int height) {
     return fft_friendly_size(tile >= std::max(width, height) ? std::max(width, height) : tile + 2 * radius);
 }
 
+void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, std::vector<float>& image,
+                                           std::complex<float>* spectrum) const {
+    const PsfTable& t = table_;
+    const int R = t.radius, kw = 2 * R + 1, N = fft_size_;
+    const float* w = &t.weights[size_t(k) * t.kernel_size()];
+    // the kernel centred on the origin, wrapped
+    for (int b = -R; b <= R; ++b)
+        for (int a = -R; a <= R; ++a) image[size_t((b + N) % N) * N + (a + N) % N] = w[size_t(b + R) * kw + (a + R)];
+    fft.forward(image.data(), spectrum, R + 1, N - R);
+    for (int b = -R; b <= R; ++b)
+        for (int a = -R; a <= R; ++a) image[size_t((b + N) % N) * N + (a + N) % N] = 0.0f;
+}
+
 Result<AnchoredConvolution> AnchoredConvolution::create(PsfTable table, int tile, int width, int height, int nthreads,
                                                         const ProgressFn& progress) {
     AnchoredConvolution c;
-    const int R = table.radius, kw = 2 * R + 1;
     c.tile_ = tile;
-    c.fft_size_ = convolution_fft_size(tile, R, width, height);
+    c.fft_size_ = convolution_fft_size(tile, table.radius, width, height);
     c.nthreads_ = nthreads;
     c.table_ = std::move(table);
     const PsfTable& t = c.table_;
     const int N = c.fft_size_;
     const long count = long(t.layers.count) * t.anchors() * 9;
-    std::vector<std::unique_ptr<RealFft2D>> ffts(nthreads);
     {
         RealFft2D probe(N);
         if (!probe.ok())
             return Result<AnchoredConvolution>::failure("fft: cannot set up a " + std::to_string(N) + "-point transform");
         c.spectrum_size_ = probe.spectrum_size();
+    }
+    // spectra beyond kMaxKernelSpectraBytes are transformed by each tile that needs them instead
+    if (double(count) * c.spectrum_size_ * sizeof(std::complex<float>) > kMaxKernelSpectraBytes) {
+        if (progress) progress(1.0);
+        return Result<AnchoredConvolution>::success(std::move(c));
     }
     c.kernel_spectra_.resize(size_t(count) * c.spectrum_size_);
     ProgressTicker ticker(progress, double(count));
@@ -42,14 +58,7 @@ Result<AnchoredConvolution> AnchoredConvolution::create(PsfTable table, int tile
 #pragma omp for schedule(dynamic, 4)
         for (long k = 0; k < count; ++k) {
             if (ticker.cancelled()) continue;
-            const float* w = &t.weights[size_t(k) * t.kernel_size()];
-            // the kernel centred on the origin, wrapped
-            for (int b = -R; b <= R; ++b)
-                for (int a = -R; a <= R; ++a)
-                    image[size_t((b + N) % N) * N + (a + N) % N] = w[size_t(b + R) * kw + (a + R)];
-            fft.forward(image.data(), &c.kernel_spectra_[size_t(k) * c.spectrum_size_], R + 1, N - R);
-            for (int b = -R; b <= R; ++b)
-                for (int a = -R; a <= R; ++a) image[size_t((b + N) % N) * N + (a + N) % N] = 0.0f;
+            c.transform_kernel(k, fft, image, &c.kernel_spectra_[size_t(k) * c.spectrum_size_]);
             ticker.advance(1, omp_get_thread_num() == 0);
         }
     }
@@ -76,21 +85,19 @@ void layer_span(const DomainSources& src, const TileBounds& b, int layers, int& 
         }
 }
 
-// Layer l's and anchor corner (dx, dy)'s share of each source of the tile (cell cx, cy) into
-// `weight` (row stride T); whether any is lit.
-bool anchor_weights(const PsfTable& t, const DomainSources& src, const TileBounds& b, int l, int cx, int cy, int dx,
-                    int dy, int T, std::vector<float>& weight) {
+// Layer l's and anchor (kx, ky)'s share of each source of the tile into `weight` (row stride
+// T); whether any is lit.
+bool anchor_weights(const PsfTable& t, const DomainSources& src, const TileBounds& b, int l, int kx, int ky, int T,
+                    std::vector<float>& weight) {
     bool any = false;
     for (int j = b.y0; j < b.y1; ++j) {
-        const double by = t.ay.upper_weight(cy, j);
-        const float wy = float(dy ? by : 1 - by);
+        const float wy = float(t.ay.hat(ky, j));
         for (int i = b.x0; i < b.x1; ++i) {
             const size_t q = size_t(j) * src.width + i;
             const float share = src.lower[q] == l         ? 1.0f - src.upper_share[q]
                                 : src.lower[q] + 1 == l ? src.upper_share[q]
                                                         : 0.0f;
-            const double bx = t.ax.upper_weight(cx, i);
-            const float w = share * wy * float(dx ? bx : 1 - bx);
+            const float w = share * wy * float(t.ax.hat(kx, i));
             weight[size_t(j - b.y0) * T + (i - b.x0)] = w;
             any |= w > 0;
         }
@@ -149,6 +156,9 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, int out_x0, in
             // image: the tile in its top-left corner, zero elsewhere (the FFT's padding)
             std::vector<float> image(size_t(N) * N), weight(size_t(T) * T);
             std::vector<std::complex<float>> in(3 * spec), acc(3 * spec);
+            // a tile's own transforms of its kernels, where the plan keeps none
+            std::vector<std::complex<float>> own(kernel_spectra_.empty() ? 9 * spec : 0);
+            std::vector<float> scratch(kernel_spectra_.empty() ? size_t(N) * N : 0, 0.0f);
 #pragma omp for schedule(dynamic, 1)
             for (long k = 0; k < long(ntx) * nty; ++k) {
                 const int tx = int(k % ntx), ty = int(k / ntx);
@@ -160,26 +170,34 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, int out_x0, in
                     ticker.advance(1, omp_get_thread_num() == 0);
                     continue;
                 }
-                const int cx = t.ax.cell_of(b.x0), cy = t.ay.cell_of(b.y0);
+                // the anchors whose hats reach into the tile: the knots of the cells it spans
+                const int kx0 = t.ax.cell_of(b.x0), kx1 = t.ax.cell_of(b.x1 - 1) + 1;
+                const int ky0 = t.ay.cell_of(b.y0), ky1 = t.ay.cell_of(b.y1 - 1) + 1;
                 int lo, hi;
                 layer_span(src, b, t.layers.count, lo, hi);
                 std::fill(acc.begin(), acc.end(), std::complex<float>(0));
                 std::fill(image.begin(), image.end(), 0.0f);
                 for (int l = lo; l <= hi; ++l)
-                    for (int corner = 0; corner < 4; ++corner) {
-                        const int dx = corner & 1, dy = corner >> 1, anchor = (cy + dy) * nkx + (cx + dx);
-                        if (!anchor_weights(t, src, b, l, cx, cy, dx, dy, T, weight)) continue;
-                        for (int p = 0; p < 3; ++p) {
-                            for (int j = b.y0; j < b.y1; ++j)
-                                for (int i = b.x0; i < b.x1; ++i)
-                                    image[size_t(j - b.y0) * N + (i - b.x0)] =
-                                        weight[size_t(j - b.y0) * T + (i - b.x0)] * src.rgb[3 * (size_t(j) * W + i) + p];
-                            fft.forward(image.data(), &in[p * spec], b.y1 - b.y0, N);
+                    for (int ky = ky0; ky <= ky1; ++ky)
+                        for (int kx = kx0; kx <= kx1; ++kx) {
+                            const int anchor = ky * nkx + kx;
+                            if (!anchor_weights(t, src, b, l, kx, ky, T, weight)) continue;
+                            for (int p = 0; p < 3; ++p) {
+                                for (int j = b.y0; j < b.y1; ++j)
+                                    for (int i = b.x0; i < b.x1; ++i)
+                                        image[size_t(j - b.y0) * N + (i - b.x0)] =
+                                            weight[size_t(j - b.y0) * T + (i - b.x0)] * src.rgb[3 * (size_t(j) * W + i) + p];
+                                fft.forward(image.data(), &in[p * spec], b.y1 - b.y0, N);
+                            }
+                            const std::complex<float>* kernels[9];
+                            for (int m = 0; m < 9; ++m) {
+                                if (kernel_spectra_.empty())
+                                    transform_kernel((long(l) * t.anchors() + anchor) * 9 + m, fft, scratch,
+                                                     &own[m * spec]);
+                                kernels[m] = kernel_spectra_.empty() ? &own[m * spec] : spectrum(l, anchor, m);
+                            }
+                            multiply_accumulate(in.data(), kernels, acc.data(), spec);
                         }
-                        const std::complex<float>* kernels[9];
-                        for (int m = 0; m < 9; ++m) kernels[m] = spectrum(l, anchor, m);
-                        multiply_accumulate(in.data(), kernels, acc.data(), spec);
-                    }
                 if (hi >= lo)
                     for (int q = 0; q < 3; ++q) {
                         fft.inverse(&acc[q * spec], image.data());

@@ -9,7 +9,7 @@
 //   out = sum_a K_a * (phi_a s),   so source s is spread by sum_a phi_a(s) K_a,
 // which varies smoothly with the source's position, keeps its energy and centroid, and does
 // not depend on the tiling (tiles only bound the FFT size; overlap-add makes them exact).
-// The anchors' knots lie on tile boundaries, so each tile meets exactly four anchors.
+// A tile meets the anchors of every cell it spans (four where it lies within one cell).
 // Interpolating the kernel at the output pixel instead (out = sum_a phi_a (K_a * s)) would
 // cost fewer transforms but spreads one source's light by a blend that changes across its
 // own image; the per-source form is the physical one (each source has one PSF).
@@ -36,6 +36,12 @@ struct DomainSources {
 // round the period (at most R beyond the domain) lands in that margin, which is never read.
 int convolution_fft_size(int tile, int radius, int width, int height);
 
+// Kernel spectra a plan keeps at most; beyond, each tile transforms the kernels it meets (a
+// frame with hundreds of anchors at a wide field: 4x the transforms, memory bounded).
+constexpr double kMaxKernelSpectraBytes = 512.0 * (1 << 20);
+
+class RealFft2D;
+
 class AnchoredConvolution {
 public:
     // Transforms every kernel of `table` once, for tiles of side `tile` (>= 2 x the radius) on
@@ -55,7 +61,10 @@ private:
     PsfTable table_;
     int tile_ = 0, fft_size_ = 0, nthreads_ = 1;
     size_t spectrum_size_ = 0;
-    std::vector<std::complex<float>> kernel_spectra_;  // [layer][anchor][m][spectrum]
+    std::vector<std::complex<float>> kernel_spectra_;  // [layer][anchor][m][spectrum]; empty: none kept
+    // kernel k = (layer x anchors + anchor) x 9 + m's spectrum into `spectrum` (`image`: N x N
+    // zeros, left so)
+    void transform_kernel(long k, RealFft2D& fft, std::vector<float>& image, std::complex<float>* spectrum) const;
     const std::complex<float>* spectrum(int layer, int anchor, int m) const {
         return &kernel_spectra_[((size_t(layer) * table_.anchors() + anchor) * 9 + m) * spectrum_size_];
     }

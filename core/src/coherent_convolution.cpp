@@ -53,12 +53,11 @@ Geometry geometry_of(const CoherentSpec& s) {
     const int o = s.overscan, out_w = c.width - 2 * o, out_h = c.height - 2 * o;
     const double nearest = s.max_inverse_depth > 0 ? 1.0 / s.max_inverse_depth : INFINITY;
     Geometry g;
-    // the radius depends on the widest field its sources reach: one refinement (it only grows)
-    for (int pass = 0; pass < 2; ++pass) {
-        const double cmax = c.cos_widest(o - g.radius, o - g.radius, o + out_w + g.radius, o + out_h + g.radius);
-        g.radius = psf_kernel_radius(s.aperture, c.film_distance, nearest, s.wavelength, cmax, c.pixel_pitch(),
-                                     ConvolutionSettings{}.max_radius);
-    }
+    // the radius is the widest PSF's at the output frame's corners: the anchors lie within the
+    // frame, and sources in the margin take the edge anchors' kernels
+    g.radius = psf_kernel_radius(s.aperture, c.film_distance, nearest, s.wavelength,
+                                 c.cos_widest(o, o, o + out_w, o + out_h), c.pixel_pitch(),
+                                 ConvolutionSettings{}.max_radius);
     g.origin = g.radius - o;
     g.width = out_w + 2 * g.radius;
     g.height = out_h + 2 * g.radius;
@@ -72,6 +71,9 @@ Geometry geometry_of(const CoherentSpec& s) {
                               g.radius);
     g.ay = AnchorAxis::across(g.height, 1, std::max(1, int(std::lround(double(cells) * g.height / longest))),
                               min_cell, g.radius);
+    // and close enough that the field's stretch of the PSF changes little between them (psf_table.h)
+    g.ax = AnchorAxis::refined_for_field(g.ax, c.tan_pitch(), kMaxAnchorStep);
+    g.ay = AnchorAxis::refined_for_field(g.ay, c.tan_pitch(), kMaxAnchorStep);
     g.layers = amplitude_layers(s.max_inverse_depth, s.aperture.bounding_radius(), s.wavelength);
     return g;
 }
@@ -275,21 +277,31 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
         }
         return Result<bool>::success(true);
     };
-    // The first anchor fixes the film sums' evaluator; the others follow, one anchor per thread
-    // on the CPU (a device's plans are not for concurrent use), reporting from the first thread.
+    // The anchor nearest the frame's centre fixes the film sums' evaluator (a corner's film
+    // points at a wide field took the cost model minutes); the others follow, one anchor per
+    // thread on the CPU (a device's plans are not for concurrent use), reporting from the
+    // first thread.
     PlanScope film_scope;
     const auto cancelled = [] { return R::failure("cancelled", ErrorKind::Cancelled); };
-    if (auto r = anchor_kernels(0, spec.settings, film_scope); !r.ok()) return R::failure(r);
+    const int first = int(g.ay.knots.size() / 2 * g.ax.knots.size() + g.ax.knots.size() / 2);
+    // Beyond kMaxNufftKernelField the film sums are direct: there the nufft evaluator's chirp
+    // plans for the corners' kernels took minutes each (a 24 px frame at 90 deg), far more than
+    // their direct sums over a kernel's few thousand film points.
+    SummationSettings kernel_settings = spec.settings;
+    const int o = spec.overscan;
+    if (c.cos_widest(o, o, c.width - o, c.height - o) < std::cos(kMaxNufftKernelField))
+        kernel_settings.summation = Summation::Direct;
+    if (auto r = anchor_kernels(first, kernel_settings, film_scope); !r.ok()) return R::failure(r);
     if (progress && !progress(1.0 / A)) return cancelled();
     const bool on_cpu = spec.settings.device == Device::Cpu;
-    SummationSettings one_thread = spec.settings;
+    SummationSettings one_thread = kernel_settings;
     one_thread.nthreads = on_cpu ? 1 : spec.settings.nthreads;
     std::atomic<int> done{1};
     std::atomic<bool> stop{false};
     Result<bool> failed = Result<bool>::success(true);
 #pragma omp parallel for num_threads(on_cpu ? impl->threads : 1) schedule(dynamic)
-    for (int a = 1; a < A; ++a) {
-        if (stop) continue;
+    for (int a = 0; a < A; ++a) {
+        if (stop || a == first) continue;
         PlanScope scope = film_scope;
         if (auto r = anchor_kernels(a, one_thread, scope); !r.ok()) {
 #pragma omp critical(coherent_kernels)

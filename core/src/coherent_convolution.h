@@ -63,6 +63,8 @@ constexpr double kMaxLayerPhase = 0.3;
 // of its exact peak at cells of 6 R, 99-101% at 2 R.
 constexpr int kMinAmplitudeCellRadii = 2;
 constexpr int kMaxPsfLayers = 32;
+// Frames whose corners lie beyond this field angle (radians, 45 deg) sum their kernels directly.
+constexpr double kMaxNufftKernelField = M_PI / 4;
 constexpr int kMaxRunsAtOnce = 8;
 
 // Depth layers for amplitude kernels at one wavelength: even in 1/z from the sky (0) to the

@@ -47,13 +47,23 @@ int tile_side(int requested, int radius, int domain) {
 }
 
 // Transform work (points x log2 points) per depth layer of a plan tiled as `t` says: 9 kernel
-// spectra per anchor, and per tile 3 forward transforms for each of its 4 anchors and 3 inverse.
+// spectra per anchor, and per tile 3 forward transforms for each anchor it meets and 3 inverse.
 double transform_work(const detail::PsfTableSpec& t) {
     const int n = detail::convolution_fft_size(t.tile, t.radius, t.domain_width, t.domain_height);
+    const detail::AnchorAxis ax = detail::anchor_axis(t, false), ay = detail::anchor_axis(t, true);
+    auto met = [&](const detail::AnchorAxis& a, int length) {  // knots met, summed over a row of tiles
+        double sum = 0;
+        for (int x0 = 0; x0 < length; x0 += t.tile)
+            sum += a.cell_of(std::min(length, x0 + t.tile) - 1) - a.cell_of(x0) + 2;
+        return sum;
+    };
     const double tiles = double((t.domain_width + t.tile - 1) / t.tile) * ((t.domain_height + t.tile - 1) / t.tile);
-    const double anchors = double(detail::anchor_axis(t, false).knots.size()) * detail::anchor_axis(t, true).knots.size();
+    const double anchors = double(ax.knots.size()) * ay.knots.size();
     const double points = double(n) * n;
-    return (9 * anchors + 15 * tiles) * points * std::log2(points);
+    // kernels beyond the spectra a plan keeps are transformed by each tile that meets them
+    const bool kept = 9 * anchors * points / 2 * 8 <= detail::kMaxKernelSpectraBytes;
+    return (9 * anchors + (kept ? 3 : 12) * met(ax, t.domain_width) * met(ay, t.domain_height) + 3 * tiles) * points *
+           std::log2(points);
 }
 
 }  // namespace
@@ -87,14 +97,10 @@ Result<detail::PsfTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
     const int out_w = c.width - 2 * o, out_h = c.height - 2 * o;
     const double pitch = c.pixel_pitch();
     const double nearest = spec.max_inverse_depth > 0 ? 1.0 / spec.max_inverse_depth : INFINITY;
-    // The kernel radius depends on the widest field the sources reach, which depends on the
-    // radius: one refinement from the output frame's corners suffices (the radius only grows).
-    int radius = 0;
-    for (int pass = 0; pass < 2; ++pass) {
-        const double cmax = c.cos_widest(o - radius, o - radius, o + out_w + radius, o + out_h + radius);
-        radius = psf_kernel_radius(spec.aperture, c.film_distance, nearest, lambda_max, cmax, pitch,
-                                   spec.settings.max_radius);
-    }
+    // The kernel radius is the widest PSF's at the output frame's corners: the anchors lie within
+    // the frame, and sources in the margin beyond take the edge anchors' kernels (psf_table.h).
+    const int radius = psf_kernel_radius(spec.aperture, c.film_distance, nearest, lambda_max,
+                                         c.cos_widest(o, o, o + out_w, o + out_h), pitch, spec.settings.max_radius);
     detail::PsfTableSpec t;
     t.camera = c;
     t.origin = radius - o;
@@ -102,11 +108,13 @@ Result<detail::PsfTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
     t.domain_height = out_h + 2 * radius;
     t.tile = tile_side(spec.settings.tile, radius, std::max(t.domain_width, t.domain_height));
     t.anchor_cells = std::max(1, spec.settings.anchor_cells);
+    t.radius = radius;
     if (spec.settings.tile <= 0) {
         // one whole-domain tile needs a transform only the domain's side (no 2 R of padding):
-        // cheaper than tiles where the kernels are large against the frame. Its anchors are the
-        // domain's corners (knots lie on tile boundaries), so it is taken only where the tiles
-        // have no more (cells of kMinCellRadii kernel radii already span the frame).
+        // cheaper than tiles where the kernels are large against the frame. Its ripple-rule
+        // anchors are the domain's corners (those knots lie on tile boundaries), so it is taken
+        // only where the tiles have no more anchors (cells of kMinCellRadii kernel radii already
+        // span the frame, or the field's split sets them all).
         detail::PsfTableSpec whole = t;
         whole.tile = std::max(t.domain_width, t.domain_height);
         auto anchors = [](const detail::PsfTableSpec& s) {
@@ -114,7 +122,6 @@ Result<detail::PsfTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
         };
         if (anchors(whole) == anchors(t) && transform_work(whole) < transform_work(t)) t.tile = whole.tile;
     }
-    t.radius = radius;
     t.aperture = spec.aperture;
     t.basis = &spec.basis;
     t.layers = detail::DepthLayers::spanning(spec.max_inverse_depth, spec.aperture.bounding_radius(), lambda_min,
@@ -133,7 +140,9 @@ double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
         double(detail::anchor_axis(t, false).knots.size()) * detail::anchor_axis(t, true).knots.size();
     const double side = 2.0 * t.radius + 1,
                  n = detail::convolution_fft_size(t.tile, t.radius, t.domain_width, t.domain_height);
-    const double kernels = t.layers.count * anchors * 9 * (side * side * sizeof(float) + n * (n / 2 + 1) * 8);
+    const double spectra = t.layers.count * anchors * 9 * n * (n / 2 + 1) * 8;
+    const double kernels = t.layers.count * anchors * 9 * side * side * sizeof(float) +
+                           (spectra > detail::kMaxKernelSpectraBytes ? t.nthreads * 9 * n * (n / 2 + 1) * 8 : spectra);
     const double domain = double(t.domain_width) * t.domain_height * 17;  // radiance, layer, share
     const double tiles = t.nthreads * (n * n + 7 * n * (n / 2 + 1) * 2) * sizeof(float);
     // each thread's working memory for one PSF of the table, at its largest: the nearest layer

@@ -65,6 +65,17 @@ AnchorAxis AnchorAxis::across(int length, int tile, int cells, int min_cell, int
     return a;
 }
 
+AnchorAxis AnchorAxis::refined_for_field(const AnchorAxis& base, double tan_pitch, double max_step) {
+    AnchorAxis a;
+    for (int k = 0; k + 1 < int(base.knots.size()); ++k) {
+        const int k0 = base.knots[k], k1 = base.knots[k + 1];
+        const int parts = std::clamp(int(std::ceil((k1 - k0) * tan_pitch / max_step)), 1, std::max(1, k1 - k0));
+        for (int m = 0; m < parts; ++m) a.knots.push_back(k0 + int(std::lround(double(m) * (k1 - k0) / parts)));
+    }
+    a.knots.push_back(base.knots.back());
+    return a;
+}
+
 int AnchorAxis::cell_of(int pixel) const {
     const auto it = std::upper_bound(knots.begin(), knots.end(), pixel);
     return std::clamp(int(it - knots.begin()) - 1, 0, cells() - 1);
@@ -75,7 +86,8 @@ AnchorAxis anchor_axis(const PsfTableSpec& spec, bool vertical) {
     const int cells = vertical ? std::max(1, int(std::lround(double(spec.anchor_cells) * length /
                                                              std::max(spec.domain_width, spec.domain_height))))
                                : spec.anchor_cells;
-    return AnchorAxis::across(length, spec.tile, cells, kMinCellRadii * spec.radius, spec.radius);
+    const AnchorAxis base = AnchorAxis::across(length, spec.tile, cells, kMinCellRadii * spec.radius, spec.radius);
+    return AnchorAxis::refined_for_field(base, spec.camera.tan_pitch(), kMaxAnchorStep);
 }
 
 Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& progress) {
