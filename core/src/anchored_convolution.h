@@ -38,7 +38,7 @@ int convolution_fft_size(int tile, int radius, int width, int height);
 
 // Kernel spectra a plan keeps at most; beyond, each tile transforms the kernels it meets (a
 // frame with hundreds of anchors at a wide field: 4x the transforms, memory bounded).
-constexpr double kMaxKernelSpectraBytes = 512.0 * (1 << 20);
+constexpr double kMaxKernelSpectraBytes = 1024.0 * (1 << 20);
 
 class RealFft2D;
 

@@ -72,8 +72,9 @@ Geometry geometry_of(const CoherentSpec& s) {
     g.ay = AnchorAxis::across(g.height, 1, std::max(1, int(std::lround(double(cells) * g.height / longest))),
                               min_cell, g.radius);
     // and close enough that the field's stretch of the PSF changes little between them (psf_table.h)
-    g.ax = AnchorAxis::refined_for_field(g.ax, c.tan_pitch(), kMaxAnchorStep);
-    g.ay = AnchorAxis::refined_for_field(g.ay, c.tan_pitch(), kMaxAnchorStep);
+    const double step = anchor_step(s.aperture, s.wavelength, c.film_distance, c.pixel_pitch());
+    g.ax = AnchorAxis::refined_for_field(g.ax, c.tan_pitch(), step);
+    g.ay = AnchorAxis::refined_for_field(g.ay, c.tan_pitch(), step);
     g.layers = amplitude_layers(s.max_inverse_depth, s.aperture.bounding_radius(), s.wavelength);
     return g;
 }

@@ -109,6 +109,8 @@ Result<detail::PsfTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
     t.tile = tile_side(spec.settings.tile, radius, std::max(t.domain_width, t.domain_height));
     t.anchor_cells = std::max(1, spec.settings.anchor_cells);
     t.radius = radius;
+    t.aperture = spec.aperture;
+    t.basis = &spec.basis;
     if (spec.settings.tile <= 0) {
         // one whole-domain tile needs a transform only the domain's side (no 2 R of padding):
         // cheaper than tiles where the kernels are large against the frame. Its ripple-rule
@@ -122,8 +124,6 @@ Result<detail::PsfTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
         };
         if (anchors(whole) == anchors(t) && transform_work(whole) < transform_work(t)) t.tile = whole.tile;
     }
-    t.aperture = spec.aperture;
-    t.basis = &spec.basis;
     t.layers = detail::DepthLayers::spanning(spec.max_inverse_depth, spec.aperture.bounding_radius(), lambda_min,
                                              c.film_distance, pitch);
     t.nthreads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();

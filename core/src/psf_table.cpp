@@ -76,6 +76,14 @@ AnchorAxis AnchorAxis::refined_for_field(const AnchorAxis& base, double tan_pitc
     return a;
 }
 
+double anchor_step(const Aperture& aperture, double longest_wavelength, double film_distance, double pixel_pitch) {
+    const double span = 2 * aperture.bounding_radius();
+    const double airy = 1.22 * longest_wavelength * film_distance / span, shadow = span / 2;
+    const double psf = airy * airy + shadow * shadow, pixel = pixel_pitch * pixel_pitch / 12;
+    const double share = airy * airy / psf * psf / (psf + pixel);
+    return kMaxAnchorStep / std::sqrt(std::max(share, 0.25));  // (at most twice as wide: the shadow's rim)
+}
+
 int AnchorAxis::cell_of(int pixel) const {
     const auto it = std::upper_bound(knots.begin(), knots.end(), pixel);
     return std::clamp(int(it - knots.begin()) - 1, 0, cells() - 1);
@@ -87,7 +95,11 @@ AnchorAxis anchor_axis(const PsfTableSpec& spec, bool vertical) {
                                                              std::max(spec.domain_width, spec.domain_height))))
                                : spec.anchor_cells;
     const AnchorAxis base = AnchorAxis::across(length, spec.tile, cells, kMinCellRadii * spec.radius, spec.radius);
-    return AnchorAxis::refined_for_field(base, spec.camera.tan_pitch(), kMaxAnchorStep);
+    double longest = spec.basis->wavelength(0);
+    for (int s = 0; s < spec.basis->size(); ++s) longest = std::max(longest, spec.basis->wavelength(s));
+    const PinholeCamera& c = spec.camera;
+    return AnchorAxis::refined_for_field(base, c.tan_pitch(),
+                                         anchor_step(spec.aperture, longest, c.film_distance, c.pixel_pitch()));
 }
 
 Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& progress) {

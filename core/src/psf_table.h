@@ -59,6 +59,15 @@ constexpr int kMinCellRadii = 6;
 // were the frame's corners, and every source took the corners' PSFs, 1/cos^3 too wide: 63%
 // below its Airy peak at the centre of a 60 deg frame.
 constexpr double kMaxAnchorStep = 0.1;
+// The stretch is diffraction's: the geometric shadow of a pinhole on a film parallel to it keeps
+// its size at every field. A PSF whose width is shared between diffraction (the Airy radius
+// 1.22 lambda f / D) and the shadow (radius D / 2) stretches by diffraction's share s of its
+// variance, and a PSF narrower than a pixel changes a pixel's value little whatever its width
+// (the pixel's own variance, 1/12 of its width squared per axis, takes a share p' of the sum):
+// cells may then be kMaxAnchorStep / sqrt(s (1 - p')) wide for the same 1% at the peak, at
+// most twice kMaxAnchorStep (a shadow's Fresnel rim still changes with the field). For
+// the longest wavelength and the sky (the most diffraction's case), `pixel_pitch` on the film.
+double anchor_step(const Aperture& aperture, double longest_wavelength, double film_distance, double pixel_pitch);
 struct AnchorAxis {
     std::vector<int> knots;
 
