@@ -34,13 +34,13 @@ oiiotool --colorconfig ocio_configs/wavecam.ocio \
 # PSF at its own field, 1/cos^3 wider radially and 1/cos tangentially off axis, the centre's the
 # on-axis Airy pattern. The stars at the centre, half way to the corner and in the corner,
 # enlarged 8x and exposed 16x brighter.
-python3 test_scenes/star_field.py out/stars.exr --size 512 --fov 60
+/usr/bin/python3 test_scenes/star_field.py out/stars.exr --size 512 --fov 60  # Debian's (OIIO, numpy)
 "$wavecam" apply out/stars.exr -o out/stars_0.08mm.exr --pinhole 0.08mm --film-distance 50mm --wavelengths 16
 crop() {  # crop X Y LABEL: 40x40 round star (X, Y), enlarged 8x
   echo out/stars_0.08mm.exr --ch R,G,B --mulc 16 --ociodisplay sRGB Standard --cut "40x40+$(($1 - 20))+$(($2 - 20))" \
     --resize:filter=box 320x320 --text:x=8:y=24:size=18:color=1,1,0.2:font=$font "$3"
 }
-oiiotool --colorconfig ocio_configs/wavecam.ocio $(crop 256 256 centre) $(crop 160 160 "half way") \
+oiiotool --colorconfig ocio_configs/wavecam.ocio $(crop 256 256 centre) $(crop 160 160 halfway) \
   $(crop 32 32 corner) --mosaic:pad=4 3x1 -d uint8 -o out/star_field.png
 # The paper's figure: PSFs over pinhole diameters, spot size against diameter, the optimum.
 "$wavecam" sweep --film-distance 50mm --wavelength 550nm -o out/sweep

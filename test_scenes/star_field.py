@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """A star field: single lit pixels on black sky, every 64 pixels over a square frame, written as
 a radiance + depth OpenEXR (R, G, B, Z; Z infinite: every star is a plane wave) with the frame's
 field of view in `wavecam.fov`. Each star's image through wavecam is then its PSF at that field.
