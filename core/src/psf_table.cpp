@@ -79,8 +79,8 @@ AnchorAxis AnchorAxis::refined_for_field(const AnchorAxis& base, double tan_pitc
 double anchor_step(const Aperture& aperture, double longest_wavelength, double film_distance, double pixel_pitch) {
     const double span = 2 * aperture.bounding_radius();
     const double airy = 1.22 * longest_wavelength * film_distance / span, shadow = span / 2;
-    const double psf = airy * airy + shadow * shadow, pixel = pixel_pitch * pixel_pitch / 12;
-    const double share = airy * airy / psf * psf / (psf + pixel);
+    // diffraction's share of the PSF's variance, times the PSF's share of the PSF's and pixel's
+    const double share = airy * airy / (airy * airy + shadow * shadow + pixel_pitch * pixel_pitch / 12);
     return kMaxAnchorStep / std::sqrt(std::max(share, 0.25));  // (at most twice as wide: the shadow's rim)
 }
 

@@ -8,6 +8,7 @@
 # Frames: uniform noise x a checker (radiance), depth from 0.3 m to 20 m, fov 40deg (100deg
 # for the 1080p frame: the widest PSFs). Usage: tests/bench/run_fast_bench.sh [build-dir] [part...]
 set -euo pipefail
+bench_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 build=$(cd "${1:-build}" && pwd)
 shift || true
 parts=${*:-1 2 3 4}
@@ -16,12 +17,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
 
-frame() {  # frame W H FOV OUT
-  oiiotool --pattern noise:type=uniform:min=0:max=1 "$1x$2" 3 --chnames R,G,B \
-           --pattern checker:width=64:height=64:color1=0.2,0.2,0.2:color2=1,1,1 "$1x$2" 3 --mul \
-           --pattern fill:top=0.3:bottom=20 "$1x$2" 1 --chnames Z --chappend \
-           --attrib wavecam.fov "$3" -d float -o "$4"
-}
+source "$bench_dir/bench_frame.sh"
 
 # seconds and peak resident memory (MiB) of a command
 measure() {

@@ -23,6 +23,7 @@
 # Frames: uniform noise x a checker (radiance), depth from 0.3 m to 20 m (top to bottom).
 # Usage: tests/bench/run_summation_bench.sh [build-dir] [part...]
 set -euo pipefail
+bench_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 build=$(cd "${1:-build}" && pwd)
 shift || true
 parts=${*:-1 2 3}
@@ -31,12 +32,8 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
 
-frame() {  # frame W H FOV OUT
-  oiiotool --pattern noise:type=uniform:min=0:max=1 "$1x$2" 3 --chnames R,G,B \
-           --pattern checker:width=16:height=16:color1=0.2,0.2,0.2:color2=1,1,1 "$1x$2" 3 --mul \
-           --pattern fill:top=0.3:bottom=20 "$1x$2" 1 --chnames Z --chappend \
-           --attrib wavecam.fov "$3" -d float -o "$4"
-}
+checker=16
+source "$bench_dir/bench_frame.sh"
 seconds() {
   python3 - "$@" <<'PY'
 import subprocess, sys, time

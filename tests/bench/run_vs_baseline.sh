@@ -5,6 +5,7 @@
 # pair: the median time of each and the median of the pairs' ratios.
 # Usage: tests/bench/run_vs_baseline.sh BUILD BASELINE_BUILD [runs]
 set -euo pipefail
+bench_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 new=$(cd "$1" && pwd)/plugin/wavecam
 old=$(cd "$2" && pwd)/plugin/wavecam
 runs=${3:-3}
@@ -12,12 +13,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
 
-frame() {  # frame W H FOV OUT
-  oiiotool --pattern noise:type=uniform:min=0:max=1 "$1x$2" 3 --chnames R,G,B \
-           --pattern checker:width=64:height=64:color1=0.2,0.2,0.2:color2=1,1,1 "$1x$2" 3 --mul \
-           --pattern fill:top=0.3:bottom=20 "$1x$2" 1 --chnames Z --chappend \
-           --attrib wavecam.fov "$3" -d float -o "$4"
-}
+source "$bench_dir/bench_frame.sh"
 
 paired() {  # paired LABEL ARGS...: A and B in turn, the medians and the median ratio
   local label=$1
