@@ -2,7 +2,8 @@
 # The Blender add-on in Debian's Blender, headless, as a user runs it: installed from the zip
 # into temporary BLENDER_USER_* folders, a tiny Cycles scene rendered with `-a` or `-f N`.
 # Usage: blender_addon_test.sh SOURCE_DIR BUILD_DIR (animation | portrait | errors | settings | oldfile | ui)
-# ui: Blender with its UI under xvfb-run (exit 77, skipped, where xvfb-run is missing).
+# ui: Blender with its UI under xvfb-run (exit 77, skipped, where xvfb-run is missing);
+# WAVECAM_UI_SCREENSHOTS=DIR keeps its screenshots there.
 set -euo pipefail
 src=$1 build=$2 what=$3
 [ "$what" = ui ] && ! command -v xvfb-run > /dev/null && { echo "xvfb-run not installed: skipped"; exit 77; }
@@ -33,7 +34,7 @@ portrait)  # sensor fit Auto, then Vertical
 errors)
   "${blender[@]}" "$work/scene.blend" --python "$steps" -- errors > "$work/errors.log" 2>&1 ||
     { cat "$work/errors.log"; exit 1; }
-  for expected in "frame 1 not diffracted: camera 'Camera' has shift" "wavecam command was not found" \
+  for expected in "this render is not diffracted: camera 'Camera' has shift" "wavecam command was not found" \
                   "Wavelength list: 'banana' is not a wavelength" "has no Z pass"; do
     grep -F -- "wavecam: error: " "$work/errors.log" | grep -qF -- "$expected" ||
       { cat "$work/errors.log"; echo "no reported error containing: $expected"; exit 1; }
@@ -43,7 +44,8 @@ errors)
 settings)
   "${blender[@]}" "$work/scene.blend" --python "$steps" -- settings > "$work/settings.log" 2>&1 ||
     { cat "$work/settings.log"; exit 1; }
-  grep -E "^(pinhole|film|decreasing|xray|centimetres|vignetting|summation)" "$work/settings.log"
+  grep -E "^(pinhole|film|orthographic|panoramic|png|max_terms|software|decreasing|xray|centimetres|vignetting|summation)" \
+    "$work/settings.log"
   ;;
 oldfile)  # saved without the add-on, as its earlier version did; loaded with it
   "${blender[@]}" --factory-startup --python "$steps" -- oldfile "$work/old.blend" > "$work/old.log" 2>&1 ||
@@ -51,7 +53,7 @@ oldfile)  # saved without the add-on, as its earlier version did; loaded with it
   "${blender[@]}" "$work/old.blend" --python "$steps" -- loadold 2>&1 | grep -E "^(old file|FAIL|Error|Trace)"
   ;;
 ui)
-  timeout 240 xvfb-run -a -s "-screen 0 1280x800x24" blender "$work/scene.blend" \
+  timeout 280 xvfb-run -a -s "-screen 0 1280x800x24" blender --enable-event-simulate "$work/scene.blend" \
     --python "$src/tests/blender/ui_steps.py" > "$work/ui.log" 2>&1 || { cat "$work/ui.log"; exit 1; }
   grep -E "^(wavecam|Info|F12|Ctrl|ui:)" "$work/ui.log"
   ! grep -B2 -A12 "^Traceback" "$work/ui.log" || { echo "a Python error in Blender's UI"; exit 1; }

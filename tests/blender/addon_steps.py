@@ -50,10 +50,20 @@ def make_scene(blend, prefix, shape):
     cam.keyframe_insert("lens", frame=1)
     cam.lens = 60
     cam.keyframe_insert("lens", frame=2)
-    cam.wavecam.enabled = True  # turns on the Z pass and OpenEXR MultiLayer
+    from wavecam_blender import reports
+    said = []
+    report_info = reports.info
+    reports.info = lambda message: (said.append(message), report_info(message))
+    scene.render.image_settings.file_format = 'PNG'
+    cam.wavecam.enabled = True  # turns on the Z pass and OpenEXR MultiLayer, and says so
+    cam.wavecam.enabled = False
+    cam.wavecam.enabled = True  # nothing left to change: nothing said
+    reports.info = report_info
     cam.wavecam.wavelength_count = 3
     expect(scene.view_layers[0].use_pass_z, "enabling wavecam turned on the Z pass")
     expect(scene.render.image_settings.file_format == 'OPEN_EXR_MULTILAYER', "enabling wavecam chose EXR multilayer")
+    expect(len(said) == 1 and "File Format PNG changed to OpenEXR MultiLayer" in said[0] and "Z pass" in said[0],
+           f"enabling wavecam said once what it changed: {said}")
     bpy.ops.wm.save_as_mainfile(filepath=blend)
     # the same frame with sensor fit Vertical (the sensor height spans the frame's height)
     cam.sensor_fit = 'VERTICAL'
@@ -205,36 +215,60 @@ def settings():
     cam = scene.camera.data
     w = cam.wavecam
     folder = os.path.dirname(bpy.data.filepath)
-    errors, rendered = [], []
-    report_error = reports.error
+    errors, infos, rendered = [], [], []
+    report_error, report_info, report_warning = reports.error, reports.info, reports.warning
     reports.error = lambda message: (errors.append(message), report_error(message))
+    reports.info = lambda message: (infos.append(message), report_info(message))
+    reports.warning = lambda message: (infos.append(message), report_warning(message))
     bpy.app.handlers.render_post.append(lambda *a: rendered.append(len(errors)))
 
-    def render(name):
-        del errors[:], rendered[:]
+    def render(name, animation=False):
+        del errors[:], infos[:], rendered[:]
         scene.render.filepath = os.path.join(folder, name)
-        bpy.ops.render.render(write_still=True)
-        return scene.render.filepath + ".wavecam.exr"
+        bpy.ops.render.render(animation=animation, write_still=not animation)
+        return scene.render.filepath + ("" if animation else ".wavecam.exr")
 
-    def refused(name, expected):
+    def refused(name, expected, before=True):
         out = render(name)
         expect(not os.path.exists(out), f"{name}: refused, yet {out} written")
         said = [e for e in errors if expected in e]
         expect(len(said) == 1, f"{name}: one error saying '{expected}'; got {errors}")
-        expect(rendered and rendered[0] >= 1, f"{name}: the refusal came before the frame was rendered ({rendered})")
+        expect(not before or (rendered and rendered[0] >= 1),
+               f"{name}: the refusal came before the frame was rendered ({rendered})")
         print(f"{name}: {said[0] if said else errors}", flush=True)
 
-    # a pinhole between the longest wavelength and the film's width (36 mm at a 35 mm lens)
+    # a pinhole between the longest wavelength and the film's width (36 mm at a 35 mm lens);
+    # 0 is held at the hard minimum 0.0001 mm, which is refused by name
     w.auto_pinhole = False
     w.pinhole = 0
-    refused("pinhole0", "Pinhole 0 mm is smaller than the longest wavelength (700 nm)")
+    expect(w.pinhole > 0, f"pinhole 0 held above 0, at {w.pinhole}")
+    refused("pinhole0", "Pinhole 0.0001 mm is smaller than the longest wavelength (700 nm)")
     w.pinhole = 40
     refused("pinhole40", "Pinhole 40 mm is wider than the film (36 mm across at 35 mm")
     w.auto_pinhole = True
-    w.auto_film_distance = False
-    w.film_distance = -5  # below the hard minimum 0: held at 0, which is refused by name
-    refused("film0", "Film distance 0 mm: the film must lie behind the pinhole")
-    w.auto_film_distance = True
+    w.film_distance = -5  # held at the hard minimum 0.1 mm
+    expect(abs(w.film_distance - 0.1) < 1e-6, f"film distance -5 held at 0.1 mm, not {w.film_distance}")
+    print(f"film: -5 mm held at {w.film_distance:g} mm", flush=True)
+    w.film_distance = 50
+    # Blender's own names for the camera's type
+    cam.type = 'ORTHO'
+    refused("orthographic", "camera 'Camera' is Orthographic; wavecam needs a Perspective camera")
+    cam.type = 'PANO'
+    refused("panoramic", "camera 'Camera' is Panoramic")
+    cam.type = 'PERSP'
+    # an animation saved as PNG: refused before its first frame, and every frame named once
+    scene.render.image_settings.file_format = 'PNG'
+    render(os.path.join("png", "frame_"), animation=True)
+    said = [e for e in errors if "the frame is saved as PNG; wavecam needs OpenEXR" in e]
+    named = [i for i in infos if "not diffracted" in i]
+    expect(len(errors) == 1 and len(said) == 1, f"png: one refusal naming PNG; got {errors}")
+    expect(rendered[:1] == [1], f"png: the refusal came before the first frame was rendered ({rendered})")
+    expect(len(named) == 1 and "frames 1, 2 left as Blender rendered them" in named[0],
+           f"png: frames 1 and 2 named once; got {infos}")
+    expect(not any(f.endswith(".wavecam.exr") for f in os.listdir(os.path.join(folder, "png"))),
+           "png: no diffracted frame")
+    print(f"png: {said[0] if said else errors}; {named[0] if named else infos}", flush=True)
+    scene.render.image_settings.file_format = 'OPEN_EXR_MULTILAYER'
     w.use_wavelength_list = True
     w.wavelength_list = "450nm,400nm"
     refused("decreasing", "Wavelength list: 400nm follows 450nm; expected an increasing list")
@@ -289,6 +323,24 @@ def settings():
     spec = oiio.ImageInput.open(out).spec() if os.path.exists(out) else None
     expect(spec is not None and spec.getattribute("wavecam.runs") == 2, "random-phase: wavecam.runs 2")
     expect(spec is not None and spec.getattribute("wavecam.summation") == "auto", "random-phase: summation auto")
+    # beyond Max terms: refused before any work, pointing at the panel's settings and at
+    # `wavecam farm` with the command to run
+    w.max_terms = 1000
+    refused("max_terms", before=False, expected="beyond Max terms (1000): lower Runs, Wavelengths or the "
+            "resolution, or raise Max terms; too large for one machine")
+    farm = [e for e in errors if "wavecam farm submit " in e and " --tasks 2" in e]
+    expect(len(farm) == 1, f"max terms: the farm command given; got {errors}")
+    # Device GPU where the only Vulkan device is a software one (llvmpipe): said so (the
+    # refusal's job line names the device, without any work done)
+    w.device = 'gpu'
+    render("software_vulkan")
+    software = [e for e in errors if " on llvmpipe" in e or " on lavapipe" in e]
+    warned = [i for i in infos if "a software Vulkan driver running on the processor" in i]
+    expect(bool(software) == bool(warned), f"software vulkan: the job ran on {software}, the add-on said {infos}")
+    print(f"software vulkan: {warned[0] if warned else 'no software Vulkan device here: ' + str(errors)}",
+          flush=True)
+    w.device = 'cpu'
+    w.max_terms = 4e12
     # the psf summation, and the device
     w.summation = 'psf'
     w.device = 'cpu'

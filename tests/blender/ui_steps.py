@@ -1,11 +1,19 @@
-# The add-on with Blender's UI (run under xvfb-run by blender_addon_test.sh ui), where render
-# handlers run on the render job's thread:
-#   1. F12: a still, no file written; the diffracted frame must be saved, made, reported and
-#      shown in an Image Editor by the add-on's main-thread timer, its fov the camera's.
-#      Its report ("wrote ...") must be in the Info editor's log, read back through the clipboard.
-#   2. F12 with the camera shifted: refused when the render starts, the error in the Info log.
-#   3. Ctrl+F12: the two-frame animation (lens 35 -> 60 mm) writes both diffracted frames,
-#      each with its own frame's fov, and the last is shown.
+# The add-on with Blender's UI (run under xvfb-run by blender_addon_test.sh ui, with
+# --enable-event-simulate so that the test can press Esc), where diffraction runs off the main
+# thread. A timer ticking every 0.05 s records when it ran: while wavecam's command runs (and no
+# render job does), no gap between ticks may be much longer than Blender's own pauses (Blender
+# responsive; see MAX_GAP_S). Phases:
+#   panel:     a refusal too long for a row is drawn as wrapped rows that fit the Properties
+#              editor at its default width.
+#   still:     F12 (convolution), no file written: the diffracted frame saved, made, reported
+#              ("wrote ..." read back from the Info editor's log) and shown, its fov the camera's.
+#   progress:  F12 with random-phase (64 runs): the command's estimate in the Info log, its
+#              progress ("42% after ...") in the status bar; then Esc: the command ends, no
+#              file (nor the command's temporary) is left, the cancel is reported.
+#   refused:   F12 with an Orthographic camera: refused in the Info log, the frame named as left
+#              undiffracted, and no diffraction started nor file written.
+#   animation: Ctrl+F12, two frames (lens 35 -> 60 mm): both diffracted, each with its fov.
+# Screenshots of each phase go to $WAVECAM_UI_SCREENSHOTS when set.
 import math
 import os
 import time
@@ -13,13 +21,62 @@ import time
 import bpy
 import OpenImageIO as oiio
 
+from wavecam_blender import diffraction_queue, panel, progress_display, wrapped_label
+
+# Blender's own redraws under xvfb (software OpenGL, cores shared with builds) pause the main
+# thread too, up to about 2 s under load with nothing running; so a pause while wavecam runs
+# may be as long as MAX_GAP_S or 1.5 times the longest seen with nothing running, whichever
+# is longer. A diffraction on the main thread pauses it for the whole run: the progress
+# phase's run must last 3 times that limit, or the test cannot tell.
+MAX_GAP_S = 1.0
+LIMIT_S = 200
 start = time.time()
-state = {"phase": 0}
+state = {"phase": "setup", "since": time.time()}
+ticks = []  # (time, wavecam's command running (None: Blender's render job runs), phase)
+screens = os.environ.get("WAVECAM_UI_SCREENSHOTS")
 
 
 def finish(code, message):
     print(message, flush=True)
     os._exit(code)  # quit now, from inside a timer, with the status
+
+
+def fail(message):
+    finish(1, f"FAIL: {state['phase']}: {message}")
+
+
+def running():
+    return diffraction_queue.running_pid() is not None or bool(diffraction_queue.stopping_pids())
+
+
+def ticker():
+    rendering = bpy.app.is_job_running('RENDER')
+    ticks.append((time.monotonic(), None if rendering else running(), state["phase"]))
+    return 0.05
+
+
+def longest_gap(while_running=True):
+    """The longest time between two ticks while the command was running and Blender's own
+    render job was not (it pauses the main thread itself, command or not), and the ticks
+    counted then; while_running=False: the same with neither running, for comparison."""
+    gaps = sorted(((b[0] - a[0], a[2]) for a, b in zip(ticks, ticks[1:]) if a[1] == while_running), reverse=True)
+    print(f"ui: the longest gaps between ticks while wavecam {'ran' if while_running else 'did not run'}: "
+          f"{', '.join(f'{g:.3f} s ({phase})' for g, phase in gaps[:5])}", flush=True)
+    return (gaps[0][0] if gaps else None), len(gaps)
+
+
+def screenshot(name, window=None):
+    if not screens:
+        return
+    window = window or bpy.context.window_manager.windows[0]
+    os.makedirs(screens, exist_ok=True)
+    with bpy.context.temp_override(window=window, screen=window.screen):
+        bpy.ops.screen.screenshot(filepath=os.path.join(screens, name))
+
+
+def front_window():
+    windows = list(bpy.context.window_manager.windows)
+    return next((w for w in reversed(windows) if w.screen.is_temporary), windows[-1])
 
 
 def shown_wavecam_image():
@@ -43,7 +100,7 @@ def true_fov(lens):  # the scene's landscape frame, sensor fit Auto
 def check_fov(path, lens, what):
     fov, truth = fov_of(path), true_fov(lens)
     if fov is None or abs(fov - truth) >= 0.01:
-        finish(1, f"FAIL: {what}: {path} wavecam.fov {fov}, camera {truth:.4f}")
+        fail(f"{what}: {path} wavecam.fov {fov}, camera {truth:.4f}")
     print(f"{what}: {path}, wavecam.fov {fov:.4f} (camera {truth:.4f})", flush=True)
 
 
@@ -68,53 +125,215 @@ def render(animation):
         bpy.ops.render.render('INVOKE_DEFAULT', animation=animation)
 
 
+def properties_area():
+    window = bpy.context.window_manager.windows[0]
+    return next(a for a in window.screen.areas if a.type == 'PROPERTIES')
+
+
+def scroll_properties_down():
+    """The wavecam panel is the last of the camera's: scrolled into view for the screenshots."""
+    window, area = bpy.context.window_manager.windows[0], properties_area()
+    region = next(r for r in area.regions if r.type == 'WINDOW')
+    with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
+        for _ in range(40):
+            bpy.ops.view2d.scroll_down(deltax=0, deltay=50)
+
+
+def still_path():
+    scene = bpy.context.scene
+    return os.path.join(bpy.app.tempdir, f"{bpy.path.clean_name(scene.name)}_{scene.frame_current:04d}.wavecam.exr")
+
+
+def next_phase(name):
+    state["phase"], state["since"] = name, time.time()
+    print(f"ui: phase {name}", flush=True)
+
+
+def setup():
+    scene = bpy.context.scene
+    window = bpy.context.window_manager.windows[0]
+    # the camera's data tab in the Properties editor, so the wavecam panel draws (a failing
+    # draw prints a Python traceback, which the test looks for)
+    bpy.context.view_layer.objects.active = scene.camera
+    properties_area().spaces.active.context = 'DATA'
+    # the timeline becomes an Info editor, whose log the test reads
+    next(a for a in window.screen.areas if a.type == 'DOPESHEET_EDITOR').type = 'INFO'
+    w = scene.camera.data.wavecam
+    w.auto_pinhole = False
+    w.pinhole = 40  # wider than the film: a refusal longer than a row
+    next_phase("panel")
+
+
+def check_panel():
+    """The refusal the panel shows, broken as the panel breaks it at the Properties editor's
+    width: several rows, each narrower than the editor, the words all there in order."""
+    scene = bpy.context.scene
+    refusal = panel.problem(scene, scene.camera)
+    if not refusal or "wider than the film" not in refusal:
+        fail(f"the panel shows no refusal for a 40 mm pinhole: {refusal}")
+    text = f"Not diffracted: {refusal}"
+    region = next(r for r in properties_area().regions if r.type == 'WINDOW')
+    width = wrapped_label.available_width(region.width, icon=True, box=True)
+    rows = wrapped_label.rows(text, width)
+    widest = max(wrapped_label.text_width(r) for r in rows)
+    if len(rows) < 2 or widest > width or " ".join(rows) != " ".join(text.split()):
+        fail(f"'{text}' ({wrapped_label.text_width(text):.0f} px) at {region.width} px: rows {rows}, widest "
+             f"{widest:.0f} px of {width:.0f}")
+    print(f"ui: panel: a {wrapped_label.text_width(text):.0f} px refusal drawn as {len(rows)} rows of at most "
+          f"{widest:.0f} px in a {region.width} px Properties editor", flush=True)
+    scroll_properties_down()
+
+
 def tick():
     scene = bpy.context.scene
-    if bpy.app.is_job_running('RENDER') and time.time() - start <= 150:
+    w = scene.camera.data.wavecam
+    phase = state["phase"]
+    if time.time() - start > LIMIT_S:
+        fail(f"not done within {LIMIT_S} s; Info log: {info_log()}")
+    if phase == "setup":
+        setup()
+    elif phase == "panel":
+        if "checked" not in state:
+            check_panel()
+            state["checked"] = True
+            return 1.0  # the panel redrawn, scrolled
+        screenshot("panel_refusal.png")
+        w.auto_pinhole = True
+        next_phase("still")
+        render(animation=False)
+    elif bpy.app.is_job_running('RENDER'):
         # nothing touched while a render job runs or winds down (a refused render's job still
         # cancelling when the Info log was read and the next render started crashed Blender
         # under load)
         return 0.5
-    if state["phase"] == 0:
-        state["phase"] = 1
-        window = bpy.context.window_manager.windows[0]
-        # the camera's data tab in the Properties editor, so the wavecam panel draws (a failing
-        # draw prints a Python traceback, which the test looks for)
-        bpy.context.view_layer.objects.active = scene.camera
-        for area in window.screen.areas:
-            if area.type == 'PROPERTIES':
-                area.spaces.active.context = 'DATA'
-                area.tag_redraw()
-        # the timeline becomes an Info editor, whose log the test reads
-        next(a for a in window.screen.areas if a.type == 'DOPESHEET_EDITOR').type = 'INFO'
-        render(animation=False)
-    elif state["phase"] == 1 and shown_wavecam_image():
+    elif phase == "still" and shown_wavecam_image():
         if "wrote" not in state:
             check_fov(shown_wavecam_image(), 35, "F12 still shown in an Image Editor")
             state["wrote"] = time.time()
         if not logged("wavecam: frame 1: wrote "):
             if time.time() - state["wrote"] > 10:
-                finish(1, f"FAIL: no 'wavecam: frame 1: wrote' in the Info log: {info_log()}")
+                fail(f"no 'wavecam: frame 1: wrote' in the Info log: {info_log()}")
             return 0.5
         print(f"Info log: {logged('wavecam: frame 1: wrote ')[0]}", flush=True)
-        scene.camera.data.shift_x = 0.1
-        state["phase"] = 2
+        w.method, w.runs = 'random-phase', 64
+        next_phase("progress")
         render(animation=False)
-    elif state["phase"] == 2 and logged("has shift"):
-        print(f"Info log: {logged('has shift')[0]}", flush=True)
-        scene.camera.data.shift_x = 0
-        state["phase"] = 3
-        render(animation=True)
-    elif state["phase"] == 3:
+    elif phase == "progress":
+        return progress(w)
+    elif phase == "cancelled":
+        return cancelled(w)
+    elif phase == "refused":
+        return refused(scene)
+    elif phase == "animation":
         last = scene.render.frame_path(frame=2)[:-4] + ".wavecam.exr"
-        if shown_wavecam_image() == last:
+        if shown_wavecam_image() == last and not running():
             check_fov(scene.render.frame_path(frame=1)[:-4] + ".wavecam.exr", 35, "Ctrl+F12 frame 1")
             check_fov(last, 60, "Ctrl+F12 frame 2 shown in an Image Editor")
+            screenshot("animation_main.png")
+            screenshot("animation_render_window.png", front_window())
+            check_responsive()
             finish(0, "ui: passed")
-    if time.time() - start > 150:
-        finish(1, f"FAIL: phase {state['phase']} not done within 150 s (1: the still shown, 2: the refusal in "
-                  f"the Info log, 3: the animation shown); Info log: {info_log()}")
     return 0.5
 
 
+def gap_limit():
+    """(Not counting the setup and panel phases: the test's own work pauses Blender there.)"""
+    idle = [b[0] - a[0] for a, b in zip(ticks, ticks[1:]) if a[1] is False and a[2] not in ("setup", "panel")]
+    return max([MAX_GAP_S] + [1.5 * g for g in idle])
+
+
+def progress_run_s():
+    ran = [t for t, running, phase in ticks if running and phase == "progress"]
+    return ran[-1] - ran[0] if ran else 0
+
+
+def check_responsive():
+    longest_gap(while_running=False)
+    limit = gap_limit()
+    gap, count = longest_gap()
+    if gap is None or gap > limit:
+        fail(f"the longest pause of Blender's main thread while wavecam ran was {gap} s (over {count} ticks); "
+             f"expected at most {limit:.3f} s")
+    if progress_run_s() < 3 * limit:
+        fail(f"the progress phase's run lasted {progress_run_s():.1f} s, too short to tell a pause of "
+             f"{limit:.3f} s from a blocked main thread")
+    print(f"ui: responsive: {count} ticks while wavecam ran (the progress phase's run {progress_run_s():.1f} s), "
+          f"the longest gap {gap:.3f} s, at most {limit:.3f} s allowed", flush=True)
+
+
+def progress(w):
+    """The random-phase frame runs: progress in the status bar, then Esc."""
+    text = progress_display.shown()
+    if text and "%" in text:
+        state.setdefault("progress", text)
+    if "progress" not in state or diffraction_queue.running_pid() is None:
+        if time.time() - state["since"] > 90:
+            fail(f"no progress in the status bar within 90 s (last: {text}); Info log: {info_log()}")
+        return 0.1
+    estimate = logged("wavecam: frame 1: ") and [line for line in logged(" terms, about ") if "Esc cancels" in line]
+    if not estimate:
+        fail(f"no estimate in the Info log: {info_log()}")
+    if "shot" not in state:  # the status bar and panel drawn with the progress
+        state["shot"] = True
+        return 1.0
+    if progress_run_s() < 3.5 * gap_limit():  # long enough to tell a blocked main thread
+        return 0.2
+    print(f"Info log: {estimate[0]}", flush=True)
+    print(f"ui: status bar: {state['progress']}", flush=True)
+    screenshot("progress_main.png")
+    screenshot("progress_render_window.png", front_window())
+    state["pid"] = diffraction_queue.running_pid()
+    window = front_window()
+    window.event_simulate(type='ESC', value='PRESS')
+    window.event_simulate(type='ESC', value='RELEASE')
+    next_phase("cancelled")
+    return 0.1
+
+
+def cancelled(w):
+    pid = state["pid"]
+    if os.path.exists(f"/proc/{pid}"):
+        if time.time() - state["since"] > 5:
+            fail(f"wavecam (pid {pid}) still runs 5 s after Esc")
+        return 0.1
+    said = logged("wavecam: Esc: frame 1 not diffracted; no file written")
+    if not said:
+        if time.time() - state["since"] > 10:
+            fail(f"no cancel in the Info log: {info_log()}")
+        return 0.2
+    left = [f for f in os.listdir(bpy.app.tempdir) if ".wavecam" in f or ".tmp" in f]
+    if left or os.path.exists(still_path()):
+        fail(f"files left in {bpy.app.tempdir} after Esc: {left}")
+    if diffraction_queue.busy() or progress_display.shown():
+        fail(f"still busy after Esc: {progress_display.shown()}")
+    print(f"Info log: {said[0]}; wavecam (pid {pid}) ended {time.time() - state['since']:.1f} s after Esc, "
+          f"no file left", flush=True)
+    w.method = 'convolution'
+    bpy.context.scene.camera.data.type = 'ORTHO'
+    next_phase("refused")
+    render(animation=False)
+    return 0.5
+
+
+def refused(scene):
+    if running() or os.path.exists(still_path()):
+        fail("a refused camera's frame is diffracted")
+    said = logged("this render is not diffracted: camera 'Camera' is Orthographic")
+    named = logged("frame 1 left as Blender rendered it, not diffracted")
+    if not said or not named:
+        if time.time() - state["since"] > 30:
+            fail(f"no refusal naming Orthographic and frame 1 in the Info log: {info_log()}")
+        return 0.5
+    if "popup" not in state:
+        state["popup"] = True
+        return 0.5  # the popup drawn
+    screenshot("refused_popup.png", front_window())
+    print(f"Info log: {said[0]}\nInfo log: {named[0]}", flush=True)
+    scene.camera.data.type = 'PERSP'
+    next_phase("animation")
+    render(animation=True)
+    return 0.5
+
+
+bpy.app.timers.register(ticker, first_interval=0.05)
 bpy.app.timers.register(tick, first_interval=3.0)

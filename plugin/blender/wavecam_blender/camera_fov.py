@@ -13,10 +13,12 @@ def horizontal_fov_degrees(scene, camera_object):
     cam = camera_object.data
     render = scene.render
     if cam.type != 'PERSP':
-        raise FovError(f"camera '{camera_object.name}' is {cam.type.lower()}; wavecam needs a perspective camera")
+        kind = cam.bl_rna.properties['type'].enum_items[cam.type].name
+        raise FovError(f"camera '{camera_object.name}' is {kind}; wavecam needs a Perspective camera "
+                       "(Camera > Lens > Type)")
     if cam.shift_x != 0 or cam.shift_y != 0:
         raise FovError(f"camera '{camera_object.name}' has shift ({cam.shift_x:g}, {cam.shift_y:g}); wavecam "
-                       "assumes the frame is centred on the view axis: set Shift X and Y to 0")
+                       "assumes the frame is centred on the view axis: set Lens > Shift X and Y to 0")
     if render.pixel_aspect_x != render.pixel_aspect_y:
         raise FovError("pixel aspect is not 1 (Output > Format > Aspect); wavecam assumes square pixels")
     if render.use_border and render.use_crop_to_border:

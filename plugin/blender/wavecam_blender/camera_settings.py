@@ -1,30 +1,48 @@
 # The wavecam settings a camera carries (camera.data.wavecam). The pinhole and film distance
 # follow the camera's lens unless set by hand.
 #
-# Hard limits are what has a meaning at all (a length >= 0, a count >= 1); soft limits are the
+# Hard limits are what has a meaning at all (a length > 0, a count >= 1); soft limits are the
 # useful range the sliders drag over. Whether a value can be imaged (a pinhole between the
 # longest wavelength and the film's width, a film distance > 0, a wavelength list of light)
 # depends on other settings and the camera, so it is checked before each render
 # (settings_check.py) and refused with a message naming the setting, never clamped.
 import bpy
 
-from . import pinhole_design
+from . import pinhole_design, reports
+
+
+def _ui_name(struct, prop):
+    """An enum's value as Blender's UI names it ('OPEN_EXR_MULTILAYER' -> 'OpenEXR MultiLayer')."""
+    value = getattr(struct, prop)
+    return struct.bl_rna.properties[prop].enum_items[value].name
 
 
 def _turn_on_depth_output(settings, context):
-    """Enabling wavecam makes Blender write what wavecam reads: an OpenEXR with a depth pass."""
+    """Enabling wavecam makes Blender write what wavecam reads: an OpenEXR with a depth pass.
+    What it changes is said once, in the Info log."""
     scene = context.scene if context else None
     if not settings.enabled or scene is None:
         return
+    changed = []
     for layer in scene.view_layers:
-        layer.use_pass_z = True
+        if not layer.use_pass_z:
+            layer.use_pass_z = True
+            changed.append(f"the Z pass of view layer '{layer.name}' turned on")
     image = scene.render.image_settings
     if image.file_format not in {'OPEN_EXR', 'OPEN_EXR_MULTILAYER'}:
+        was = _ui_name(image, "file_format")
         image.file_format = 'OPEN_EXR_MULTILAYER'
         image.color_depth = '32'
-    if image.file_format == 'OPEN_EXR':
+        changed.append(f"the output's File Format {was} changed to OpenEXR MultiLayer, Float (Full)")
+    if image.file_format == 'OPEN_EXR' and not image.use_zbuffer:
         image.use_zbuffer = True
+        changed.append("the OpenEXR output's Z Buffer turned on")
+    if changed:
+        reports.info("on: " + "; ".join(changed) + " (wavecam reads depth from OpenEXR)")
 
+
+MIN_FILM_DISTANCE_MM = 0.1
+MIN_PINHOLE_MM = 1e-4  # 0.1 um: > 0, below every wavelength (a smaller one is refused by name)
 
 # The numbers are what a .blend file stores for an enum (not the identifiers): files saved when
 # these were called 'fast' (0) and 'exact' (1) load as convolution and random-phase.
@@ -43,8 +61,9 @@ SUMMATIONS = [
 ]
 DEVICES = [
     ('cpu', "CPU", "The processor (the default)", 0),
-    ('gpu', "GPU", "A Vulkan device, a discrete GPU first; none is an error", 1),
-    ('auto', "Auto", "A discrete GPU where there is one, else the processor", 2),
+    ('gpu', "GPU", "A Vulkan device, a discrete GPU first; none is an error. Where there is no GPU, Mesa's "
+     "llvmpipe (software Vulkan, on the processor) is taken: usually slower than CPU, and said so", 1),
+    ('auto', "Auto", "A discrete GPU where there is one, else the processor (never software Vulkan)", 2),
 ]
 
 
@@ -56,14 +75,14 @@ class WavecamCameraSettings(bpy.types.PropertyGroup):
         name="Film at the lens", default=True,
         description="Film distance = the camera's focal length")
     film_distance: bpy.props.FloatProperty(
-        name="Film distance", default=50.0, min=0.0, soft_min=1.0, soft_max=500.0, precision=2,
+        name="Film distance", default=50.0, min=MIN_FILM_DISTANCE_MM, soft_min=1.0, soft_max=500.0, precision=2,
         unit='CAMERA', subtype='DISTANCE_CAMERA',
-        description="Pinhole to film (mm); must be > 0")
+        description="Pinhole to film (mm)")
     auto_pinhole: bpy.props.BoolProperty(
         name="Optimal pinhole", default=True,
         description="Rayleigh's optimum 1.9 sqrt(f lambda) at 550 nm for the film distance")
     pinhole: bpy.props.FloatProperty(
-        name="Pinhole", default=0.3, min=0.0, soft_min=0.002, soft_max=5.0, precision=4, step=1,
+        name="Pinhole", default=0.3, min=MIN_PINHOLE_MM, soft_min=0.002, soft_max=5.0, precision=4, step=1,
         unit='CAMERA', subtype='DISTANCE_CAMERA',
         description="Pinhole diameter (mm): from the longest wavelength (0.0007 mm at 700 nm; a few wavelengths "
                     "to be useful) up to the film's width")
@@ -86,6 +105,10 @@ class WavecamCameraSettings(bpy.types.PropertyGroup):
     device: bpy.props.EnumProperty(
         name="Device", default='cpu', items=DEVICES,
         description="Where the exact sums' direct terms and the psf summation's runs run")
+    max_terms: bpy.props.FloatProperty(
+        name="Max terms", default=4e12, min=1.0, soft_min=1e9, soft_max=1e14, precision=3,
+        description="Random-phase and incoherent: refuse a frame whose sums need more terms (about an hour at "
+                    "1e9 terms/s for 4e12); beyond one machine, `wavecam farm` shares a job out on a cluster")
     vignetting: bpy.props.BoolProperty(
         name="Vignetting", default=True,
         description="Keep the pinhole's natural cos^4 fall-off toward the corners (physical); off divides it out, "

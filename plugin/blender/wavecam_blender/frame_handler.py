@@ -1,12 +1,14 @@
 # After Blender writes a frame (render_write: -f N, -a, a still rendered with a file), the
 # frame's exact field of view goes into its EXR and `wavecam apply` writes NAME.wavecam.exr
-# beside it. A still Blender does not write (F12) is saved from the Render Result into
-# Blender's temporary folder first (render_complete with no render_write before it).
+# beside it: at once in background mode, else queued and run off the main thread
+# (diffraction_queue.py). A still Blender does not write (F12) is saved from the Render Result
+# into Blender's temporary folder first (render_complete with no render_write before it).
 # Nothing here may raise into Blender: every failure becomes a report.
 #
 # Every refusal that can be judged before the render (settings_check.py) is made in
-# render_init, when the job starts: the message appears before the frame is rendered, and the
-# job's frames are then left as Blender renders them. Python cannot cancel a render.
+# render_init, when the job starts: the message appears before the frame is rendered. Python
+# cannot cancel a render, so the job's frames are then left as Blender renders them, and when
+# the job ends one message names them all.
 #
 # The camera "as rendered" is the render depsgraph's evaluated camera (rendered_camera.py):
 # frame_change_post runs on that depsgraph before each rendered frame, so the camera is
@@ -16,7 +18,7 @@ import os
 import bpy
 from bpy.app.handlers import persistent
 
-from . import exr_fov, reports, settings_check
+from . import command_output, diffraction_queue, exr_fov, reports, settings_check
 from .rendered_camera import RenderedCamera
 from .wavecam_run import WavecamRunError, run_wavecam
 
@@ -50,9 +52,9 @@ def written_frame_path(scene):
 _rendered = {}
 
 
-def diffract_frame(scene, frame_path, camera=None):
-    """Tags and diffracts one written frame; returns the diffracted file's path. `camera`:
-    the frame's RenderedCamera, by default the one captured for it (else the scene's)."""
+def prepare_frame(scene, frame_path, camera=None):
+    """Checks and tags one written frame; returns its diffraction job. `camera`: the frame's
+    RenderedCamera, by default the one captured for it (else the scene's)."""
     camera = camera or _rendered.pop((scene.name, scene.frame_current), None) or RenderedCamera(scene, scene.camera)
     try:
         settings_check.check_frame(scene, camera)
@@ -70,12 +72,23 @@ def diffract_frame(scene, frame_path, camera=None):
         fov_in_file = False
     except exr_fov.TagError as e:
         raise FrameError(str(e))
-    out_path = diffracted_path(frame_path)
+    return diffraction_queue.Job(scene.name, scene.frame_current, frame_path, diffracted_path(frame_path), camera,
+                                 fov_in_file)
+
+
+def diffract_now(job):
+    """Runs `wavecam apply` for the job and waits (background mode), its estimate and progress
+    printed as they come; returns the diffracted file's path."""
+    def say(line):
+        if command_output.device_warning(line):
+            reports.warning(f"frame {job.frame}: {command_output.device_warning(line)}")
+        if command_output.estimate(line) or command_output.progress(line):
+            print(f"wavecam: frame {job.frame}: {line.removeprefix('apply: ')}", flush=True)
     try:
-        run_wavecam(camera, frame_path, out_path, fov_in_file)
+        run_wavecam(job.camera, job.frame_path, job.out_path, job.fov_in_file, on_line=say)
     except WavecamRunError as e:
         raise FrameError(str(e))
-    return out_path
+    return job.out_path
 
 
 @persistent
@@ -96,10 +109,15 @@ def _enabled(scene):
 
 
 def _diffract_reported(scene, frame_path_of, camera=None):
+    """Background mode: the frame diffracted now. With a window: queued, diffracted off the
+    main thread (diffraction_queue.py)."""
     try:
-        out_path = diffract_frame(scene, frame_path_of(scene), camera)
+        job = prepare_frame(scene, frame_path_of(scene), camera)
+        if not bpy.app.background:
+            diffraction_queue.submit(job)
+            return
+        out_path = diffract_now(job)
         reports.info(f"frame {scene.frame_current}: wrote {out_path}")
-        reports.show_image(out_path)
     except FrameError as e:
         reports.error(f"frame {scene.frame_current}: {e}")
     except Exception as e:  # never a crash: anything unforeseen is reported too
@@ -120,21 +138,28 @@ def _diffract_unsaved_still(scene_name, camera):
 
 
 _written = set()  # scenes whose current render wrote a file
-_refused = set()  # scenes whose current render was refused when it started
+_refused = {}  # scene name -> (the refusal made when its render started, the frames rendered since)
 
 
 @persistent
 def on_render_init(scene, *args):
     _written.discard(scene.name)
-    _refused.discard(scene.name)
+    _refused.pop(scene.name, None)
+    diffraction_queue.render_started()
     try:
         if _enabled(scene):
             settings_check.check_frame(scene, RenderedCamera(scene, scene.camera))
     except settings_check.SettingError as e:
-        _refused.add(scene.name)
-        reports.error(f"frame {scene.frame_current} not diffracted: {e}")
+        _refused[scene.name] = (str(e), [])
+        reports.error(f"this render is not diffracted: {e}")
     except Exception as e:
         reports.error(f"frame {scene.frame_current}: unexpected failure: {type(e).__name__}: {e}")
+
+
+@persistent
+def on_render_post(scene, *args):
+    if scene.name in _refused:
+        _refused[scene.name][1].append(scene.frame_current)
 
 
 @persistent
@@ -144,10 +169,21 @@ def on_render_write(scene, *args):
         _diffract_reported(scene, written_frame_path)
 
 
+def _name_refused_frames(scene):
+    """Once per render, every frame it left undiffracted, with the reason."""
+    why, frames = _refused.pop(scene.name, (None, []))
+    if frames:
+        s = "s" if len(frames) > 1 else ""
+        reports.info(f"frame{s} {', '.join(str(f) for f in frames)} left as Blender rendered {'them' if s else 'it'}, "
+                     f"not diffracted: {why}")
+
+
 @persistent
 def on_render_complete(scene, *args):
     try:
-        if scene.name not in _written and scene.name not in _refused and _enabled(scene):
+        refused = scene.name in _refused
+        _name_refused_frames(scene)
+        if not refused and scene.name not in _written and _enabled(scene):
             camera = _rendered.pop((scene.name, scene.frame_current), None)
             reports.on_main_thread(_diffract_unsaved_still, scene.name, camera)
     except Exception as e:
@@ -156,10 +192,18 @@ def on_render_complete(scene, *args):
         _rendered.clear()  # captures of frames never written
 
 
+@persistent
+def on_render_cancel(scene, *args):
+    _name_refused_frames(scene)
+    _rendered.clear()
+
+
 _handlers = ((bpy.app.handlers.render_init, on_render_init),
              (bpy.app.handlers.frame_change_post, on_frame_change_post),
+             (bpy.app.handlers.render_post, on_render_post),
              (bpy.app.handlers.render_write, on_render_write),
-             (bpy.app.handlers.render_complete, on_render_complete))
+             (bpy.app.handlers.render_complete, on_render_complete),
+             (bpy.app.handlers.render_cancel, on_render_cancel))
 
 
 def register():

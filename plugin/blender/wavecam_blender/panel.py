@@ -1,21 +1,32 @@
-# Properties > Camera data > wavecam.
+# Properties > Camera data > wavecam Pinhole. Every message is drawn as wrapped rows
+# (wrapped_label.py); what the render would refuse is shown while it stands, and a running
+# diffraction's progress with a Cancel button.
 import bpy
 
-from . import camera_fov, settings_check
+from . import camera_fov, diffraction_queue, settings_check, wrapped_label
 
 
-def _problem(scene, camera_object):
-    """What settings_check would refuse for this camera now, or None."""
+def problem(scene, camera_object):
+    """What the render would refuse for this camera now, or None."""
     try:
         fov = camera_fov.horizontal_fov_degrees(scene, camera_object)
         settings_check.check_settings(camera_object.data, fov)
+        settings_check.check_output(scene)
+        settings_check.check_command()
     except (camera_fov.FovError, settings_check.SettingError) as e:
         return str(e)
     return None
 
 
+def _menu(layout, settings, prop):
+    """An enum's name above its menu: beside it, a narrow panel cuts the name."""
+    column = layout.column(align=True)
+    column.label(text=settings.bl_rna.properties[prop].name)
+    column.prop(settings, prop, text="")
+
+
 class DATA_PT_wavecam(bpy.types.Panel):
-    bl_label = "wavecam pinhole"
+    bl_label = "wavecam Pinhole"
     bl_space_type = 'PROPERTIES'
     bl_region_type = 'WINDOW'
     bl_context = "data"
@@ -31,34 +42,38 @@ class DATA_PT_wavecam(bpy.types.Panel):
         cam = context.camera
         w = cam.wavecam
         layout = self.layout
-        layout.use_property_split = True
+        status = diffraction_queue.status_text()
+        if status:
+            wrapped_label.draw(layout, context, status.removeprefix("wavecam: "), icon='RENDER_RESULT', box=True)
+            layout.operator("wavecam.cancel", icon='CANCEL')
         layout.active = w.enabled
         layout.prop(w, "auto_film_distance")
-        row = layout.row()
         if w.auto_film_distance:
-            row.label(text=f"Film distance {cam.lens:.1f} mm (the lens)")
+            wrapped_label.draw(layout, context, f"Film distance {cam.lens:.1f} mm (the lens)")
         else:
-            row.prop(w, "film_distance")
+            layout.prop(w, "film_distance")
         layout.prop(w, "auto_pinhole")
         if w.auto_pinhole:
-            layout.label(text=f"Pinhole {w.pinhole_mm(cam):.3f} mm (1.9 sqrt(f lambda), 550 nm)")
+            wrapped_label.draw(layout, context, f"Pinhole {w.pinhole_mm(cam):.3f} mm: Rayleigh's optimum "
+                                                "1.9 sqrt(f lambda) at 550 nm")
         else:
             layout.prop(w, "pinhole")
         layout.prop(w, "use_wavelength_list")
         layout.prop(w, "wavelength_list" if w.use_wavelength_list else "wavelength_count")
-        layout.prop(w, "method")
+        _menu(layout, w, "method")
         if w.method == 'random-phase':
             layout.prop(w, "runs")
         if w.method != 'convolution':
-            layout.prop(w, "summation")
-            layout.prop(w, "device")
+            _menu(layout, w, "summation")
+            _menu(layout, w, "device")
+            layout.prop(w, "max_terms")
         layout.prop(w, "vignetting")
         scale = context.scene.unit_settings.scale_length
-        layout.label(text=f"Depth: 1 Blender unit = {scale:g} m (Scene > Units > Unit Scale)")
+        wrapped_label.draw(layout, context, f"Depth: 1 Blender unit = {scale:g} m (Scene > Units > Unit Scale)")
         camera_object = context.object if context.object and context.object.data == cam else None
-        problem = _problem(context.scene, camera_object) if camera_object and w.enabled else None
-        if problem:
-            layout.label(text=problem, icon='ERROR')
+        refusal = problem(context.scene, camera_object) if camera_object and w.enabled else None
+        if refusal:
+            wrapped_label.draw(layout, context, f"Not diffracted: {refusal}", icon='ERROR', box=True)
 
 
 def register():

@@ -24,6 +24,7 @@ class RenderedCamera:
         self.runs = w.runs
         self.summation = w.summation
         self.device = w.device
+        self.max_terms = w.max_terms
         self.vignetting = w.vignetting
         # Blender's Unit Scale: metres per Blender unit, the unit of the depth pass
         self.depth_scale_m = scene.unit_settings.scale_length

@@ -6,8 +6,9 @@
 # A report reaches the status bar and the Info editor only from an operator that the window
 # manager runs: an operator called from Python (a timer) has its reports printed and dropped,
 # and an ERROR report makes the call raise. So the timer invokes WAVECAM_OT_report in a
-# window's context; it starts modal, and reports from its first timer event, run by the
-# window manager's event loop.
+# window's context (the front one: an error's popup opens there, not behind the render
+# window); it starts modal, and reports from its first timer event, run by the window
+# manager's event loop.
 import os
 import queue
 import sys
@@ -19,6 +20,10 @@ _pending = queue.Queue()
 
 def info(message):
     _emit('INFO', message)
+
+
+def warning(message):
+    _emit('WARNING', message)
 
 
 def error(message):
@@ -41,7 +46,8 @@ def on_main_thread(function, *args):
 
 def _emit(level, message):
     stream = sys.stderr if level == 'ERROR' else sys.stdout
-    print(f"wavecam: {'error: ' if level == 'ERROR' else ''}{message}", file=stream, flush=True)
+    prefix = {'ERROR': "error: ", 'WARNING': "warning: "}.get(level, "")
+    print(f"wavecam: {prefix}{message}", file=stream, flush=True)
     if not bpy.app.background:
         _pending.put(('report', level, message))
 
@@ -52,7 +58,7 @@ class WAVECAM_OT_report(bpy.types.Operator):
     bl_label = "wavecam report"
     bl_options = {'INTERNAL'}
 
-    level: bpy.props.EnumProperty(items=[('INFO', "Info", ""), ('ERROR', "Error", "")])
+    level: bpy.props.EnumProperty(items=[('INFO', "Info", ""), ('WARNING', "Warning", ""), ('ERROR', "Error", "")])
     message: bpy.props.StringProperty()
 
     def invoke(self, context, event):
@@ -69,8 +75,15 @@ class WAVECAM_OT_report(bpy.types.Operator):
         return {'FINISHED'}
 
 
+def front_window():
+    """The window the user looks at after a render: the render window (a temporary screen)
+    where there is one, else the newest window. An error's popup opens there."""
+    windows = list(bpy.context.window_manager.windows)
+    return next((w for w in reversed(windows) if w.screen.is_temporary), windows[-1])
+
+
 def _report(level, message):
-    window = bpy.context.window_manager.windows[0]
+    window = front_window()
     with bpy.context.temp_override(window=window, screen=window.screen):
         bpy.ops.wavecam.report('INVOKE_DEFAULT', level=level, message=message)
 

@@ -61,7 +61,8 @@ def check_output(scene):
     """Blender will write an OpenEXR with a depth pass, of one view layer."""
     image = scene.render.image_settings
     if image.file_format not in {'OPEN_EXR', 'OPEN_EXR_MULTILAYER'}:
-        raise SettingError(f"the frame is saved as {image.file_format}; wavecam needs OpenEXR "
+        name = image.bl_rna.properties['file_format'].enum_items[image.file_format].name
+        raise SettingError(f"the frame is saved as {name}; wavecam needs OpenEXR "
                            "(Output > Output > File Format: OpenEXR MultiLayer)")
     if image.file_format == 'OPEN_EXR' and not image.use_zbuffer:
         raise SettingError("the OpenEXR output has no depth: tick Z Buffer, or use OpenEXR MultiLayer")
