@@ -5,6 +5,7 @@
 # which removes the file it was writing, and the frames still waiting are dropped.
 # In background mode (blender -b) there is no event loop: frames are diffracted in the render
 # handler itself (frame_handler.py).
+import atexit
 import os
 import queue
 import time
@@ -163,14 +164,23 @@ def _poll():
     return 0.1 if busy() or _stopping else 0.25
 
 
+def _on_exit():
+    """Blender quitting: the command is not left running on its own."""
+    for process in [_running["process"]] + [p for p, _ in _stopping]:
+        if process is not None:
+            process.kill()
+
+
 def register():
     if not bpy.app.background:
         bpy.app.timers.register(_poll, first_interval=0.25, persistent=True)
+        atexit.register(_on_exit)
 
 
 def unregister():
     if bpy.app.timers.is_registered(_poll):
         bpy.app.timers.unregister(_poll)
+    atexit.unregister(_on_exit)
     if _running["process"] is not None:
         cancel("wavecam turned off")
     for process, _ in _stopping:
