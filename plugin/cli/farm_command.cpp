@@ -386,7 +386,7 @@ int submit(const FarmFlags& flags) {
         const PinholeCamera camera = render.value.camera(opt.film_distance);
         const double terms = estimate_terms(opt, camera, render.value.depth, render.value.colorspace);
         const int wavelengths = opt.wavelengths.empty() ? opt.wavelength_count : int(opt.wavelengths.size());
-        const int runs = opt.method == DiffractMethod::Incoherent ? 1 : opt.exact.runs;
+        const int runs = job_runs(opt, camera, render.value.depth, render.value.colorspace);
         if (auto s = work_share(flags.tasks, flags.tasks, wavelengths, runs, camera.height); !s.ok())
             return fail(f.input + ": --tasks: " + s.error, 2);
         if (terms / flags.tasks > opt.max_terms) {

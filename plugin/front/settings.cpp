@@ -123,9 +123,11 @@ const std::vector<SettingKey> kKeys = {
     {"monochrome", "true", "true: every channel diffracted with the same light (the wavelengths' mean PSF), grey in, "
      "grey out; automatic for fewer than 3 wavelengths", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) { return take(parse_bool(n, v), o.monochrome); }},
-    {"runs", "16", "random-phase runs averaged (default 64: every colour channel's noise within 2%)", true,
+    {"runs", "256", "random-phase runs averaged: a count, or auto (the default: from the PSF's size in pixels, 64 to "
+     "1024, for every colour channel's noise within 2%; the job line says the count)", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return take(parse_whole_number(v, n, 1, 100000), o.exact.runs);
+         o.runs_from_psf = v == "auto";
+         return o.runs_from_psf ? Result<bool>::success(true) : take(parse_whole_number(v, n, 1, 100000), o.exact.runs);
      }},
     {"method", "random-phase", "convolution (the default: PSF-grid convolution), random-phase (the seed paper's "
      "random-phase runs) or incoherent (every source propagated alone: the infinite-run limit)",
@@ -292,6 +294,7 @@ Result<ResolvedSettings> resolve_settings(const OIIO::ImageSpec& source, const S
     for (const auto& [key, text] : sources.given) layers[key] = {text, sources.given_name(key)};
 
     ResolvedSettings r;
+    r.options.runs_from_psf = true;  // the fronts' default: runs=auto
     for (const auto& [key, given] : layers) {
         const SettingKey* k = find_key(key);
         if (!k) {

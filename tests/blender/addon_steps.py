@@ -317,6 +317,7 @@ def settings():
 
     # random-phase with its runs
     w.method = 'random-phase'
+    w.auto_runs = False
     w.runs = 2
     w.wavelength_count = 1
     out = render("random_phase")

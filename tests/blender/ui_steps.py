@@ -215,7 +215,7 @@ def tick():
                 fail(f"no 'wavecam: frame 1: wrote' in the Info log: {info_log()}")
             return 0.5
         print(f"Info log: {logged('wavecam: frame 1: wrote ')[0]}", flush=True)
-        w.method, w.runs = 'random-phase', 64
+        w.method, w.auto_runs, w.runs = 'random-phase', False, 64
         next_phase("progress")
         render(animation=False)
     elif phase == "progress":

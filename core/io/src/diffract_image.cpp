@@ -9,6 +9,7 @@
 #include "wavecam/gpu_sums.h"
 #include "wavecam/output_layout.h"
 #include "wavecam/pinhole_design.h"
+#include "wavecam/run_count.h"
 #include "wavecam/source.h"
 #include "wavecam/term_rate.h"
 #include "wavecam/units.h"
@@ -42,6 +43,20 @@ Result<JobColour> resolve_colour(const DiffractOptions& opt, const std::string& 
     return R::success(std::move(c));
 }
 
+// The basis's distinct wavelengths (monochrome light has three samples of each).
+int wavelength_count(const SpectralBasis& basis) {
+    std::vector<double> w;
+    for (int k = 0; k < basis.size(); ++k) w.push_back(basis.wavelength(k));
+    std::sort(w.begin(), w.end());
+    return int(std::unique(w.begin(), w.end()) - w.begin());
+}
+
+double longest_wavelength(const SpectralBasis& basis) {
+    double longest = 0;
+    for (int k = 0; k < basis.size(); ++k) longest = std::max(longest, basis.wavelength(k));
+    return longest;
+}
+
 // The job's settings for the exact methods, `auto` summation decided once for the whole job
 // (chosen_summation) at the middle of its wavelengths: both ways' work scales alike with the
 // wavelength, and every wavelength then runs the same way.
@@ -53,6 +68,8 @@ ExactSettings exact_settings(const DiffractOptions& opt, const PinholeCamera& ca
     s.overscan = opt.overscan;
     s.nthreads = nthreads;
     s.nearest_depth = nearest_depth(camera, depth.data(), opt.depth_meaning);
+    if (opt.runs_from_psf && s.method == CoherenceMethod::RandomPhase && basis.size() > 0)
+        s.runs = runs_for_convergence(camera, s.aperture, longest_wavelength(basis), wavelength_count(basis), s.nearest_depth).runs;
     if (basis.size() > 0) s.summation = chosen_summation(s, camera, basis.wavelength(basis.size() / 2));
     return s;
 }
@@ -167,6 +184,14 @@ double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, c
     return exact_terms(exact_settings(opt, camera, depth, colour.value.basis), camera, colour.value.basis);
 }
 
+int job_runs(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
+             const std::string& file_colorspace) {
+    if (opt.method != DiffractMethod::RandomPhase) return opt.method == DiffractMethod::Incoherent ? 1 : 0;
+    auto colour = resolve_colour(opt, file_colorspace);
+    if (!colour.ok()) return 0;
+    return exact_settings(opt, camera, depth, colour.value.basis).runs;
+}
+
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) {
     const double pixels = double(camera.width) * camera.height;
     const double images = pixels * 4 * sizeof(float) * 4;  // source, its plain arrays, XYZ, output
@@ -225,8 +250,17 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
     f.terms = exact_terms(f.exact, f.camera, f.colour.basis);
     std::ostringstream job;
     job << in.width << "x" << in.height << " pixels x " << f.colour.sampling.wavelength.size() << " wavelengths x "
-        << (f.exact.method == CoherenceMethod::Incoherent ? 1 : f.exact.runs) << " runs, "
-        << summation_word(opt.exact.summation) << " summation";
+        << (f.exact.method == CoherenceMethod::Incoherent ? 1 : f.exact.runs) << " runs";
+    if (opt.runs_from_psf && f.exact.method == CoherenceMethod::RandomPhase) {
+        // the count and why: the PSF's area, and the noise where the price caps the count
+        const RunCount rc = runs_for_convergence(f.camera, f.exact.aperture, longest_wavelength(f.colour.basis),
+                                                 wavelength_count(f.colour.basis), f.exact.nearest_depth);
+        job << " (for a PSF of about " << long(std::lround(rc.psf_pixels)) << " pixels: ";
+        if (rc.capped) job << "at most " << kMaxRuns << ", expect about " << std::lround(1000 * rc.expected_noise) / 10.0
+                           << "% noise per channel; more with the runs setting)";
+        else job << "noise within " << 100 * kRunNoiseGoal << "% per channel)";
+    }
+    job << ", " << summation_word(opt.exact.summation) << " summation";
     if (opt.exact.summation == Summation::Auto) job << " (" << auto_choice(f.exact.summation) << ")";
     if (f.exact.device != Device::Cpu) job << " on " << f.device;
     f.job = job.str();

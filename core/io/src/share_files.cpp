@@ -127,7 +127,7 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
     const std::vector<double>& wavelengths = j.f.colour.sampling.wavelength;
     j.S = int(wavelengths.size());
     j.per_wavelength = j.f.colour.basis.size() / j.S;
-    j.R = opt.method == DiffractMethod::Incoherent ? 1 : opt.exact.runs;
+    j.R = opt.method == DiffractMethod::Incoherent ? 1 : j.f.exact.runs;
     auto share = work_share(index, count, j.S, j.R, j.f.in.height);
     if (!share.ok()) return R::failure(share.error);
     j.sh = share.value;

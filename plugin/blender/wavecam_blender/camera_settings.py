@@ -96,9 +96,13 @@ class WavecamCameraSettings(bpy.types.PropertyGroup):
         name="Wavelength list", default="450nm,550nm,650nm",
         description="Increasing wavelengths from 100nm to 10um, e.g. 450nm,550nm,650nm")
     method: bpy.props.EnumProperty(name="Method", default='convolution', items=METHODS)
+    auto_runs: bpy.props.BoolProperty(
+        name="Runs from the PSF", default=True,
+        description="As many random-phase runs as the PSF's size in pixels needs for every colour channel's "
+                    "noise within 2% (64 to 1024; the job line says how many)")
     runs: bpy.props.IntProperty(
-        name="Runs", default=64, min=1, max=100000, soft_max=256,
-        description="Random-phase runs averaged; noise falls as 1/sqrt(runs)")
+        name="Runs", default=64, min=1, max=100000, soft_max=1024,
+        description="Random-phase runs averaged; noise falls as 1/sqrt(runs) once the PSF spans more pixels than runs")
     summation: bpy.props.EnumProperty(
         name="Summation", default='auto', items=SUMMATIONS,
         description="How the random-phase and incoherent methods evaluate their sums")

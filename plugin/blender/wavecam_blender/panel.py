@@ -62,7 +62,9 @@ class DATA_PT_wavecam(bpy.types.Panel):
         layout.prop(w, "wavelength_list" if w.use_wavelength_list else "wavelength_count")
         _menu(layout, w, "method")
         if w.method == 'random-phase':
-            layout.prop(w, "runs")
+            layout.prop(w, "auto_runs")
+            if not w.auto_runs:
+                layout.prop(w, "runs")
         if w.method != 'convolution':
             _menu(layout, w, "summation")
             _menu(layout, w, "device")

@@ -21,7 +21,7 @@ class RenderedCamera:
         self.pinhole_mm = None if w.auto_pinhole else w.pinhole  # None: wavecam's optimum for the film
         self.wavelengths = w.wavelengths_text()
         self.method = w.method
-        self.runs = w.runs
+        self.runs = None if w.auto_runs else w.runs  # None: wavecam's count from the PSF
         self.summation = w.summation
         self.device = w.device
         self.max_terms = w.max_terms

@@ -26,7 +26,7 @@ def apply_command(exe, camera, frame_path, out_path, fov_in_file, verb=("apply",
            "--depth-scale", f"{camera.depth_scale_m:.9g}m"]
     if camera.pinhole_mm is not None:
         cmd += ["--pinhole", f"{camera.pinhole_mm:.9g}mm"]
-    if camera.method == 'random-phase':
+    if camera.method == 'random-phase' and camera.runs is not None:
         cmd += ["--runs", str(camera.runs)]
     if camera.method != 'convolution':
         cmd += ["--summation", camera.summation, "--device", camera.device]

@@ -30,6 +30,9 @@ struct DiffractOptions {
     double pinhole = 0;                            // diameter (m); 0 = Rayleigh's optimum for f at 550 nm
     Aperture aperture;                             // shape (--aperture); its diameter comes from `pinhole`
     ExactSettings exact;                           // exact methods: runs, seed, jitter, film subsamples, summation
+    // random-phase: the run count from the frame's PSF size (run_count.h) instead of exact.runs;
+    // what the fronts do unless a count is given
+    bool runs_from_psf = false;
     ConvolutionSettings convolution;               // convolution method: tiles, kernel size
     int overscan = 0;                              // pixels of margin on every side: light sources, cropped
                                                    // from the output (the fov is the full input's)
@@ -59,6 +62,12 @@ Aperture resolved_aperture(const DiffractOptions& opt);
 // wavelength for monochrome light); 0 for the convolution method or when that basis cannot be made.
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
                       const std::string& file_colorspace = "");
+
+// The random-phase runs the job averages: exact.runs, or the count runs_for_convergence gives
+// this frame where runs_from_psf (its longest wavelength, nearest source); 1 for the incoherent
+// method, 0 for the convolution method or when the colour cannot be resolved.
+int job_runs(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
+             const std::string& file_colorspace = "");
 
 // Bytes the job needs at its peak (images, pinhole samples or PSF kernels), an upper estimate.
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera);
