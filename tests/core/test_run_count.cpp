@@ -56,7 +56,9 @@ TEST(RunCount, RunsGrowWithThePsfUpToThePrice) {
         EXPECT_EQ(r.runs % 16, 0);
         EXPECT_GE(r.runs, kMinRuns);
         EXPECT_LE(r.runs, kMaxRuns);
-        if (!r.capped) EXPECT_LE(r.expected_noise, kRunNoiseAim + 1e-9) << fov;
+        if (!r.capped) {
+            EXPECT_LE(r.expected_noise, kRunNoiseAim + 1e-9) << fov;
+        }
         previous = r.runs;
     }
     EXPECT_EQ(runs_for_convergence(camera(96, 20), kCircle, 690e-9, 8, 2.0).runs, kMinRuns);
