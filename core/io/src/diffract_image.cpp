@@ -57,6 +57,12 @@ double longest_wavelength(const SpectralBasis& basis) {
     return longest;
 }
 
+// The random-phase run count this frame's PSF asks (run_count.h), for settings `s` already
+// holding the aperture and nearest source.
+RunCount frame_run_count(const ExactSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
+    return runs_for_convergence(camera, s.aperture, longest_wavelength(basis), wavelength_count(basis), s.nearest_depth);
+}
+
 // The job's settings for the exact methods, `auto` summation decided once for the whole job
 // (chosen_summation) at the middle of its wavelengths: both ways' work scales alike with the
 // wavelength, and every wavelength then runs the same way.
@@ -69,7 +75,7 @@ ExactSettings exact_settings(const DiffractOptions& opt, const PinholeCamera& ca
     s.nthreads = nthreads;
     s.nearest_depth = nearest_depth(camera, depth.data(), opt.depth_meaning);
     if (opt.runs_from_psf && s.method == CoherenceMethod::RandomPhase && basis.size() > 0)
-        s.runs = runs_for_convergence(camera, s.aperture, longest_wavelength(basis), wavelength_count(basis), s.nearest_depth).runs;
+        s.runs = frame_run_count(s, camera, basis).runs;
     if (basis.size() > 0) s.summation = chosen_summation(s, camera, basis.wavelength(basis.size() / 2));
     return s;
 }
@@ -253,8 +259,7 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
         << (f.exact.method == CoherenceMethod::Incoherent ? 1 : f.exact.runs) << " runs";
     if (opt.runs_from_psf && f.exact.method == CoherenceMethod::RandomPhase) {
         // the count and why: the PSF's area, and the noise where the price caps the count
-        const RunCount rc = runs_for_convergence(f.camera, f.exact.aperture, longest_wavelength(f.colour.basis),
-                                                 wavelength_count(f.colour.basis), f.exact.nearest_depth);
+        const RunCount rc = frame_run_count(f.exact, f.camera, f.colour.basis);
         job << " (for a PSF of about " << long(std::lround(rc.psf_pixels)) << " pixels: ";
         if (rc.capped) job << "at most " << kMaxRuns << ", expect about " << std::lround(1000 * rc.expected_noise) / 10.0
                            << "% noise per channel; more with the runs setting)";
