@@ -12,6 +12,7 @@
 #include "terminal_progress.h"
 #include "wavecam/atomic_write.h"
 #include "wavecam/diffract_image.h"
+#include "wavecam/output_layout.h"
 #include "wavecam/share_files.h"
 #include "wavecam/units.h"
 #include "../front/settings.h"
@@ -29,8 +30,8 @@ void add_setting_options(CLI::App* cmd, front::Settings& given) {
     for (const front::SettingKey& k : front::setting_keys()) {
         const std::string& key = k.key;
         if (key == "jitter" || key == "vignetting") continue;  // flags below
-        if (key == "monochrome") {
-            cmd->add_flag_callback("--monochrome", [&given] { given["monochrome"] = "true"; }, k.help);
+        if (key == "monochrome" || key == "diffract-again") {  // flags: true when given
+            cmd->add_flag_callback("--" + key, [&given, key] { given[key] = "true"; }, k.help);
             continue;
         }
         cmd->add_option_function<std::string>("--" + key, [&given, key](const std::string& v) { given[key] = v; },
@@ -205,7 +206,7 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
         dst.specmod().attribute("wavecam.job",
                                 job_fingerprint(fingerprint.value, recorded_settings(flags.given)));
     // OpenEXR: scene-linear float, every channel; .png/.jpg/.tif: RGB through the display view
-    auto written = is_exr(output) ? write_image_atomically(dst, output, OIIO::TypeDesc::FLOAT)
+    auto written = is_exr(output) ? write_image_atomically(dst, output, OIIO::TypeUnknown, file_channel_formats(src.nativespec(), dst.spec(), opt.pixel_type))
                                   : write_display_image(dst, opt, output);
     if (!written.ok()) return fail(written.error);
     if (!compare.empty())

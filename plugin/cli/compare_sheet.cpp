@@ -71,7 +71,9 @@ Result<bool> write_compare_sheet(const OIIO::ImageBuf& input, const OIIO::ImageB
     auto config = load_colour_config(opt.colorconfig);
     if (!config.ok()) return Result<bool>::failure(config.error);
     OIIO::ColorConfig cc(config.value.path());
-    const RenderChannels ch = find_render_channels(input.spec(), opt.read.depth_channel);
+    auto found = find_render_channels(input.spec(), opt.read);
+    if (!found.ok()) return Result<bool>::failure(path + ": " + found.error);
+    const RenderChannels& ch = found.value;
     const int in_order[3] = {ch.r, ch.g, ch.b}, out_order[3] = {0, 1, 2};
     const std::string in_space = output.spec().get_string_attribute("wavecam.input-colorspace");
     const std::string out_space = output.spec().get_string_attribute("oiio:ColorSpace");

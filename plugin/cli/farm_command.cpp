@@ -207,7 +207,7 @@ std::string apply_command(const FarmFlags& flags, const std::string& input, cons
     std::string cmd = shell_quote(self_path()) + " apply " + shell_quote(input) + " -o " + shell_quote(output) + part +
                       " --threads " + std::to_string(flags.cpus);
     for (const auto& [key, value] : flags.given)
-        if (key == "monochrome") cmd += " --monochrome";
+        if (key == "monochrome" || key == "diffract-again") cmd += " --" + key;
         else if (key != "jitter" && key != "vignetting") cmd += " --" + key + " " + shell_quote(value);
     if (flags.given.count("jitter")) cmd += " --no-jitter";
     if (flags.given.count("vignetting")) cmd += " --no-vignetting";

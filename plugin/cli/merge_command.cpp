@@ -16,6 +16,7 @@
 #include "output_paths.h"
 #include "terminal_progress.h"
 #include "wavecam/atomic_write.h"
+#include "wavecam/output_layout.h"
 #include "wavecam/share_files.h"
 #include "../front/settings.h"
 
@@ -100,7 +101,10 @@ int run(const MergeFlags& flags) {
     if (auto r = DiffractPlan(opt).diffract(dst, src, first.input); !r.ok())
         return refuse({front::word_failure(r, front::Front::Command)});
     dst.specmod().attribute("wavecam.job", first.job);  // the job the shares belong to (farm status)
-    if (auto w = write_image_atomically(dst, flags.output, OIIO::TypeDesc::FLOAT); !w.ok()) return refuse({w.error});
+    if (auto w = write_image_atomically(dst, flags.output, OIIO::TypeUnknown,
+                                        file_channel_formats(src.nativespec(), dst.spec(), opt.pixel_type));
+        !w.ok())
+        return refuse({w.error});
     if (!flags.compare.empty())
         if (auto w = write_compare_sheet(src, dst, opt, flags.compare); !w.ok()) return refuse({w.error});
     if (!flags.png.empty())

@@ -206,6 +206,40 @@ const std::vector<SettingKey> kKeys = {
      }},
     {"max-memory", "32GiB", "refuse jobs estimated to need more memory, e.g. 16GiB (the default), 512MiB", false,
      [](const std::string& v, const std::string& n, DiffractOptions& o) { return take(parse_bytes(v, n), o.max_memory); }},
+    {"layer", "ViewLayer.Combined", "the radiance layer, by name: the channels LAYER.R, LAYER.G, LAYER.B (and LAYER.A); "
+     "default: the only layer with R, G, B, else the unnamed one, else the one named Combined or beauty (several are "
+     "refused, naming them)", true,
+     [](const std::string& v, const std::string&, DiffractOptions& o) { return copy_text(v, o.read.layer); }},
+    {"other-channels", "drop", "keep (default): every channel beside the radiance layer (depth, AOVs, Cryptomatte, "
+     "IDs) passes through unchanged; drop: the output holds the radiance layer and depth only", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return parse_choice(n, v, {{"keep", true}, {"drop", false}}, o.other_channels);
+     }},
+    {"negative", "clamp", "negative radiance: refuse (default; the message names the pixel) or clamp (set to 0; the "
+     "output says how many values)", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return parse_choice(n, v, {{"refuse", false}, {"clamp", true}}, o.read.clamp_negative);
+     }},
+    {"pixel-type", "half", "the diffracted channels' type in an OpenEXR output: keep (default: the input's), half or "
+     "float; every other channel keeps its own", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return parse_choice(n, v, {{"keep", OIIO::TypeDesc(OIIO::TypeUnknown)}, {"half", OIIO::TypeDesc(OIIO::TypeHalf)},
+                                    {"float", OIIO::TypeDesc(OIIO::TypeFloat)}},
+                             o.pixel_type);
+     }},
+    {"compression", "zip", "the OpenEXR output's compression: keep (default: the input's), none, rle, zips, zip, piz, "
+     "pxr24, b44, b44a, dwaa or dwab (pxr24, b44 and dwa are lossy)", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         for (const char* c : {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"})
+             if (v == c) return copy_text(v, o.compression);
+         if (v == "keep") return copy_text("", o.compression);
+         return fail(n, "keep, none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa or dwab", v);
+     }},
+    {"diffract-again", "true", "true: diffract a file wavecam wrote (its header names the first job) once more; "
+     "default false refuses it, as blurring twice is rarely meant", false,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return take(parse_bool(n, v), o.read.diffract_again);
+     }},
     {"subimage", "NAME", "the part (subimage) of a multi-part file to read, by its name; a file of several parts "
      "is refused without it (the message names them)", false,
      [](const std::string& v, const std::string&, DiffractOptions& o) { return copy_text(v, o.read.subimage); }},

@@ -24,7 +24,7 @@ constexpr float kFovDeg = 40.0f;
 void scene_pixel(int x, int y, float px[4]) {
     px[0] = ((x / 6 + y / 6) % 2) ? 1.0f : 0.15f;
     px[1] = 0.5f + 0.4f * std::sin(0.37f * x + 0.11f * y);
-    px[2] = 0.2f + 0.006f * float((x * 7 + y * 3) % 100);
+    px[2] = 0.2f + 0.006f * float(((x * 7 + y * 3) % 100 + 100) % 100);
     px[3] = x < y ? 2.0f : 4.0f;
 }
 

@@ -69,7 +69,7 @@ CommandRun apply(const fs::path& in, const fs::path& out, const std::string& ext
 }
 }  // namespace
 
-TEST(OutputFiles, BlenderLayerNamesAlphaAndDepthComeBackUnchanged) {
+TEST(OutputFiles, BlenderLayerNamesAndDepthComeBackUnchanged) {
     const fs::path dir = scratch("out_blender");
     write_blender_render((dir / "in.exr").string(), 16, 12);
     const auto r = apply(dir / "in.exr", dir / "out.exr");
@@ -80,8 +80,10 @@ TEST(OutputFiles, BlenderLayerNamesAlphaAndDepthComeBackUnchanged) {
     EXPECT_EQ(out.spec().get_string_attribute("BlenderMultiChannel"), "Blender V2.55.1 and newer");
     for (int j = 0; j < 12; ++j)
         for (int i = 0; i < 16; ++i) {
-            EXPECT_EQ(out.getchannel(i, j, 0, 3), in.getchannel(i, j, 0, 3)) << i << "," << j;  // alpha
-            EXPECT_EQ(out.getchannel(i, j, 0, 4), 3.0f);                                        // depth
+            // alpha is diffracted with the light: a ramp linear over the frame (i/192 + j/12) stays
+            // itself under a PSF that is symmetric and sums to one
+            EXPECT_NEAR(out.getchannel(i, j, 0, 3), in.getchannel(i, j, 0, 3), 0.01) << i << "," << j;
+            EXPECT_EQ(out.getchannel(i, j, 0, 4), 3.0f);  // depth
         }
     // the radiance was diffracted, not copied: the checkerboard's contrast is lower
     float in_max = 0, out_max = 0;

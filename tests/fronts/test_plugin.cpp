@@ -376,10 +376,22 @@ TEST(Plugin, AnOutputReadBackAsInputKeepsItsSettings) {
                          " --summation direct"
                          " --aperture polygon:6:30deg --no-vignetting --output-colorspace ACEScg --overscan 1 --film-subsamples 1");
     ASSERT_EQ(r.status, 0) << r.output;
+    // a second diffraction is refused unless asked for, naming the first job
     r = run_command(std::string(WAVECAM_BINARY) + " apply " + (dir / "first.exr").string() + " -o " +
                     (dir / "again.exr").string());
-    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("already diffracted by wavecam (method random-phase, pinhole 0.2mm"), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("--diffract-again"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "again.exr"));
     r = run_command(kEnv + "oiiotool " + (dir / "first.exr").string() + ".wavecam -o " + (dir / "plugin.exr").string());
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("already diffracted by wavecam"), std::string::npos) << r.output;
+    r = run_command(std::string(WAVECAM_BINARY) + " apply " + (dir / "first.exr").string() + " -o " +
+                    (dir / "again.exr").string() + " --diffract-again");
+    ASSERT_EQ(r.status, 0) << r.output;
+    r = run_command(kEnv + "oiiotool " + (dir / "first.exr").string() + ".wavecam?diffract-again=true -o " +
+                    (dir / "plugin.exr").string());
     ASSERT_EQ(r.status, 0) << r.output;
     const OIIO::ImageBuf first = read_float(dir / "first.exr"), again = read_float(dir / "again.exr"),
                          plugin = read_float(dir / "plugin.exr");

@@ -1,5 +1,7 @@
 #include "wavecam/atomic_write.h"
 
+#include <algorithm>
+
 #include <OpenImageIO/imageio.h>
 #include <fcntl.h>
 #include <limits.h>
@@ -122,7 +124,8 @@ const char* temporary_being_written() { return g_temporary_set.load() ? g_tempor
 
 std::string output_name_problem(const std::string& path) { return name_problem(path); }
 
-Result<bool> write_image_atomically(const OIIO::ImageBuf& image, const std::string& path, OIIO::TypeDesc format) {
+Result<bool> write_image_atomically(const OIIO::ImageBuf& image, const std::string& path, OIIO::TypeDesc format,
+                                    const std::vector<OIIO::TypeDesc>& channel_formats) {
     if (const std::string bad = name_problem(path); !bad.empty()) return Result<bool>::failure(bad);
     const fs::path temp = temporary_for(path);
     TemporaryMark mark(temp);
@@ -131,6 +134,14 @@ Result<bool> write_image_atomically(const OIIO::ImageBuf& image, const std::stri
     if (!out) return cannot(OIIO::geterror());
     OIIO::ImageSpec spec = image.spec();
     if (format != OIIO::TypeUnknown) spec.set_format(format);
+    if (!channel_formats.empty() && out->supports("channelformats")) {
+        // the file's types channel by channel: the widest as the spec's format
+        spec.channelformats = channel_formats;
+        spec.format = *std::max_element(channel_formats.begin(), channel_formats.end(),
+                                         [](OIIO::TypeDesc a, OIIO::TypeDesc b) { return a.size() < b.size(); });
+    } else if (!channel_formats.empty() && format == OIIO::TypeUnknown) {
+        spec.set_format(channel_formats.front());
+    }
     if (!out->supports("tiles")) spec.tile_width = spec.tile_height = spec.tile_depth = 0;  // as ImageBuf::write
     if (!out->open(temp.string(), spec)) return cannot(out->geterror());
     // ImageBuf::write's own path, with every step's result checked, the close's too

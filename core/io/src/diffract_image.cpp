@@ -240,12 +240,11 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
     f.colour = std::move(colour.value);
     f.aperture = resolved_aperture(opt);
     if (auto c = check_camera(f, name, opt.depth_meaning); !c.ok()) return R::failure(c);
-    if (opt.method == DiffractMethod::Convolution) {
-        f.convolution = {f.camera, o, f.aperture, f.colour.basis,
-                  1.0 / nearest_depth(f.camera, in.depth.data(), opt.depth_meaning), opt.convolution};
-        f.convolution.settings.nthreads = nthreads;
-        return R::success(std::move(f));
-    }
+    // the convolution method's plan: its image, or any method's alpha (diffract_alpha)
+    f.convolution = {f.camera, o, f.aperture, f.colour.basis,
+                     1.0 / nearest_depth(f.camera, in.depth.data(), opt.depth_meaning), opt.convolution};
+    f.convolution.settings.nthreads = nthreads;
+    if (opt.method == DiffractMethod::Convolution) return R::success(std::move(f));
     f.exact = exact_settings(opt, f.camera, in.depth, f.colour.basis, nthreads);
     if (f.exact.device != Device::Cpu) {  // the Vulkan evaluator (gpu_sums.h); `auto` falls back quietly
         auto gpu = GpuSums::shared(f.exact.device);
@@ -274,6 +273,13 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
 
 namespace {
 
+// Coverage that varies over the frame is diffracted; an alpha of 1 (or 0) everywhere stays so.
+bool alpha_is_diffracted(const RenderInput& in) {
+    if (in.alpha.empty()) return false;
+    const auto [lo, hi] = std::minmax_element(in.alpha.begin(), in.alpha.end());
+    return !(*lo == *hi && (*lo == 0.0f || *lo == 1.0f));
+}
+
 // The job's terms and bytes against the max-terms and max-memory limits.
 Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, const std::string& name,
                           int nthreads) {
@@ -292,8 +298,9 @@ Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, co
     if (opt.method != DiffractMethod::Convolution)
         for (int k = 0; k < f.colour.basis.size(); ++k)
             summation = std::max(summation, scene_summation_bytes(f.exact, f.camera, f.colour.basis.wavelength(k)));
+    const bool table = opt.method == DiffractMethod::Convolution || alpha_is_diffracted(f.in);
     const double bytes = estimate_memory(opt, f.camera) + summation +
-                         (opt.method == DiffractMethod::Convolution ? ConvolutionPlan::estimate_bytes(f.convolution) : 0.0);
+                         (table ? ConvolutionPlan::estimate_bytes(f.convolution) : 0.0);
     if (!(bytes <= opt.max_memory)) {
         std::ostringstream m;
         m << name << ": " << f.in.width << "x" << f.in.height << " pixels need about " << bytes / (1 << 20)
@@ -329,7 +336,8 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
                             const ResolvedFrame& f, size_t mapped) {
     const RenderInput& in = f.in;
     const ExactSettings& s = f.exact;
-    OIIO::ImageSpec spec = output_header(input, channels);  // the input's data and display windows
+    // the input's data and display windows, its channels but the diffracted ones as they were
+    OIIO::ImageSpec spec = output_header(input, channels, opt.other_channels);
     if (f.overscan > 0) {  // the frame within the overscan setting's margin, an image of its own
         spec.width = spec.full_width = f.out_w;
         spec.height = spec.full_height = f.out_h;
@@ -367,6 +375,17 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
         spec.attribute("wavecam.device", f.device);
     }
     spec.attribute("wavecam.vignetting", opt.vignetting ? "true" : "false");
+    spec.attribute("wavecam.layer", channels.layer);
+    if (!in.alpha.empty())
+        spec.attribute("wavecam.alpha", std::string(alpha_is_diffracted(in) ? "diffracted as neutral grey light "
+                                                                          "(the convolution method's PSFs, no vignetting)"
+                                                                        : "uniform, kept") +
+                                            (in.premultiplied_on_reading ? "; the input's unassociated colour "
+                                                                           "premultiplied by it on reading" : ""));
+    if (in.premultiplied_on_reading)  // the output's colour is premultiplied, whatever the input's format said
+        for (const char* flag : {"oiio:UnassociatedAlpha", "tiff:UnassociatedAlpha"}) spec.erase_attribute(flag);
+    if (opt.read.clamp_negative) spec.attribute("wavecam.negative-clamped", std::to_string(in.clamped) + " values");
+    if (!opt.compression.empty()) spec.attribute("compression", opt.compression);
     spec.attribute("wavecam.input-colorspace", f.colour.in_space);
     spec.attribute("wavecam.output-colorspace", f.colour.out_space);
     // the setting (read back as one), and what it did
@@ -384,6 +403,7 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
     if (opt.method == DiffractMethod::Convolution) summary << "convolution method";
     else if (opt.method == DiffractMethod::RandomPhase) summary << s.runs << " runs, " << f.terms << " terms";
     else summary << "incoherent sum, " << f.terms << " terms";
+    if (in.clamped > 0) summary << ", " << in.clamped << " negative values clamped to 0";
     spec.attribute("wavecam.summary", summary.str());
     return spec;
 }
@@ -409,6 +429,33 @@ Result<bool> DiffractPlan::run_convolution(const DiffractOptions& opt, const Res
     }
     return plan->apply(f.scene(opt.depth_meaning), opt.vignetting, xyz.data(),
                        progress_part(opt.progress, reused ? 0.0 : 0.6, 1.0));
+}
+
+// Alpha is coverage: the share of a pixel's light that the element holds, with its premultiplied
+// colour. Diffracted with the colour, each pixel's coverage spreads as its light does. Light
+// of every colour takes a slightly different PSF; coverage takes the one neutral grey light
+// takes, so that an element diffracted alone and laid --over a grey plate at its depth gives
+// what diffracting the whole scene gives. It is the expected (incoherent) PSF whatever the
+// method, computed by the convolution method's plan: coverage has no speckle. The luminance Y
+// of the film's XYZ is the diffracted coverage (grey light of level a has Y = a in every working
+// space), divided by what coverage 1 everywhere gives (no vignetting): whole coverage stays 1.
+Result<bool> DiffractPlan::diffract_alpha(const DiffractOptions& opt, const ResolvedFrame& f, std::vector<float>& alpha) {
+    const double from = opt.method == DiffractMethod::Convolution ? 0.6 : 0.95;
+    ResolvedFrame grey = f;
+    DiffractOptions coverage = opt;
+    coverage.vignetting = false;
+    std::vector<float> xyz[2];
+    for (int pass = 0; pass < 2; ++pass) {
+        for (size_t p = 0; p < f.in.alpha.size(); ++p)
+            std::fill_n(&grey.in.rgb[3 * p], 3, pass == 0 ? f.in.alpha[p] : 1.0f);
+        coverage.progress = progress_part(opt.progress, from + pass * (1 - from) / 2, from + (pass + 1) * (1 - from) / 2);
+        if (auto r = run_convolution(coverage, grey, xyz[pass]); !r.ok()) return r;
+        keep_data_window(xyz[pass], f.out_w, f.kept);
+    }
+    alpha.resize(xyz[0].size() / 3);
+    for (size_t p = 0; p < alpha.size(); ++p)
+        alpha[p] = std::clamp(xyz[0][3 * p + 1] / xyz[1][3 * p + 1], 0.0f, 1.0f);
+    return Result<bool>::success(true);
 }
 
 bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, const DiffractOptions& opt,
@@ -444,20 +491,27 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
     if (auto r = check_limits(opt, f, name, nthreads); !r.ok()) return r;
     if (opt.on_estimate && opt.method != DiffractMethod::Convolution) opt.on_estimate(f.job, f.terms);
 
-    std::vector<float> xyz;
-    const Result<bool> r = opt.method == DiffractMethod::Convolution ? run_convolution(opt, f, xyz) : run_exact(opt, f, xyz);
+    std::vector<float> xyz, alpha;
+    const bool alpha_pass = alpha_is_diffracted(f.in);
+    DiffractOptions image_opt = opt;
+    if (alpha_pass) image_opt.progress = progress_part(opt.progress, 0.0, opt.method == DiffractMethod::Convolution ? 0.6 : 0.95);
+    Result<bool> r = opt.method == DiffractMethod::Convolution ? run_convolution(image_opt, f, xyz)
+                                                              : run_exact(image_opt, f, xyz);
+    if (r.ok() && alpha_pass) r = diffract_alpha(opt, f, alpha);
     if (!r.ok() && (*stopped || r.kind == ErrorKind::Cancelled))
         return Fail::failure(name + ": interrupted", ErrorKind::Cancelled);
     if (!r.ok()) return Fail::failure(name + ": " + r.error);
     keep_data_window(xyz, f.out_w, f.kept);
+    if (!alpha_pass && !f.in.alpha.empty()) alpha.assign(size_t(f.kept.npixels()), f.in.alpha.front());
     auto mapped = f.colour.config.output_colour(xyz.data(), xyz.size() / 3, f.colour.out_space, f.colour.in_space,
                                                 opt.desaturate_out_of_gamut);
     if (!mapped.ok()) return Fail::failure(mapped);
 
     // float R, G, B in the output space under the input's names, then its alpha and depth unchanged
-    const RenderChannels channels = find_render_channels(src.spec(), opt.read.depth_channel);
-    dst.reset(output_spec(src.spec(), channels, opt, f, mapped.value));
-    if (auto w = fill_output(dst, src, channels, f.overscan, xyz.data()); !w.ok())
+    auto channels = find_render_channels(src.spec(), opt.read);
+    if (!channels.ok()) return Fail::failure(name + ": " + channels.error, channels.kind, channels.field);
+    dst.reset(output_spec(src.spec(), channels.value, opt, f, mapped.value));
+    if (auto w = fill_output(dst, src, channels.value, f.overscan, xyz.data(), alpha.data()); !w.ok())
         return Fail::failure(name + ": " + w.error);
     return Fail::success(true);
 }

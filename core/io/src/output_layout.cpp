@@ -2,6 +2,8 @@
 
 #include <OpenImageIO/strutil.h>
 
+#include <algorithm>
+
 namespace wavecam {
 namespace Strutil = OIIO::Strutil;
 
@@ -20,44 +22,84 @@ bool is_stale_camera_attribute(const std::string& name) {
     return false;
 }
 
-OIIO::ImageSpec output_header(const OIIO::ImageSpec& input, const RenderChannels& ch) {
+namespace {
+
+bool is_diffracted(const RenderChannels& ch, int c) { return c == ch.r || c == ch.g || c == ch.b || c == ch.alpha; }
+
+// The input channels the output holds, in the input's order.
+std::vector<int> kept_channels(const OIIO::ImageSpec& input, const RenderChannels& ch, bool other_channels) {
+    std::vector<int> kept;
+    for (int c = 0; c < input.nchannels; ++c)
+        if (other_channels || is_diffracted(ch, c) || c == ch.depth) kept.push_back(c);
+    return kept;
+}
+
+}  // namespace
+
+OIIO::ImageSpec output_header(const OIIO::ImageSpec& input, const RenderChannels& ch, bool other_channels) {
     OIIO::ImageSpec spec = input;
     spec.extra_attribs.clear();
-    for (const OIIO::ParamValue& p : input.extra_attribs)
-        if (!is_stale_camera_attribute(p.name().string())) spec.extra_attribs.push_back(p);
-    spec.channelnames = {input.channelnames[ch.r], input.channelnames[ch.g], input.channelnames[ch.b]};
-    spec.alpha_channel = -1;
-    if (ch.alpha >= 0) {
-        spec.alpha_channel = 3;
-        spec.channelnames.push_back(input.channelnames[ch.alpha]);
+    for (const OIIO::ParamValue& p : input.extra_attribs) {
+        const std::string name = p.name().string();
+        // Cryptomatte's manifest describes its channels: stale once they are dropped
+        if (is_stale_camera_attribute(name) || (!other_channels && Strutil::istarts_with(name, "cryptomatte/"))) continue;
+        spec.extra_attribs.push_back(p);
     }
-    spec.z_channel = int(spec.channelnames.size());
-    spec.channelnames.push_back(input.channelnames[ch.depth]);
+    spec.channelnames.clear();
+    spec.alpha_channel = spec.z_channel = -1;
+    std::string diffracted;
+    for (int c : kept_channels(input, ch, other_channels)) {
+        if (c == ch.alpha) spec.alpha_channel = int(spec.channelnames.size());
+        if (c == ch.depth) spec.z_channel = int(spec.channelnames.size());
+        if (is_diffracted(ch, c)) diffracted += (diffracted.empty() ? "" : ",") + input.channelnames[c];
+        spec.channelnames.push_back(input.channelnames[c]);
+    }
     spec.nchannels = int(spec.channelnames.size());
-    spec.set_format(OIIO::TypeDesc::FLOAT);
+    spec.set_format(OIIO::TypeDesc::FLOAT);  // in memory; the file's types: file_channel_formats
     spec.channelformats.clear();
     // level 0 alone, as scanlines: a MIP-mapped or tiled input's other levels are not remade
     spec.tile_width = spec.tile_height = spec.tile_depth = 0;
+    spec.attribute(kDiffractedChannelsAttribute, diffracted);
     return spec;
 }
 
+std::vector<OIIO::TypeDesc> file_channel_formats(const OIIO::ImageSpec& input, const OIIO::ImageSpec& output,
+                                                 OIIO::TypeDesc diffracted_type) {
+    const std::vector<std::string> diffracted =
+        Strutil::splits(output.get_string_attribute(kDiffractedChannelsAttribute), ",");
+    std::vector<OIIO::TypeDesc> formats;
+    for (const std::string& name : output.channelnames) {
+        const int c = input.channelindex(name);
+        OIIO::TypeDesc t = c < 0 ? OIIO::TypeDesc::FLOAT : input.channelformat(c);
+        if (diffracted_type != OIIO::TypeUnknown && std::find(diffracted.begin(), diffracted.end(), name) != diffracted.end())
+            t = diffracted_type;
+        formats.push_back(t);
+    }
+    return formats;
+}
+
 Result<bool> fill_output(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const RenderChannels& ch, int margin,
-                         const float* rgb) {
-    // each channel written once, straight into dst: R, G, B from `rgb`, then alpha and depth
-    // from the same pixels of the source, inside its overscan margin
+                         const float* rgb, const float* alpha) {
+    // each channel written once, straight into dst: R, G, B from `rgb`, alpha from `alpha`, every
+    // other kept channel from the same pixels of the source, inside its overscan margin
     const OIIO::ImageSpec& spec = dst.spec();
-    const OIIO::stride_t pixel = spec.nchannels * sizeof(float), row = pixel * spec.width;
-    if (!dst.set_pixels(OIIO::ROI(spec.x, spec.x + spec.width, spec.y, spec.y + spec.height, 0, 1, 0, 3),
-                        OIIO::TypeDesc::FLOAT, rgb))
-        return Result<bool>::failure("cannot fill the output image: " + dst.geterror());
     const OIIO::ImageSpec& in = src.spec();
-    int to = 3;
-    for (int from : {ch.alpha, ch.depth}) {
-        if (from < 0) continue;
-        const OIIO::ROI region(in.x + margin, in.x + margin + spec.width, in.y + margin, in.y + margin + spec.height,
-                               0, 1, from, from + 1);
-        if (!src.get_pixels(region, OIIO::TypeDesc::FLOAT, dst.pixeladdr(spec.x, spec.y, 0, to++), pixel, row))
-            return Result<bool>::failure("cannot read the alpha and depth channels: " + src.geterror());
+    const OIIO::stride_t pixel = spec.nchannels * sizeof(float), row = pixel * spec.width;
+    const size_t n = size_t(spec.width) * spec.height;
+    for (int to = 0; to < spec.nchannels; ++to) {
+        const int from = in.channelindex(spec.channelnames[to]);
+        float* at = static_cast<float*>(dst.pixeladdr(spec.x, spec.y, 0, to));
+        if (from == ch.r || from == ch.g || from == ch.b) {
+            const int k = from == ch.r ? 0 : from == ch.g ? 1 : 2;
+            for (size_t p = 0; p < n; ++p) at[p * spec.nchannels] = rgb[3 * p + k];
+        } else if (from == ch.alpha) {
+            for (size_t p = 0; p < n; ++p) at[p * spec.nchannels] = alpha[p];
+        } else {
+            const OIIO::ROI region(in.x + margin, in.x + margin + spec.width, in.y + margin, in.y + margin + spec.height,
+                                   0, 1, from, from + 1);
+            if (!src.get_pixels(region, OIIO::TypeDesc::FLOAT, at, pixel, row))
+                return Result<bool>::failure("cannot read channel '" + in.channelnames[from] + "': " + src.geterror());
+        }
     }
     return Result<bool>::success(true);
 }

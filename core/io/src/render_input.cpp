@@ -22,19 +22,6 @@
 namespace wavecam {
 namespace {
 
-// Index of channel `want`: the exact name, else the only/first "<layer>.want" (preferring a
-// "Combined" layer for colour, as Blender names its beauty pass).
-int find_channel(const OIIO::ImageSpec& spec, const std::string& want) {
-    int suffixed = -1;
-    for (int c = 0; c < spec.nchannels; ++c) {
-        const std::string& n = spec.channelnames[c];
-        if (n == want) return c;
-        if (OIIO::Strutil::ends_with(n, "." + want) && (suffixed < 0 || OIIO::Strutil::contains(n, "Combined")))
-            suffixed = c;
-    }
-    return suffixed;
-}
-
 // The header's horizontal field of view in radians (0 when the attribute is absent). Degrees as
 // a float or an int (`oiiotool --attrib wavecam.fov 40` writes an int), or a string: a bare
 // number in degrees ("40") or an angle with its unit ("40deg", "0.7rad").
@@ -69,7 +56,8 @@ Result<double> header_fov(const OIIO::ImageSpec& spec) {
 std::string missing_fov_message(const OIIO::ImageSpec& spec) {
     std::string m = std::string("no field of view: the file has no '") + kFovAttribute +
                     "' attribute, and no fov setting was given";
-    const bool blender = spec.find_attribute("BlenderMultiChannel") || find_channel(spec, "Combined.R") >= 0;
+    bool blender = spec.find_attribute("BlenderMultiChannel") != nullptr;
+    for (const std::string& n : spec.channelnames) blender = blender || OIIO::Strutil::ends_with(n, "Combined.R");
     if (blender)
         m += ". For a Blender render: install and enable wavecam's Blender add-on "
              "(share/wavecam/blender/wavecam_blender.zip; it writes " + std::string(kFovAttribute) +
@@ -80,7 +68,7 @@ std::string missing_fov_message(const OIIO::ImageSpec& spec) {
 }
 
 // Each channel read once, straight into its place in the plain arrays.
-bool read_channels(const OIIO::ImageBuf& image, const int rgb[3], int depth, RenderInput& in) {
+bool read_channels(const OIIO::ImageBuf& image, const RenderChannels& ch, RenderInput& in) {
     auto read = [&](int c, float* into, int stride) {
         OIIO::ROI roi = image.roi();
         roi.chbegin = c;
@@ -91,13 +79,63 @@ bool read_channels(const OIIO::ImageBuf& image, const int rgb[3], int depth, Ren
     const size_t n = size_t(in.width) * in.height;
     in.rgb.resize(3 * n);
     in.depth.resize(n);
-    return read(rgb[0], in.rgb.data(), 3) && read(rgb[1], in.rgb.data() + 1, 3) && read(rgb[2], in.rgb.data() + 2, 3) &&
-           read(depth, in.depth.data(), 1);
+    if (ch.alpha >= 0) in.alpha.resize(n);
+    return read(ch.r, in.rgb.data(), 3) && read(ch.g, in.rgb.data() + 1, 3) && read(ch.b, in.rgb.data() + 2, 3) &&
+           read(ch.depth, in.depth.data(), 1) && (ch.alpha < 0 || read(ch.alpha, in.alpha.data(), 1));
+}
+
+// Light is never negative: a negative value (a denoiser's overshoot, a -65504 half) would be
+// spread over every pixel its PSF reaches. The first is refused, naming its channel and pixel;
+// with `clamp`, every one is set to 0 and counted.
+std::string clamp_or_refuse_negative(RenderInput& in, const OIIO::ImageSpec& spec, const RenderChannels& ch, bool clamp) {
+    const int rgb[3] = {ch.r, ch.g, ch.b};
+    for (size_t k = 0; k < in.rgb.size(); ++k) {
+        if (!(in.rgb[k] < 0)) continue;
+        if (clamp) {
+            in.rgb[k] = 0;
+            ++in.clamped;
+            continue;
+        }
+        const size_t p = k / 3;
+        return "channel '" + spec.channelnames[rgb[k % 3]] + "' at pixel (" + std::to_string(spec.x + int(p % in.width)) +
+               ", " + std::to_string(spec.y + int(p / in.width)) + ") is " +
+               OIIO::Strutil::fmt::format("{:g}", in.rgb[k]) +
+               ", expected radiance >= 0 (light is never negative; the negative setting 'clamp' sets such values to 0)";
+    }
+    return {};
+}
+
+// Alpha is coverage, and the radiance premultiplied by it (OpenEXR's rule). OIIO premultiplies
+// a TIFF's or PNG's unassociated colour as it reads it, and says so (tiff:UnassociatedAlpha);
+// an image read with OIIO's hint to keep it unassociated says oiio:UnassociatedAlpha, and is
+// premultiplied here. Either way the output notes it.
+void premultiply_unassociated(const OIIO::ImageSpec& spec, RenderInput& in) {
+    if (in.alpha.empty()) return;
+    if (spec.get_int_attribute("oiio:UnassociatedAlpha", 0) != 0) {
+        for (size_t p = 0; p < in.alpha.size(); ++p)
+            for (int c = 0; c < 3; ++c) in.rgb[3 * p + c] *= in.alpha[p];
+        in.premultiplied_on_reading = true;
+    }
+    for (const OIIO::ParamValue& p : spec.extra_attribs)
+        if (OIIO::Strutil::ends_with(p.name().string(), ":UnassociatedAlpha") && spec.get_int_attribute(p.name(), 0) != 0)
+            in.premultiplied_on_reading = true;
+}
+
+// A file wavecam wrote, named by what its header says of the first diffraction.
+std::string already_diffracted(const OIIO::ImageSpec& spec) {
+    std::string job = "method " + std::string(spec.get_string_attribute("wavecam.method"));
+    for (const char* key : {"pinhole", "film-distance", "summary"})
+        if (const std::string v = spec.get_string_attribute(std::string("wavecam.") + key); !v.empty())
+            job += std::string(", ") + key + " " + v;
+    if (const std::string v = spec.get_string_attribute("wavecam.job"); !v.empty()) job += ", job " + v;
+    return "already diffracted by wavecam (" + job + "): a second diffraction would blur it twice; expected a render "
+           "from an ideal pinhole, or the diffract-again setting to diffract it once more";
 }
 
 // The job's one check of the pixels: radiance finite, depth > 0; the first bad one named by its
 // channel and pixel, in the file's pixel coordinates ("" when all are good).
-std::string bad_pixel(const RenderInput& in, const OIIO::ImageSpec& spec, const int rgb[3]) {
+std::string bad_pixel(const RenderInput& in, const OIIO::ImageSpec& spec, const RenderChannels& ch) {
+    const int rgb[3] = {ch.r, ch.g, ch.b};
     for (size_t p = 0; p < in.depth.size(); ++p) {
         auto where = [&](const std::string& channel) {
             return "channel '" + channel + "' at pixel (" + std::to_string(spec.x + int(p % in.width)) + ", " +
@@ -107,6 +145,9 @@ std::string bad_pixel(const RenderInput& in, const OIIO::ImageSpec& spec, const 
             if (const float v = in.rgb[3 * p + c]; !radiance_in_range(v))
                 return where(spec.channelnames[rgb[c]]) + " is " + OIIO::Strutil::fmt::format("{:g}", v) +
                        ", expected finite radiance within +-1e30";
+        if (!in.alpha.empty() && !std::isfinite(in.alpha[p]))
+            return where(spec.channelnames[ch.alpha]) + " is " + OIIO::Strutil::fmt::format("{:g}", in.alpha[p]) +
+                   ", expected a finite coverage";
         const float d = in.depth[p];
         if (!depth_in_range(d))
             return where(in.depth_channel) + " is " + OIIO::Strutil::fmt::format("{:g}", d) +
@@ -116,14 +157,6 @@ std::string bad_pixel(const RenderInput& in, const OIIO::ImageSpec& spec, const 
 }
 
 }  // namespace
-
-RenderChannels find_render_channels(const OIIO::ImageSpec& spec, const std::string& depth_channel) {
-    RenderChannels ch{find_channel(spec, "R"), find_channel(spec, "G"), find_channel(spec, "B"),
-                      find_channel(spec, depth_channel)};
-    ch.alpha = find_channel(spec, "A");
-    if (ch.alpha == ch.depth) ch.alpha = -1;  // depth channel A: depth, not alpha
-    return ch;
-}
 
 Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& name, const RenderReadOptions& opt) {
     auto fail = [&name](const std::string& m, ErrorKind kind = ErrorKind::Failed, const std::string& field = {}) {
@@ -135,7 +168,11 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
                     ", expected at least 2x2 pixels");
     if (spec.depth > 1) return fail("volume images are not supported, expected a 2D image");
     if (spec.deep) return fail("deep image (samples per pixel) is not supported, expected a flat image");
-    const RenderChannels ch = find_render_channels(spec, opt.depth_channel);
+    if (spec.find_attribute("wavecam.summary") && !opt.diffract_again)
+        return fail(already_diffracted(spec), ErrorKind::Invalid, "diffract-again");
+    auto found = find_render_channels(spec, opt);
+    if (!found.ok()) return fail(found.error, found.kind, found.field);
+    const RenderChannels& ch = found.value;
     const std::string channels = OIIO::Strutil::join(spec.channelnames, ", ");
     if (ch.r < 0 || ch.g < 0 || ch.b < 0)
         return fail("channels R, G, B: not found (channels: " + channels + "), expected linear RGB radiance" +
@@ -153,9 +190,11 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
     in.height = spec.height;
     in.depth_channel = spec.channelnames[ch.depth];
     in.colorspace = spec.get_string_attribute("oiio:ColorSpace");
-    const int rgb[3] = {ch.r, ch.g, ch.b};
-    if (!read_channels(image, rgb, ch.depth, in)) return fail("cannot read pixels: " + image.geterror());
-    if (const std::string bad = bad_pixel(in, spec, rgb); !bad.empty()) return fail(bad);
+    if (!read_channels(image, ch, in)) return fail("cannot read pixels: " + image.geterror());
+    if (const std::string bad = bad_pixel(in, spec, ch); !bad.empty()) return fail(bad);
+    if (const std::string bad = clamp_or_refuse_negative(in, spec, ch, opt.clamp_negative); !bad.empty())
+        return fail(bad, ErrorKind::Invalid, "negative");
+    premultiply_unassociated(spec, in);
     // Depth in metres: the file's units times the depth scale (1cm for a scene modelled in
     // centimetres). Sky is judged on the file's own value, before scaling.
     if (!(opt.depth_scale > 0 && std::isfinite(opt.depth_scale)))

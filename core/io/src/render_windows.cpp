@@ -51,16 +51,18 @@ Result<bool> place_on_frame(const OIIO::ImageSpec& spec, RenderInput& in) {
     in.fov_h = 2 * std::atan(std::tan(0.5 * in.display_fov_h) * fw / w.display.width());
 
     const int dw = spec.width, dh = spec.height, ox = spec.x - fx, oy = spec.y - fy;
-    std::vector<float> rgb(3 * size_t(fw) * fh), depth(size_t(fw) * fh);
+    std::vector<float> rgb(3 * size_t(fw) * fh), depth(size_t(fw) * fh), alpha(in.alpha.empty() ? 0 : depth.size());
     for (int j = 0; j < fh; ++j)
         for (int i = 0; i < fw; ++i) {
             const size_t from = size_t(std::clamp(j - oy, 0, dh - 1)) * dw + std::clamp(i - ox, 0, dw - 1);
             const size_t to = size_t(j) * fw + i;
             std::copy(&in.rgb[3 * from], &in.rgb[3 * from] + 3, &rgb[3 * to]);
             depth[to] = in.depth[from];
+            if (!alpha.empty()) alpha[to] = in.alpha[from];
         }
     in.rgb = std::move(rgb);
     in.depth = std::move(depth);
+    in.alpha = std::move(alpha);
     in.x0 = fx;
     in.y0 = fy;
     in.width = fw;

@@ -4,16 +4,20 @@
 #pragma once
 #include <OpenImageIO/imagebuf.h>
 #include <string>
+#include <vector>
 #include "wavecam/result.h"
 
 namespace wavecam {
 
-// Writes `image` to `path` (format from the extension, as OIIO decides). Every step is
+// Writes `image` to `path` (format from the extension, as OIIO decides), its pixels as `format`,
+// else channel by channel as `channel_formats` where the file format allows (OpenEXR), else as
+// the buffer holds them. Every step is
 // checked: the writer's open, pixels and close, an fsync, and the temporary read back whole (a
 // full disk that a writer does not report); on failure the target is untouched and the
 // temporary removed; the error names the file.
 Result<bool> write_image_atomically(const OIIO::ImageBuf& image, const std::string& path,
-                                    OIIO::TypeDesc format = OIIO::TypeUnknown);
+                                    OIIO::TypeDesc format = OIIO::TypeUnknown,
+                                    const std::vector<OIIO::TypeDesc>& channel_formats = {});
 
 // Writes `text` to `path` the same way (every write, the fsync and the close checked).
 Result<bool> write_text_atomically(const std::string& text, const std::string& path);

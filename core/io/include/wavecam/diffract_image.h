@@ -45,6 +45,10 @@ struct DiffractOptions {
     std::string output_colorspace;                 // "" = the input's
     bool desaturate_out_of_gamut = true;           // colours the output space cannot hold: pulled in at
                                                    // constant luminance (out_of_gamut.h); false keeps them
+    bool other_channels = true;                    // every channel but the diffracted ones passes through
+                                                   // (AOVs, Cryptomatte, IDs); false keeps RGB(A) and depth
+    OIIO::TypeDesc pixel_type = OIIO::TypeUnknown;  // the diffracted channels' type in the file; unknown = the input's
+    std::string compression;                       // the file's compression; "" = the input's
     double max_terms = 4e12;                       // refuse larger exact jobs (see term_rate.h for the time)
     double max_memory = 16.0 * (1ull << 30);       // bytes; refuse jobs estimated to need more
     ProgressFn progress;
@@ -95,6 +99,7 @@ public:
 
 private:
     Result<bool> run_convolution(const DiffractOptions& opt, const detail::ResolvedFrame& frame, std::vector<float>& xyz);
+    Result<bool> diffract_alpha(const DiffractOptions& opt, const detail::ResolvedFrame& frame, std::vector<float>& alpha);
     DiffractOptions opt_;
     std::mutex mutex_;
     std::shared_ptr<const ConvolutionPlan> convolution_;

@@ -4,6 +4,7 @@
 #pragma once
 #include <OpenImageIO/imagebuf.h>
 #include <string>
+#include <vector>
 #include "wavecam/render_input.h"
 #include "wavecam/result.h"
 
@@ -17,15 +18,26 @@ namespace wavecam {
 // (rewritten for this run; `wavecam.scene` and `wavecam.scene-unit` are kept).
 bool is_stale_camera_attribute(const std::string& name);
 
+// The output header's list of the channels wavecam diffracted ("R,G,B,A"); every other channel
+// the output holds is the input's, unchanged.
+constexpr const char* kDiffractedChannelsAttribute = "wavecam.diffracted-channels";
+
 // The output's header: the input's (its data and display windows too), stale attributes
-// dropped, channels R, G, B named as the input names them, then its alpha (if any) and its depth
-// channel, all float; one level, as scanlines (a MIP-mapped or tiled input's level 0).
-OIIO::ImageSpec output_header(const OIIO::ImageSpec& input, const RenderChannels& channels);
+// dropped; the radiance layer's R, G, B (and A) diffracted, every other channel (depth, AOVs,
+// Cryptomatte, IDs) in its own name and place; with `other_channels` false, only the radiance
+// layer and depth (and Cryptomatte's metadata dropped with its channels). Float in memory, one
+// level, as scanlines (a MIP-mapped or tiled input's level 0).
+OIIO::ImageSpec output_header(const OIIO::ImageSpec& input, const RenderChannels& channels, bool other_channels);
+
+// The file's type of each output channel: the input's type of the channel of that name;
+// `diffracted_type` for the diffracted ones unless TypeUnknown (the input's then too).
+std::vector<OIIO::TypeDesc> file_channel_formats(const OIIO::ImageSpec& input, const OIIO::ImageSpec& output,
+                                                 OIIO::TypeDesc diffracted_type);
 
 // Fills `dst` (already reset to output_header's spec, its data window `src`'s, or cropped by
-// `margin` pixels of overscan on every side): R, G, B from `rgb` (interleaved), alpha and depth
-// copied unchanged from the same pixels of `src`.
+// `margin` pixels of overscan on every side): R, G, B from `rgb` (interleaved), alpha from
+// `alpha`, every other channel copied unchanged from the same pixels of `src`.
 Result<bool> fill_output(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const RenderChannels& channels, int margin,
-                         const float* rgb);
+                         const float* rgb, const float* alpha);
 
 }  // namespace wavecam

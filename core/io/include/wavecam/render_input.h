@@ -16,6 +16,10 @@ struct RenderReadOptions {
     double depth_scale = 1.0;         // metres per unit of the depth channel (the depth-scale setting, > 0);
                                       // a value >= 1e9 (or inf) in the file is sky whatever the scale
     std::string subimage;             // the part (OIIO subimage) read, by name; "" = the file's only one
+    std::string layer;                // the radiance layer ("ViewLayer.Combined", "beauty"); "" = the one
+                                      // the file's names make plain (render_layers.cpp)
+    bool clamp_negative = false;      // negative radiance set to 0 (and counted) instead of refused
+    bool diffract_again = false;      // a file wavecam wrote (wavecam.method in its header) taken as a render
 };
 
 // Where the file's pixels lie on the camera's frame. OpenEXR's display window is the frame the
@@ -36,6 +40,9 @@ struct RenderInput {
     FrameWindows windows;
     std::vector<float> rgb;    // interleaved R, G, B
     std::vector<float> depth;  // metres (the file's values times RenderReadOptions::depth_scale)
+    std::vector<float> alpha;  // the radiance layer's coverage A (premultiplied RGB); empty without one
+    size_t clamped = 0;        // negative radiance values set to 0 (RenderReadOptions::clamp_negative)
+    bool premultiplied_on_reading = false;  // the file's alpha was unassociated: RGB multiplied by A on reading
     double fov_h = 0;          // radians, across `width` (the display window's as given, widened with the frame)
     double display_fov_h = 0;  // radians, across the display window (= fov_h for a file without windows)
     std::string fov_from;      // the setting or the attribute it came from
@@ -54,13 +61,17 @@ constexpr const char* kFovAttribute = "wavecam.fov";
 // --depth-scale 1cm writes "0.01m"): the depth-scale setting is then refused.
 constexpr const char* kSceneUnitAttribute = "wavecam.scene-unit";
 
-// Channel indices of R, G, B and depth (-1 where missing): the exact name first, then a layer
-// prefix such as "ViewLayer.Combined.R" (a "Combined" layer preferred) or "ViewLayer.Depth.Z".
+// The render's channels (-1 where missing). The radiance layer is chosen as a whole: the layer
+// given, else the only one holding R, G and B, else the unnamed layer, else the one named
+// Combined or beauty; several candidates are refused, naming them. Its A is the alpha. Depth is
+// `depth_channel` in full, else in the radiance layer, else in its view layer ("ViewLayer.Depth.Z"
+// beside "ViewLayer.Combined.R"), else unnamed (render_layers.cpp).
 struct RenderChannels {
+    std::string layer;  // the radiance layer: "" (R, G, B), "beauty", "ViewLayer.Combined"
     int r = -1, g = -1, b = -1, depth = -1;
-    int alpha = -1;  // "A" or "<layer>.A", optional
+    int alpha = -1;  // "<layer>.A", optional
 };
-RenderChannels find_render_channels(const OIIO::ImageSpec& spec, const std::string& depth_channel);
+Result<RenderChannels> find_render_channels(const OIIO::ImageSpec& spec, const RenderReadOptions& opt);
 
 // Finds R, G, B and the depth channel in `image` (exact names first, then a layer prefix such
 // as "ViewLayer.Combined.R", "ViewLayer.Depth.Z") and checks every value. Errors name the
