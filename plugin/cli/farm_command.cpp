@@ -384,9 +384,9 @@ int submit(const FarmFlags& flags) {
         auto render = load_render(in.value.image, f.input, opt.read);
         if (!render.ok()) return fail(front::word_failure(Result<bool>::failure(render), front::Front::Command));
         const PinholeCamera camera = render.value.camera(opt.film_distance);
-        const double terms = estimate_terms(opt, camera, render.value.depth, render.value.colorspace);
+        const double terms = estimate_terms(opt, camera, render.value.depth, render.value.colour);
         const int wavelengths = opt.wavelengths.empty() ? opt.wavelength_count : int(opt.wavelengths.size());
-        const int runs = job_runs(opt, camera, render.value.depth, render.value.colorspace);
+        const int runs = job_runs(opt, camera, render.value.depth, render.value.colour);
         if (auto s = work_share(flags.tasks, flags.tasks, wavelengths, runs, camera.height); !s.ok())
             return fail(f.input + ": --tasks: " + s.error, 2);
         if (terms / flags.tasks > opt.max_terms) {

@@ -220,3 +220,62 @@ TEST(PlateChannels, UnassociatedColourIsPremultipliedOnReading) {
     EXPECT_EQ(a.spec().get_int_attribute("tiff:UnassociatedAlpha", 0), 0);
     fs::remove_all(dir);
 }
+
+// The header's colour tells the truth both ways: an ACES file (AP0 chromaticities and the ACES
+// container flag) is read as ACES2065-1, an AP1 file as ACEScg, unknown primaries are refused
+// naming them; the output carries its own space's chromaticities, the ACES flag only for
+// ACES2065-1, and oiio:ColorSpace.
+TEST(PlateChannels, ChromaticitiesAndTheAcesFlagSetTheColourSpacesBothWays) {
+    const fs::path dir = scratch("plate_colour");
+    const std::vector<std::string> names = {"R", "G", "B", "Z"};
+    write_plate(dir / "plain.exr", names, std::vector<OIIO::TypeDesc>(4, OIIO::TypeDesc::FLOAT));
+    const float ap0[8] = {0.7347f, 0.2653f, 0.0f, 1.0f, 0.0001f, -0.0770f, 0.32168f, 0.33767f};
+    const float ap1[8] = {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f};
+    const float rec2020[8] = {0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, 0.3127f, 0.3290f};
+    auto tagged = [&](const std::string& name, const float* xy, bool aces) {
+        OIIO::ImageBuf b = read(dir / "plain.exr");
+        b.specmod().attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), xy);
+        if (aces) b.specmod().attribute("acesImageContainerFlag", 1);
+        if (aces) b.specmod().attribute("compression", "dwaa");  // (lossy: only where nothing is compared bit for bit)
+        EXPECT_TRUE(b.write((dir / name).string()));
+    };
+    tagged("aces.exr", ap0, true);
+    tagged("ap1.exr", ap1, false);
+    tagged("rec2020.exr", rec2020, false);
+
+    auto r = apply(dir / "aces.exr", dir / "xyz.exr", "--output-colorspace CIE-XYZ-D65");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const OIIO::ImageSpec xyz = file_spec(dir / "xyz.exr");
+    EXPECT_EQ(xyz.get_string_attribute("wavecam.input-colorspace"), "ACES2065-1");
+    EXPECT_EQ(xyz.get_int_attribute("acesImageContainerFlag", 0), 0);
+    const OIIO::ParamValue* c = xyz.find_attribute("chromaticities");
+    ASSERT_NE(c, nullptr);
+    const float* v = static_cast<const float*>(c->data());
+    EXPECT_FLOAT_EQ(v[0], 1.0f);  // X's primary at x = 1
+    EXPECT_FLOAT_EQ(v[3], 1.0f);  // Y's at y = 1
+    EXPECT_NEAR(v[6], 1.0f / 3, 1e-6);
+
+    r = apply(dir / "aces.exr", dir / "aces_out.exr");  // kept in ACES2065-1: the flag stays, and the chromaticities
+    ASSERT_EQ(r.status, 0) << r.output;
+    const OIIO::ImageSpec aces = file_spec(dir / "aces_out.exr");
+    EXPECT_EQ(aces.get_int_attribute("acesImageContainerFlag", 0), 1);
+    EXPECT_EQ(aces.get_string_attribute("compression"), "dwaa");  // the input's, kept (the default)
+
+    // AP1 primaries without a name are ACEScg: the same image as naming it
+    r = apply(dir / "ap1.exr", dir / "ap1_out.exr");
+    ASSERT_EQ(r.status, 0) << r.output;
+    r = apply(dir / "plain.exr", dir / "named_out.exr", "--input-colorspace ACEScg");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(file_spec(dir / "ap1_out.exr").get_string_attribute("wavecam.input-colorspace"), "ACEScg");
+    const OIIO::ImageBuf ap1_out = read(dir / "ap1_out.exr"), named = read(dir / "named_out.exr");
+    for (const char* ch : {"R", "G", "B"}) EXPECT_TRUE(same_channel(ap1_out, named, ch)) << ch;
+
+    // primaries wavecam cannot place are refused, naming them, unless the space is named
+    r = apply(dir / "rec2020.exr", dir / "bt2020_out.exr");
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("chromaticities (0.708, 0.292"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("--input-colorspace"), std::string::npos) << r.output;
+    r = apply(dir / "rec2020.exr", dir / "bt2020_out.exr", "--input-colorspace lin_rec709");
+    EXPECT_EQ(r.status, 0) << r.output;
+    fs::remove_all(dir);
+}

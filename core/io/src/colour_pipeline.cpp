@@ -57,6 +57,11 @@ bool ColourConfig::has_colorspace(const std::string& name) const {
     return config_ && config_->getColorSpace(name.c_str()) != nullptr;
 }
 
+std::string ColourConfig::canonical_name(const std::string& name) const {
+    const auto space = config_ ? config_->getColorSpace(name.c_str()) : nullptr;
+    return space ? space->getName() : std::string();
+}
+
 Result<bool> ColourConfig::convert_from_xyz(float* rgb, size_t count, const std::string& space) const {
     return convert(rgb, count, kXyzColorspace, space);
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "colour_metadata.h"
 #include "resolved_frame.h"
 #include "wavecam/gpu_sums.h"
 #include "wavecam/output_layout.h"
@@ -22,15 +23,21 @@ using detail::ResolvedFrame;
 constexpr double kDesignWavelength = 550e-9;
 constexpr const char* kDefaultWorkingSpace = "lin_rec709";
 
-Result<JobColour> resolve_colour(const DiffractOptions& opt, const std::string& file_colorspace) {
+// The input's working space: the setting, else the header's chromaticities or ACES flag
+// (colour_metadata.h), else its oiio:ColorSpace where the config has it, else linear Rec.709.
+Result<JobColour> resolve_colour(const DiffractOptions& opt, const FileColour& file) {
     using R = Result<JobColour>;
     JobColour c;
     auto config = load_colour_config(opt.colorconfig);
     if (!config.ok()) return R::failure(config);
     c.config = std::move(config.value);
-    c.in_space = !opt.input_colorspace.empty()                                          ? opt.input_colorspace
-                 : !file_colorspace.empty() && c.config.has_colorspace(file_colorspace) ? file_colorspace
-                                                                                          : kDefaultWorkingSpace;
+    auto header = opt.input_colorspace.empty() ? detail::header_colour_space(file, c.config)
+                                               : Result<std::string>::success(std::string());
+    if (!header.ok()) return R::failure(header);
+    c.in_space = !opt.input_colorspace.empty()                                        ? opt.input_colorspace
+                 : !header.value.empty()                                            ? header.value
+                 : !file.colorspace.empty() && c.config.has_colorspace(file.colorspace) ? file.colorspace
+                                                                                      : kDefaultWorkingSpace;
     c.out_space = opt.output_colorspace.empty() ? c.in_space : opt.output_colorspace;
     auto xyz_to_rgb = c.config.xyz_to_rgb_matrix(c.in_space);
     if (!xyz_to_rgb.ok()) return R::failure(xyz_to_rgb);
@@ -183,17 +190,17 @@ Aperture resolved_aperture(const DiffractOptions& opt) {
 }
 
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
-                      const std::string& file_colorspace) {
+                      const FileColour& file_colour) {
     if (opt.method == DiffractMethod::Convolution) return 0;  // PSF grid + FFTs: minutes at most
-    auto colour = resolve_colour(opt, file_colorspace);
+    auto colour = resolve_colour(opt, file_colour);
     if (!colour.ok()) return 0;
     return exact_terms(exact_settings(opt, camera, depth, colour.value.basis), camera, colour.value.basis);
 }
 
 int job_runs(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
-             const std::string& file_colorspace) {
+             const FileColour& file_colour) {
     if (opt.method != DiffractMethod::RandomPhase) return opt.method == DiffractMethod::Incoherent ? 1 : 0;
-    auto colour = resolve_colour(opt, file_colorspace);
+    auto colour = resolve_colour(opt, file_colour);
     if (!colour.ok()) return 0;
     return exact_settings(opt, camera, depth, colour.value.basis).runs;
 }
@@ -235,8 +242,8 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
     f.kept = w.declared ? OIIO::ROI(w.data.xbegin - in.x0, w.data.xend - in.x0, w.data.ybegin - in.y0,
                                     w.data.yend - in.y0)
                         : OIIO::ROI(0, f.out_w, 0, f.out_h);
-    auto colour = resolve_colour(opt, in.colorspace);
-    if (!colour.ok()) return R::failure(colour);
+    auto colour = resolve_colour(opt, in.colour);
+    if (!colour.ok()) return R::failure(name + ": " + colour.error, colour.kind, colour.field);
     f.colour = std::move(colour.value);
     f.aperture = resolved_aperture(opt);
     if (auto c = check_camera(f, name, opt.depth_meaning); !c.ok()) return R::failure(c);
@@ -344,7 +351,7 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
         spec.x = spec.y = spec.full_x = spec.full_y = 0;
     }
     const int frame_w = in.windows.declared ? in.windows.display.width() : f.out_w;
-    spec.attribute("oiio:ColorSpace", f.colour.out_space);
+    detail::write_colour_attributes(spec, f.colour.out_space, f.colour.config);
     spec.attribute("wavecam.pinhole", with_unit(f.aperture.diameter, 1e-3, "mm"));
     spec.attribute("wavecam.aperture", f.aperture.name());
     spec.attribute("wavecam.film-distance", with_unit(opt.film_distance, 1e-3, "mm"));

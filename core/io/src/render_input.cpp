@@ -189,7 +189,11 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
     in.width = spec.width;
     in.height = spec.height;
     in.depth_channel = spec.channelnames[ch.depth];
-    in.colorspace = spec.get_string_attribute("oiio:ColorSpace");
+    in.colour.colorspace = spec.get_string_attribute("oiio:ColorSpace");
+    if (const OIIO::ParamValue* c = spec.find_attribute("chromaticities"); c && c->type().basetype == OIIO::TypeDesc::FLOAT &&
+                                                                           c->type().numelements() * c->type().aggregate == 8)
+        in.colour.chromaticities.assign(static_cast<const float*>(c->data()), static_cast<const float*>(c->data()) + 8);
+    in.colour.aces_container = spec.get_int_attribute("acesImageContainerFlag", 0) == 1;
     if (!read_channels(image, ch, in)) return fail("cannot read pixels: " + image.geterror());
     if (const std::string bad = bad_pixel(in, spec, ch); !bad.empty()) return fail(bad);
     if (const std::string bad = clamp_or_refuse_negative(in, spec, ch, opt.clamp_negative); !bad.empty())

@@ -16,6 +16,8 @@ class ColourConfig {
 public:
     const std::string& path() const { return path_; }
     bool has_colorspace(const std::string& name) const;
+    // The config's own name of a colour space given by name or alias ("" when it has none).
+    std::string canonical_name(const std::string& name) const;
     // The linear map XYZ -> `space` (checked to be linear); fails for a non-linear space.
     Result<Matrix3> xyz_to_rgb_matrix(const std::string& space) const;
     // Converts `count` interleaved RGB triplets in place from XYZ to `space`.

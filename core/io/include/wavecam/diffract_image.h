@@ -65,13 +65,13 @@ Aperture resolved_aperture(const DiffractOptions& opt);
 // reporting): the exact sums' terms with the job's spectral basis (three propagations per
 // wavelength for monochrome light); 0 for the convolution method or when that basis cannot be made.
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
-                      const std::string& file_colorspace = "");
+                      const FileColour& file_colour = {});
 
 // The random-phase runs the job averages: exact.runs, or the count runs_for_convergence gives
 // this frame where runs_from_psf (its longest wavelength, nearest source); 1 for the incoherent
 // method, 0 for the convolution method or when the colour cannot be resolved.
 int job_runs(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
-             const std::string& file_colorspace = "");
+             const FileColour& file_colour = {});
 
 // Bytes the job needs at its peak (images, pinhole samples or PSF kernels), an upper estimate.
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera);

@@ -31,6 +31,14 @@ struct FrameWindows {
     OIIO::ROI data, display;  // the file's pixel coordinates
 };
 
+// What a file's header says about its colour: oiio:ColorSpace, OpenEXR's chromaticities (x, y
+// of red, green, blue and white; empty when absent) and the ACES container flag.
+struct FileColour {
+    std::string colorspace;
+    std::vector<float> chromaticities;
+    bool aces_container = false;
+};
+
 // Radiance and depth as plain arrays, plus what the file says about itself.
 struct RenderInput {
     // The frame the camera images: the data window, widened where needed to hold the display
@@ -46,7 +54,7 @@ struct RenderInput {
     double fov_h = 0;          // radians, across `width` (the display window's as given, widened with the frame)
     double display_fov_h = 0;  // radians, across the display window (= fov_h for a file without windows)
     std::string fov_from;      // the setting or the attribute it came from
-    std::string colorspace;    // the radiance's colour space as the file names it ("" = unknown)
+    FileColour colour;         // the radiance's colour space as the file's header gives it
     std::string depth_channel; // the channel actually used
 
     // The ideal camera the render was made with, its film `film_distance` behind the pinhole.
