@@ -279,3 +279,60 @@ TEST(PlateChannels, ChromaticitiesAndTheAcesFlagSetTheColourSpacesBothWays) {
     EXPECT_EQ(r.status, 0) << r.output;
     fs::remove_all(dir);
 }
+
+// Anamorphic pixels (PixelAspectRatio 2: twice as wide as tall). A star's blur is the pinhole's
+// round disc in the film's own units, so its second moments across and along, less the star's
+// pixel and the film's pixel (each a box: width^2/12 twice), are equal; taking the pixels as
+// square would make the blur twice as wide as tall after desqueeze (moments 4:1).
+TEST(PlateChannels, AnAnamorphicStarComesBackRoundAfterDesqueeze) {
+    const fs::path dir = scratch("plate_anamorphic");
+    constexpr int w = 24, h = 48;  // a square frame: 48 x 48 in the film's units
+    auto star = [&](const std::string& name, float aspect) {
+        OIIO::ImageSpec spec(w, h, 4, OIIO::TypeDesc::FLOAT);
+        spec.channelnames = {"R", "G", "B", "Z"};
+        spec.attribute("wavecam.fov", 40.0f);
+        spec.attribute("PixelAspectRatio", aspect);
+        OIIO::ImageBuf b(spec);
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) {
+                const float v = i == w / 2 && j == h / 2 ? 100.0f : 0.0f, px[4] = {v, v, v, 1e10f};
+                b.setpixel(i, j, px);
+            }
+        ASSERT_TRUE(b.write((dir / name).string()));
+    };
+    star("wide.exr", 2.0f);
+    star("square.exr", 1.0f);
+    // a 3 mm pinhole at 20 mm: a geometric disc about 10 film pixels across
+    auto run = [&](const std::string& in, const std::string& out) {
+        return run_command(kWavecam + " apply " + (dir / in).string() + " -o " + (dir / out).string() +
+                           " --film-distance 20mm --pinhole 3mm --no-vignetting --monochrome");
+    };
+    auto r = run("wide.exr", "wide_out.exr");
+    ASSERT_EQ(r.status, 0) << r.output;
+    r = run("square.exr", "square_out.exr");
+    ASSERT_EQ(r.status, 0) << r.output;
+    // second moments in the film's units: a pixel is `aspect` wide and 1 tall
+    auto moments = [&](const fs::path& path, double aspect, double& across, double& along) {
+        const OIIO::ImageBuf b = read(path);
+        EXPECT_EQ(b.spec().width, w);
+        double sum = 0, sx = 0, sy = 0, sxx = 0, syy = 0;
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) {
+                const double v = b.getchannel(i, j, 0, 1), x = (i + 0.5) * aspect, y = j + 0.5;
+                sum += v, sx += v * x, sy += v * y, sxx += v * x * x, syy += v * y * y;
+            }
+        across = sxx / sum - std::pow(sx / sum, 2) - 2 * aspect * aspect / 12;
+        along = syy / sum - std::pow(sy / sum, 2) - 2.0 / 12;
+        return sum;
+    };
+    double across, along, square_across, square_along;
+    const double energy = moments(dir / "wide_out.exr", 2.0, across, along);
+    moments(dir / "square_out.exr", 2.0, square_across, square_along);  // the same pixels taken as square
+    std::printf("second moments across/along: %.3f (square pixels assumed: %.3f), light %.2f of 100\n", across / along,
+                square_across / square_along, energy);
+    EXPECT_NEAR(across / along, 1.0, 0.15) << across << " " << along;
+    EXPECT_GT(square_across / square_along, 2.5) << square_across << " " << square_along;
+    EXPECT_NEAR(energy, 100.0, 3.0);  // the star's light, kept (no vignetting)
+    EXPECT_FLOAT_EQ(file_spec(dir / "wide_out.exr").get_float_attribute("PixelAspectRatio"), 2.0f);
+    fs::remove_all(dir);
+}

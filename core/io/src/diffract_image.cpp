@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "colour_metadata.h"
+#include "pixel_aspect.h"
 #include "resolved_frame.h"
 #include "wavecam/gpu_sums.h"
 #include "wavecam/output_layout.h"
@@ -475,6 +476,24 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
 
 Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name,
                                     int nthreads) {
+    if (const double aspect = detail::pixel_aspect(src.spec()); aspect != 1.0) {
+        // anamorphic: diffracted on square pixels, then back on the file's (pixel_aspect.h)
+        using Fail = Result<bool>;
+        if (opt_.overscan != 0)
+            return Fail::failure(name + ": pixel aspect ratio " + g6(aspect) + " and an overscan setting: expected "
+                                 "no overscan setting for non-square pixels (give the file a data window instead)",
+                                 ErrorKind::Invalid, "overscan");
+        auto channels = find_render_channels(src.spec(), opt_.read);
+        if (!channels.ok()) return Fail::failure(name + ": " + channels.error, channels.kind, channels.field);
+        auto square = detail::to_square_pixels(src, channels.value, aspect);
+        if (!square.ok()) return Fail::failure(name + ": " + square.error);
+        OIIO::ImageBuf diffracted;
+        if (auto r = diffract(diffracted, square.value, name, nthreads); !r.ok()) return r;
+        auto back = detail::to_file_pixels(diffracted, src, aspect);
+        if (!back.ok()) return Fail::failure(name + ": " + back.error);
+        dst = std::move(back.value);
+        return Fail::success(true);
+    }
     auto input = load_render(src, name, opt_.read);
     if (!input.ok()) return Result<bool>::failure(input);
     auto frame = detail::resolve_frame(opt_, std::move(input.value), name, nthreads);

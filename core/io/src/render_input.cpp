@@ -168,6 +168,11 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
                     ", expected at least 2x2 pixels");
     if (spec.depth > 1) return fail("volume images are not supported, expected a 2D image");
     if (spec.deep) return fail("deep image (samples per pixel) is not supported, expected a flat image");
+    // (DiffractPlan::diffract takes anamorphic frames to square pixels before they reach here)
+    if (const float aspect = spec.get_float_attribute("PixelAspectRatio", 1.0f); aspect != 1.0f)
+        return fail("pixel aspect ratio " + OIIO::Strutil::fmt::format("{:g}", aspect) +
+                    ": a share of a job (apply --part, farm) is computed on square pixels; expected square pixels, "
+                    "or the whole frame diffracted in one run (wavecam apply, the plugin)");
     if (spec.find_attribute("wavecam.summary") && !opt.diffract_again)
         return fail(already_diffracted(spec), ErrorKind::Invalid, "diffract-again");
     auto found = find_render_channels(spec, opt);
