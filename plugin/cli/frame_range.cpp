@@ -5,6 +5,7 @@
 #include <OpenImageIO/strutil.h>
 
 #include <cstdio>
+#include <limits>
 #include <optional>
 
 #include "commands.h"
@@ -21,18 +22,24 @@ struct Term {
     char kind = 'x';
 };
 
+// Frame numbers are ints, as OIIO's; a term beyond them is not one.
 std::optional<Term> parse_term(const std::string& term) {
     Term t;
     int used = 0;
     const char* s = term.c_str();
+    const auto fits = [&t] {
+        for (long long v : {t.first, t.last, t.step})
+            if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()) return std::optional<Term>();
+        return std::optional<Term>(t);
+    };
     if (std::sscanf(s, "%lld%n", &t.first, &used) == 1 && used == int(term.size())) {
         t.last = t.first;
-        return t;
+        return fits();
     }
-    if (std::sscanf(s, "%lld-%lld%n", &t.first, &t.last, &used) == 2 && used == int(term.size())) return t;
+    if (std::sscanf(s, "%lld-%lld%n", &t.first, &t.last, &used) == 2 && used == int(term.size())) return fits();
     if (std::sscanf(s, "%lld-%lld%c%lld%n", &t.first, &t.last, &t.kind, &t.step, &used) == 4 &&
         used == int(term.size()) && (t.kind == 'x' || t.kind == 'y'))
-        return t;
+        return fits();
     return std::nullopt;
 }
 
