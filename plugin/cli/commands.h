@@ -22,7 +22,8 @@ void add_farm_command(CLI::App& app, int& status);
 Result<int> parse_threads(int threads);
 
 // --frames' numbers (OIIO's sequence syntax: "1-100", "1-100x2", "3,7,10-20"), counted before
-// they are expanded: more than 100000 frames are refused. Errors name --frames.
+// they are expanded: more than 100000 frames are refused, and so is any order but ascending, each
+// frame once ("3-1", "1-10x-2", "5,2"). Errors name --frames.
 Result<std::vector<int>> frame_numbers(const std::string& text);
 
 // Frame numbers as ranges, for messages: {1, 2, 3, 7} -> "1-3,7"; "none" for none.

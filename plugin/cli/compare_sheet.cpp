@@ -7,6 +7,7 @@
 
 #include <algorithm>
 
+#include "display_header.h"
 #include "wavecam/atomic_write.h"
 #include "wavecam/colour_pipeline.h"
 
@@ -60,7 +61,7 @@ Result<bool> write_display_image(const OIIO::ImageBuf& output, const DiffractOpt
     // the header says what the pixels now are: display-encoded RGB, one layer
     OIIO::ImageSpec& spec = shown.value.specmod();
     spec.erase_attribute("BlenderMultiChannel");
-    spec.erase_attribute("wavecam.output-colorspace");
+    tag_display_encoded(spec);
     spec.attribute("wavecam.display", kDisplay);
     spec.attribute("wavecam.view", kView);
     return write_image_atomically(shown.value, path, format);
@@ -92,6 +93,7 @@ Result<bool> write_compare_sheet(const OIIO::ImageBuf& input, const OIIO::ImageB
         OIIO::ImageBufAlgo::paste(sheet, k * w, 0, 0, 0, shown.value);
         label(sheet, k * w, w, names[k]);
     }
+    tag_display_encoded(sheet.specmod());
     return write_image_atomically(sheet, path, OIIO::TypeDesc::UINT8);
 }
 

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "commands.h"
+#include "display_header.h"
 #include "output_paths.h"
 #include "plot_marks.h"
 #include "terminal_progress.h"
@@ -121,6 +122,7 @@ Result<bool> write_png(const OIIO::ImageBuf& psf, double peak, double pitch, con
     const int n = display.spec().width, factor = std::max(1, (256 + n - 1) / n);
     if (factor > 1) display = OIIO::ImageBufAlgo::resize(display, "box", 0, OIIO::ROI(0, n * factor, 0, n * factor));
     draw_scale_bar(display, 8, n * factor - 8, pitch / factor, n * factor / 3, {1, 1, 1});
+    tag_display_encoded(display.specmod());
     return write_image_atomically(display, path, OIIO::TypeDesc::UINT8);
 }
 

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "display_header.h"
 #include "output_paths.h"
 #include "sweep_plot.h"
 #include "terminal_progress.h"
@@ -78,8 +79,10 @@ int run(const SweepFlags& f) {
     if (auto w = write_text_atomically(table.str(), csv); !w.ok()) return fail(w.error);
     const SweepFigure figure{p.film_distance, p.wavelength, p.aperture.name(), rayleigh, nyquist, best};
     for (auto [img, path] : {std::pair{psf_sheet(pts, figure), f.prefix + "_psfs.png"},
-                             std::pair{spot_size_plot(pts, figure), f.prefix + "_spot_size.png"}})
+                             std::pair{spot_size_plot(pts, figure), f.prefix + "_spot_size.png"}}) {
+        tag_display_encoded(img.specmod());
         if (auto w = write_image_atomically(img, path, OIIO::TypeDesc::UINT8); !w.ok()) return fail(w.error);
+    }
     std::printf("measured optimum (smallest r50): %.4g mm = %.3f sqrt(f lambda)\n", best * 1e3, best / unit);
     std::printf("Rayleigh 1.9 sqrt(f lambda):     %.4g mm\n", rayleigh * 1e3);
     std::printf("paper sqrt(D lambda / 2), D = 5f: %.4g mm\n", nyquist * 1e3);

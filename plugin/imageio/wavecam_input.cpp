@@ -4,7 +4,7 @@
 //   shot.exr.wavecam         (no such file needed) shot.exr diffracted; settings from
 //                            `--iconfig wavecam:KEY VALUE` hints over the source's own
 //                            `wavecam.KEY` metadata over defaults (front/settings.h's order)
-//   shot.exr.wavecam?runs=8  settings in the name, too
+//   shot.exr.wavecam?runs=8  settings in the name, too (name_query.h)
 //   shot.wavecam             a description file (front/description.h)
 //
 // No exception leaves this file; errors go through OIIO's error reporting (and, for the one
@@ -22,6 +22,9 @@
 #include <set>
 
 #include "../front/description.h"
+#include "name_query.h"
+#include "result_cache.h"
+#include "source_identity.h"
 #include "wavecam/diffract_image.h"
 #include "wavecam/units.h"
 
@@ -32,17 +35,6 @@ namespace {
 constexpr const char* kExtension = ".wavecam";
 
 using wavecam::front::Settings;
-
-// "a.exr.wavecam?runs=8&pinhole=0.2mm" -> path "a.exr.wavecam", settings {runs: 8, pinhole: 0.2mm}
-std::string split_query(const std::string& name, Settings& settings) {
-    const size_t q = name.find('?');
-    if (q == std::string::npos) return name;
-    for (const std::string& item : Strutil::splits(name.substr(q + 1), "&")) {
-        const size_t eq = item.find('=');
-        if (!item.empty()) settings[item.substr(0, eq)] = eq == std::string::npos ? "" : item.substr(eq + 1);
-    }
-    return name.substr(0, q);
-}
 
 // oiiotool (2.4.7 and 3.x, oiiotool.cpp's input_file) opens an input through its ImageCache
 // and, when that fails and no --iconfig was given, reports only `File does not exist` for a
@@ -66,11 +58,12 @@ void report_where_the_host_drops_it(const std::string& name, const ImageSpec& co
     if (printed.insert(message).second) std::fprintf(stderr, "wavecam ERROR: %s\n", message.c_str());
 }
 
-// Computed images, by request: oiiotool opens one input several times per command.
-std::mutex g_cache_mutex;
-std::map<std::string, std::shared_ptr<const ImageBuf>> g_cache;
+// Computed images, by source file (its identity and version) and settings: oiiotool opens one
+// input several times per command. The last 4, at most 512 MiB of pixels (docs/oiio.md).
+wavecam::plugin::ResultCache g_results(4, size_t(512) << 20);
 // Plans by settings: frames of a sequence (oiiotool --frames) share one PSF table. A handful
 // is kept; a host that cycles through more settings rebuilds.
+std::mutex g_plans_mutex;
 std::map<std::string, std::shared_ptr<wavecam::DiffractPlan>> g_plans;
 constexpr size_t kMaxPlans = 4;
 // Names being opened on this thread: the source must not re-enter the plugin for itself.
@@ -137,8 +130,10 @@ private:
 
     bool open_checked(const std::string& name, ImageSpec& newspec, const ImageSpec& config) {
         namespace front = wavecam::front;
-        Settings query;
-        const std::string path = split_query(name, query);
+        auto split = wavecam::plugin::split_query(name);
+        if (!split.ok()) return fail(split.error);
+        const std::string& path = split.value.path;
+        const Settings& query = split.value.settings;
         front::SettingSources sources;
         sources.given = query;  // ?KEY=VALUE wins over --iconfig wavecam:KEY VALUE
         for (const ParamValue& p : config.extra_attribs) {
@@ -164,23 +159,34 @@ private:
         if (!Filesystem::exists(source) && !Strutil::ends_with(source.substr(0, source.find('?')), kExtension))
             return fail(source + ": no such file, expected the render to diffract");
 
-        std::string key = source;
-        for (const Settings* layer : {&sources.given, &sources.description})
-            for (const auto& [k, v] : *layer) key += "\n" + k + "=" + v;
-        {
-            std::lock_guard<std::mutex> lock(g_cache_mutex);
-            if (auto it = g_cache.find(key); it != g_cache.end()) return publish(it->second, newspec);
-        }
+        const std::string key = result_key(source, sources);
+        if (auto kept = g_results.find(key)) return publish(kept, newspec);
         if (t_opening.count(source)) return fail(source + ": refers to itself through the wavecam plugin");
         t_opening.insert(source);
         auto image = compute(source, sources);
         t_opening.erase(source);
         if (!image.ok()) return fail(image.error);
-        {
-            std::lock_guard<std::mutex> lock(g_cache_mutex);
-            g_cache[key] = image.value;
-        }
+        g_results.insert(key, image.value);
         return publish(image.value, newspec);
+    }
+
+    // What a result is kept under: the source file (which file, which version of it) as named,
+    // a mask aperture's file the same way, and every setting given or described.
+    // Each part is written with its length first: a decoded value may hold any byte.
+    static std::string result_key(const std::string& source, const wavecam::front::SettingSources& sources) {
+        std::string key;
+        auto add = [&key](const std::string& part) { key += std::to_string(part.size()) + ":" + part; };
+        add(wavecam::plugin::source_identity(source));
+        add(source);
+        for (const Settings* layer : {&sources.given, &sources.description}) {
+            add(layer == &sources.given ? "given" : "described");
+            for (const auto& [k, v] : *layer) {
+                add(k);
+                add(v);
+                if (k == "aperture" && v.rfind("mask:", 0) == 0) add(wavecam::plugin::source_identity(v.substr(5)));
+            }
+        }
+        return key;
     }
 
     using Computed = wavecam::Result<std::shared_ptr<const ImageBuf>>;
@@ -206,7 +212,7 @@ private:
         plan_key += settings.value.options.read.fov_from;
         std::shared_ptr<wavecam::DiffractPlan> plan;
         {
-            std::lock_guard<std::mutex> lock(g_cache_mutex);
+            std::lock_guard<std::mutex> lock(g_plans_mutex);
             if (g_plans.size() >= kMaxPlans && !g_plans.count(plan_key)) g_plans.clear();
             auto& slot = g_plans[plan_key];
             if (!slot) slot = std::make_shared<wavecam::DiffractPlan>(settings.value.options);

@@ -3,6 +3,9 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include <sys/wait.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -249,6 +252,49 @@ TEST(ApplyCommand, FrameRangesWithHashAndPrintfPatterns) {
                     " --frames 4-5" + kQuick);  // a missing frame: stops, names the file
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.output.find("shot.0004.exr"), std::string::npos) << r.output;
+    fs::remove_all(dir);
+}
+
+// Frames run in ascending order, each once: steps keep their OIIO meaning (x: every STEPth frame
+// from FIRST, y: the others), and what OIIO would enumerate downwards or twice is refused in
+// words before any work.
+TEST(ApplyCommand, FrameRangesRunAscendingOrAreRefused) {
+    const fs::path dir = scratch("apply_frame_order");
+    for (int f = 1; f <= 3; ++f) write_render((dir / ("shot.000" + std::to_string(f) + ".exr")).string(), 6, 6, 2.0f, 30.0f);
+    const std::string apply = kWavecam + " apply " + (dir / "shot.#.exr").string() + " -o " + (dir / "o.#.exr").string() + kQuick;
+    const struct {
+        std::string frames;
+        std::vector<int> written;
+    } runs[] = {{"1-3x2", {1, 3}}, {"1-3y2", {2}}, {"2,3", {2, 3}}};
+    for (const auto& run : runs) {
+        const auto r = run_command(apply + " --frames " + run.frames);
+        ASSERT_EQ(r.status, 0) << run.frames << ": " << r.output;
+        for (int f = 1; f <= 3; ++f) {
+            const fs::path out = dir / ("o.000" + std::to_string(f) + ".exr");
+            const bool expected = std::find(run.written.begin(), run.written.end(), f) != run.written.end();
+            EXPECT_EQ(fs::exists(out), expected) << run.frames << ": frame " << f;
+            fs::remove(out);
+        }
+    }
+    const struct {
+        std::string frames, message;
+    } refused[] = {
+        {"3-1", "--frames: '3-1' runs backwards; expected FIRST-LAST with FIRST <= LAST, e.g. 1-3"},
+        {"1,3-2", "--frames: '3-2' (in '1,3-2') runs backwards"},
+        {"3-1x1", "--frames: '3-1x1' runs backwards"},
+        {"3-1x-1", "--frames: '3-1x-1' has a step of -1; expected FIRST-LASTxSTEP with a step of 1 or more"},
+        {"1-3x-2", "--frames: '1-3x-2' has a step of -2"},
+        {"1-3x0", "--frames: '1-3x0' has a step of 0"},
+        {"3,1", "--frames: '3,1' lists frame 1 after frame 3; expected each frame once, in ascending order"},
+        {"1-3,2", "--frames: '1-3,2' lists frame 2 after frame 3"},
+        {"2,2", "--frames: '2,2' lists frame 2 twice"},
+    };
+    for (const auto& row : refused) {
+        const auto r = run_command(apply + " --frames " + row.frames);
+        EXPECT_EQ(WEXITSTATUS(r.status), 2) << row.frames << ": " << r.output;
+        EXPECT_NE(r.output.find(row.message), std::string::npos) << row.frames << ": " << r.output;
+        for (int f = 1; f <= 3; ++f) EXPECT_FALSE(fs::exists(dir / ("o.000" + std::to_string(f) + ".exr"))) << row.frames;
+    }
     fs::remove_all(dir);
 }
 

@@ -5,6 +5,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <sys/wait.h>
 
@@ -212,6 +213,68 @@ TEST(OutputFiles, DisplayFormatsAreDisplayReferredRgbOrRefused) {
         EXPECT_NE(r.status, 0) << refused;
         EXPECT_NE(r.output.find("unsupported output format"), std::string::npos) << refused << ": " << r.output;
         EXPECT_FALSE(fs::exists(dir / refused)) << refused;
+    }
+    fs::remove_all(dir);
+}
+
+namespace {
+// A PNG's colour chunks (PNG 1.2, 11.3.3): "gAMA" -> its gamma times 100000 (4 bytes, big-endian),
+// "sRGB" -> its rendering intent (1 byte), read from the file itself.
+std::map<std::string, unsigned> png_colour_chunks(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    const std::string d{std::istreambuf_iterator<char>(f), {}};
+    std::map<std::string, unsigned> chunks;
+    auto u32 = [&d](size_t at) {
+        return unsigned((unsigned char)d[at]) << 24 | unsigned((unsigned char)d[at + 1]) << 16 |
+               unsigned((unsigned char)d[at + 2]) << 8 | unsigned((unsigned char)d[at + 3]);
+    };
+    for (size_t at = 8; at + 8 <= d.size();) {  // after the signature: length, type, data, CRC
+        const unsigned length = u32(at);
+        const std::string type = d.substr(at + 4, 4);
+        if (at + 12 + length > d.size()) break;
+        if (type == "gAMA" && length == 4) chunks[type] = u32(at + 8);
+        if (type == "sRGB" && length == 1) chunks[type] = (unsigned char)d[at + 8];
+        at += 12 + length;
+    }
+    return chunks;
+}
+}  // namespace
+
+// Display files say what they hold: sRGB-encoded pixels, tagged sRGB (a PNG's sRGB chunk and
+// gAMA 1/2.2, not the gAMA 1.0 of linear data), with nothing left of the scene-linear input's
+// colour description (ACES chromaticities and container flag, its linear space) in the header.
+TEST(OutputFiles, DisplayFilesAreTaggedAsTheSrgbTheyHold) {
+    const fs::path dir = scratch("out_display_tags");
+    write_render((dir / "in.exr").string(), 12, 10, 3.0f, 35.0f);
+    {
+        OIIO::ImageBuf aces = read(dir / "in.exr");
+        OIIO::ImageSpec& spec = aces.specmod();
+        const float ap0[8] = {0.7347f, 0.2653f, 0.0f, 1.0f, 0.0001f, -0.077f, 0.32168f, 0.33767f};
+        spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), ap0);
+        spec.attribute("acesImageContainerFlag", 1);
+        spec.attribute("oiio:ColorSpace", "ACES2065-1");
+        ASSERT_TRUE(aces.write((dir / "aces.exr").string()));
+    }
+    ASSERT_EQ(apply(dir / "aces.exr", dir / "out.png", "--png " + (dir / "also.png").string() + " --compare " +
+                                                        (dir / "sheet.png").string()).status, 0);
+    ASSERT_EQ(apply(dir / "aces.exr", dir / "out.jpg").status, 0);
+    ASSERT_EQ(apply(dir / "aces.exr", dir / "out.tif").status, 0);
+    ASSERT_EQ(run_command(kWavecam + " psf --pinhole 0.3mm --film-distance 65mm --source-distance inf --source-angle 0deg"
+                                     " --wavelength 550nm --film-size 0.6mm --resolution 15 -o " + (dir / "psf.exr").string() +
+                          " --png " + (dir / "psf.png").string()).status, 0);
+    for (const char* name : {"out.png", "also.png", "sheet.png", "psf.png", "out.jpg", "out.tif"}) {
+        OIIO::ImageBuf shown((dir / name).string());
+        ASSERT_TRUE(shown.read()) << name << ": " << shown.geterror();
+        const OIIO::ImageSpec& spec = shown.spec();
+        EXPECT_EQ(spec.get_string_attribute("oiio:ColorSpace"), "sRGB") << name;
+        for (const char* stale : {"chromaticities", "acesImageContainerFlag", "oiio:Gamma", "wavecam.output-colorspace"})
+            EXPECT_EQ(spec.find_attribute(stale), nullptr) << name << ": " << stale;
+        if (OIIO::Filesystem::extension(name) == ".png") {
+            const auto chunks = png_colour_chunks(dir / name);
+            ASSERT_TRUE(chunks.count("gAMA")) << name;
+            EXPECT_EQ(chunks.at("gAMA"), 45455u) << name << ": the gamma the file declares, times 100000";
+            EXPECT_TRUE(chunks.count("sRGB")) << name;
+        }
     }
     fs::remove_all(dir);
 }

@@ -4,9 +4,11 @@
 #include <OpenImageIO/imagecache.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/imageio.h>
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "command_runner.h"
@@ -183,6 +185,14 @@ std::vector<FailingInput> failing_inputs(const fs::path& dir) {
          "shot.exr: a pinhole of 1e+06mm is wider than the film (", ""},
         {"a FIFO as the source", "fifo.exr.wavecam", "wavelengths", "3", "fifo.exr.wavecam",
          "fifo.exr: cannot be read as an image (a named pipe (FIFO); expected an image file)", ""},
+        // the name's own items: as the command refuses an option given twice; percent escapes
+        {"a setting given twice in the name", "shot.exr.wavecam?pinhole=0.2mm&pinhole=0.3mm", "wavelengths", "3",
+         "shot.exr.wavecam?pinhole=0.2mm&pinhole=0.3mm", "?pinhole= given twice; give each setting once", ""},
+        {"a bad percent escape", "shot.exr.wavecam?pinhole=0.2%zzmm", "wavelengths", "3",
+         "shot.exr.wavecam?pinhole=0.2%zzmm",
+         "'%zz' in 'pinhole=0.2%zzmm' is not a percent escape; expected % and two hex digits", ""},
+        {"an item without a setting name", "shot.exr.wavecam?=0.2mm", "wavelengths", "3", "shot.exr.wavecam?=0.2mm",
+         "'=0.2mm' has no setting name; expected KEY=VALUE items joined by &, e.g. ?pinhole=0.2mm&runs=8", ""},
     };
 }
 }  // namespace
@@ -248,6 +258,84 @@ TEST(Plugin, EveryFailureReachesPythonWithThePluginsMessage) {
         ++k;
     }
     EXPECT_EQ(k, 4 * cases.size()) << r.output;
+    fs::remove_all(dir);
+}
+
+// A name's items are percent-decoded (a mask whose file name has a space). An item without '='
+// (a trailing '&') is refused by OpenImageIO itself before any reader sees the name
+// (ImageInput::create, "malformed filename"); a host that hands the name to the plugin's reader
+// directly gets the plugin's words.
+TEST(Plugin, NameItemsArePercentDecodedAndEmptyItemsWorded) {
+    const fs::path dir = scratch("plugin_query");
+    write_render((dir / "shot.exr").string(), 8, 8, 3.0f, 35.0f);
+    {
+        OIIO::ImageBuf mask(OIIO::ImageSpec(4, 4, 1, OIIO::TypeDesc::UINT8));
+        const float open[1] = {1.0f};
+        for (int j = 1; j < 3; ++j)
+            for (int i = 1; i < 3; ++i) mask.setpixel(i, j, open);
+        ASSERT_TRUE(mask.write((dir / "my mask.png").string()));
+    }
+    const std::string name = (dir / "shot.exr.wavecam").string() + "?aperture=mask:" + (dir / "my%20mask.png").string() +
+                             "&pinhole=0.2mm&film-distance=20mm&wavelen%67ths=3";
+    auto r = run_command(kEnv + "oiiotool '" + name + "' -o " + (dir / "o.exr").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    OIIO::ImageBuf out((dir / "o.exr").string());
+    ASSERT_TRUE(out.read());
+    EXPECT_NE(out.spec().get_string_attribute("wavecam.aperture").find("my mask.png"), std::string::npos)
+        << out.spec().get_string_attribute("wavecam.aperture");
+    EXPECT_EQ(out.spec().get_string_attribute("wavecam.wavelengths"), "450nm,550nm,650nm");
+    // the reader itself, loaded into this process
+    OIIO::attribute("plugin_searchpath", std::string(WAVECAM_PLUGIN_DIR));
+    auto reader = OIIO::ImageInput::create("wavecam");
+    ASSERT_TRUE(reader) << OIIO::geterror();
+    OIIO::ImageSpec spec;
+    EXPECT_FALSE(reader->open((dir / "shot.exr.wavecam").string() + "?pinhole=0.2mm&", spec));
+    const std::string error = reader->geterror();
+    EXPECT_NE(error.find("shot.exr.wavecam?pinhole=0.2mm&: an empty item after '?' or '&' (a trailing or doubled "
+                         "'&'); expected KEY=VALUE items joined by &"),
+              std::string::npos)
+        << error;
+    fs::remove_all(dir);
+}
+
+// A result is kept for its source file as it is: the same relative name in another working
+// folder is that folder's render, and a render written again (renamed over the old one, as
+// renderers and wavecam write; or rewritten at another size) is read again, in one process.
+// The outputs are checked against each other: the diffraction is linear in the radiance.
+TEST(Plugin, AResultFollowsItsSourceFileNotItsName) {
+    const fs::path dir = scratch("plugin_result_source");
+    fs::create_directories(dir / "a");
+    fs::create_directories(dir / "b");
+    std::ofstream(dir / "follow.py") << R"(import os, sys, OpenImageIO as oiio
+def render(path, value, width=8):
+    s = oiio.ImageSpec(width, 6, 4, 'float'); s.channelnames = ('R', 'G', 'B', 'Z'); s.attribute('wavecam.fov', 35.0)
+    b = oiio.ImageBuf(s); oiio.ImageBufAlgo.fill(b, (value, value, value, 3.0)); assert b.write(path)
+def centre(name):
+    i = oiio.ImageInput.open(name)
+    assert i, oiio.geterror()
+    p = i.read_image('float'); w = i.spec().width; i.close()
+    return w, float(p[3, w // 2, 1])
+q = 'shot.exr.wavecam?pinhole=0.2mm&film-distance=20mm&wavelengths=3'
+render('a/shot.exr', 1.0); render('b/shot.exr', 2.0)
+os.chdir('a'); print('a', *centre(q))
+os.chdir('../b'); print('b', *centre(q))
+render('shot.new.exr', 4.0); os.replace('shot.new.exr', 'shot.exr'); print('renamed', *centre(q))
+render('shot.exr', 4.0, width=10); print('resized', *centre(q))
+)";
+    const auto r = run_command("cd " + dir.string() + " && " + kEnv + "/usr/bin/python3 follow.py");
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::istringstream lines(r.output);
+    std::map<std::string, std::pair<int, double>> seen;
+    std::string label;
+    int width = 0;
+    double value = 0;
+    while (lines >> label >> width >> value) seen[label] = {width, value};
+    ASSERT_EQ(seen.size(), 4u) << r.output;
+    const double a = seen["a"].second;
+    ASSERT_GT(a, 0.1) << r.output;
+    EXPECT_NEAR(seen["b"].second / a, 2.0, 1e-4) << r.output;        // b's render, not a's
+    EXPECT_NEAR(seen["renamed"].second / a, 4.0, 1e-4) << r.output;  // the new render, not the kept one
+    EXPECT_EQ(seen["resized"].first, 10) << r.output;
     fs::remove_all(dir);
 }
 
