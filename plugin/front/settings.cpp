@@ -156,7 +156,7 @@ const std::vector<SettingKey> kKeys = {
      false,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          return parse_choice(n, v, {{"cpu", Device::Cpu}, {"gpu", Device::Gpu}, {"auto", Device::Auto}},
-                             o.exact.device);
+                             o.device);
      }},
     {"phases", "independent", "random-phase runs' phases: coded (run k offsets class m by 2 pi k m / runs, so "
      "that different classes cancel exactly; default) or independent (the seed paper's; noise ~ 1/sqrt(runs))",
