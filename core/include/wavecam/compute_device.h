@@ -1,6 +1,6 @@
 // Where a job's exact sums run (docs/gpu.md): a handle on the CPU or on one Vulkan device,
-// created for a job (or a host's session) from the `device` setting and passed down to every
-// evaluator, as Embree passes its RTCDevice:
+// created for a job (or for as long as a host runs) from the `device` setting and passed down
+// to every evaluator, as Embree passes its RTCDevice:
 //   cpu   the CPU;
 //   gpu   any Vulkan device, a discrete GPU first; none is a failed handle (ok() false, error());
 //   auto  a discrete GPU, else the CPU, the reason kept (error()).

@@ -258,7 +258,8 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
     Device setting = opt.device;
     std::string on_cpu;
     if (setting != Device::Cpu && opt.exact.summation == Summation::Nufft) {
-        if (setting == Device::Gpu) return R::failure(name + ": " + nufft_on_gpu(setting), ErrorKind::Invalid, "summation");
+        if (setting == Device::Gpu)
+            return R::failure(name + ": " + nufft_on_gpu(setting), ErrorKind::Invalid, "summation");
         setting = Device::Cpu;
         on_cpu = "not used: the nufft summation has no GPU evaluator";
     }
