@@ -10,6 +10,7 @@
 
 #include "complex_fft2d.h"
 #include "far_tail.h"
+#include "gpu/compute_device_impl.h"
 #include "gpu/gpu_convolution.h"
 #include "kernel_basis.h"
 #include "real_fft2d.h"
@@ -294,7 +295,7 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
         kernel_settings.summation = Summation::Direct;
     if (auto r = anchor_kernels(first, kernel_settings, film_scope); !r.ok()) return R::failure(r);
     if (progress && !progress(1.0 / A)) return cancelled();
-    const bool on_cpu = spec.settings.device == Device::Cpu;
+    const bool on_cpu = !spec.settings.device.gpu();
     SummationSettings one_thread = kernel_settings;
     one_thread.nthreads = on_cpu ? 1 : spec.settings.nthreads;
     std::atomic<int> done{1};
@@ -338,17 +339,19 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
     const KernelBasis& basis = impl->basis = whole ? kernel_basis(gram, K) : kernel_basis({}, K);
     const SubPointModes& modes = impl->modes = sub_point_modes(kernel, S, spec.incoherent);
     const int M = modes.count;
-    if (spec.settings.device != Device::Cpu) {
+    const ComputeDevice& device = spec.settings.device;
+    if (device.gpu()) {
         const int nx = gpu_side(g.width), ny = gpu_side(g.height);
-        auto made = GpuConvolution::create(spec.settings.device, nx, ny, basis.rank, M);
+        auto made = GpuConvolution::create(device, nx, ny, basis.rank, M);
         if (made.ok()) {
             impl->gpu = std::move(made.value);
             g.nx = nx;
             g.ny = ny;
-        } else if (spec.settings.device == Device::Gpu) {
+        } else if (device.setting() == Device::Gpu) {
             return R::failure("device gpu: " + made.error, made.kind, "device");
-        }  // auto: quietly the CPU
+        }  // auto: the runs on the CPU, noted on the device (the output's header names both)
     }
+    detail::note_run(device, impl->gpu ? kRanOnGpu : kRanOnCpu);
     impl->fft = std::make_unique<ComplexFft2D>(g.nx, g.ny, impl->threads);
     const size_t N = impl->fft->size();
     if (!impl->gpu) impl->spectra.assign(size_t(basis.rank) * M * N, {});
@@ -589,7 +592,8 @@ CoherentWork coherent_work(const CoherentSpec& spec, SumCounts in, SumCounts out
     CoherentWork w;
     // (one source to the pinhole: direct, as create sums it)
     w.kernels =
-        kernels * (choose_sum(in, Summation::Direct).work + choose_sum(out, Summation::Auto).work + S * transform);
+        kernels * (choose_sum(in, Summation::Direct).work +
+                   choose_sum(out, Summation::Auto, spec.settings.device.gpu()).work + S * transform);
     w.per_run = kernels * transform + (kernels + 1) * S * N * kMacCost + S * transform;
     return w;
 }

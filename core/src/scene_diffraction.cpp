@@ -308,8 +308,8 @@ SumPlan plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCame
     SumPlan plan;
     plan.settings = {asked, s.summation_tolerance, s.nthreads, s.device};
     plan.in.fixed_choice = plan.out.fixed_choice = true;
-    plan.in.choice = choose_sum(n.in, asked);
-    plan.out.choice = choose_sum(n.out, asked);
+    plan.in.choice = choose_sum(n.in, asked, s.device.gpu());
+    plan.out.choice = choose_sum(n.out, asked, s.device.gpu());
     plan.out.fixed_range = true;
     plan.out.range = n.out.range;
     plan.in_work = plan.in.choice.work;
@@ -367,6 +367,14 @@ Summation chosen_summation(const ExactSettings& asked, const PinholeCamera& c, d
     const SumPlan plan = plan_sums(s, sum, c, wavelength, nearest, incoherent);
     const double exact = (plan.in_work + plan.out_work) * (incoherent ? double(sum.emitters.size()) : runs);
     return psf.kernels + psf.per_run * runs < exact ? Summation::Psf : Summation::Auto;
+}
+
+EvaluatorSet scene_evaluators(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {
+    const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
+    const SceneSum sum = scene_sum({camera, nullptr, nullptr}, wavelength, s, nearest, work_range(s, camera.height), false);
+    const SumPlan plan = plan_sums(s, sum, camera, wavelength, nearest, s.method == CoherenceMethod::Incoherent);
+    const bool in = plan.in.choice.evaluator == Evaluator::Nufft, out = plan.out.choice.evaluator == Evaluator::Nufft;
+    return {!in, in, !out, out};
 }
 
 double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {

@@ -151,12 +151,13 @@ const std::vector<SettingKey> kKeys = {
                              o.exact.summation);
      }},
     {"device", "gpu", "where the random-phase and incoherent methods run their direct sums and psf runs: cpu (default), gpu "
-     "(a Vulkan device, a discrete GPU first; an error if there is none) or auto (a discrete GPU when there is one, "
-     "else the CPU); the machine's choice, never a source's metadata",
+     "(a Vulkan device, a discrete GPU first, running every sum; an error if there is none, and for summation nufft, "
+     "which has no GPU evaluator) or auto (a discrete GPU when there is one, else the CPU, said in the job line); "
+     "the machine's choice, never a source's metadata",
      false,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          return parse_choice(n, v, {{"cpu", Device::Cpu}, {"gpu", Device::Gpu}, {"auto", Device::Auto}},
-                             o.exact.device);
+                             o.device);
      }},
     {"phases", "independent", "random-phase runs' phases: coded (run k offsets class m by 2 pi k m / runs, so "
      "that different classes cancel exactly; default) or independent (the seed paper's; noise ~ 1/sqrt(runs))",

@@ -71,12 +71,19 @@ void BM_PinholeSumCpu(benchmark::State& state) {
     rate(state, c.pinhole_terms());
 }
 
-// The Vulkan device, or the benchmark skipped with the reason.
+// A handle on the Vulkan device for one benchmark (opened before its timing), or none: the
+// benchmark skipped with the reason.
+ComputeDevice gpu_device(benchmark::State& state) {
+    ComputeDevice d = ComputeDevice::create(Device::Gpu);
+    if (!d.ok()) state.SkipWithError(d.error().c_str());
+    else state.SetLabel(d.description());
+    return d;
+}
+
+// The device's direct sums (they keep its context), or null.
 std::shared_ptr<GpuSums> gpu(benchmark::State& state) {
-    static const auto g = GpuSums::create(Device::Gpu);
-    if (!g.ok()) state.SkipWithError(g.error.c_str());
-    else state.SetLabel(g.value->description());
-    return g.value;
+    const ComputeDevice d = gpu_device(state);
+    return d.ok() ? GpuSums::create(d).value : nullptr;
 }
 
 // state.range(0) runs at once (their weight vectors share the geometry: one dispatch).
@@ -107,7 +114,7 @@ void BM_PinholeSumGpu(benchmark::State& state) {
 }
 // A textured 96 x 96 frame at 30 deg, f = 2 mm, a 0.05 mm pinhole, 550 nm, two depths: the psf
 // summation with state.range(0) runs on `device`.
-void psf_frame(benchmark::State& state, Device device) {
+void psf_frame(benchmark::State& state, const ComputeDevice& device) {
     PinholeCamera c{96, 96, 30 * M_PI / 180, 2e-3};
     std::vector<float> power(size_t(c.width) * c.height), depth(power.size()), out(power.size());
     for (size_t p = 0; p < power.size(); ++p) {
@@ -126,12 +133,12 @@ void psf_frame(benchmark::State& state, Device device) {
 
 void BM_PsfFrameCpu(benchmark::State& state) {
     state.SetLabel("CPU");
-    psf_frame(state, Device::Cpu);
+    psf_frame(state, ComputeDevice{});
 }
 
 void BM_PsfFrameGpu(benchmark::State& state) {
-    if (!gpu(state)) return;
-    psf_frame(state, Device::Gpu);
+    const ComputeDevice d = gpu_device(state);
+    if (d.ok()) psf_frame(state, d);
 }
 }  // namespace
 

@@ -238,3 +238,41 @@ TEST(SummationPlan, ExecutesManyTimesAsFreshPlansDo) {
     EXPECT_EQ(c.work, std::min(c.nufft_work, c.direct_work));
     EXPECT_GT(c.direct_work, 0);
 }
+
+// What the output's header names under `auto`: one word where every sum took one evaluator, each
+// sum's where they differ, never a choice left open.
+TEST(SummationPlan, EvaluatorsAreNamedOneByOne) {
+    auto words = [](bool dp, bool np, bool df, bool nf) { return EvaluatorSet{dp, np, df, nf}.words(); };
+    EXPECT_EQ(words(true, false, true, false), "direct");
+    EXPECT_EQ(words(false, true, false, true), "nufft");
+    EXPECT_EQ(words(true, false, false, true), "direct to the pinhole, nufft to the film");
+    EXPECT_EQ(words(false, true, true, false), "nufft to the pinhole, direct to the film");
+    EXPECT_EQ(words(true, true, true, false), "direct and nufft to the pinhole, direct to the film");
+    EXPECT_EQ(words(false, false, false, true), "nufft");  // no sources: only the film's sum ran
+    EXPECT_EQ(words(false, false, false, false), "");
+    EvaluatorSet a{true, false, true, false};
+    a.add({false, true, false, false});
+    EXPECT_EQ(a.words(), "direct and nufft to the pinhole, direct to the film");
+}
+
+// The plans note on their device handle what they committed; the default handle notes nothing.
+TEST(SummationPlan, TheDeviceRecordsTheEvaluatorsThatRan) {
+    const ComputeDevice cpu = ComputeDevice::create(Device::Cpu);
+    EXPECT_EQ(evaluators_run(cpu).words(), "");
+    const double lambda = 550e-9;
+    const ApertureSamples samples = sample_aperture({ApertureShape::Circle, 0.1e-3}, sample_pitch(lambda, 0.2));
+    FilmPoints film;
+    film.film_distance = 10e-3;
+    film.x = {0.0f, 1e-5f};
+    film.y = {0.0f, 0.0f};
+    for (const Summation asked : {Summation::Direct, Summation::Nufft}) {
+        SummationPlan plan = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda,
+                                                   {asked, kSummationTolerance, 1, cpu});
+        ASSERT_TRUE(plan.set_points(film).ok());
+    }
+    EXPECT_EQ(evaluators_run(cpu).words(), "direct and nufft");
+    EXPECT_EQ(cpu.ran_on(), "cpu");
+    SummationPlan unrecorded = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, {});
+    ASSERT_TRUE(unrecorded.set_points(film).ok());
+    EXPECT_EQ(evaluators_run(ComputeDevice{}).words(), "");
+}

@@ -276,7 +276,7 @@ TEST(Shares, EstimateCountsMonochromeLightThreeTimes) {
     opt.pinhole = 0.1e-3;
     opt.exact.runs = 2;  // kJob's
     opt.exact.summation = test_summation();
-    opt.exact.device = test_device();
+    opt.device = test_device().setting();
     opt.exact.film_subsamples = 1;
     auto per_wavelength = [&](const std::vector<double>& wavelengths) {
         wavecam::ExactSettings s = opt.exact;

@@ -9,16 +9,16 @@
 
 namespace {
 wavecam::Summation g_summation = wavecam::Summation::Auto;
-wavecam::Device g_device = wavecam::Device::Cpu;
+wavecam::ComputeDevice g_device;  // the CPU unless --device=gpu
 }
 
 wavecam::Summation test_summation() { return g_summation; }
-wavecam::Device test_device() { return g_device; }
+const wavecam::ComputeDevice& test_device() { return g_device; }
 
 std::string test_summation_flag() {
     std::string flags;
     if (g_summation != wavecam::Summation::Auto) flags += std::string(" --summation ") + summation_word(g_summation);
-    if (g_device != wavecam::Device::Cpu) flags += std::string(" --device ") + device_word(g_device);
+    if (g_device.gpu()) flags += " --device gpu";
     return flags;
 }
 
@@ -27,7 +27,11 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const char* prefix = "--summation=";
         if (std::strcmp(argv[i], "--device=gpu") == 0) {
-            g_device = wavecam::Device::Gpu;
+            g_device = wavecam::ComputeDevice::create(wavecam::Device::Gpu);
+            if (!g_device.ok()) {
+                std::fprintf(stderr, "--device=gpu: %s\n", g_device.error().c_str());
+                return 2;
+            }
             continue;
         }
         if (std::strncmp(argv[i], prefix, std::strlen(prefix)) != 0) {
@@ -45,5 +49,7 @@ int main(int argc, char** argv) {
     }
     argc = kept;
     ::testing::InitGoogleTest(&argc, argv);
-    return RUN_ALL_TESTS();
+    const int failed = RUN_ALL_TESTS();
+    g_device.release();  // before the Vulkan loader may be unloaded at exit
+    return failed;
 }

@@ -3,8 +3,9 @@
 // float blocks of 1024 terms added in double (or as a compensated float pair on devices without
 // double precision). Any Vulkan device runs it, Mesa's lavapipe on the CPU included.
 //
-// Create once (it opens the device and builds its pipelines), then call the sums as often as
-// needed; calls on one GpuSums are serialised. Errors are values, never exceptions.
+// Made on a device handle's Vulkan context (compute_device.h: the handle makes one for itself,
+// and builds its pipelines once), then called as often as needed; calls on one GpuSums are
+// serialised. Errors are values, never exceptions.
 #pragma once
 #include <complex>
 #include <memory>
@@ -12,22 +13,20 @@
 #include <vector>
 
 #include "wavecam/aperture.h"
+#include "wavecam/compute_device.h"
 #include "wavecam/progress.h"
 #include "wavecam/propagation.h"
 #include "wavecam/result.h"
 #include "wavecam/source.h"
-#include "wavecam/summation_plan.h"  // Device
 
 namespace wavecam {
 
 class GpuSums {
 public:
-    // Opens a Vulkan device for `choice` (Gpu or Auto; Auto accepts only a discrete GPU). Fails
-    // with a message naming what is missing: the Vulkan driver, a device, a compute queue.
-    // double_blocks false: the compensated float pair even where the device has double precision.
-    static Result<std::shared_ptr<GpuSums>> create(Device choice, bool double_blocks = true);
-    // One GpuSums per choice for the whole process, created on first use (the scene path's).
-    static Result<std::shared_ptr<GpuSums>> shared(Device choice);
+    // The sums' pipelines on `device`'s Vulkan context; fails on a handle without one, naming
+    // why (its error(): the Vulkan driver, a device, a compute queue missing). double_blocks
+    // false: the compensated float pair even where the device has double precision.
+    static Result<std::shared_ptr<GpuSums>> create(const ComputeDevice& device, bool double_blocks = true);
 
     ~GpuSums();
     GpuSums(const GpuSums&) = delete;
@@ -36,7 +35,7 @@ public:
     const std::string& device_name() const;  // e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
     const std::string& driver() const;       // driver name and version, e.g. "llvmpipe, Mesa 22.3.6 (LLVM 15.0.6)"
     bool double_blocks() const;              // blocks added in double (else compensated float)
-    std::string description() const;        // "name (driver)"
+    std::string description() const;        // "name, kind (driver)": ComputeDevice::description()
 
     // As wavecam::illuminate_pinhole: the field at every sample, times its weight / lambda.
     Result<bool> illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointSource>& sources,

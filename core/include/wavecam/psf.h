@@ -22,7 +22,7 @@ struct PsfParams {
     double max_terms = 5e12;         // refuse work beyond this many terms (samples x film points)
     int nthreads = 0;                // 0 = every core
     Summation summation = Summation::Auto;  // how the two sums are evaluated (summation_plan.h)
-    Device device = Device::Cpu;            // where their direct terms run
+    ComputeDevice device;                   // where their direct terms run (compute_device.h)
 };
 
 struct PsfImage {

@@ -38,9 +38,10 @@ struct ExactSettings {
     // direct and nufft; a job first weighs psf against them (chosen_summation).
     Summation summation = Summation::Auto;
     double summation_tolerance = kSummationTolerance;
-    // Where the direct sums run (gpu_sums.h): the CPU, a Vulkan device (none is an error), or a
-    // discrete GPU when there is one, else the CPU.
-    Device device = Device::Cpu;
+    // Where the sums run (compute_device.h): the CPU (the default handle), or the GPU of a handle
+    // the job created, which runs the direct terms and the psf summation's runs (`auto` there
+    // takes them; nufft is refused).
+    ComputeDevice device;
     // One share of the work (work_share.h): runs [run_begin, run_end) of the `runs` averaged, each
     // still weighted 1/runs, on output rows [row_begin, row_end); an end < 0 means the last.
     // Every run is averaged into the output on its own, so a job equals the sum of its shares.
@@ -97,6 +98,11 @@ double scene_sample_pitch(const ExactSettings& s, const PinholeCamera& camera, d
 // the whole job (every run and row, the frame as lit), so every share decides as its job; for
 // s.nearest_depth (NaN counts as all sky). A summation asked by name is returned as it is.
 Summation chosen_summation(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
+
+// The evaluators the two sums take at `wavelength` (s.summation auto, direct or nufft), as the
+// estimate counts the frame (every pixel lit, s.nearest_depth): the job's sums take these where
+// the frame is lit; a darker frame's fewer sources can tip a sum to the other evaluator.
+EvaluatorSet scene_evaluators(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
 
 // Work estimate in direct terms (the time of one term of the direct sums, so that --max-terms
 // and the time printed mean the same for either evaluator): direct, pinhole samples x (sources +

@@ -10,13 +10,16 @@
 //   direct  term by term (propagation.h): the reference;
 //   nufft   NUFFTs over the pinhole lattice with interpolated chirps (docs/summation.md),
 //           each sum within `tolerance` of the direct one, relative to the sum of its terms' sizes;
-// the direct terms run on the CPU, or on a GPU through Vulkan (gpu_sums.h, `device`).
+// the direct terms run on the CPU, or on a GPU through Vulkan (gpu_sums.h), as the settings'
+// device handle says (compute_device.h); nufft has no GPU evaluator.
 // Plain types only (no threading or SIMD types). A plan's executes are not for concurrent calls.
 #pragma once
 #include <complex>
 #include <memory>
+#include <string>
 #include <vector>
 #include "wavecam/aperture.h"
+#include "wavecam/compute_device.h"
 #include "wavecam/progress.h"
 #include "wavecam/propagation.h"
 #include "wavecam/result.h"
@@ -34,19 +37,13 @@ const char* summation_word(Summation s);  // "auto", "direct", "nufft", "psf"
 enum class Evaluator { Direct, Nufft };
 const char* evaluator_word(Evaluator e);  // "direct", "nufft"
 
-// Where the direct terms and the psf summation's runs run: `cpu`; `gpu` (any Vulkan device, a
-// discrete GPU preferred; none is an error); `auto` (a discrete GPU when there is one, else
-// quietly the CPU).
-enum class Device { Cpu, Gpu, Auto };
-const char* device_word(Device d);  // "cpu", "gpu", "auto"
-
 constexpr double kSummationTolerance = 3e-4;
 
 struct SummationSettings {
     Summation summation = Summation::Auto;
     double tolerance = kSummationTolerance;
     int nthreads = 0;  // 0: every core
-    Device device = Device::Cpu;
+    ComputeDevice device;  // where the sums run: the CPU, or a GPU (the direct terms only)
 };
 
 // The parameters a sum's chirps depend on: in-plane direction components (ux, uy) of the sources
@@ -80,8 +77,26 @@ struct SumCounts {
     double tolerance = kSummationTolerance;
 };
 
-// The one decision: `asked` direct or nufft as asked; auto the cheaper by the cost model.
-SumChoice choose_sum(const SumCounts& counts, Summation asked);
+// The one decision: `asked` direct or nufft as asked; auto the cheaper by the cost model, or,
+// `on_gpu`, direct: the one evaluator a GPU has.
+SumChoice choose_sum(const SumCounts& counts, Summation asked, bool on_gpu = false);
+
+// The refusal of the nufft summation on a GPU device (`setting` gpu, or auto that found one):
+// a GPU has no nufft evaluator.
+std::string nufft_on_gpu(Device setting);
+
+// Which evaluators a job's sums take, by sum.
+struct EvaluatorSet {
+    bool direct_to_pinhole = false, nufft_to_pinhole = false, direct_to_film = false, nufft_to_film = false;
+    void add(const EvaluatorSet& o);
+    // "direct" or "nufft" where every sum took it; else each sum's: "nufft to the pinhole, direct
+    // to the film" ("direct and nufft" for a sum that took both, at different wavelengths or for
+    // different parts of the light); "" where none.
+    std::string words() const;
+};
+
+// The evaluators whose plans committed on `device` (nothing for the default handle).
+EvaluatorSet evaluators_run(const ComputeDevice& device);
 
 // What a share of a job takes from the job, so that its part is evaluated, to the bit, as the
 // job's: the chirps planned over the frame's range, and the job's choice.
@@ -105,7 +120,7 @@ public:
 
     // SourcesToPinhole: the sources' positions (x, y, z or a plane wave's direction); their
     // amplitudes and phases are ignored here, they come with each execute. Fails only where the
-    // device asked for cannot be had (`gpu` without a Vulkan device).
+    // settings' device cannot run the evaluator (nufft on a GPU), or a `gpu` handle has no device.
     Result<bool> set_points(const std::vector<PointSource>& sources);
     // PinholeToFilm: the film points.
     Result<bool> set_points(const FilmPoints& film);

@@ -8,7 +8,6 @@
 #include "colour_metadata.h"
 #include "pixel_aspect.h"
 #include "resolved_frame.h"
-#include "wavecam/gpu_sums.h"
 #include "wavecam/output_layout.h"
 #include "wavecam/pinhole_design.h"
 #include "wavecam/run_count.h"
@@ -75,8 +74,9 @@ RunCount frame_run_count(const ExactSettings& s, const PinholeCamera& camera, co
 // (chosen_summation) at the middle of its wavelengths: both ways' work scales alike with the
 // wavelength, and every wavelength then runs the same way.
 ExactSettings exact_settings(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
-                             const SpectralBasis& basis, int nthreads = 0) {
+                             const SpectralBasis& basis, int nthreads = 0, const ComputeDevice& device = {}) {
     ExactSettings s = opt.exact;
+    s.device = device;  // what auto may choose depends on it
     s.aperture = resolved_aperture(opt);
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     s.overscan = opt.overscan;
@@ -96,8 +96,15 @@ double exact_terms(const ExactSettings& s, const PinholeCamera& camera, const Sp
     return terms;
 }
 
-// What `auto` chose (chosen_summation), as the job line and the header state it.
-const char* auto_choice(Summation chosen) { return chosen == Summation::Psf ? "psf" : "direct or nufft"; }
+// What `auto` chose for the job's sums: psf, else the evaluators that ran on the job's device
+// (the header's), or, before they ran, those the estimate gives each sum (the job line's).
+std::string auto_choice(const ExactSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
+    if (s.summation == Summation::Psf) return "psf";
+    EvaluatorSet e = evaluators_run(s.device);
+    if (e.words().empty())
+        for (int k = 0; k < basis.size(); ++k) e.add(scene_evaluators(s, camera, basis.wavelength(k)));
+    return e.words();
+}
 
 // What the camera's physics and sampling make sense for, checked before any work (docs/errors.md):
 // every field angle within kMaxFieldAngle of the axis (a wider
@@ -253,13 +260,20 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
                      1.0 / nearest_depth(f.camera, in.depth.data(), opt.depth_meaning), opt.convolution};
     f.convolution.settings.nthreads = nthreads;
     if (opt.method == DiffractMethod::Convolution) return R::success(std::move(f));
-    f.exact = exact_settings(opt, f.camera, in.depth, f.colour.basis, nthreads);
-    if (f.exact.device != Device::Cpu) {  // the Vulkan evaluator (gpu_sums.h); `auto` falls back quietly
-        auto gpu = GpuSums::shared(f.exact.device);
-        if (gpu.ok()) f.device = gpu.value->description();
-        else if (f.exact.device == Device::Gpu) return R::failure(name + ": device gpu: " + gpu.error, gpu.kind, "device");
-        else f.exact.device = Device::Cpu;
+    // the job's device (compute_device.h): `gpu` runs every sum there or is refused here, `auto`
+    // says why it runs on the CPU
+    Device setting = opt.device;
+    std::string on_cpu;
+    if (setting != Device::Cpu && opt.exact.summation == Summation::Nufft) {
+        if (setting == Device::Gpu)
+            return R::failure(name + ": " + nufft_on_gpu(setting), ErrorKind::Invalid, "summation");
+        setting = Device::Cpu;
+        on_cpu = "not used: the nufft summation has no GPU evaluator";
     }
+    const ComputeDevice device = ComputeDevice::create(setting);
+    if (!device.ok()) return R::failure(name + ": device gpu: " + device.error(), ErrorKind::Failed, "device");
+    if (setting == Device::Auto && !device.gpu()) on_cpu = "none usable: " + device.error();
+    f.exact = exact_settings(opt, f.camera, in.depth, f.colour.basis, nthreads, device);
     f.terms = exact_terms(f.exact, f.camera, f.colour.basis);
     std::ostringstream job;
     job << in.width << "x" << in.height << " pixels x " << f.colour.sampling.wavelength.size() << " wavelengths x "
@@ -273,8 +287,9 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
         else job << "noise within " << 100 * kRunNoiseGoal << "% per channel)";
     }
     job << ", " << summation_word(opt.exact.summation) << " summation";
-    if (opt.exact.summation == Summation::Auto) job << " (" << auto_choice(f.exact.summation) << ")";
-    if (f.exact.device != Device::Cpu) job << " on " << f.device;
+    if (opt.exact.summation == Summation::Auto) job << " (" << auto_choice(f.exact, f.camera, f.colour.basis) << ")";
+    if (device.gpu()) job << " on " << device.description();
+    if (!on_cpu.empty()) job << " (GPU: " << on_cpu << "; on the CPU)";
     f.job = job.str();
     return R::success(std::move(f));
 }
@@ -377,10 +392,10 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
         spec.attribute("wavecam.jitter", s.jitter ? "true" : "false");
         spec.attribute("wavecam.summation", summation_word(opt.exact.summation));  // the setting, and what it ran
         if (opt.exact.summation == Summation::Auto)
-            spec.attribute("wavecam.summation-chosen", auto_choice(s.summation));
+            spec.attribute("wavecam.summation-chosen", auto_choice(s, f.camera, f.colour.basis));
         if (opt.method == DiffractMethod::RandomPhase)
             spec.attribute("wavecam.phases", s.coded_phases ? "coded" : "independent");
-        spec.attribute("wavecam.device", f.device);
+        spec.attribute("wavecam.device", s.device.ran_on());
     }
     spec.attribute("wavecam.vignetting", opt.vignetting ? "true" : "false");
     spec.attribute("wavecam.layer", channels.layer);

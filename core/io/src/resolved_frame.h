@@ -26,11 +26,10 @@ struct ResolvedFrame {
     OIIO::ROI kept;  // the film's pixels the output holds: all, or the data window within a widened frame
     Aperture aperture;
     JobColour colour;
-    ExactSettings exact;  // exact methods: the estimate's and the run's settings
+    ExactSettings exact;  // exact methods: the estimate's and the run's settings, the job's device handle
     ConvolutionPlanSpec convolution;   // convolution method: what its plan is built for
     double terms = 0;           // exact methods: the sums' cost
     std::string job;            // "24x16 pixels x 3 wavelengths x 2 runs"
-    std::string device = "cpu";  // exact methods: where the direct sums run ("cpu" or the GPU and its driver)
 
     SpectralScene scene(DepthMeaning meaning) const {
         return {camera, in.rgb.data(), in.depth.data(), meaning, true};

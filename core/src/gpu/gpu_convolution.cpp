@@ -5,6 +5,7 @@
 #include <cstring>
 #include <string>
 
+#include "compute_device_impl.h"
 #include "fft_lines.h"
 #include "film_power.h"
 #include "spectrum_product.h"
@@ -41,7 +42,7 @@ gpu::Context::Step step(const gpu::Pipeline& p, std::vector<const gpu::Buffer*> 
 }  // namespace
 
 struct GpuConvolution::Impl {
-    std::unique_ptr<gpu::Context> ctx;
+    std::shared_ptr<gpu::Context> ctx;  // the device's, shared with its direct sums
     gpu::Pipeline fft, product, power;
     int nx = 0, ny = 0, points = 0;
     size_t per_slab = 1;            // spectra per buffer
@@ -65,19 +66,19 @@ struct GpuConvolution::Impl {
 GpuConvolution::GpuConvolution(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 GpuConvolution::~GpuConvolution() = default;
 
-Result<std::unique_ptr<GpuConvolution>> GpuConvolution::create(Device choice, int nx, int ny, int kernels,
-                                                               int points) {
+Result<std::unique_ptr<GpuConvolution>> GpuConvolution::create(const ComputeDevice& device, int nx, int ny,
+                                                               int kernels, int points) {
     using R = Result<std::unique_ptr<GpuConvolution>>;
     const auto power_of_two = [](int n) { return n >= 2 && n <= kMaxSide && (n & (n - 1)) == 0; };
     if (!power_of_two(nx) || !power_of_two(ny))
         return R::failure("GPU convolution: transforms of " + std::to_string(nx) + " x " + std::to_string(ny) +
                               " points; the device's take powers of two up to " + std::to_string(kMaxSide) + " a side",
                           ErrorKind::Invalid, "device");
-    if (choice == Device::Cpu) return R::failure("GPU convolution: the device `cpu` is no GPU", ErrorKind::Invalid, "device");
-    auto ctx = gpu::Context::create(choice == Device::Auto);
-    if (!ctx.ok()) return R::failure(ctx.error, ErrorKind::Failed, "device");
+    if (!device.gpu())
+        return R::failure("GPU convolution: " + (device.error().empty() ? "the device `cpu` is no GPU" : device.error()),
+                          ErrorKind::Invalid, "device");
     auto m = std::make_unique<Impl>();
-    m->ctx = std::move(ctx.value);
+    m->ctx = device.impl()->context;
     m->nx = nx;
     m->ny = ny;
     m->points = points;

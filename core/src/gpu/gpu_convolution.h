@@ -9,8 +9,8 @@
 #include <memory>
 #include <vector>
 
+#include "wavecam/compute_device.h"
 #include "wavecam/result.h"
-#include "wavecam/summation_plan.h"  // Device
 
 namespace wavecam::detail {
 
@@ -18,10 +18,11 @@ class GpuConvolution {
 public:
     // The largest transform side the device's shaders take.
     static constexpr int kMaxSide = 4096;
-    // Opens a Vulkan device as the GPU sums do (Gpu: any, a discrete GPU first; Auto: a discrete
-    // GPU only) for transforms of nx x ny points (powers of two), `kernels` kernels of `points`
-    // sub-points each. Fails naming what is missing or what the device cannot hold.
-    static Result<std::unique_ptr<GpuConvolution>> create(Device choice, int nx, int ny, int kernels, int points);
+    // On `device`'s Vulkan context (the one its direct sums use) for transforms of nx x ny points
+    // (powers of two), `kernels` kernels of `points` sub-points each. Fails naming what is
+    // missing or what the device cannot hold.
+    static Result<std::unique_ptr<GpuConvolution>> create(const ComputeDevice& device, int nx, int ny, int kernels,
+                                                          int points);
     ~GpuConvolution();
     GpuConvolution(const GpuConvolution&) = delete;
     GpuConvolution& operator=(const GpuConvolution&) = delete;

@@ -8,8 +8,8 @@ namespace wavecam::detail {
 
 struct GpuConvolution::Impl {};
 
-Result<std::unique_ptr<GpuConvolution>> GpuConvolution::create(Device choice, int, int, int, int) {
-    auto why = GpuSums::create(choice == Device::Cpu ? Device::Gpu : choice);
+Result<std::unique_ptr<GpuConvolution>> GpuConvolution::create(const ComputeDevice& device, int, int, int, int) {
+    auto why = GpuSums::create(device);
     return Result<std::unique_ptr<GpuConvolution>>::failure(why.error, ErrorKind::Invalid, "device");
 }
 

@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <map>
 #include <mutex>
 
+#include "compute_device_impl.h"
 #include "film_f32.h"
 #include "film_f64.h"
 #include "illuminate_f32.h"
@@ -55,7 +55,7 @@ Result<bool> cancelled() { return Result<bool>::failure("cancelled", ErrorKind::
 }  // namespace
 
 struct GpuSums::Impl {
-    std::unique_ptr<gpu::Context> ctx;
+    std::shared_ptr<gpu::Context> ctx;  // the device's, shared with the psf summation's runs
     gpu::Pipeline illuminate, film;
     std::string description;
     bool f64 = false;  // blocks added in double (else the compensated float pair)
@@ -121,13 +121,13 @@ Result<bool> GpuSums::Impl::run(const SumJob& job, std::vector<std::complex<doub
 GpuSums::GpuSums(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 GpuSums::~GpuSums() = default;
 
-Result<std::shared_ptr<GpuSums>> GpuSums::create(Device choice, bool double_blocks) {
+Result<std::shared_ptr<GpuSums>> GpuSums::create(const ComputeDevice& device, bool double_blocks) {
     using R = Result<std::shared_ptr<GpuSums>>;
-    if (choice == Device::Cpu) return R::failure("GPU sums: the device `cpu` is no GPU", ErrorKind::Invalid, "device");
-    auto ctx = gpu::Context::create(choice == Device::Auto);
-    if (!ctx.ok()) return R::failure(ctx.error, ErrorKind::Failed, "device");
+    if (!device.impl() || !device.impl()->context)
+        return R::failure("GPU sums: " + (device.error().empty() ? "the device `cpu` is no GPU" : device.error()),
+                          ErrorKind::Invalid, "device");
     auto impl = std::make_unique<Impl>();
-    impl->ctx = std::move(ctx.value);
+    impl->ctx = device.impl()->context;
     const bool f64 = impl->f64 = double_blocks && impl->ctx->float64();
     auto ill = f64 ? impl->ctx->pipeline(gpu::spirv::illuminate_f64, sizeof gpu::spirv::illuminate_f64, 4, sizeof(Push))
                    : impl->ctx->pipeline(gpu::spirv::illuminate_f32, sizeof gpu::spirv::illuminate_f32, 4, sizeof(Push));
@@ -137,19 +137,8 @@ Result<std::shared_ptr<GpuSums>> GpuSums::create(Device choice, bool double_bloc
     if (!film.ok()) return R::failure(film.error, ErrorKind::Failed, "device");
     impl->illuminate = std::move(ill.value);
     impl->film = std::move(film.value);
-    impl->description = impl->ctx->name() + " (" + impl->ctx->driver() + ")";
+    impl->description = impl->ctx->name() + ", " + impl->ctx->kind() + " (" + impl->ctx->driver() + ")";
     return R::success(std::shared_ptr<GpuSums>(new GpuSums(std::move(impl))));
-}
-
-Result<std::shared_ptr<GpuSums>> GpuSums::shared(Device choice) {
-    static std::mutex m;
-    // Failures kept too: asked once. Never destroyed: a device released by static destructors at
-    // exit could outlive its driver, which the loader may have unloaded by then.
-    static auto* made = new std::map<Device, Result<std::shared_ptr<GpuSums>>>;
-    std::lock_guard<std::mutex> lock(m);
-    auto it = made->find(choice);
-    if (it == made->end()) it = made->emplace(choice, create(choice)).first;
-    return it->second;
 }
 
 const std::string& GpuSums::device_name() const { return impl_->ctx->name(); }

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "compute_device_impl.h"
+
 namespace wavecam::gpu {
 namespace {
 
@@ -35,6 +37,16 @@ int device_rank(VkPhysicalDeviceType t) {
         case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
         case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
         default: return 4;
+    }
+}
+
+std::string device_kind(VkPhysicalDeviceType t) {
+    switch (t) {
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_CPU: return "software Vulkan on the CPU";
+        default: return "Vulkan device";
     }
 }
 
@@ -135,6 +147,7 @@ Result<std::unique_ptr<Context>> Context::create(bool discrete_only) {
     vkGetPhysicalDeviceFeatures(c->physical_, &have);
     c->name_ = props.deviceName;
     c->driver_ = driver_of(c->physical_, props);
+    c->kind_ = device_kind(props.deviceType);
     c->float64_ = have.shaderFloat64;
     c->max_buffer_ = std::min<size_t>(props.limits.maxStorageBufferRange, size_t(64) << 20);
     c->shared_memory_ = props.limits.maxComputeSharedMemorySize;
@@ -270,6 +283,7 @@ Result<bool> Context::dispatch(const Pipeline& p, const std::vector<const Buffer
 
 Result<bool> Context::submit(const std::vector<Step>& steps) {
     using R = Result<bool>;
+    std::lock_guard<std::mutex> lock(submitting_);
     if (steps.size() > kMaxSteps) return R::failure("Vulkan: more dispatches in one submission than the pool holds");
     vkResetDescriptorPool(device_, descriptors_, 0);
     std::vector<VkDescriptorSet> sets(steps.size());
@@ -334,3 +348,14 @@ Result<bool> Context::submit(const std::vector<Step>& steps) {
 }
 
 }  // namespace wavecam::gpu
+
+namespace wavecam::detail {
+
+Result<std::shared_ptr<gpu::Context>> open_vulkan(bool discrete_only) {
+    using R = Result<std::shared_ptr<gpu::Context>>;
+    auto c = gpu::Context::create(discrete_only);
+    if (!c.ok()) return R::failure(c);
+    return R::success(std::move(c.value));
+}
+
+}  // namespace wavecam::detail

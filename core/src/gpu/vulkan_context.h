@@ -1,12 +1,15 @@
-// A small create/use/release layer over Vulkan compute for the GPU sums (gpu_sums.cpp): one
-// device and queue, host-visible buffers, compute pipelines from embedded SPIR-V, one dispatch at
-// a time waited for. Failures are values naming the Vulkan call and its result. Internal to core.
+// A small create/use/release layer over Vulkan compute for the GPU evaluators (gpu_sums.cpp,
+// gpu_convolution.cpp), which share one context through a device handle (compute_device.h): one
+// device and queue, host-visible buffers, compute pipelines from embedded SPIR-V, one submission
+// at a time (serialised here) waited for. Failures are values naming the Vulkan call and its
+// result. Internal to core.
 #pragma once
 #include <vulkan/vulkan.h>
 
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -61,6 +64,9 @@ public:
 
     const std::string& name() const { return name_; }
     const std::string& driver() const { return driver_; }
+    // "discrete GPU", "integrated GPU", "virtual GPU", "software Vulkan on the CPU" (lavapipe,
+    // whose device Mesa names llvmpipe) or "Vulkan device"
+    const std::string& kind() const { return kind_; }
     bool float64() const { return float64_; }
     // The largest buffer a dispatch binds (the device's storage range, at most 64 MiB).
     size_t max_buffer_bytes() const { return max_buffer_; }
@@ -95,7 +101,8 @@ private:
     VkCommandBuffer commands_ = VK_NULL_HANDLE;
     VkDescriptorPool descriptors_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
-    std::string name_, driver_;
+    std::mutex submitting_;  // the command buffer, descriptor pool, queue and fence: one submission at a time
+    std::string name_, driver_, kind_;
     bool float64_ = false;
     size_t max_buffer_ = 0, shared_memory_ = 0;
 };

@@ -1,4 +1,5 @@
 // The direct terms on a GPU (gpu_sums.h): the direct evaluator's sums through Vulkan compute.
+#include "gpu/compute_device_impl.h"
 #include "sum_evaluator.h"
 #include "wavecam/gpu_sums.h"
 
@@ -28,11 +29,8 @@ private:
 
 }  // namespace
 
-Result<std::unique_ptr<SumEvaluator>> make_gpu_direct_evaluator(const SumGeometry& g) {
-    using R = Result<std::unique_ptr<SumEvaluator>>;
-    auto gpu = GpuSums::shared(g.settings.device);
-    if (!gpu.ok()) return R::failure(gpu);
-    return R::success(std::make_unique<GpuDirectEvaluator>(g, gpu.value));
+std::unique_ptr<SumEvaluator> make_gpu_direct_evaluator(const SumGeometry& g) {
+    return std::make_unique<GpuDirectEvaluator>(g, g.settings.device.impl()->sums);
 }
 
 }  // namespace wavecam::detail

@@ -33,8 +33,8 @@ struct SumGeometry {
 
 std::unique_ptr<SumEvaluator> make_direct_evaluator(const SumGeometry& g);
 std::unique_ptr<SumEvaluator> make_nufft_evaluator(const SumGeometry& g, const SumChoice& choice);
-// The direct terms on the GPU `settings.device` names (gpu_sums.h); fails as GpuSums::shared does.
-Result<std::unique_ptr<SumEvaluator>> make_gpu_direct_evaluator(const SumGeometry& g);
+// The direct terms on the GPU of `settings.device` (a handle with one: gpu_sums.h).
+std::unique_ptr<SumEvaluator> make_gpu_direct_evaluator(const SumGeometry& g);
 
 // What the CPU evaluators' `false` (cancelled through progress) becomes.
 inline Result<bool> finished(bool done) {

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "gpu/compute_device_impl.h"
 #include "lattice_layout.h"
 #include "sum_evaluator.h"
 #include "summation_cost.h"
@@ -15,9 +16,8 @@ const char* summation_word(Summation s) {
 
 const char* evaluator_word(Evaluator e) { return e == Evaluator::Nufft ? "nufft" : "direct"; }
 
-const char* device_word(Device d) { return d == Device::Cpu ? "cpu" : d == Device::Gpu ? "gpu" : "auto"; }
-
-SumChoice choose_sum(const SumCounts& counts, Summation asked) {
+SumChoice choose_sum(const SumCounts& counts, Summation asked, bool on_gpu) {
+    if (on_gpu && asked == Summation::Auto) asked = Summation::Direct;
     SumChoice c;
     if (asked == Summation::Direct) {
         c.direct_work = c.nufft_work = (counts.lattice_samples + counts.off_lattice) * counts.points;
@@ -29,6 +29,46 @@ SumChoice choose_sum(const SumCounts& counts, Summation asked) {
     c.work = nufft ? c.nufft_work : c.direct_work;
     return c;
 }
+
+std::string nufft_on_gpu(Device setting) {
+    return std::string("device ") + device_word(setting) +
+           ": the nufft summation has no GPU evaluator; expected summation direct, psf or auto, or device " +
+           (setting == Device::Gpu ? "auto or cpu" : "cpu");
+}
+
+void EvaluatorSet::add(const EvaluatorSet& o) {
+    direct_to_pinhole |= o.direct_to_pinhole;
+    nufft_to_pinhole |= o.nufft_to_pinhole;
+    direct_to_film |= o.direct_to_film;
+    nufft_to_film |= o.nufft_to_film;
+}
+
+std::string EvaluatorSet::words() const {
+    auto either = [](bool direct, bool nufft) -> std::string {
+        return direct && nufft ? "direct and nufft" : direct ? "direct" : nufft ? "nufft" : "";
+    };
+    const std::string in = either(direct_to_pinhole, nufft_to_pinhole), out = either(direct_to_film, nufft_to_film);
+    if (in == out || out.empty()) return in;
+    if (in.empty()) return out;
+    return in + " to the pinhole, " + out + " to the film";
+}
+
+EvaluatorSet evaluators_run(const ComputeDevice& device) {
+    const unsigned ran = device.impl() ? device.impl()->ran.load() : 0;
+    return {bool(ran & kDirectToPinhole), bool(ran & kNufftToPinhole), bool(ran & kDirectToFilm),
+            bool(ran & kNufftToFilm)};
+}
+
+namespace {
+
+// What a committed plan notes on its device (compute_device_impl.h).
+unsigned run_bits(SumKind kind, const SumChoice& c) {
+    const bool nufft = c.evaluator == Evaluator::Nufft, film = kind == SumKind::PinholeToFilm;
+    return (film ? (nufft ? kNufftToFilm : kDirectToFilm) : (nufft ? kNufftToPinhole : kDirectToPinhole)) |
+           (c.gpu ? kRanOnGpu : kRanOnCpu);
+}
+
+}  // namespace
 
 struct SummationPlan::Impl {
     SumKind kind;
@@ -86,24 +126,27 @@ struct SummationPlan::Impl {
     }
 
     // Commit: the evaluator chosen (or the job's, for a share) and built for the points; the
-    // direct terms on the GPU where the settings ask for one and there is one.
+    // direct terms on the settings' device. A GPU runs the direct terms alone: nufft is refused
+    // there (auto takes direct, choose_sum).
     Result<bool> commit() {
         const bool empty = points() == 0 || samples.size() == 0;
+        const ComputeDevice& device = settings.device;
+        if (!device.ok()) return Result<bool>::failure("device gpu: " + device.error(), ErrorKind::Failed, "device");
         if (scope.fixed_choice) choice = scope.choice;
         else if (empty) choice = choose_sum(SumCounts{}, Summation::Direct);
-        else choice = choose_sum(counts(range()), settings.summation);
-        choice.gpu = false;
+        else choice = choose_sum(counts(range()), settings.summation, device.gpu());
+        if (device.gpu() && choice.evaluator == Evaluator::Nufft && !empty)
+            return Result<bool>::failure(nufft_on_gpu(device.setting()), ErrorKind::Invalid, "summation");
+        choice.gpu = device.gpu() && !empty;
         const detail::SumGeometry g{kind, &samples, wavelength, settings, scope, &sources, &film};
         if (choice.evaluator == Evaluator::Nufft && !empty) {
             evaluator = detail::make_nufft_evaluator(g, choice);
-        } else if (settings.device != Device::Cpu && !empty) {
-            auto gpu = detail::make_gpu_direct_evaluator(g);
-            if (!gpu.ok() && settings.device == Device::Gpu) return Result<bool>::failure(gpu);
-            choice.gpu = gpu.ok();
-            evaluator = gpu.ok() ? std::move(gpu.value) : detail::make_direct_evaluator(g);
+        } else if (choice.gpu) {
+            evaluator = detail::make_gpu_direct_evaluator(g);
         } else {
             evaluator = detail::make_direct_evaluator(g);
         }
+        if (!empty) detail::note_run(device, run_bits(kind, choice));
         return Result<bool>::success(true);
     }
 };

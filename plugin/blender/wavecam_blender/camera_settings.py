@@ -61,8 +61,9 @@ SUMMATIONS = [
 ]
 DEVICES = [
     ('cpu', "CPU", "The processor (the default)", 0),
-    ('gpu', "GPU", "A Vulkan device, a discrete GPU first; none is an error. Where there is no GPU, Mesa's "
-     "llvmpipe (software Vulkan, on the processor) is taken: usually slower than CPU, and said so", 1),
+    ('gpu', "GPU", "A Vulkan device, a discrete GPU first, running every sum; none is an error, and so is "
+     "Summation NUFFT (no GPU evaluator). Where there is no GPU, Mesa's llvmpipe (software Vulkan, on the "
+     "processor) is taken: usually slower than CPU, and said so", 1),
     ('auto', "Auto", "A discrete GPU where there is one, else the processor (never software Vulkan)", 2),
 ]
 

@@ -30,6 +30,8 @@ struct DiffractOptions {
     double pinhole = 0;                            // diameter (m); 0 = Rayleigh's optimum for f at 550 nm
     Aperture aperture;                             // shape (--aperture); its diameter comes from `pinhole`
     ExactSettings exact;                           // exact methods: runs, seed, jitter, film subsamples, summation
+    Device device = Device::Cpu;                   // exact methods: where the sums run; each job opens it
+                                                   // as exact.device (compute_device.h)
     // random-phase: the run count from the frame's PSF size (run_count.h) instead of exact.runs;
     // what the fronts do unless a count is given
     bool runs_from_psf = false;

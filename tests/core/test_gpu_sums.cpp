@@ -1,10 +1,11 @@
-// The Vulkan evaluator of the direct sums (wavecam/gpu_sums.h), run on whatever Vulkan device the
-// environment gives: ctest points VK_ICD_FILENAMES at Mesa's lavapipe, so the GPU code runs on the
-// CPU in CI. Checked against the CPU's direct sums (relative RMS <= 1e-4, both float), against
-// analytic optics as the CPU is (the Airy pattern's first dark ring, Fresnel zones on axis), and
-// through a scene frame and the command line.
+// The Vulkan evaluators (wavecam/gpu_sums.h, the psf summation's runs) and the device handle that
+// holds them (wavecam/compute_device.h), run on whatever Vulkan device the environment gives:
+// ctest points VK_ICD_FILENAMES at Mesa's lavapipe, so the GPU code runs on the CPU in CI.
+// Checked against the CPU's direct sums (relative RMS <= 1e-4, both float), against analytic
+// optics as the CPU is (the Airy pattern's first dark ring, Fresnel zones on axis), and through
+// scene frames; the device handles' settings and failures. The command line's device key:
+// tests/fronts/test_gpu_device.cpp.
 #include <gtest/gtest.h>
-#include <OpenImageIO/imagebuf.h>
 
 #include <cmath>
 #include <complex>
@@ -12,38 +13,36 @@
 #include <cstdlib>
 #include <random>
 
-#include "command_runner.h"
+#include "vulkan_test.h"
+#include "wavecam/compute_device.h"
 #include "wavecam/gpu_sums.h"
 #include "wavecam/propagation.h"
 #include "wavecam/scene_diffraction.h"
+#include "wavecam/summation_plan.h"
 
 using namespace wavecam;
-namespace fs = std::filesystem;
+using wavecam::test::gpu_device;
+using wavecam::test::relative_rms;
 
 namespace {
 
+// Direct sums on a device of their own: the handle is let go at once, the sums keep its context.
 std::shared_ptr<GpuSums> device(bool double_blocks = true) {
-    auto g = GpuSums::create(Device::Gpu, double_blocks);
+    auto g = GpuSums::create(gpu_device(), double_blocks);
     EXPECT_TRUE(g.ok()) << g.error;
     return g.value;
 }
 
-// Skips where the build has no Vulkan evaluator; never passes silently otherwise.
-#ifdef WAVECAM_HAVE_VULKAN
-#define REQUIRE_VULKAN()
-#else
-#define REQUIRE_VULKAN() GTEST_SKIP() << "built without the Vulkan evaluator"
-#endif
-
-template <class A, class B>
-double relative_rms(const A& got, const B& want) {
-    double e = 0, n = 0;
-    for (size_t i = 0; i < want.size(); ++i) {
-        e += std::norm(std::complex<double>(got[i]) - std::complex<double>(want[i]));
-        n += std::norm(std::complex<double>(want[i]));
+// VK_ICD_FILENAMES pointed at no driver while it lives, then as it was.
+struct NoVulkanDriver {
+    const char* icd = std::getenv("VK_ICD_FILENAMES");
+    const std::string saved = icd ? icd : "";
+    NoVulkanDriver() { setenv("VK_ICD_FILENAMES", "/nonexistent/wavecam_icd.json", 1); }
+    ~NoVulkanDriver() {
+        if (icd) setenv("VK_ICD_FILENAMES", saved.c_str(), 1);
+        else unsetenv("VK_ICD_FILENAMES");
     }
-    return std::sqrt(e / n);
-}
+};
 
 std::vector<std::complex<float>> as_complex(const PinholeField& f) {
     std::vector<std::complex<float>> v(f.re.size());
@@ -96,6 +95,10 @@ TEST(GpuSums, NamesItsDeviceAndDriver) {
     EXPECT_FALSE(g->device_name().empty());
     EXPECT_FALSE(g->driver().empty());
     EXPECT_NE(g->description().find(g->device_name()), std::string::npos);
+    // Mesa's software Vulkan (its device is named llvmpipe) is called what it is
+    if (g->device_name().find("llvmpipe") != std::string::npos) {
+        EXPECT_NE(g->description().find("software Vulkan on the CPU"), std::string::npos) << g->description();
+    }
 }
 
 // Sum 1, sources -> pinhole: finite sources, plane waves and both together, three wavelengths;
@@ -277,14 +280,15 @@ TEST(GpuSums, SceneFrameMatchesTheCpu) {
         std::vector<float> cpu(power.size(), 0.0f), gpu(power.size(), 0.0f), fallback(power.size(), 0.0f);
         const MonochromeScene scene{c, power.data(), depth.data(), DepthMeaning::Planar};
         ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, cpu.data()).ok());
-        s.device = Device::Gpu;
+        s.device = gpu_device();
         auto r = diffract_monochrome(scene, 550e-9, s, gpu.data());
         ASSERT_TRUE(r.ok()) << r.error;
         EXPECT_LE(relative_rms(gpu, cpu), 1e-4);
+        EXPECT_NE(gpu, cpu);  // the device's own float sums, not the CPU's
         // `auto` with no discrete GPU (lavapipe is a CPU device): the CPU's image, bit for bit
-        s.device = Device::Auto;
+        s.device = ComputeDevice::create(Device::Auto);
         ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, fallback.data()).ok());
-        if (!GpuSums::create(Device::Auto).ok()) {
+        if (!s.device.gpu()) {
             EXPECT_EQ(fallback, cpu);
         }
     }
@@ -314,9 +318,10 @@ TEST(GpuSums, PsfSummationRunsMatchTheCpu) {
         const MonochromeScene scene{c, power.data(), depth.data(), DepthMeaning::Planar};
         auto r = diffract_monochrome(scene, 550e-9, s, cpu.data());
         ASSERT_TRUE(r.ok()) << r.error;
-        s.device = Device::Gpu;
+        s.device = gpu_device();
         r = diffract_monochrome(scene, 550e-9, s, gpu.data());
         ASSERT_TRUE(r.ok()) << r.error;
+        EXPECT_NE(gpu, cpu);  // the runs on the device
         double light = 0;
         for (const float x : cpu) light += x;
         EXPECT_GT(light, 0);
@@ -324,93 +329,99 @@ TEST(GpuSums, PsfSummationRunsMatchTheCpu) {
         EXPECT_LE(rms, 1e-4) << (method == CoherenceMethod::Incoherent ? "incoherent" : "runs");
         std::printf("psf on the device vs the CPU (%s): relative RMS %.2e\n",
                     method == CoherenceMethod::Incoherent ? "incoherent" : "3 runs", rms);
-        s.device = Device::Auto;
+        s.device = ComputeDevice::create(Device::Auto);
         ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, fallback.data()).ok());
-        if (!GpuSums::create(Device::Auto).ok()) {
+        if (!s.device.gpu()) {
             EXPECT_EQ(fallback, cpu);
         }
     }
 }
 
-// The device choice's errors: `cpu` is no GPU, `auto` takes only a discrete GPU, and no driver
-// at all (or a build without Vulkan) is named as such.
-TEST(GpuSums, DeviceSelectionErrorsAreClear) {
-    auto cpu = GpuSums::create(Device::Cpu);
-    EXPECT_FALSE(cpu.ok());
-    EXPECT_EQ(cpu.field, "device");
+// The device setting's handles: `cpu` is no GPU, `auto` takes only a discrete GPU (else the CPU,
+// the reason kept), and a build without Vulkan says so; a released handle is the CPU, its copies
+// keep the device.
+TEST(ComputeDevice, SettingsGiveTheirHandles) {
+    const ComputeDevice cpu = ComputeDevice::create(Device::Cpu);
+    EXPECT_TRUE(cpu.ok());
+    EXPECT_FALSE(cpu.gpu());
+    EXPECT_EQ(cpu.description(), "cpu");
+    auto no_sums = GpuSums::create(cpu);
+    EXPECT_FALSE(no_sums.ok());
+    EXPECT_EQ(no_sums.field, "device");
 #ifndef WAVECAM_HAVE_VULKAN
-    auto absent = GpuSums::create(Device::Gpu);
-    ASSERT_FALSE(absent.ok());
-    EXPECT_NE(absent.error.find("built without"), std::string::npos) << absent.error;
+    const ComputeDevice absent = ComputeDevice::create(Device::Gpu);
+    EXPECT_FALSE(absent.ok());
+    EXPECT_NE(absent.error().find("built without"), std::string::npos) << absent.error();
     return;
 #endif
-    auto any = GpuSums::create(Device::Gpu);
-    ASSERT_TRUE(any.ok()) << any.error;
-    auto discrete = GpuSums::create(Device::Auto);
-    if (!discrete.ok()) {
-        EXPECT_NE(discrete.error.find("no discrete GPU"), std::string::npos) << discrete.error;
+    const ComputeDevice any = gpu_device();
+    ASSERT_TRUE(any.ok());
+    EXPECT_TRUE(any.error().empty());
+    const ComputeDevice discrete = ComputeDevice::create(Device::Auto);
+    EXPECT_TRUE(discrete.ok());
+    if (!discrete.gpu()) {
+        EXPECT_NE(discrete.error().find("no discrete GPU"), std::string::npos) << discrete.error();
+        EXPECT_EQ(discrete.description(), "cpu");
     }
-    const char* icd = std::getenv("VK_ICD_FILENAMES");
-    const std::string saved = icd ? icd : "";
-    setenv("VK_ICD_FILENAMES", "/nonexistent/wavecam_icd.json", 1);
-    auto none = GpuSums::create(Device::Gpu);
-    if (icd) setenv("VK_ICD_FILENAMES", saved.c_str(), 1);
-    else unsetenv("VK_ICD_FILENAMES");
-    ASSERT_FALSE(none.ok());
-    EXPECT_NE(none.error.find("Vulkan"), std::string::npos) << none.error;
+    ComputeDevice copy = any;
+    copy.release();
+    EXPECT_FALSE(copy.gpu());
+    EXPECT_TRUE(any.gpu());
 }
 
-// The command line: `--device gpu` gives the CPU's image (direct sums, and the psf summation's
-// runs), names the device in the header and the estimate; with no Vulkan driver it is a clear
-// error and writes nothing, and `auto` runs on.
-TEST(GpuSums, CommandLineDeviceKey) {
+// A creation that fails is a handle holding why (`gpu`: not ok; `auto`: the CPU, the reason
+// kept), plans refuse a failed `gpu` handle rather than run on the CPU, and once the cause is gone
+// the next creation in the same process opens the device: nothing remembers the failure.
+TEST(ComputeDevice, AFailedCreationIsHeldAndTheNextTriesAgain) {
     REQUIRE_VULKAN();
-    using namespace wavecam::test;
-    const fs::path dir = scratch("gpu_device");
-    const std::string in = (dir / "in.exr").string();
-    write_render(in, 10, 8, 2.0f, 30.0f);
-    const std::string quick = " --film-distance 20mm --pinhole 0.2mm --wavelengths 550nm --runs 1 "
-                              "--method random-phase --film-subsamples 1 ";
-    auto apply = [&](const std::string& out, const std::string& extra, const std::string& env = "") {
-        return run_command(env + std::string(WAVECAM_BINARY) + " apply " + in + " -o " + (dir / out).string() +
-                           quick + extra);
-    };
-    const auto cpu = apply("cpu.exr", "--summation direct --device cpu");
-    ASSERT_EQ(cpu.status, 0) << cpu.output;
-    const auto gpu = apply("gpu.exr", "--summation direct --device gpu");
-    ASSERT_EQ(gpu.status, 0) << gpu.output;
-    auto g = device();
-    ASSERT_TRUE(g);
-    EXPECT_NE(gpu.output.find(g->device_name()), std::string::npos) << gpu.output;  // the estimate line
-    OIIO::ImageBuf a((dir / "cpu.exr").string()), b((dir / "gpu.exr").string());
-    ASSERT_TRUE(a.read() && b.read());
-    EXPECT_EQ(a.spec().get_string_attribute("wavecam.device"), "cpu");
-    EXPECT_EQ(b.spec().get_string_attribute("wavecam.device"), g->description());
-    std::vector<float> pa(a.spec().image_pixels() * 3), pb(pa.size());
-    a.get_pixels(OIIO::ROI(0, 10, 0, 8, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, pa.data());
-    b.get_pixels(OIIO::ROI(0, 10, 0, 8, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, pb.data());
-    EXPECT_LE(relative_rms(pb, pa), 1e-4);
-    // the psf summation: its runs on the device, the same image and header
-    const auto psf_cpu = apply("psf_cpu.exr", "--summation psf --device cpu");
-    ASSERT_EQ(psf_cpu.status, 0) << psf_cpu.output;
-    const auto psf_gpu = apply("psf_gpu.exr", "--summation psf --device gpu");
-    ASSERT_EQ(psf_gpu.status, 0) << psf_gpu.output;
-    EXPECT_NE(psf_gpu.output.find("psf summation on " + g->device_name()), std::string::npos) << psf_gpu.output;
-    OIIO::ImageBuf c((dir / "psf_cpu.exr").string()), d((dir / "psf_gpu.exr").string());
-    ASSERT_TRUE(c.read() && d.read());
-    EXPECT_EQ(d.spec().get_string_attribute("wavecam.device"), g->description());
-    c.get_pixels(OIIO::ROI(0, 10, 0, 8, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, pa.data());
-    d.get_pixels(OIIO::ROI(0, 10, 0, 8, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, pb.data());
-    EXPECT_LE(relative_rms(pb, pa), 1e-4);
-    const std::string no_driver = "VK_ICD_FILENAMES=/nonexistent/wavecam_icd.json ";
-    const auto missing = apply("missing.exr", "--summation direct --device gpu", no_driver);
-    EXPECT_NE(missing.status, 0);
-    EXPECT_NE(missing.output.find("Vulkan"), std::string::npos) << missing.output;
-    EXPECT_FALSE(fs::exists(dir / "missing.exr"));
-    const auto fallback = apply("fallback.exr", "--summation direct --device auto", no_driver);
-    ASSERT_EQ(fallback.status, 0) << fallback.output;
-    const auto bad = apply("bad.exr", "--summation direct --device tpu");
-    EXPECT_NE(bad.status, 0);
-    EXPECT_NE(bad.output.find("'cpu', 'gpu', 'auto'"), std::string::npos) << bad.output;
-    fs::remove_all(dir);
+    ComputeDevice failed, fallback;
+    {
+        NoVulkanDriver none;
+        failed = ComputeDevice::create(Device::Gpu);
+        fallback = ComputeDevice::create(Device::Auto);
+    }
+    EXPECT_FALSE(failed.ok());
+    EXPECT_FALSE(failed.gpu());
+    EXPECT_NE(failed.error().find("Vulkan"), std::string::npos) << failed.error();
+    EXPECT_TRUE(fallback.ok());
+    EXPECT_FALSE(fallback.gpu());
+    EXPECT_NE(fallback.error().find("Vulkan"), std::string::npos) << fallback.error();
+    const double lambda = 550e-9;
+    SummationPlan plan = SummationPlan::create(SumKind::SourcesToPinhole, pinhole(lambda), lambda,
+                                               {Summation::Direct, kSummationTolerance, 0, failed});
+    auto refused = plan.set_points(random_sources(3, 1, 5));
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.field, "device");
+    EXPECT_NE(refused.error.find("Vulkan"), std::string::npos) << refused.error;
+    const ComputeDevice again = ComputeDevice::create(Device::Gpu);
+    EXPECT_TRUE(again.ok() && again.gpu()) << again.error();
+}
+
+// On a GPU a plan takes the direct terms where `auto` on the CPU takes the NUFFTs (many sources),
+// refuses nufft naming it, and the device records what ran.
+TEST(ComputeDevice, AGpuRunsTheDirectTermsAndRefusesTheNufft) {
+    REQUIRE_VULKAN();
+    const double lambda = 550e-9;
+    const ApertureSamples samples = pinhole(lambda);
+    const std::vector<PointSource> many = random_sources(20000, 0, 9);
+    const ComputeDevice cpu = ComputeDevice::create(Device::Cpu), gpu = gpu_device();
+    SummationPlan on_cpu = SummationPlan::create(SumKind::SourcesToPinhole, samples, lambda,
+                                                 {Summation::Auto, kSummationTolerance, 0, cpu});
+    ASSERT_TRUE(on_cpu.set_points(many).ok());
+    EXPECT_EQ(on_cpu.choice().evaluator, Evaluator::Nufft);  // the case this test is about
+    EXPECT_EQ(evaluators_run(cpu).words(), "nufft");
+    SummationPlan on_gpu = SummationPlan::create(SumKind::SourcesToPinhole, samples, lambda,
+                                                 {Summation::Auto, kSummationTolerance, 0, gpu});
+    ASSERT_TRUE(on_gpu.set_points(many).ok());
+    EXPECT_EQ(on_gpu.choice().evaluator, Evaluator::Direct);
+    EXPECT_TRUE(on_gpu.choice().gpu);
+    SummationPlan nufft = SummationPlan::create(SumKind::SourcesToPinhole, samples, lambda,
+                                                {Summation::Nufft, kSummationTolerance, 0, gpu});
+    auto refused = nufft.set_points(many);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.field, "summation");
+    EXPECT_NE(refused.error.find("device gpu: the nufft summation has no GPU evaluator"), std::string::npos)
+        << refused.error;
+    EXPECT_EQ(evaluators_run(gpu).words(), "direct");
+    EXPECT_EQ(gpu.ran_on(), gpu.description());
 }
