@@ -206,7 +206,7 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
         dst.specmod().attribute("wavecam.job",
                                 job_fingerprint(fingerprint.value, recorded_settings(flags.given)));
     // OpenEXR: scene-linear float, every channel; .png/.jpg/.tif: RGB through the display view
-    auto written = is_exr(output) ? write_image_atomically(dst, output, OIIO::TypeUnknown, file_channel_formats(src.nativespec(), dst.spec(), opt.pixel_type))
+    auto written = is_exr(output) ? write_plate(dst, src, output, opt.pixel_type, opt.max_memory)
                                   : write_display_image(dst, opt, output);
     if (!written.ok()) return fail(written.error);
     if (!compare.empty())

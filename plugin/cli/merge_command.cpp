@@ -101,10 +101,7 @@ int run(const MergeFlags& flags) {
     if (auto r = DiffractPlan(opt).diffract(dst, src, first.input); !r.ok())
         return refuse({front::word_failure(r, front::Front::Command)});
     dst.specmod().attribute("wavecam.job", first.job);  // the job the shares belong to (farm status)
-    if (auto w = write_image_atomically(dst, flags.output, OIIO::TypeUnknown,
-                                        file_channel_formats(src.nativespec(), dst.spec(), opt.pixel_type));
-        !w.ok())
-        return refuse({w.error});
+    if (auto w = write_plate(dst, src, flags.output, opt.pixel_type, opt.max_memory); !w.ok()) return refuse({w.error});
     if (!flags.compare.empty())
         if (auto w = write_compare_sheet(src, dst, opt, flags.compare); !w.ok()) return refuse({w.error});
     if (!flags.png.empty())

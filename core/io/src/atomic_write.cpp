@@ -124,35 +124,59 @@ const char* temporary_being_written() { return g_temporary_set.load() ? g_tempor
 
 std::string output_name_problem(const std::string& path) { return name_problem(path); }
 
-Result<bool> write_image_atomically(const OIIO::ImageBuf& image, const std::string& path, OIIO::TypeDesc format,
-                                    const std::vector<OIIO::TypeDesc>& channel_formats) {
-    if (const std::string bad = name_problem(path); !bad.empty()) return Result<bool>::failure(bad);
-    const fs::path temp = temporary_for(path);
-    TemporaryMark mark(temp);
-    auto cannot = [&](const std::string& why) { return discard(temp, path + ": cannot write: " + reason(why, temp)); };
-    auto out = OIIO::ImageOutput::create(temp.string());
-    if (!out) return cannot(OIIO::geterror());
+namespace {
+
+// `image`'s spec as the file will hold it: `format`, else channel by channel as `channel_formats`
+// where the writer allows (OpenEXR), else as the buffer holds them.
+OIIO::ImageSpec file_spec(const OIIO::ImageBuf& image, const OIIO::ImageOutput& out, OIIO::TypeDesc format,
+                          const std::vector<OIIO::TypeDesc>& channel_formats) {
     OIIO::ImageSpec spec = image.spec();
     if (format != OIIO::TypeUnknown) spec.set_format(format);
-    if (!channel_formats.empty() && out->supports("channelformats")) {
-        // the file's types channel by channel: the widest as the spec's format
+    if (!channel_formats.empty() && out.supports("channelformats")) {
+        // the widest as the spec's format
         spec.channelformats = channel_formats;
         spec.format = *std::max_element(channel_formats.begin(), channel_formats.end(),
                                          [](OIIO::TypeDesc a, OIIO::TypeDesc b) { return a.size() < b.size(); });
     } else if (!channel_formats.empty() && format == OIIO::TypeUnknown) {
         spec.set_format(channel_formats.front());
     }
-    if (!out->supports("tiles")) spec.tile_width = spec.tile_height = spec.tile_depth = 0;  // as ImageBuf::write
-    if (!out->open(temp.string(), spec)) return cannot(out->geterror());
-    // ImageBuf::write's own path, with every step's result checked, the close's too
-    if (!image.write(out.get())) {
-        out->close();
-        return cannot(image.geterror().empty() ? out->geterror() : image.geterror());
+    if (!out.supports("tiles")) spec.tile_width = spec.tile_height = spec.tile_depth = 0;  // as ImageBuf::write
+    return spec;
+}
+
+}  // namespace
+
+Result<bool> write_image_atomically(const OIIO::ImageBuf& image, const std::string& path, OIIO::TypeDesc format,
+                                    const std::vector<OIIO::TypeDesc>& channel_formats) {
+    return write_parts_atomically({{&image, channel_formats}}, path, format);
+}
+
+Result<bool> write_parts_atomically(const std::vector<PartToWrite>& parts, const std::string& path,
+                                    OIIO::TypeDesc format) {
+    if (const std::string bad = name_problem(path); !bad.empty()) return Result<bool>::failure(bad);
+    const fs::path temp = temporary_for(path);
+    TemporaryMark mark(temp);
+    auto cannot = [&](const std::string& why) { return discard(temp, path + ": cannot write: " + reason(why, temp)); };
+    auto out = OIIO::ImageOutput::create(temp.string());
+    if (!out) return cannot(OIIO::geterror());
+    if (parts.size() > 1 && !out->supports("multiimage"))
+        return cannot("a file of " + std::to_string(parts.size()) + " parts, and this format holds one");
+    std::vector<OIIO::ImageSpec> specs;
+    for (const PartToWrite& p : parts) specs.push_back(file_spec(*p.image, *out, format, p.channel_formats));
+    if (!out->open(temp.string(), int(specs.size()), specs.data())) return cannot(out->geterror());
+    for (size_t k = 0; k < parts.size(); ++k) {
+        if (k > 0 && !out->open(temp.string(), specs[k], OIIO::ImageOutput::AppendSubimage))
+            return cannot(out->geterror());
+        // ImageBuf::write's own path, with every step's result checked, the close's too
+        if (!parts[k].image->write(out.get())) {
+            out->close();
+            return cannot(parts[k].image->geterror().empty() ? out->geterror() : parts[k].image->geterror());
+        }
     }
     if (!out->close()) return cannot(out->geterror());
     out.reset();
     if (const std::string why = sync_file(temp); !why.empty()) return cannot(why);
-    if (const std::string why = read_back(temp, spec); !why.empty())
+    if (const std::string why = read_back(temp, specs.front()); !why.empty())
         return cannot(why);
     return move_into_place(temp, path);
 }

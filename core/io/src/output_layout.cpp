@@ -2,6 +2,8 @@
 
 #include <OpenImageIO/strutil.h>
 
+#include "wavecam/atomic_write.h"
+
 #include <algorithm>
 
 namespace wavecam {
@@ -102,6 +104,32 @@ Result<bool> fill_output(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const R
         }
     }
     return Result<bool>::success(true);
+}
+
+Result<bool> write_plate(const OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& path,
+                         OIIO::TypeDesc diffracted_type, double max_bytes) {
+    std::vector<OIIO::ImageBuf> others;  // the other parts, as the file has them
+    std::vector<PartToWrite> parts;
+    const int chosen = src.subimage(), count = std::max(1, src.nsubimages());
+    others.reserve(count);
+    for (int s = 0; s < count; ++s) {
+        if (s == chosen) {
+            parts.push_back({&dst, file_channel_formats(src.nativespec(), dst.spec(), diffracted_type)});
+            continue;
+        }
+        auto part = read_image(src.name(), max_bytes, s);
+        if (!part.ok()) return Result<bool>::failure(part);
+        others.push_back(std::move(part.value));
+        // OpenEXR holds one chromaticities per file (a shared attribute): the diffracted part's
+        OIIO::ImageSpec& spec = others.back().specmod();
+        if (const OIIO::ParamValue* c = dst.spec().find_attribute("chromaticities")) spec.attribute(c->name(), c->type(), c->data());
+        else spec.erase_attribute("chromaticities");
+        const OIIO::ImageSpec& native = others.back().nativespec();
+        std::vector<OIIO::TypeDesc> formats;
+        for (int c = 0; c < native.nchannels; ++c) formats.push_back(native.channelformat(c));
+        parts.push_back({&others.back(), formats});
+    }
+    return write_parts_atomically(parts, path);
 }
 
 }  // namespace wavecam

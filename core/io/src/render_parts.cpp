@@ -68,10 +68,16 @@ Result<int> choose_part(const std::string& path, const std::string& name) {
     if (parts.empty() || (parts.size() == 1 && name.empty())) return Result<int>::success(0);  // (or unreadable)
     for (size_t s = 0; s < parts.size() && !name.empty(); ++s)
         if (parts[s].name == name) return Result<int>::success(int(s));
+    // no name: the one part that holds a render (R, G, B and Z), the others passing through
+    std::vector<int> renders;
+    for (size_t s = 0; s < parts.size() && name.empty(); ++s)
+        if (has(parts[s], "R") && has(parts[s], "G") && has(parts[s], "B") && has(parts[s], "Z")) renders.push_back(int(s));
+    if (renders.size() == 1) return Result<int>::success(renders.front());
     const std::string m = path + ": " + std::to_string(parts.size()) + " part" + (parts.size() == 1 ? "" : "s") +
                           " (subimages): " + describe(parts) + "; ";
     if (name.empty())
-        return Result<int>::failure(m + "wavecam reads one part, which holds R, G, B and the depth channel" +
+        return Result<int>::failure(m + "wavecam diffracts one part, which holds R, G, B and the depth channel "
+                                        "(the others pass through)" +
                                         split_note(path, parts),
                                     ErrorKind::Missing, "subimage");
     return Result<int>::failure(m + "none is named \"" + name + "\", expected one of these names", ErrorKind::Invalid,

@@ -8,8 +8,8 @@
 namespace wavecam::detail {
 
 // The index of the part named `name` in the file at `path` (its oiio:subimagename, OpenEXR's
-// part name); with no name, 0 when the file has one part. Otherwise refused, naming each part
-// and its channels, and saying how to choose one.
+// part name); with no name, 0 when the file has one part, else the one part holding R, G, B
+// and Z. Otherwise refused, naming each part and its channels, and saying how to choose one.
 Result<int> choose_part(const std::string& path, const std::string& name);
 
 // For a channel the read part lacks: "; channel 'Z' is in part "depth" of this file, ..."

@@ -19,6 +19,17 @@ Result<bool> write_image_atomically(const OIIO::ImageBuf& image, const std::stri
                                     OIIO::TypeDesc format = OIIO::TypeUnknown,
                                     const std::vector<OIIO::TypeDesc>& channel_formats = {});
 
+// One part (OIIO subimage) of a file of several, and its file types channel by channel.
+struct PartToWrite {
+    const OIIO::ImageBuf* image;
+    std::vector<OIIO::TypeDesc> channel_formats;
+};
+
+// Writes the parts, in order, as one file (OpenEXR multi-part) the same way; refused for a format
+// that holds one image.
+Result<bool> write_parts_atomically(const std::vector<PartToWrite>& parts, const std::string& path,
+                                    OIIO::TypeDesc format = OIIO::TypeUnknown);
+
 // Writes `text` to `path` the same way (every write, the fsync and the close checked).
 Result<bool> write_text_atomically(const std::string& text, const std::string& path);
 

@@ -40,4 +40,10 @@ std::vector<OIIO::TypeDesc> file_channel_formats(const OIIO::ImageSpec& input, c
 Result<bool> fill_output(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const RenderChannels& channels, int margin,
                          const float* rgb, const float* alpha);
 
+// Writes the diffracted `dst` as `path` (atomic_write.h) with the rest of `src`'s file: each
+// channel in its file type (file_channel_formats), and every other part of a multi-part input
+// read again and written as it was, in its place.
+Result<bool> write_plate(const OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& path,
+                         OIIO::TypeDesc diffracted_type, double max_bytes);
+
 }  // namespace wavecam
