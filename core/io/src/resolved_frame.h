@@ -36,6 +36,13 @@ struct ResolvedFrame {
     }
 };
 
+// The wavelength the pinhole formulas are designed at: Rayleigh's optimum, the Fresnel number.
+constexpr double kDesignWavelength = 550e-9;
+
+// What `auto` chose for the job's sums (resolve_frame.cpp): psf, else the evaluators that ran on
+// the job's device (the header's), or, before they ran, those the estimate gives each sum.
+std::string auto_choice(const ExactSettings& s, const PinholeCamera& camera, const SpectralBasis& basis);
+
 // `input` (load_render's value) under `opt`; errors name `name`.
 Result<ResolvedFrame> resolve_frame(const DiffractOptions& opt, RenderInput input, const std::string& name,
                                     int nthreads);
