@@ -1,0 +1,103 @@
+// One wavelength's sums over a frame, as the exact methods build them: the sources (the input's
+// pixels and the margin beyond it), the pinhole lattice, the film points (scene_sum.cpp); how
+// the two sums are evaluated and what they cost (scene_summation_choice.cpp); the runs
+// themselves are scene_diffraction.cpp's. Internal to wavecam_core.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "coherent_convolution.h"
+#include "wavecam/scene_diffraction.h"
+#include "wavecam/summation_plan.h"
+
+namespace wavecam::detail {
+
+// What emits light: a lit pixel of the input, or a lit cell of the margin beyond it (its edge
+// pixel's radiance over the cell's solid angle, at the edge pixel's planar depth). A source is
+// placed within [x, x + w) x [y, y + h): at the centre, or anywhere (jitter) in a run.
+struct Emitter {
+    double x, y, w, h;
+    double power;  // radiance x solid angle
+    double depth;
+    DepthMeaning meaning;
+    uint64_t key;  // its random numbers' index
+};
+
+// The widest tangents |u|, |v| of a set of directions: a lattice axis at a time (below).
+struct Extent {
+    double u = 0, v = 0;
+    void add(const PinholeCamera& c, double x0, double y0, double x1, double y1) {
+        for (double x : {x0, x1})
+            for (double y : {y0, y1}) {
+                double tu, tv;
+                c.tangent(x, y, tu, tv);
+                u = std::max(u, std::abs(tu));
+                v = std::max(v, std::abs(tv));
+            }
+    }
+};
+
+// The share of the work the settings ask for: film rows (within the overscan) and runs,
+// clamped to the job.
+struct WorkRange {
+    int row_begin, row_end, run_begin, run_end;
+};
+
+// The frame's sources (the input's pixels and its margin's cells), the pinhole lattice and the
+// film points of one wavelength's sum.
+struct SceneSum {
+    std::vector<Emitter> emitters;
+    ApertureSamples samples;
+    FilmPoints film;
+    int subsamples = 1;
+    Extent source_extent, film_extent;  // tangents of the widest source and film point
+};
+
+// How one run's two sums (or one source's, `single`) are evaluated, and their work in direct
+// terms: sum 1 from the sources to the pinhole, sum 2 to the film, each by the evaluator
+// s.summation asks for (summation_plan.h, choose_sum). Decided from the whole frame's counts, so
+// that every share of a job evaluates its part as the job would; the film's chirps planned over
+// the frame.
+struct SumPlan {
+    SummationSettings settings;
+    PlanScope in, out;
+    double in_work = 0, out_work = 0;  // the film's for the whole frame
+};
+
+// The settings one wavelength's sum needs (the pixels are check_pixels').
+Result<bool> check_settings(const PinholeCamera& c, double wavelength, const ExactSettings& s);
+
+// A point source at image position (x, y) (camera pixels) with power `power_on_pinhole` =
+// radiance x solid angle: the irradiance it puts on the pinhole whatever its depth.
+PointSource source_at(const PinholeCamera& c, double x, double y, double power_on_pinhole, double depth,
+                      DepthMeaning meaning, double phase);
+
+WorkRange work_range(const ExactSettings& s, int height);
+
+// The wavelength's own stream of random numbers: its bits.
+uint64_t wavelength_stream(double wavelength);
+
+// Film points per pixel side: as asked, or auto_film_subsamples.
+int film_subsamples(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
+
+// With `scene.power` null every pixel and margin cell counts as lit (estimates).
+SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const ExactSettings& s, double nearest,
+                   const WorkRange& range, bool with_samples);
+
+// The two sums' evaluators and work for a run (or one source's, `single`).
+SumPlan plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
+                  double nearest, bool single);
+
+// The runs as convolutions with amplitude PSFs (coherent_convolution.h) for this wavelength.
+CoherentSpec coherent_spec(const ExactSettings& s, const PinholeCamera& c, double wavelength, double nearest,
+                           int subsamples);
+
+// Whether the scene's depths, nearest at `nearest`, need more amplitude layers than the psf
+// summation takes (coherent_convolution.h).
+bool too_deep_for_psf(double nearest, const Aperture& aperture, double wavelength);
+
+// The psf summation's work: its kernels' sums counted on their own lattice of `pitch`.
+CoherentWork psf_work(const ExactSettings& s, const SceneSum& sum, const CoherentSpec& spec, double nearest,
+                      double pitch);
+
+}  // namespace wavecam::detail
