@@ -1,0 +1,26 @@
+# Included by ctest in tests/core, tests/io and tests/fronts (wavecam_test_costs): the seconds the
+# slowest tests take on 2 cores two at a time, so that `ctest -j` starts them first and the run
+# does not end on one of them alone. ctest prefers its own record (Testing/Temporary/CTestCostData.txt)
+# once it has one; a name not in the directory is ignored.
+foreach(cost_and_test
+    400 WideField.PsfRunsMatchTheExactSumsWithTheSamePhases
+    250 WideField.ConvolutionMethodMatchesTheRayleighSommerfeldIntegral
+    160 GpuSums.PsfSummationRunsMatchTheCpu
+    96 OneSourceModel.AllThreeMethodsConvergeToOneImage
+    87 ApplyCommand.TheEnvironmentChangesNoImageAndNoWordMeansTwoThings
+    72 PhaseCode.RunsFromThePsfKeepEveryChannelWithinTwoPercentWhereThePsfIsWide
+    64 PsfSummation.IncoherentMatchesTheExactIncoherentSum
+    61 ApplyHostile.EveryTerminatingSignalDuringTheWriteKeepsTheOldOutput
+    55 ExactNoise.PerChannelVarianceIsTheWavelengthSumAndFallsAsOneOverK
+    45 Shares.EverySplitOfEveryJobShapeMergesToTheSingleRun
+    45 Plugin.OiiotoolMatchesWavecamApply
+    35 Shares.MergeEqualsTheSingleMachineRun
+    32 nufft.FresnelZones.OnAxisIrradianceFollowsTheZoneCount
+    28 WideField.ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral)
+  string(REGEX MATCH "^[0-9]+" cost "${cost_and_test}")
+  if(cost)
+    set(test_cost ${cost})
+  else()
+    set_tests_properties(${cost_and_test} PROPERTIES COST ${test_cost})
+  endif()
+endforeach()
