@@ -1,0 +1,129 @@
+#include "coherent_geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "real_fft2d.h"
+#include "summation/summation_cost.h"
+#include "wavecam/fresnel_psf.h"
+#include "wavecam/psf_convolution.h"
+
+namespace wavecam::detail {
+
+DepthLayers amplitude_layers(double max_inverse_depth, double aperture_radius, double wavelength) {
+    DepthLayers d;
+    if (!(max_inverse_depth > 0)) return d;
+    d.step = kMaxLayerPhase * wavelength / (M_PI * aperture_radius * aperture_radius);
+    const double steps = std::ceil(max_inverse_depth / d.step);  // (a double: no overflow)
+    d.count = int(std::min(steps, double(kMaxPsfLayers))) + 1;
+    return d;
+}
+
+Result<bool> too_many_layers() {
+    char m[200];
+    std::snprintf(m, sizeof m,
+                  "summation: psf serves depths to %d layers at this pinhole and wavelength, this scene needs more "
+                  "(its nearest source is too near for the pinhole's defocus); expected auto, direct or nufft",
+                  kMaxPsfLayers);
+    return Result<bool>::failure(m, ErrorKind::Invalid, "summation");
+}
+
+CoherentGeometry coherent_geometry(const CoherentSpec& s) {
+    const PinholeCamera& c = s.camera;
+    const int o = s.overscan, out_w = c.width - 2 * o, out_h = c.height - 2 * o;
+    const double nearest = s.max_inverse_depth > 0 ? 1.0 / s.max_inverse_depth : INFINITY;
+    CoherentGeometry g;
+    // the radius is the widest PSF's at the output frame's corners: the anchors lie within the
+    // frame, and sources in the margin take the edge anchors' kernels
+    g.radius = psf_kernel_radius(s.aperture, c.film_distance, nearest, s.wavelength,
+                                 c.cos_widest(o, o, o + out_w, o + out_h), c.pixel_pitch(),
+                                 ConvolutionSettings{}.max_radius);
+    g.origin = g.radius - o;
+    g.width = out_w + 2 * g.radius;
+    g.height = out_h + 2 * g.radius;
+    // one transform over the whole domain: light wrapped round its period (at most R beyond the
+    // domain) lands in the margin, which is never read
+    g.nx = fft_friendly_size(g.width);
+    g.ny = fft_friendly_size(g.height);
+    const int longest = std::max(g.width, g.height), cells = std::max(1, s.anchor_cells);
+    const int min_cell = kMinAmplitudeCellRadii * g.radius;
+    g.ax = AnchorAxis::across(g.width, 1, std::max(1, int(std::lround(double(cells) * g.width / longest))), min_cell,
+                              g.radius);
+    g.ay = AnchorAxis::across(g.height, 1, std::max(1, int(std::lround(double(cells) * g.height / longest))),
+                              min_cell, g.radius);
+    // and close enough that the field's stretch of the PSF changes little between them (psf_table.h)
+    const double step = anchor_step(s.aperture, s.wavelength, c.film_distance, c.pixel_pitch());
+    g.ax = AnchorAxis::refined_for_field(g.ax, c.tan_pitch(), step);
+    g.ay = AnchorAxis::refined_for_field(g.ay, c.tan_pitch(), step);
+    g.layers = amplitude_layers(s.max_inverse_depth, s.aperture.bounding_radius(), s.wavelength);
+    return g;
+}
+
+namespace {
+
+// The widest turn, in direction sines along either axis, of any kernel's sum over the pinhole
+// (kernel_lattice_pitch): from each anchor's source at the nearest layer to its kernel's film
+// points' corners, the wavefronts' curvature at the rim added.
+double widest_kernel_turn(const CoherentSpec& s, const CoherentGeometry& g) {
+    const PinholeCamera& c = s.camera;
+    const double a = s.aperture.bounding_radius(), w = g.layers.inverse_depth(std::max(0, g.layers.count - 1));
+    double widest = 0;
+    for (const int kx : g.ax.knots)
+        for (const int ky : g.ay.knots) {
+            const double px = kx - g.origin + 0.5, py = ky - g.origin + 0.5;
+            double us, vs;
+            c.tangent(px, py, us, vs);
+            const double ns = std::sqrt(1 + us * us + vs * vs);
+            for (const int dx : {-1, 1})
+                for (const int dy : {-1, 1}) {
+                    // the film point at the kernel's corner (its geometric image's direction, -d_t)
+                    double ut, vt;
+                    c.tangent(px + dx * (g.radius + 0.5), py + dy * (g.radius + 0.5), ut, vt);
+                    const double nt = std::sqrt(1 + ut * ut + vt * vt);
+                    const double turn = std::max(std::abs(us / ns - ut / nt), std::abs(vs / ns - vt / nt));
+                    const double curvature = a * (w / ns + 1 / (c.film_distance * nt));
+                    widest = std::max(widest, turn + curvature);
+                }
+        }
+    return widest;
+}
+
+}  // namespace
+
+double kernel_lattice_pitch(const CoherentSpec& spec, double frame_pitch) {
+    const CoherentGeometry g = coherent_geometry(spec);
+    const double need = widest_kernel_turn(spec, g) + spec.wavelength / spec.aperture.diameter;
+    const double pitch = std::min(spec.wavelength / (kKernelLatticeMargin * need),
+                                  spec.aperture.diameter / kMinSamplesAcross);
+    return std::max(frame_pitch, pitch);
+}
+
+CoherentWork coherent_work(const CoherentSpec& spec, SumCounts in, SumCounts out) {
+    const CoherentGeometry g = coherent_geometry(spec);
+    const double side = 2.0 * g.radius + 1, S = double(spec.subsamples) * spec.subsamples;
+    const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxPsfLayers + 1);
+    in.points = 1;
+    out.points = side * side * S;
+    const double N = double(g.nx) * g.ny, transform = kFftCost * N * std::log2(N);
+    CoherentWork w;
+    // (one source to the pinhole: direct, as create sums it)
+    w.kernels =
+        kernels * (choose_sum(in, Summation::Direct).work +
+                   choose_sum(out, Summation::Auto, spec.settings.device.gpu()).work + S * transform);
+    w.per_run = kernels * transform + (kernels + 1) * S * N * kMacCost + S * transform;
+    return w;
+}
+
+double coherent_bytes(const CoherentSpec& spec) {
+    const CoherentGeometry g = coherent_geometry(spec);
+    const double N = double(g.nx) * g.ny, S = double(spec.subsamples) * spec.subsamples;
+    const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxPsfLayers + 1);
+    const double complex_float = 8;
+    // (upper bounds: the basis holds at most every kernel) spectra, and the runs at once' images,
+    // sums and film (runs_at_once: within the spectra's size, one run at least)
+    const double spectra = complex_float * N * kernels * S, run = N * (complex_float * (kernels + S) + sizeof(double));
+    return spectra + std::max(run, std::min(spectra, kMaxRunsAtOnce * run));
+}
+
+}  // namespace wavecam::detail
