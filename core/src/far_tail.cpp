@@ -215,7 +215,7 @@ std::vector<float> spread_over_annulus(const std::vector<float>& missing, const 
 void add_far_tail(const PsfTable& t, const SpectralScene& scene, int origin, int out_x0, int out_y0, int out_w,
                   int out_h, float* xyz, int nthreads) {
     const int R = t.radius, reach = kTailReach * R;
-    if (R < 2 || t.deficit.empty()) return;
+    if (t.deficit.empty()) return;
     const int cell = std::max(1, R / 3);
     const CoarseGrid g{cell, out_x0 - reach, out_y0 - reach, (out_w + 2 * reach + cell - 1) / cell,
                        (out_h + 2 * reach + cell - 1) / cell};
