@@ -334,7 +334,9 @@ TEST(ApplyCommand, DepthScaleTurnsTheDepthChannelIntoMetres) {
     EXPECT_LE(OIIO::ImageBufAlgo::compare(cm, m, 1e-6f, 1e-6f, rgb).maxerror, 1e-6);
     EXPECT_LE(OIIO::ImageBufAlgo::compare(tagged, m, 1e-6f, 1e-6f, rgb).maxerror, 1e-6);
     EXPECT_LE(OIIO::ImageBufAlgo::compare(again, again_m, 1e-6f, 1e-6f, rgb).maxerror, 1e-6);
-    EXPECT_GT(OIIO::ImageBufAlgo::compare(plain, m, 1e-6f, 1e-6f, rgb).maxerror, 1e-3) << "depth made no difference";
+    // 4 cm against 4 m: both PSFs are under a pixel wide here (0.3 and 0.2 mm on 0.9 mm pixels), so
+    // depth moves the image by about 8e-4; the same image would agree to 1e-6, as above
+    EXPECT_GT(OIIO::ImageBufAlgo::compare(plain, m, 1e-6f, 1e-6f, rgb).maxerror, 1e-4) << "depth made no difference";
     EXPECT_EQ(cm.spec().get_string_attribute("wavecam.depth-scale"), "0.01m");
     EXPECT_EQ(m.spec().get_string_attribute("wavecam.depth-scale"), "1m");
     EXPECT_EQ(cm.getchannel(3, 3, 0, 3), 4.0f);  // the depth channel as the input had it
