@@ -6,6 +6,7 @@
 #include <atomic>
 #include <memory>
 
+#include "output_window.h"
 #include "progress_ticker.h"
 #include "real_fft2d.h"
 
@@ -85,10 +86,16 @@ void layer_span(const DomainSources& src, const TileBounds& b, int layers, int& 
         }
 }
 
+// One kernel of the table: depth layer `layer` at anchor (kx, ky).
+struct LayerAnchor {
+    int layer, kx, ky;
+};
+
 // Layer l's and anchor (kx, ky)'s share of each source of the tile into `weight` (row stride
 // T); whether any is lit.
-bool anchor_weights(const PsfTable& t, const DomainSources& src, const TileBounds& b, int l, int kx, int ky, int T,
+bool anchor_weights(const PsfTable& t, const DomainSources& src, const TileBounds& b, const LayerAnchor& la, int T,
                     std::vector<float>& weight) {
+    const int l = la.layer, kx = la.kx, ky = la.ky;
     bool any = false;
     for (int j = b.y0; j < b.y1; ++j) {
         const float wy = float(t.ay.hat(ky, j));
@@ -123,9 +130,19 @@ void multiply_accumulate(const std::complex<float>* in, const std::complex<float
     }
 }
 
-// Adds channel q of a tile's convolved image (its FFT frame, N x N, wrapped) to the output window.
-void add_to_output(const std::vector<float>& image, int N, int R, const TileBounds& b, int out_x0, int out_y0,
-                   int out_width, int out_height, float norm, int q, float* xyz) {
+// A tile's FFT frame: N x N, holding the tile's sources `bounds` and the R pixels its kernels
+// spread beyond them (wrapped).
+struct TileFrame {
+    int fft_size, radius;
+    TileBounds bounds;
+};
+
+// Adds channel q of a tile's convolved image (its FFT frame, wrapped) to the output window.
+void add_to_output(const std::vector<float>& image, const TileFrame& frame, const OutputWindow& out, float norm, int q,
+                   float* xyz) {
+    const int N = frame.fft_size, R = frame.radius;
+    const TileBounds& b = frame.bounds;
+    const int out_x0 = out.x0, out_y0 = out.y0, out_width = out.width, out_height = out.height;
     for (int r = -R; r < (b.y1 - b.y0) + R; ++r) {
         const int j = b.y0 + r - out_y0;
         if (j < 0 || j >= out_height) continue;
@@ -181,7 +198,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, int out_x0, in
                     for (int ky = ky0; ky <= ky1; ++ky)
                         for (int kx = kx0; kx <= kx1; ++kx) {
                             const int anchor = ky * nkx + kx;
-                            if (!anchor_weights(t, src, b, l, kx, ky, T, weight)) continue;
+                            if (!anchor_weights(t, src, b, {l, kx, ky}, T, weight)) continue;
                             for (int p = 0; p < 3; ++p) {
                                 for (int j = b.y0; j < b.y1; ++j)
                                     for (int i = b.x0; i < b.x1; ++i)
@@ -201,7 +218,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, int out_x0, in
                 if (hi >= lo)
                     for (int q = 0; q < 3; ++q) {
                         fft.inverse(&acc[q * spec], image.data());
-                        add_to_output(image, N, R, b, out_x0, out_y0, out_width, out_height, norm, q, xyz);
+                        add_to_output(image, {N, R, b}, {out_x0, out_y0, out_width, out_height}, norm, q, xyz);
                     }
                 ticker.advance(1, omp_get_thread_num() == 0);
             }

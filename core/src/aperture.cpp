@@ -91,7 +91,7 @@ double Aperture::coverage(double x0, double x1, double y0, double y1, double& cx
         cy = 0.5 * (oy0 + oy1);
         return (ox1 - ox0) * (oy1 - oy0) / cell;
     }
-    if (shape == ApertureShape::PhotonSieve) return sieve_open_area_in_cell(sieve(), r, x0, x1, y0, y1, cx, cy) / cell;
+    if (shape == ApertureShape::PhotonSieve) return sieve_open_area_in_cell(sieve(), r, {x0, x1, y0, y1}, cx, cy) / cell;
     if (shape == ApertureShape::Mask) {
         // Exact integral of the box-sampled image over the cell: each mask pixel is a square of
         // constant transmission; its overlap with the cell adds value x area and moments.

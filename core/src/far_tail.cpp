@@ -163,12 +163,24 @@ std::vector<float> missing_light(const PsfTable& t, const SpectralScene& scene, 
     return missing;
 }
 
+// The annulus R <= r <= reach (pixels) the missing light is spread over.
+struct Annulus {
+    int R, reach;
+};
+
+// The coarse cells [I0, I1) x [J0, J1).
+struct CellWindow {
+    int I0, I1, J0, J1;
+};
+
 // The missing light spread over the annulus R..reach by tail_kernel, by transforms (the annulus
-// is wide: (2 reach / cell)^2 cells), only read in the cells [I0, I1) x [J0, J1) where the output
-// is. The kernel is real, so two channels go through one complex transform, one as its real
-// part, one as its imaginary part; channels without light are skipped.
-std::vector<float> spread_over_annulus(const std::vector<float>& missing, const CoarseGrid& g, int R, int reach,
-                                       int I0, int I1, int J0, int J1, int nthreads) {
+// is wide: (2 reach / cell)^2 cells), only read in the cells `read` where the output is. The
+// kernel is real, so two channels go through one complex transform, one as its real part, one
+// as its imaginary part; channels without light are skipped.
+std::vector<float> spread_over_annulus(const std::vector<float>& missing, const CoarseGrid& g, const Annulus& annulus,
+                                       const CellWindow& read, int nthreads) {
+    const int R = annulus.R, reach = annulus.reach;
+    const int I0 = read.I0, I1 = read.I1, J0 = read.J0, J1 = read.J1;
     const int half = reach / g.cell + 1, kw = 2 * half + 1;
     const std::vector<double> k = tail_kernel(R, reach, g.cell, half);
     std::vector<float> spread(3 * size_t(g.cw) * g.ch, 0.0f);
@@ -212,8 +224,9 @@ std::vector<float> spread_over_annulus(const std::vector<float>& missing, const 
 
 }  // namespace
 
-void add_far_tail(const PsfTable& t, const SpectralScene& scene, int origin, int out_x0, int out_y0, int out_w,
-                  int out_h, float* xyz, int nthreads) {
+void add_far_tail(const PsfTable& t, const SpectralScene& scene, int origin, const OutputWindow& out, float* xyz,
+                  int nthreads) {
+    const int out_x0 = out.x0, out_y0 = out.y0, out_w = out.width, out_h = out.height;
     const int R = t.radius, reach = kTailReach * R;
     if (t.deficit.empty()) return;
     const int cell = std::max(1, R / 3);
@@ -223,7 +236,7 @@ void add_far_tail(const PsfTable& t, const SpectralScene& scene, int origin, int
     const int I0 = std::max(0, reach / cell - 1), I1 = std::min(cw, (reach + out_w) / cell + 2);
     const int J0 = std::max(0, reach / cell - 1), J1 = std::min(ch, (reach + out_h) / cell + 2);
     const std::vector<float> spread =
-        spread_over_annulus(missing_light(t, scene, origin, g, nthreads), g, R, reach, I0, I1, J0, J1, nthreads);
+        spread_over_annulus(missing_light(t, scene, origin, g, nthreads), g, {R, reach}, {I0, I1, J0, J1}, nthreads);
     // back to pixels: each coarse cell's light over its cell x cell pixels, bilinearly
     const float per_pixel = 1.0f / float(cell * cell);
 #pragma omp parallel for num_threads(nthreads)

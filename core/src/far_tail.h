@@ -12,6 +12,7 @@
 // smooth, so it is summed on a grid coarser by about R/3 (the sources' light per cell, the
 // missing shares interpolated at the cell's centre) and interpolated back bilinearly.
 #pragma once
+#include "output_window.h"
 #include "psf_table.h"
 #include "wavecam/spectral_diffraction.h"
 
@@ -20,9 +21,9 @@ namespace wavecam::detail {
 constexpr int kTailReach = 16;
 
 // deficit(layer, anchor, m): the share of the power the kernel m = 3p + q does not hold.
-// Adds the far tail of `scene` to `xyz` (out_width x out_height), whose pixel (0, 0) is the
-// table's domain pixel (out_x0, out_y0) and camera pixel (out_x0 - origin, out_y0 - origin).
-void add_far_tail(const PsfTable& table, const SpectralScene& scene, int origin, int out_x0, int out_y0,
-                  int out_width, int out_height, float* xyz, int nthreads);
+// Adds the far tail of `scene` to `xyz` (out.width x out.height), whose pixel (0, 0) is the
+// table's domain pixel (out.x0, out.y0) and camera pixel (out.x0 - origin, out.y0 - origin).
+void add_far_tail(const PsfTable& table, const SpectralScene& scene, int origin, const OutputWindow& out, float* xyz,
+                  int nthreads);
 
 }  // namespace wavecam::detail

@@ -186,8 +186,8 @@ double sieve_transmission(const SieveDesign& d, double R, double x, double y) {
     return open ? 1.0 : 0.0;
 }
 
-double sieve_open_area_in_cell(const SieveDesign& d, double R, double x0, double x1, double y0, double y1, double& cx,
-                               double& cy) {
+double sieve_open_area_in_cell(const SieveDesign& d, double R, const ApertureCell& cell, double& cx, double& cy) {
+    const double x0 = cell.x0, x1 = cell.x1, y0 = cell.y0, y1 = cell.y1;
     // Holes never overlap (check_sieve), so the open area is the sum of each hole's share.
     DiscMoments sum;
     const double reach = 0.5 * std::hypot(x1 - x0, y1 - y0);

@@ -70,12 +70,18 @@ void field_at_sample(const SourceArrays& a, float x, float y, float inv_lambda, 
     }, re, im);
 }
 
-// U at one film point T = (tx, ty, -f), up to the constant 1/lambda already in the field.
+// A film point T = (tx, ty, -f) and r0sq = |T|^2.
+struct FilmPoint {
+    float tx, ty, f, r0sq;
+};
+
+// U at one film point T, up to the constant 1/lambda already in the field.
 // Reference path |T| (a common phase per film point): r - |T| = (|xi|^2 - 2 xi.T) / (r + |T|);
 // amplitude obliquity f/r times 1/r (Goodman eq. 3-41).
 __attribute__((target_clones("arch=x86-64-v3", "default")))
-void field_at_film_point(const ApertureSamples& smp, const PinholeField& field, float tx, float ty, float f,
-                         float r0sq, float inv_lambda, double& re, double& im) {
+void field_at_film_point(const ApertureSamples& smp, const PinholeField& field, const FilmPoint& T, float inv_lambda,
+                         double& re, double& im) {
+    const float tx = T.tx, ty = T.ty, f = T.f, r0sq = T.r0sq;
     const float r0 = std::sqrt(r0sq);
     const float* __restrict xs = smp.x.data();
     const float* __restrict ys = smp.y.data();
@@ -129,19 +135,20 @@ bool add_film_field(const ApertureSamples& samples, const PinholeField& field, c
         if (ticker.cancelled()) continue;
         const double tx = film.x[t], ty = film.y[t];
         double re, im;
-        field_at_film_point(samples, field, film.x[t], film.y[t], static_cast<float>(f),
-                            static_cast<float>(tx * tx + ty * ty + f * f), inv_lambda, re, im);
+        field_at_film_point(samples, field,
+                            {film.x[t], film.y[t], static_cast<float>(f), static_cast<float>(tx * tx + ty * ty + f * f)},
+                            inv_lambda, re, im);
         film_field[t] += std::complex<double>(re, im);
         ticker.advance(1, omp_get_thread_num() == 0);
     }
     return !ticker.cancelled();
 }
 
-bool accumulate_film_irradiance(const ApertureSamples& samples, const PinholeField& field,
-                                const FilmPoints& film, double wavelength, double scale, float* irradiance,
-                                int nthreads, const ProgressFn& progress) {
-    std::vector<std::complex<double>> u(film.size(), 0.0);
-    if (!add_film_field(samples, field, film, wavelength, u.data(), nthreads, progress)) return false;
+bool accumulate_film_irradiance(const FilmPropagation& propagation, double scale, float* irradiance, int nthreads,
+                                const ProgressFn& progress) {
+    const FilmPropagation& p = propagation;
+    std::vector<std::complex<double>> u(p.film.size(), 0.0);
+    if (!add_film_field(p.samples, p.field, p.film, p.wavelength, u.data(), nthreads, progress)) return false;
     for (size_t t = 0; t < u.size(); ++t) irradiance[t] += static_cast<float>(scale * std::norm(u[t]));
     return true;
 }

@@ -69,7 +69,7 @@ Result<PsfImage> compute_psf(const PsfParams& p, const ProgressFn& progress) {
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
             double x, y;
-            film_position(i, j, n, img.pixel_pitch, img.centre_x, img.centre_y, x, y);
+            film_position(img, i, j, x, y);
             film.x[size_t(j) * n + i] = static_cast<float>(x);
             film.y[size_t(j) * n + i] = static_cast<float>(y);
         }

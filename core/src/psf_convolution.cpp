@@ -242,7 +242,7 @@ Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting,
     }
     std::fill(xyz, xyz + 3 * size_t(out_w) * out_h, 0.0f);
     if (auto r = impl_->convolution.apply(src, R, R, out_w, out_h, xyz, progress); !r.ok()) return r;
-    detail::add_far_tail(table, scene, origin, R, R, out_w, out_h, xyz, threads);
+    detail::add_far_tail(table, scene, origin, {R, R, out_w, out_h}, xyz, threads);
     if (!vignetting)
         for (int j = 0; j < out_h; ++j)
             for (int i = 0; i < out_w; ++i) {

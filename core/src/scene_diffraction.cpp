@@ -100,13 +100,25 @@ Result<bool> incoherent_sum(const SceneSum& sum, const PinholeCamera& c, double 
     return Result<bool>::success(true);
 }
 
+// One wavelength's work: the scene's sums `sum` at `wavelength` under `settings`, for the runs
+// and output rows of `range`.
+struct WavelengthWork {
+    const SceneSum& sum;
+    double wavelength;
+    const ExactSettings& settings;
+    const WorkRange& range;
+};
+
 // Random phase (the seed paper): each run every source at once with its own phase, weighted
 // 1/runs and averaged into the output on its own, so a job equals the sum of its shares. The
 // sources stay where they are from run to run (but for independent phases with jitter): one plan
 // serves every run, each run only new weights.
-Result<bool> random_phase_runs(const SceneSum& sum, const PinholeCamera& c, double wavelength,
-                               const ExactSettings& s, const SumPlan& plan, const WorkRange& range,
+Result<bool> random_phase_runs(const WavelengthWork& job, const PinholeCamera& c, const SumPlan& plan,
                                std::vector<float>& points, float* irradiance, const ProgressFn& progress) {
+    const SceneSum& sum = job.sum;
+    const double wavelength = job.wavelength;
+    const ExactSettings& s = job.settings;
+    const WorkRange& range = job.range;
     const uint64_t stream = wavelength_stream(wavelength);
     PinholeField field;
     const detail::PhaseCode code(s.runs);
@@ -141,9 +153,12 @@ Result<bool> random_phase_runs(const SceneSum& sum, const PinholeCamera& c, doub
 // key, so a scene whose edge is dark gets the direct sums' runs, kernel blends apart. The
 // convolution comes from the job's memo where one is given (the kernels of a wavelength's other
 // part), and the runs go through it several at once.
-Result<bool> psf_runs(const MonochromeScene& scene, const SceneSum& sum, double wavelength, const ExactSettings& s,
-                      double nearest, const WorkRange& range, float* irradiance, const ProgressFn& progress,
-                      detail::CoherentMemo* memo) {
+Result<bool> psf_runs(const MonochromeScene& scene, const WavelengthWork& job, double nearest, float* irradiance,
+                      const ProgressFn& progress, detail::CoherentMemo* memo) {
+    const SceneSum& sum = job.sum;
+    const double wavelength = job.wavelength;
+    const ExactSettings& s = job.settings;
+    const WorkRange& range = job.range;
     const PinholeCamera& c = scene.camera;
     const detail::CoherentSpec spec = coherent_spec(s, c, wavelength, nearest, sum.subsamples);
     const bool incoherent = spec.incoherent;
@@ -233,11 +248,12 @@ Result<bool> detail::diffract_monochrome(const MonochromeScene& scene, double wa
         return detail::too_many_layers();  // refused before the lattice is sampled
     // (the psf summation samples the pinhole for its kernels alone)
     const SceneSum sum = scene_sum(scene, wavelength, s, nearest, range, s.summation != Summation::Psf);
-    if (s.summation == Summation::Psf) return psf_runs(scene, sum, wavelength, s, nearest, range, irradiance, progress, memo);
+    const WavelengthWork job{sum, wavelength, s, range};
+    if (s.summation == Summation::Psf) return psf_runs(scene, job, nearest, irradiance, progress, memo);
     std::vector<float> points(sum.film.size(), 0.0f);  // irradiance at every film point
     const bool incoherent = s.method == CoherenceMethod::Incoherent;
     const SumPlan plan = plan_sums(s, sum, c, wavelength, nearest, incoherent);
-    if (!incoherent) return random_phase_runs(sum, c, wavelength, s, plan, range, points, irradiance, progress);
+    if (!incoherent) return random_phase_runs(job, c, plan, points, irradiance, progress);
     auto r = incoherent_sum(sum, c, wavelength, plan, points, progress);
     if (r.ok()) average_into_output(points, sum, c, s.overscan, range, irradiance);
     return r;

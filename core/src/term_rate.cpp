@@ -38,7 +38,7 @@ double measured_term_rate(int nthreads, double seconds) {
     const auto start = clock::now();
     double terms = 0, elapsed = 0;
     do {
-        accumulate_film_irradiance(samples, field, film, lambda, 1.0, out.data(), threads);
+        accumulate_film_irradiance({samples, field, film, lambda}, 1.0, out.data(), threads);
         terms += terms_per_pass;
         elapsed = std::chrono::duration<double>(clock::now() - start).count();
     } while (elapsed < seconds);

@@ -163,8 +163,7 @@ int run_share(const ApplyFlags& flags, const std::string& input, const std::stri
     if (const std::string bad = print_aperture_work(in.value.settings.options); !bad.empty()) return fail(bad, 2);
     const DiffractOptions o = run_options(in.value, terminal_progress("apply share " + flags.part), flags.threads);
     OIIO::ImageBuf part;
-    if (auto r = diffract_share(part, in.value.image, input_path, o, settings, k.value.index, k.value.count,
-                                flags.threads);
+    if (auto r = diffract_share(part, in.value.image, o, {input_path, settings}, k.value, flags.threads);
         !r.ok())
         return fail_with(r);
     finish_progress();
@@ -175,11 +174,20 @@ int run_share(const ApplyFlags& flags, const std::string& input, const std::stri
     return 0;
 }
 
+// One frame's files: the render it reads, the image it writes (-o) and the pictures for people
+// (--compare, --png; "" for none).
+struct FrameFiles {
+    const std::string& input;
+    const std::string& output;
+    const std::string& compare;
+    const std::string& png;
+};
+
 // One frame: read, resolve its settings, diffract, write (and the pictures for people). `plan`
 // is kept for the next frame while the settings stay the same (a sequence pays for one PSF table).
 int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, front::Settings& plan_settings,
-              const ProgressFn& progress, const std::string& input, const std::string& output,
-              const std::string& compare, const std::string& png) {
+              const ProgressFn& progress, const FrameFiles& files) {
+    const std::string &input = files.input, &output = files.output, &compare = files.compare, &png = files.png;
     set_interrupt_message("wavecam apply: " + input + ": interrupted");
     if (!flags.part.empty()) return run_share(flags, input, output);
     auto in = read_and_resolve(input, flags.given);
@@ -262,15 +270,15 @@ int run(const ApplyFlags& flags) {
     std::unique_ptr<DiffractPlan> plan;
     front::Settings plan_settings;
     if (flags.frames.empty())
-        return run_frame(flags, plan, plan_settings, terminal_progress("apply"), flags.input, flags.output,
-                         flags.compare, flags.png);
+        return run_frame(flags, plan, plan_settings, terminal_progress("apply"),
+                         {flags.input, flags.output, flags.compare, flags.png});
     // one plan while the frames' settings agree: the PSF table is built once and reused
     auto bar = std::make_shared<ProgressFn>();
     const ProgressFn progress = [bar](double f) { return (*bar)(f); };
     for (size_t f = 0; f < frames.size(); ++f) {
         *bar = terminal_progress("apply frame " + std::to_string(frames[f]));
-        if (const int status = run_frame(flags, plan, plan_settings, progress, lists[0][f], lists[1][f], lists[2][f],
-                                         lists[3][f]);
+        if (const int status = run_frame(flags, plan, plan_settings, progress,
+                                         {lists[0][f], lists[1][f], lists[2][f], lists[3][f]});
             status != 0) {
             // the sequence stops at the first frame that fails: what was done, and what not
             std::fprintf(stderr, "wavecam apply: frames done: %s; failed: %d; not tried: %s\n",

@@ -234,12 +234,29 @@ Result<std::string> submit_array(const fs::path& farm, const FarmFlags& flags, c
     return sbatch((farm / "array.sbatch").string(), opts);
 }
 
-// Records the submission in job.txt: its head, then a line a frame, each followed by its `key`
-// entry (its merge job, or the convolution method's task) where `entry` has one. Then, with --wait,
-// waits for the array and `merge_jobs` and reports.
-int record_and_wait(const fs::path& farm, const FarmFlags& flags, int tasks, const std::string& array_id,
-                    const std::vector<Frame>& frames, const std::string& key, const std::vector<std::string>& entry,
+// The array job submitted: its id ("" when none was) and the tasks a frame it was split into
+// (0: the convolution method's chunks of whole frames).
+struct ArraySubmission {
+    int tasks;
+    const std::string& id;
+};
+
+// Each frame's entry under `key` in job.txt (its merge job, or the convolution method's task);
+// "" where a frame has none.
+struct FrameEntries {
+    const std::string& key;
+    const std::vector<std::string>& entry;
+};
+
+// Records the submission in job.txt: its head, then a line a frame, each followed by its entry
+// where it has one. Then, with --wait, waits for the array and `merge_jobs` and reports.
+int record_and_wait(const fs::path& farm, const FarmFlags& flags, const ArraySubmission& array,
+                    const std::vector<Frame>& frames, const FrameEntries& entries,
                     std::vector<std::string> merge_jobs) {
+    const int tasks = array.tasks;
+    const std::string& array_id = array.id;
+    const std::string& key = entries.key;
+    const std::vector<std::string>& entry = entries.entry;
     std::ostringstream record;
     record << "input=" << absolute(flags.input) << "\noutput=" << absolute(flags.output) << "\ntasks=" << tasks
            << "\narray-job=" << array_id << "\n";
@@ -286,7 +303,7 @@ int submit_fast(const FarmFlags& flags, const front::Settings& settings, std::ve
     if (!id.ok()) return fail(id.error);
     if (tasks > 0) std::printf("farm: submitted array job %s: %zu tasks\n", id.value.c_str(), tasks);
     else std::printf("farm: every frame is made; nothing to compute\n");
-    return record_and_wait(farm, flags, 0, id.value, frames, "task-of", task_of, {});
+    return record_and_wait(farm, flags, {0, id.value}, frames, {"task-of", task_of}, {});
 }
 
 // The frames: one image, or a range of patterns.
@@ -443,7 +460,7 @@ int submit(const FarmFlags& flags) {
         waiting.push_back(id.value);
         std::printf("farm: %s%s: merge job %s\n", f.tag == "image" ? "" : "frame ", f.tag.c_str(), id.value.c_str());
     }
-    return record_and_wait(farm, flags, n, array_id, frames, "merge-job", merge_job, waiting);
+    return record_and_wait(farm, flags, {n, array_id}, frames, {"merge-job", merge_job}, waiting);
 }
 
 }  // namespace

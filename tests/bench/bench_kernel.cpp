@@ -38,7 +38,7 @@ void BM_ExactKernel(benchmark::State& state) {
     const Case& c = the_case();
     std::vector<float> out(c.film.size());
     for (auto _ : state) {
-        accumulate_film_irradiance(c.samples, c.field, c.film, c.lambda, 1.0, out.data());
+        accumulate_film_irradiance({c.samples, c.field, c.film, c.lambda}, 1.0, out.data());
         benchmark::DoNotOptimize(out.data());
     }
     state.counters["terms_per_s"] = benchmark::Counter(c.terms() * state.iterations(), benchmark::Counter::kIsRate);

@@ -43,11 +43,6 @@ PsfParams far_field(const Aperture& ap) {
     return p;
 }
 
-// Film position (x, y) of PSF pixel (i, j), the way PsfImage lays them out.
-void film_xy(const PsfImage& img, int i, int j, double& x, double& y) {
-    film_position(i, j, img.resolution, img.pixel_pitch, img.centre_x, img.centre_y, x, y);
-}
-
 }  // namespace
 
 TEST(ApertureOptics, SquareFarFieldIsSincSquared) {
@@ -59,7 +54,7 @@ TEST(ApertureOptics, SquareFarFieldIsSincSquared) {
     for (int j = 0; j < p.resolution; ++j)
         for (int i = 0; i < p.resolution; ++i) {
             double x, y;
-            film_xy(img.value, i, j, x, y);
+            film_position(img.value, i, j, x, y);
             const double r = std::sqrt(p.film_distance * p.film_distance + x * x + y * y);
             // |F| of a square of side d at spatial frequency (x, y) / (lambda r): d^2 sinc sinc
             const double F = d * d * sinc(d * x / (p.wavelength * r)) * sinc(d * y / (p.wavelength * r));
@@ -105,7 +100,7 @@ TEST(ApertureOptics, PolygonFarFieldMatchesADirectFourierSumOfItsShape) {
     for (int j = 0; j < p.resolution; j += 2)
         for (int i = 0; i < p.resolution; i += 2) {
             double x, y;
-            film_xy(img.value, i, j, x, y);
+            film_position(img.value, i, j, x, y);
             const double r = std::sqrt(p.film_distance * p.film_distance + x * x + y * y);
             // F(u, v) = sum over the open cells of exp(-2 pi i (u xi + v eta)) h^2, (u, v) = (x, y) / (lambda r)
             const double u = x / (p.wavelength * r), v = y / (p.wavelength * r);

@@ -354,7 +354,7 @@ TEST(Shares, EverySplitOfEveryJobShapeMergesToTheSingleRun) {
                 std::vector<wavecam::PartFile> parts;
                 for (int k = 1; k <= n; ++k) {
                     OIIO::ImageBuf part;
-                    auto r = wavecam::diffract_share(part, src, input, opt, settings, k, n, 1);
+                    auto r = wavecam::diffract_share(part, src, opt, {input, settings}, {k, n}, 1);
                     ASSERT_TRUE(r.ok()) << shape << ", share " << k << "/" << n << ": " << r.error;
                     // a name of its own per split (OIIO's image cache knows a name read before)
                     const std::string path = (dir / ("w" + std::to_string(waves) + "r" + std::to_string(runs) + "_" +

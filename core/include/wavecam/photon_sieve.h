@@ -67,11 +67,16 @@ struct DiscMoments {
 };
 DiscMoments disc_in_cell(double cx, double cy, double a, double x0, double x1, double y0, double y1);
 
+// A cell [x0, x1] x [y0, y1] of the aperture plane, metres.
+struct ApertureCell {
+    double x0, x1, y0, y1;
+};
+
 // The sieve of outer radius R in metres: transmission 0/1 at a point, exact open area and
 // centroid over a cell (returns the area), total open area, and the smallest hole's diameter.
 double sieve_transmission(const SieveDesign& design, double outer_radius, double x, double y);
-double sieve_open_area_in_cell(const SieveDesign& design, double outer_radius, double x0, double x1, double y0,
-                               double y1, double& cx, double& cy);
+double sieve_open_area_in_cell(const SieveDesign& design, double outer_radius, const ApertureCell& cell, double& cx,
+                               double& cy);
 double sieve_area(const SieveDesign& design, double outer_radius);
 double sieve_bounding_radius(const SieveDesign& design, double outer_radius);
 double sieve_smallest_hole(const SieveDesign& design, double outer_radius);

@@ -33,13 +33,20 @@ struct FilmPoints {
     size_t size() const { return x.size(); }
 };
 
+// The pinhole's field `field` on its `samples`, re-emitted onto the `film` points at `wavelength`.
+struct FilmPropagation {
+    const ApertureSamples& samples;
+    const PinholeField& field;
+    const FilmPoints& film;
+    double wavelength;
+};
+
 // Rayleigh-Sommerfeld I re-emission (Goodman, Introduction to Fourier Optics, eq. 3-41):
 // U(x) = 1/(i lambda) sum_j U(xi_j) exp(i k r_j) / r_j * cos(theta_j) dA_j, cos(theta_j) = f / r_j,
 // and adds scale * |U(x)|^2 to irradiance[t] for every film point t.
 // Returns false if cancelled through `progress`.
-bool accumulate_film_irradiance(const ApertureSamples& samples, const PinholeField& field,
-                                const FilmPoints& film, double wavelength, double scale,
-                                float* irradiance, int nthreads = 0, const ProgressFn& progress = {});
+bool accumulate_film_irradiance(const FilmPropagation& propagation, double scale, float* irradiance,
+                                int nthreads = 0, const ProgressFn& progress = {});
 
 // The film field U(x) of the sum above (before |U|^2), added to film_field[t].
 bool add_film_field(const ApertureSamples& samples, const PinholeField& field, const FilmPoints& film,

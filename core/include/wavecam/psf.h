@@ -44,10 +44,12 @@ Result<bool> validate(const PsfParams& p);
 // Terms (pinhole samples x film points) a PSF with these parameters costs.
 double psf_terms(const PsfParams& p);
 
-// Film position of pixel (i, j) of an upright image centred on (cx, cy) with the given pitch:
-// column i grows toward the scene's +x, which the pinhole maps to film -x; row j grows
-// downward in the scene, film +y.
-inline void film_position(int i, int j, int n, double pitch, double cx, double cy, double& x, double& y) {
+// Film position of pixel (i, j) of the upright image `img` (img.resolution pixels across,
+// img.pixel_pitch apart, centred on (img.centre_x, img.centre_y)): column i grows toward the
+// scene's +x, which the pinhole maps to film -x; row j grows downward in the scene, film +y.
+inline void film_position(const PsfImage& img, int i, int j, double& x, double& y) {
+    const int n = img.resolution;
+    const double pitch = img.pixel_pitch, cx = img.centre_x, cy = img.centre_y;
     const double c = 0.5 * (n - 1);
     x = cx - (i - c) * pitch;
     y = cy + (j - c) * pitch;

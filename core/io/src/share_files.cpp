@@ -215,12 +215,14 @@ OIIO::ImageSpec part_spec(OIIO::ImageSpec spec, const Share& j, const std::vecto
 
 }  // namespace
 
-Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::string& input_path,
-                            const DiffractOptions& opt, const SettingsText& settings, int index, int count,
-                            int nthreads) {
-    auto share = resolve_share(src, input_path, opt, index, count, nthreads);
-    if (!share.ok()) return Result<bool>::failure(share);
-    Share& j = share.value;
+Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const DiffractOptions& opt,
+                            const JobRecord& job, const WorkShare& share, int nthreads) {
+    const std::string& input_path = job.input_path;
+    const SettingsText& settings = job.settings;
+    const int index = share.index, count = share.count;
+    auto resolved = resolve_share(src, input_path, opt, index, count, nthreads);
+    if (!resolved.ok()) return Result<bool>::failure(resolved);
+    Share& j = resolved.value;
     if (opt.on_estimate) opt.on_estimate(j.job, j.terms);
     std::map<std::string, std::vector<float>> units;
     double done = 0;

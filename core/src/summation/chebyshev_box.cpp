@@ -104,9 +104,11 @@ bool ChebyshevBox::contains(const Parameter& p) const {
     return true;
 }
 
-std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel, int probes, double tolerance,
-                                     int max_rank, int max_nodes, bool economise, int depth) {
-    max_nodes = std::min(max_nodes, 16);
+std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel, int probes,
+                                     const BoxSplitting& splitting, int depth) {
+    const double tolerance = splitting.tolerance;
+    const int max_rank = splitting.max_rank, max_nodes = std::min(splitting.max_nodes, 16);
+    const bool economise = splitting.economise;
     const double per_axis = tolerance / box.dims;
     int widest = 0;
     bool split = false;
@@ -129,8 +131,8 @@ std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel
         const double mid = 0.5 * (box.lo[d] + box.hi[d]);
         a.hi[d] = mid;
         b.lo[d] = mid;
-        std::vector<ChebyshevBox> out = plan_boxes(a, kernel, probes, tolerance, max_rank, max_nodes, economise, depth + 1);
-        for (ChebyshevBox& c : plan_boxes(b, kernel, probes, tolerance, max_rank, max_nodes, economise, depth + 1)) out.push_back(c);
+        std::vector<ChebyshevBox> out = plan_boxes(a, kernel, probes, splitting, depth + 1);
+        for (ChebyshevBox& c : plan_boxes(b, kernel, probes, splitting, depth + 1)) out.push_back(c);
         int total = 0;
         for (const ChebyshevBox& c : out) total += c.rank();
         if (total < best_rank) best = out, best_rank = total;

@@ -30,11 +30,19 @@ struct ChebyshevBox {
 // h(p, xi) for the parameter p and one of the probe points xi (index into the caller's probes).
 using KernelProbe = std::function<std::complex<double>(const Parameter& p, int probe)>;
 
+// What each planned box must meet and how far splitting goes (plan_boxes).
+struct BoxSplitting {
+    double tolerance;
+    int max_rank;
+    int max_nodes = 10;
+    bool economise = true;
+};
+
 // Splits `box` into boxes each interpolating `kernel` to within `tolerance` (max error over the
 // probes along every axis, the other axes at their ends and centre) with at most `max_rank` nodes,
 // at most `max_nodes` per axis: halves the axis needing the most nodes until both bounds hold, and,
 // if `economise`, further where the halves need fewer nodes in all than the whole.
-std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel, int probes, double tolerance,
-                                     int max_rank, int max_nodes = 10, bool economise = true, int depth = 0);
+std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel, int probes,
+                                     const BoxSplitting& splitting, int depth = 0);
 
 }  // namespace wavecam::detail

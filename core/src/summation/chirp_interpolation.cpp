@@ -28,7 +28,7 @@ std::vector<ChebyshevBox> ChirpGeometry::plan(const DirectionRange& r, const std
         [&](const Parameter& p, int i) {
             return cdouble(at(p, pr[i][0], pr[i][1]).remainder(pr[i][2], pr[i][3], k / (2 * M_PI), power()));
         },
-        int(pr.size()), tolerance, kMaxRank, kMaxNodes, false);
+        int(pr.size()), {tolerance, kMaxRank, kMaxNodes, false});
 }
 
 ChirpGeometry chirp_geometry(bool film, double wavelength, double tolerance, const DirectionRange& range) {

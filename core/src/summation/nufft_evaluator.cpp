@@ -225,7 +225,7 @@ bool NufftEvaluator::pass_to_pinhole(const LatticePass& pass, const std::vector<
                 base.resize(in.size());
                 for (size_t i = 0; i < in.size(); ++i) base[i] = b[in[i]] * fr.shift[i];
             }
-            skeleton_coefficients(pass.weights[bi], 3, sk, j0, batch, in.size(), bx.rank(), base.data(), a, nthreads);
+            skeleton_coefficients({pass.weights[bi], 3, in.size(), bx.rank()}, {sk, j0, batch}, base.data(), a, nthreads);
             pass.nufft->to_lattice(fr.fx.data(), fr.fy.data(), a.data(), batch, in.size(), out.data());
             for (int q = 0; q < batch; ++q) {
                 const ChirpAtCentre node = geo_.at(bx.node(sk.rows[j0 + q]), part.cx, part.cy);
@@ -313,7 +313,7 @@ bool NufftEvaluator::pass_to_film(const LatticePass& pass, const PinholeField& f
                             ? w[part.cells[c]] * node.remainder(cell_x(part, S, c, h_), cell_y(part, S, c, h_), 1 / wavelength, 2)
                             : cfloat(0);
         }
-        skeleton_coefficients(pass.weights[bi], 2, sk, j0, batch, in.size(), bx.rank(), nullptr, coeff, nthreads);
+        skeleton_coefficients({pass.weights[bi], 2, in.size(), bx.rank()}, {sk, j0, batch}, nullptr, coeff, nthreads);
         G.resize(in.size());
         pass.nufft->from_lattice(lattices.data(), batch, fr.fx.data(), fr.fy.data(), coeff.data(), in.size(), G.data());
 #pragma omp parallel for schedule(static) num_threads(threads(nthreads))

@@ -27,8 +27,13 @@ void node_sums(const float* L, int nodes, const Eight* tr, const Eight* ti, Eigh
 
 }  // namespace
 
-void skeleton_coefficients(const AxisWeights& aw, int dims, const NodeSkeleton& sk, int j0, int batch, size_t count,
-                           int nodes, const cdouble* factor, std::vector<cfloat>& out, int nthreads) {
+void skeleton_coefficients(const BoxPointWeights& points, const SkeletonBatch& skeleton_batch, const cdouble* factor,
+                           std::vector<cfloat>& out, int nthreads) {
+    const AxisWeights& aw = points.axis;
+    const int dims = points.dims, nodes = points.nodes;
+    const size_t count = points.count;
+    const NodeSkeleton& sk = skeleton_batch.skeleton;
+    const int j0 = skeleton_batch.j0, batch = skeleton_batch.batch;
     const int r = sk.rank();
     std::vector<Eight> re(nodes), im(nodes);
     for (int k = 0; k < nodes; ++k)

@@ -13,10 +13,23 @@ namespace wavecam::detail {
 // computed once per batch, at the memory of this many grids.
 constexpr int kNodeBatch = 8;
 
-// Nodes j0 .. j0 + batch - 1 for `count` points with weights `aw`, times factor[i] if given, into
-// out[i * batch + j - j0].
-void skeleton_coefficients(const AxisWeights& aw, int dims, const NodeSkeleton& sk, int j0, int batch, size_t count,
-                           int nodes, const std::complex<double>* factor, std::vector<std::complex<float>>& out,
-                           int nthreads);
+// A box's points: `count` points' per-axis Lagrange weights `axis` on the box's `nodes` nodes
+// in `dims` dimensions.
+struct BoxPointWeights {
+    const AxisWeights& axis;
+    int dims;
+    size_t count;
+    int nodes;
+};
+
+// Skeleton nodes j0 .. j0 + batch - 1 of `skeleton`.
+struct SkeletonBatch {
+    const NodeSkeleton& skeleton;
+    int j0, batch;
+};
+
+// The batch's nodes for the box's points, times factor[i] if given, into out[i * batch + j - j0].
+void skeleton_coefficients(const BoxPointWeights& points, const SkeletonBatch& skeleton_batch,
+                           const std::complex<double>* factor, std::vector<std::complex<float>>& out, int nthreads);
 
 }  // namespace wavecam::detail

@@ -11,12 +11,24 @@
 namespace wavecam::detail {
 namespace {
 
+// What a sum pairs: its samples on the lattice and off it, and its points (as SumCounts).
+struct SumTerms {
+    double lattice_samples, off_lattice, points;
+};
+
+// A disc of radius a on a lattice of n cells across, pitch h.
+struct DiscLattice {
+    int n;
+    double a, h;
+};
+
 // The nufft evaluator's work for one division into sub-apertures (`discs`, each of bnx x bny
 // cells): per sub-aperture and skeleton node an FFT and a lattice of chirps; per point and
 // sub-aperture its frequency and phase, its skeleton coefficients and each skeleton node's kernel
 // taps; the off-lattice samples direct. Skeleton ranks from the probed sub-apertures.
 SumChoice division_work(const ChirpGeometry& geo, const DirectionRange& range, const std::vector<ProbeDisc>& discs,
-                        int bnx, int bny, double lattice_samples, double off_lattice, double points) {
+                        int bnx, int bny, const SumTerms& terms) {
+    const double lattice_samples = terms.lattice_samples, off_lattice = terms.off_lattice, points = terms.points;
     SumChoice w;
     const std::vector<ChebyshevBox> boxes = geo.plan(range, discs);
     const std::vector<ProbeDisc> probed = probe_discs(discs);
@@ -64,14 +76,15 @@ std::vector<ProbeDisc> disc_division(int n, double a, double h, int blocks) {
 }
 
 // The cheapest division (blocks per side): 1, 2, 4, ... while the work falls.
-SumChoice cheapest_division(const ChirpGeometry& geo, const DirectionRange& range, int n, double a, double h,
-                            double lattice_samples, double off_lattice, double points) {
+SumChoice cheapest_division(const ChirpGeometry& geo, const DirectionRange& range, const DiscLattice& disc,
+                            const SumTerms& terms) {
+    const int n = disc.n;
+    const double a = disc.a, h = disc.h;
     SumChoice best;
     for (int blocks = 1; blocks <= kMaxBlocks; blocks *= 2) {
         const int bn = (n + blocks - 1) / blocks;
         if (blocks > 1 && bn < kMinCellsAcross) break;
-        SumChoice w = division_work(geo, range, disc_division(n, a, h, blocks), bn, bn, lattice_samples, off_lattice,
-                                    points);
+        SumChoice w = division_work(geo, range, disc_division(n, a, h, blocks), bn, bn, terms);
         w.blocks = blocks;
         if (blocks > 1 && w.nufft_work >= best.nufft_work) break;
         best = w;
@@ -106,15 +119,16 @@ SumChoice sum_work(const SumCounts& c) {
     }
     // the rim direct for every point, or the stencil (with the split) where it is cheaper
     const ChirpGeometry geo = chirp_geometry(c.film, c.wavelength, c.tolerance, range);
-    SumChoice f = cheapest_division(geo, range, n, a, h, c.lattice_samples, c.off_lattice, c.points);
+    const DiscLattice disc{n, a, h};
+    SumChoice f = cheapest_division(geo, range, disc, {c.lattice_samples, c.off_lattice, c.points});
     f.stencil = false;
     if (sc.inner > 0) {
-        SumChoice s = cheapest_division(geo, range, n, a, h, c.lattice_samples + c.off_lattice * width, 0.0,
-                                        (1 - outside) * c.points);
+        SumChoice s = cheapest_division(geo, range, disc,
+                                        {c.lattice_samples + c.off_lattice * width, 0.0, (1 - outside) * c.points});
         s.nufft_work += c.off_lattice * width * width * kMacCost;
         if (outside > 0) {
             const SumChoice o =
-                cheapest_division(geo, range, n, a, h, c.lattice_samples, c.off_lattice, outside * c.points);
+                cheapest_division(geo, range, disc, {c.lattice_samples, c.off_lattice, outside * c.points});
             s.nufft_work += o.nufft_work;
             s.nufft_count += o.nufft_count;
         }

@@ -24,12 +24,18 @@ Result<std::string> file_fingerprint(const std::string& path);
 // The fingerprint of a whole job: the input's fingerprint and every setting, 16 hex digits.
 std::string job_fingerprint(const std::string& input_fingerprint, const SettingsText& settings);
 
-// Computes share `index`/`count` of the exact job `diffract(src, opt)` describes into `part`
-// (failures as DiffractPlan::diffract's). `input_path` and `settings` are recorded for the
-// merge; opt.on_estimate hears the share's own terms, opt.max_terms bounds them.
-Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const std::string& input_path,
-                            const DiffractOptions& opt, const SettingsText& settings, int index, int count,
-                            int nthreads = 0);
+// What a part records of its job for the merge: the input file's path and the settings as given.
+struct JobRecord {
+    const std::string& input_path;
+    const SettingsText& settings;
+};
+
+// Computes share share.index/share.count (as parse_share gives it; the units and rows are
+// resolved here) of the exact job `diffract(src, opt)` describes into `part` (failures as
+// DiffractPlan::diffract's). `job` is recorded for the merge; opt.on_estimate hears the share's
+// own terms, opt.max_terms bounds them.
+Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const DiffractOptions& opt,
+                            const JobRecord& job, const WorkShare& share, int nthreads = 0);
 
 struct PartFile {
     std::string path;
