@@ -293,11 +293,9 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
                                                 opt.desaturate_out_of_gamut);
     if (!mapped.ok()) return Fail::failure(mapped);
 
-    // float R, G, B in the output space under the input's names, then its alpha and depth unchanged
-    auto channels = find_render_channels(src.spec(), opt.read);
-    if (!channels.ok()) return Fail::failure(name + ": " + channels.error, channels.kind, channels.field);
-    dst.reset(output_spec(src.spec(), channels.value, opt, f, mapped.value));
-    if (auto w = fill_output(dst, src, channels.value, f.overscan, xyz.data(), alpha.data()); !w.ok())
+    // the radiance layer in the output space and its alpha under the input's names, every other channel as it was
+    dst.reset(output_spec(src.spec(), f.in.channels, opt, f, mapped.value));
+    if (auto w = fill_output(dst, src, f.in.channels, f.overscan, xyz.data(), alpha.data()); !w.ok())
         return Fail::failure(name + ": " + w.error);
     return Fail::success(true);
 }

@@ -193,6 +193,7 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
     RenderInput in;
     in.width = spec.width;
     in.height = spec.height;
+    in.channels = ch;
     in.depth_channel = spec.channelnames[ch.depth];
     in.colour.colorspace = spec.get_string_attribute("oiio:ColorSpace");
     if (const OIIO::ParamValue* c = spec.find_attribute("chromaticities"); c && c->type().basetype == OIIO::TypeDesc::FLOAT &&

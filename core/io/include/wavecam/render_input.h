@@ -31,6 +31,17 @@ struct FrameWindows {
     OIIO::ROI data, display;  // the file's pixel coordinates
 };
 
+// The render's channels (-1 where missing). The radiance layer is chosen as a whole: the layer
+// given, else the only one holding R, G and B, else the unnamed layer, else the one named
+// Combined or beauty; several candidates are refused, naming them. Its A is the alpha. Depth is
+// `depth_channel` in full, else in the radiance layer, else in its view layer ("ViewLayer.Depth.Z"
+// beside "ViewLayer.Combined.R"), else unnamed (render_layers.cpp).
+struct RenderChannels {
+    std::string layer;  // the radiance layer: "" (R, G, B), "beauty", "ViewLayer.Combined"
+    int r = -1, g = -1, b = -1, depth = -1;
+    int alpha = -1;  // "<layer>.A", optional
+};
+
 // What a file's header says about its colour: oiio:ColorSpace, OpenEXR's chromaticities (x, y
 // of red, green, blue and white; empty when absent) and the ACES container flag.
 struct FileColour {
@@ -56,6 +67,7 @@ struct RenderInput {
     std::string fov_from;      // the setting or the attribute it came from
     FileColour colour;         // the radiance's colour space as the file's header gives it
     std::string depth_channel; // the channel actually used
+    RenderChannels channels;   // the file's channels read as the render (their indices in its header)
 
     // The ideal camera the render was made with, its film `film_distance` behind the pinhole.
     PinholeCamera camera(double film_distance) const { return {width, height, fov_h, film_distance}; }
@@ -69,16 +81,8 @@ constexpr const char* kFovAttribute = "wavecam.fov";
 // --depth-scale 1cm writes "0.01m"): the depth-scale setting is then refused.
 constexpr const char* kSceneUnitAttribute = "wavecam.scene-unit";
 
-// The render's channels (-1 where missing). The radiance layer is chosen as a whole: the layer
-// given, else the only one holding R, G and B, else the unnamed layer, else the one named
-// Combined or beauty; several candidates are refused, naming them. Its A is the alpha. Depth is
-// `depth_channel` in full, else in the radiance layer, else in its view layer ("ViewLayer.Depth.Z"
-// beside "ViewLayer.Combined.R"), else unnamed (render_layers.cpp).
-struct RenderChannels {
-    std::string layer;  // the radiance layer: "" (R, G, B), "beauty", "ViewLayer.Combined"
-    int r = -1, g = -1, b = -1, depth = -1;
-    int alpha = -1;  // "<layer>.A", optional
-};
+// The render's channels in a header, as RenderChannels describes them; ambiguous layers or depth
+// channels refused, naming the candidates.
 Result<RenderChannels> find_render_channels(const OIIO::ImageSpec& spec, const RenderReadOptions& opt);
 
 // Finds R, G, B and the depth channel in `image` (exact names first, then a layer prefix such
