@@ -138,8 +138,8 @@ void expect_within(const Comparison& m, const std::string& what) {
 
 }  // namespace
 
-// The convolution method (the default): frames of hundreds of pixels, where one anchor cell of
-// several kernel radii used to span the frame. Cases of one frame (the same camera and pinhole)
+// The convolution method (the default): frames of hundreds of pixels, where an anchor cell of
+// several kernel radii would span the whole frame. Cases of one frame (the same camera and pinhole)
 // are diffracted together, their stars in one image: the frame's kernels cost far more than its
 // stars, and the stars lie tens of Airy radii apart (another star's tail moves a window's figures
 // by 0.2 points at most: the 60 deg, 7.4 px star at 0.7 has its peak -0.57% alone, -0.74% so).
