@@ -15,7 +15,7 @@
 #include "gpu/gpu_convolution.h"
 #include "kernel_basis.h"
 #include "real_fft2d.h"
-#include "summation/summation_cost.h"
+#include "summation/choose.h"
 #include "wavecam/fresnel_psf.h"
 #include "wavecam/psf_convolution.h"
 #include "wavecam/scene_diffraction.h"
@@ -137,9 +137,8 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
     tail.deficit.assign(size_t(g.layers.count) * A * 9, 0.0f);
     // every kernel (sub-point by sub-point, (2R + 1)^2 each): amplitudes, or powers in .real()
     std::vector<std::vector<std::complex<double>>> kernel(size_t(g.layers.count) * A);
-    // one source's sum is direct (a lattice of transforms for one source never pays)
-    SummationSettings one_source = spec.settings;
-    one_source.summation = Summation::Direct;
+    // how the kernels' sums are evaluated (choose.h: one source's directly)
+    const KernelSums sums = kernel_sums(spec);
     const ApertureSamples samples = sample_aperture(spec.aperture, lattice_pitch);
     // The kernels of anchor a, every layer: its pixel (camera coordinates), its kernel's film
     // points as the direct sums place them (n x n per pixel, sub-point by sub-point), the sums.
@@ -161,7 +160,7 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
         if (auto r = to_film.set_points(film); !r.ok()) return r;
         film_scope.fixed_choice = true;  // every anchor's film points count alike: one decision
         film_scope.choice = to_film.choice();
-        SummationSettings to_source = one_source;
+        SummationSettings to_source = sums.to_pinhole;
         to_source.nthreads = settings.nthreads;
         PinholeField field;
         for (int l = 0; l < g.layers.count; ++l) {
@@ -203,13 +202,7 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
     PlanScope film_scope;
     const auto cancelled = [] { return R::failure("cancelled", ErrorKind::Cancelled); };
     const int first = int(g.ay.knots.size() / 2 * g.ax.knots.size() + g.ax.knots.size() / 2);
-    // Beyond kMaxNufftKernelField the film sums are direct: there the nufft evaluator's chirp
-    // plans for the corners' kernels took minutes each (a 24 px frame at 90 deg), far more than
-    // their direct sums over a kernel's few thousand film points.
-    SummationSettings kernel_settings = spec.settings;
-    const int o = spec.overscan;
-    if (c.cos_widest(o, o, c.width - o, c.height - o) < std::cos(kMaxNufftKernelField))
-        kernel_settings.summation = Summation::Direct;
+    const SummationSettings& kernel_settings = sums.to_film;
     if (auto r = anchor_kernels(first, kernel_settings, film_scope); !r.ok()) return R::failure(r);
     if (progress && !progress(1.0 / A)) return cancelled();
     const bool on_cpu = !spec.settings.device.gpu();
@@ -264,9 +257,9 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
             impl->gpu = std::move(made.value);
             g.nx = nx;
             g.ny = ny;
-        } else if (device.setting() == Device::Gpu) {
-            return R::failure("device gpu: " + made.error, made.kind, "device");
-        }  // auto: the runs on the CPU, noted on the device (the output's header names both)
+        } else if (auto off = psf_runs_off_device(device, made.error, made.kind); !off.ok()) {
+            return R::failure(off);
+        }  // else the runs on the CPU, noted on the device (the output's header names both)
     }
     detail::note_run(device, impl->gpu ? kRanOnGpu : kRanOnCpu);
     impl->fft = std::make_unique<ComplexFft2D>(g.nx, g.ny, impl->threads);

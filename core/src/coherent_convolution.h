@@ -63,8 +63,6 @@ constexpr double kMaxLayerPhase = 0.3;
 // of its exact peak at cells of 6 R, 99-101% at 2 R.
 constexpr int kMinAmplitudeCellRadii = 2;
 constexpr int kMaxPsfLayers = 32;
-// Frames whose corners lie beyond this field angle (radians, 45 deg) sum their kernels directly.
-constexpr double kMaxNufftKernelField = M_PI / 4;
 constexpr int kMaxRunsAtOnce = 8;
 
 // Depth layers for amplitude kernels at one wavelength: even in 1/z from the sky (0) to the
@@ -182,17 +180,5 @@ private:
 // diffract_monochrome (scene_diffraction.h) with the job's memo: one job's calls, one at a time.
 Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const ExactSettings& s,
                                  float* irradiance, const ProgressFn& progress, CoherentMemo* memo);
-
-// Work of one convolution in direct terms (summation_plan.h): the kernels' sums (`in` and `out`:
-// the frame's two sums' counts, their points replaced by one source and a kernel's film points),
-// and per run the transforms and products (counted for every kernel: an upper bound, the basis
-// being known only once the kernels are).
-struct CoherentWork {
-    double kernels = 0, per_run = 0;
-};
-CoherentWork coherent_work(const CoherentSpec& spec, SumCounts in, SumCounts out);
-// Bytes a convolution holds at once: the kernels' spectra and a run's sums (on the CPU; a GPU
-// holds the same in its memory, padded to powers of two).
-double coherent_bytes(const CoherentSpec& spec);
 
 }  // namespace wavecam::detail

@@ -5,7 +5,6 @@
 #include <cstdio>
 
 #include "real_fft2d.h"
-#include "summation/summation_cost.h"
 #include "wavecam/fresnel_psf.h"
 #include "wavecam/psf_convolution.h"
 
@@ -97,33 +96,6 @@ double kernel_lattice_pitch(const CoherentSpec& spec, double frame_pitch) {
     const double pitch = std::min(spec.wavelength / (kKernelLatticeMargin * need),
                                   spec.aperture.diameter / kMinSamplesAcross);
     return std::max(frame_pitch, pitch);
-}
-
-CoherentWork coherent_work(const CoherentSpec& spec, SumCounts in, SumCounts out) {
-    const CoherentGeometry g = coherent_geometry(spec);
-    const double side = 2.0 * g.radius + 1, S = double(spec.subsamples) * spec.subsamples;
-    const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxPsfLayers + 1);
-    in.points = 1;
-    out.points = side * side * S;
-    const double N = double(g.nx) * g.ny, transform = kFftCost * N * std::log2(N);
-    CoherentWork w;
-    // (one source to the pinhole: direct, as create sums it)
-    w.kernels =
-        kernels * (choose_sum(in, Summation::Direct).work +
-                   choose_sum(out, Summation::Auto, spec.settings.device.gpu()).work + S * transform);
-    w.per_run = kernels * transform + (kernels + 1) * S * N * kMacCost + S * transform;
-    return w;
-}
-
-double coherent_bytes(const CoherentSpec& spec) {
-    const CoherentGeometry g = coherent_geometry(spec);
-    const double N = double(g.nx) * g.ny, S = double(spec.subsamples) * spec.subsamples;
-    const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxPsfLayers + 1);
-    const double complex_float = 8;
-    // (upper bounds: the basis holds at most every kernel) spectra, and the runs at once' images,
-    // sums and film (runs_at_once: within the spectra's size, one run at least)
-    const double spectra = complex_float * N * kernels * S, run = N * (complex_float * (kernels + S) + sizeof(double));
-    return spectra + std::max(run, std::min(spectra, kMaxRunsAtOnce * run));
 }
 
 }  // namespace wavecam::detail

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "coherent_convolution.h"
+#include "summation/choose.h"
 #include "wavecam/scene_diffraction.h"
 #include "wavecam/summation_plan.h"
 
@@ -55,7 +56,7 @@ struct SceneSum {
 
 // How one run's two sums (or one source's, `single`) are evaluated, and their work in direct
 // terms: sum 1 from the sources to the pinhole, sum 2 to the film, each by the evaluator
-// s.summation asks for (summation_plan.h, choose_sum). Decided from the whole frame's counts, so
+// s.summation asks for (summation/choose.h). Decided from the whole frame's counts, so
 // that every share of a job evaluates its part as the job would; the film's chirps planned over
 // the frame.
 struct SumPlan {

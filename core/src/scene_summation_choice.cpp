@@ -1,10 +1,11 @@
-// Which evaluator each of the exact methods' sums takes, and what a frame's sums cost: the
-// direct and nufft evaluators by their cost model (summation_plan.h, choose_sum), the psf
-// summation by its kernels' and runs' work (coherent_convolution.h).
+// A frame's sums counted for the chooser (summation/choose.h, which decides and prices them):
+// the exact sums' sources, pinhole samples and film points, and the psf summation's kernels on
+// their own lattice; and the estimates the jobs read from its choice.
 #include <algorithm>
 #include <cmath>
 
 #include "scene_sum.h"
+#include "summation/choose.h"
 
 namespace wavecam {
 namespace detail {
@@ -50,14 +51,16 @@ FrameCounts frame_counts(const ExactSettings& s, const SceneSum& sum, double pit
 SumPlan plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
                   double nearest, bool single) {
     const FrameCounts n = frame_counts(s, sum, sum.samples.pitch, c, wavelength, nearest, single);
-    // One source at a time (the incoherent method): forcing the NUFFTs would pay a lattice of FFTs
-    // per source; there the cheaper evaluator stands.
-    const Summation asked = single && s.summation == Summation::Nufft ? Summation::Auto : s.summation;
+    FrameSums frame;
+    frame.in = n.in;
+    frame.out = n.out;
+    frame.single = single;
+    const SummationChoice chosen = choose_summation(frame, {s.summation, false, &s.device, 0});
     SumPlan plan;
-    plan.settings = {asked, s.summation_tolerance, s.nthreads, s.device};
+    plan.settings = {exact_asked(s.summation, single), s.summation_tolerance, s.nthreads, s.device};
     plan.in.fixed_choice = plan.out.fixed_choice = true;
-    plan.in.choice = choose_sum(n.in, asked, s.device.gpu());
-    plan.out.choice = choose_sum(n.out, asked, s.device.gpu());
+    plan.in.choice = chosen.in;
+    plan.out.choice = chosen.out;
     plan.out.fixed_range = true;
     plan.out.range = n.out.range;
     plan.in_work = plan.in.choice.work;
@@ -94,65 +97,97 @@ detail::CoherentWork psf_work(const ExactSettings& s, const SceneSum& sum, const
     return detail::coherent_work(spec, n.in, n.out);
 }
 
+namespace {
+
+// Where the psf summation applies: sources at their pixels' centres (no jitter), an opening of one
+// piece (masks, zone plates and sieves have structure finer than the kernels' lattice), the
+// scene's depths within its layers.
+bool psf_applies(const ExactSettings& s, double nearest, double wavelength) {
+    const ApertureShape shape = s.aperture.shape;
+    const bool one_opening =
+        shape == ApertureShape::Circle || shape == ApertureShape::Square || shape == ApertureShape::Polygon;
+    return !s.jitter && one_opening && !too_deep_for_psf(nearest, s.aperture, wavelength);
+}
+
+// The chooser's view of the settings' share of a frame at `wavelength`, every pixel lit, for
+// s.nearest_depth (NaN counts as all sky): the exact sums (but where psf is asked), psf where
+// asked, or weighed by `auto` where it applies.
+SummationChoice scene_choice(const ExactSettings& s, const PinholeCamera& c, double wavelength,
+                             const ChoiceSettings& asked) {
+    const WorkRange w = work_range(s, c.height);
+    const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
+    const SceneSum sum = scene_sum({c, nullptr, nullptr}, wavelength, s, nearest, w, false);
+    const bool incoherent = s.method == CoherenceMethod::Incoherent;
+    const double runs = w.run_end - w.run_begin;
+    FrameSums frame;
+    if (s.summation != Summation::Psf) {
+        const FrameCounts n = frame_counts(s, sum, sum.samples.pitch, c, wavelength, nearest, incoherent);
+        frame.in = n.in;
+        frame.out = n.out;
+    }
+    frame.single = incoherent;
+    frame.repeats = incoherent ? double(sum.emitters.size()) : runs;
+    // this share's rows: their part of the film's work
+    const int o = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);
+    frame.film_share = double(w.row_end - w.row_begin) / std::max(1, c.height - 2 * o);
+    frame.psf_applies = psf_applies(s, nearest, wavelength);
+    frame.psf_counted = s.summation == Summation::Psf || (asked.weigh_psf && frame.psf_applies);
+    if (frame.psf_counted) {
+        frame.psf = coherent_spec(s, c, wavelength, nearest, sum.subsamples);
+        const double pitch = kernel_lattice_pitch(frame.psf, sum.samples.pitch);
+        const FrameCounts n = frame_counts(s, sum, pitch, c, wavelength, nearest, false);
+        frame.psf_in = n.in;
+        frame.psf_out = n.out;
+        frame.psf_runs = incoherent ? 1.0 : runs;
+    }
+    return choose_summation(frame, asked);
+}
+
+}  // namespace
 }  // namespace detail
 
+using detail::ChoiceSettings;
 using detail::coherent_spec;
-using detail::psf_work;
-using detail::plan_sums;
-using detail::scene_sum;
-using detail::SceneSum;
-using detail::SumPlan;
-using detail::too_deep_for_psf;
-using detail::work_range;
-using detail::WorkRange;
 using detail::film_subsamples;
+using detail::scene_choice;
+using detail::SummationChoice;
 
 Summation chosen_summation(const ExactSettings& asked, const PinholeCamera& c, double wavelength) {
     if (asked.summation != Summation::Auto) return asked.summation;
     const double nearest = std::isnan(asked.nearest_depth) ? INFINITY : asked.nearest_depth;
-    const ApertureShape shape = asked.aperture.shape;
-    const bool one_opening =
-        shape == ApertureShape::Circle || shape == ApertureShape::Square || shape == ApertureShape::Polygon;
-    if (asked.jitter || !one_opening || too_deep_for_psf(nearest, asked.aperture, wavelength)) return Summation::Auto;
+    if (!detail::psf_applies(asked, nearest, wavelength)) return Summation::Auto;
     ExactSettings s = asked;  // the whole job: every row and run
     s.row_begin = s.run_begin = 0;
     s.row_end = s.run_end = -1;
-    const SceneSum sum = scene_sum({c, nullptr, nullptr}, wavelength, s, nearest, work_range(s, c.height), false);
-    const bool incoherent = s.method == CoherenceMethod::Incoherent;
-    const double runs = incoherent ? 1.0 : double(s.runs);
-    const detail::CoherentSpec spec = coherent_spec(s, c, wavelength, nearest, sum.subsamples);
-    const detail::CoherentWork psf =
-        psf_work(s, sum, spec, nearest, detail::kernel_lattice_pitch(spec, sum.samples.pitch));
-    const SumPlan plan = plan_sums(s, sum, c, wavelength, nearest, incoherent);
-    const double exact = (plan.in_work + plan.out_work) * (incoherent ? double(sum.emitters.size()) : runs);
-    return psf.kernels + psf.per_run * runs < exact ? Summation::Psf : Summation::Auto;
+    const SummationChoice chosen = scene_choice(s, c, wavelength, {Summation::Auto, true, &s.device, 0});
+    return chosen.summation == Summation::Psf ? Summation::Psf : Summation::Auto;
+}
+
+SummationEstimate estimate_summation(const ExactSettings& s, const PinholeCamera& camera, double wavelength,
+                                     double term_rate) {
+    const SummationChoice c = scene_choice(s, camera, wavelength, {s.summation, true, &s.device, term_rate});
+    SummationEstimate e;
+    e.summation = c.summation;
+    if (c.summation != Summation::Psf) {
+        const bool in = c.in.evaluator == Evaluator::Nufft, out = c.out.evaluator == Evaluator::Nufft;
+        e.sums = {!in, in, !out, out};
+    }
+    e.gpu = c.gpu;
+    e.terms = c.work;
+    e.seconds = c.seconds;
+    e.bytes = c.bytes;
+    e.reason = c.reason;
+    return e;
 }
 
 EvaluatorSet scene_evaluators(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {
-    const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
-    const SceneSum sum = scene_sum({camera, nullptr, nullptr}, wavelength, s, nearest, work_range(s, camera.height), false);
-    const SumPlan plan = plan_sums(s, sum, camera, wavelength, nearest, s.method == CoherenceMethod::Incoherent);
-    const bool in = plan.in.choice.evaluator == Evaluator::Nufft, out = plan.out.choice.evaluator == Evaluator::Nufft;
+    const SummationChoice c = scene_choice(s, camera, wavelength, {s.summation, false, &s.device, 0});
+    const bool in = c.in.evaluator == Evaluator::Nufft, out = c.out.evaluator == Evaluator::Nufft;
     return {!in, in, !out, out};
 }
 
 double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {
-    const WorkRange w = work_range(s, camera.height);
-    const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
-    const SceneSum sum = scene_sum({camera, nullptr, nullptr}, wavelength, s, nearest, w, false);
-    const bool incoherent = s.method == CoherenceMethod::Incoherent;
-    if (s.summation == Summation::Psf) {  // a share computes every kernel, and the whole frame each run
-        const detail::CoherentSpec spec = coherent_spec(s, camera, wavelength, nearest, sum.subsamples);
-        const detail::CoherentWork cw =
-            psf_work(s, sum, spec, nearest, detail::kernel_lattice_pitch(spec, sum.samples.pitch));
-        return cw.kernels + cw.per_run * (incoherent ? 1 : w.run_end - w.run_begin);
-    }
-    const SumPlan plan = plan_sums(s, sum, camera, wavelength, nearest, incoherent);
-    // this share's rows: their part of the film's work
-    const int o = std::clamp(s.overscan, 0, std::min(camera.width, camera.height) / 2);
-    const double rows = double(w.row_end - w.row_begin) / std::max(1, camera.height - 2 * o);
-    const double work = plan.in_work + plan.out_work * rows;
-    return incoherent ? double(sum.emitters.size()) * work : work * (w.run_end - w.run_begin);
+    return scene_choice(s, camera, wavelength, {s.summation, false, &s.device, 0}).work;
 }
 
 double scene_summation_bytes(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {

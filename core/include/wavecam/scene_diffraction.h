@@ -4,6 +4,7 @@
 #pragma once
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include "wavecam/aperture.h"
 #include "wavecam/summation_plan.h"
 #include "wavecam/pinhole_camera.h"
@@ -94,10 +95,26 @@ double scene_sample_pitch(const ExactSettings& s, const PinholeCamera& camera, d
 // applies — sources at their pixels' centres (no jitter), an opening of one piece (circle, square,
 // polygon), the scene's depths within kMaxPsfLayers amplitude layers — and its work at this
 // wavelength (kernels, then every run) is below the exact sums'; else `auto`, each of the two sums
-// the cheaper of direct and nufft (choose_sum), as diffract_monochrome reads `auto`. Counted for
+// the cheaper of direct and nufft (estimate_summation's chooser), as diffract_monochrome reads `auto`. Counted for
 // the whole job (every run and row, the frame as lit), so every share decides as its job; for
 // s.nearest_depth (NaN counts as all sky). A summation asked by name is returned as it is.
 Summation chosen_summation(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
+
+// What the chooser (core/src/summation/choose.h, the one place evaluators and devices are chosen
+// and priced) makes of the settings' share of a frame at `wavelength`, every pixel lit, for
+// s.nearest_depth (NaN counts as all sky): `auto` weighs psf where it applies against the exact
+// sums (chosen_summation's choice, for the settings' rows and runs). `term_rate` (terms/s,
+// term_rate.h) gives `seconds`; 0 leaves them 0 and says the reason in terms.
+struct SummationEstimate {
+    Summation summation = Summation::Auto;  // psf, direct, nufft, or auto: the two sums differ
+    EvaluatorSet sums;                      // the exact sums' evaluators (none for psf)
+    bool gpu = false;                       // on the settings' device's GPU
+    double terms = 0, seconds = 0;          // work in direct terms, and at term_rate
+    double bytes = 0;                       // what the psf summation holds at once (0 for the exact sums)
+    std::string reason;                     // e.g. "psf: 1.9 s estimated against nufft 6.3 s"
+};
+SummationEstimate estimate_summation(const ExactSettings& s, const PinholeCamera& camera, double wavelength,
+                                     double term_rate = 0);
 
 // The evaluators the two sums take at `wavelength` (s.summation auto, direct or nufft), as the
 // estimate counts the frame (every pixel lit, s.nearest_depth): the job's sums take these where
@@ -106,7 +123,7 @@ EvaluatorSet scene_evaluators(const ExactSettings& s, const PinholeCamera& camer
 
 // Work estimate in direct terms (the time of one term of the direct sums, so that --max-terms
 // and the time printed mean the same for either evaluator): direct, pinhole samples x (sources +
-// film points); nufft, the NUFFTs' and chirps' work (summation_plan.h, choose_sum), each sum by
+// film points); nufft, the NUFFTs' and chirps' work (the chooser's cost model), each sum by
 // the evaluator s.summation picks for it (psf: its kernels and runs); over the runs and rows set,
 // the margin beyond the frame counted as lit, for s.nearest_depth (NaN counts as all sky).
 double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double wavelength);

@@ -2,7 +2,7 @@
 //   create     for one sum (sources -> pinhole samples, or pinhole samples -> film points), a
 //              pinhole lattice and a wavelength;
 //   set_points the points on the far side (source positions, or film points); this commits the
-//              plan to one evaluator, chosen in one place (choose_sum) from one cost model, and
+//              plan to one evaluator, chosen in one place (core/src/summation/choose.h), and
 //              builds what that evaluator keeps (lattice layouts, stencils, chirp interpolation);
 //   execute    as often as the weights change (every run of the random-phase method);
 //   release    (or let the last copy go).
@@ -77,13 +77,20 @@ struct SumCounts {
     double tolerance = kSummationTolerance;
 };
 
-// The one decision: `asked` direct or nufft as asked; auto the cheaper by the cost model, or,
-// `on_gpu`, direct: the one evaluator a GPU has.
+// One sum's evaluator: `asked` direct or nufft as asked; auto the cheaper by the cost model, or,
+// `on_gpu`, direct: the one evaluator a GPU has. Part of the chooser (core/src/summation/choose.h),
+// which holds every cost model and decides for the frame.
 SumChoice choose_sum(const SumCounts& counts, Summation asked, bool on_gpu = false);
 
-// The refusal of the nufft summation on a GPU device (`setting` gpu, or auto that found one):
-// a GPU has no nufft evaluator.
-std::string nufft_on_gpu(Device setting);
+// The device a job opens for its `device` setting and the summation asked (decided with the
+// evaluators, core/src/summation/choose.cpp): `gpu` with nufft is refused (a GPU has no nufft
+// evaluator), `auto` with nufft stays on the CPU and says why.
+struct DeviceChoice {
+    Device open = Device::Cpu;
+    std::string refusal;  // non-empty: the job is refused (setting `summation`)
+    std::string on_cpu;   // `auto` on the CPU: why ("" where a GPU may be used)
+};
+DeviceChoice choose_device(Summation asked, Device setting);
 
 // Which evaluators a job's sums take, by sum.
 struct EvaluatorSet {

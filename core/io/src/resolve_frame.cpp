@@ -244,14 +244,10 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
     if (opt.method == DiffractMethod::Convolution) return R::success(std::move(f));
     // the job's device (compute_device.h): `gpu` runs every sum there or is refused here, `auto`
     // says why it runs on the CPU
-    Device setting = opt.device;
-    std::string on_cpu;
-    if (setting != Device::Cpu && opt.exact.summation == Summation::Nufft) {
-        if (setting == Device::Gpu)
-            return R::failure(name + ": " + nufft_on_gpu(setting), ErrorKind::Invalid, "summation");
-        setting = Device::Cpu;
-        on_cpu = "not used: the nufft summation has no GPU evaluator";
-    }
+    const DeviceChoice chosen = choose_device(opt.exact.summation, opt.device);
+    if (!chosen.refusal.empty()) return R::failure(name + ": " + chosen.refusal, ErrorKind::Invalid, "summation");
+    const Device setting = chosen.open;
+    std::string on_cpu = chosen.on_cpu;
     const ComputeDevice device = ComputeDevice::create(setting);
     if (!device.ok()) return R::failure(name + ": device gpu: " + device.error(), ErrorKind::Failed, "device");
     if (setting == Device::Auto && !device.gpu()) on_cpu = "none usable: " + device.error();

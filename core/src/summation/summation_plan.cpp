@@ -1,4 +1,4 @@
-// The exact sums' plans (summation_plan.h): the one place an evaluator is chosen.
+// The exact sums' plans (summation_plan.h): committed to the evaluator the chooser (choose.h) picks.
 #include "wavecam/summation_plan.h"
 
 #include <cmath>
@@ -6,7 +6,7 @@
 #include "gpu/compute_device_impl.h"
 #include "lattice_layout.h"
 #include "sum_evaluator.h"
-#include "summation_cost.h"
+#include "choose.h"
 
 namespace wavecam {
 
@@ -15,26 +15,6 @@ const char* summation_word(Summation s) {
 }
 
 const char* evaluator_word(Evaluator e) { return e == Evaluator::Nufft ? "nufft" : "direct"; }
-
-SumChoice choose_sum(const SumCounts& counts, Summation asked, bool on_gpu) {
-    if (on_gpu && asked == Summation::Auto) asked = Summation::Direct;
-    SumChoice c;
-    if (asked == Summation::Direct) {
-        c.direct_work = c.nufft_work = (counts.lattice_samples + counts.off_lattice) * counts.points;
-    } else {
-        c = detail::sum_work(counts);
-    }
-    const bool nufft = asked == Summation::Nufft || (asked == Summation::Auto && c.nufft_work < c.direct_work);
-    c.evaluator = nufft ? Evaluator::Nufft : Evaluator::Direct;
-    c.work = nufft ? c.nufft_work : c.direct_work;
-    return c;
-}
-
-std::string nufft_on_gpu(Device setting) {
-    return std::string("device ") + device_word(setting) +
-           ": the nufft summation has no GPU evaluator; expected summation direct, psf or auto, or device " +
-           (setting == Device::Gpu ? "auto or cpu" : "cpu");
-}
 
 void EvaluatorSet::add(const EvaluatorSet& o) {
     direct_to_pinhole |= o.direct_to_pinhole;
@@ -125,19 +105,18 @@ struct SummationPlan::Impl {
         return r;
     }
 
-    // Commit: the evaluator chosen (or the job's, for a share) and built for the points; the
-    // direct terms on the settings' device. A GPU runs the direct terms alone: nufft is refused
-    // there (auto takes direct, choose_sum).
+    // Commit: the evaluator chosen (choose.h; or the job's, for a share) and built for the
+    // points; the direct terms on the settings' device (a GPU runs the direct terms alone).
     Result<bool> commit() {
         const bool empty = points() == 0 || samples.size() == 0;
         const ComputeDevice& device = settings.device;
-        if (!device.ok()) return Result<bool>::failure("device gpu: " + device.error(), ErrorKind::Failed, "device");
-        if (scope.fixed_choice) choice = scope.choice;
-        else if (empty) choice = choose_sum(SumCounts{}, Summation::Direct);
-        else choice = choose_sum(counts(range()), settings.summation, device.gpu());
-        if (device.gpu() && choice.evaluator == Evaluator::Nufft && !empty)
-            return Result<bool>::failure(nufft_on_gpu(device.setting()), ErrorKind::Invalid, "summation");
-        choice.gpu = device.gpu() && !empty;
+        // (counted only where the chooser weighs them: not for the job's choice, nor no points)
+        const bool weighed = !empty && !scope.fixed_choice;
+        const SumCounts n = weighed ? counts(range()) : SumCounts{};
+        auto chosen = detail::choose_plan_sum(
+            {&n, empty, settings.summation, scope.fixed_choice ? &scope.choice : nullptr}, device);
+        if (!chosen.ok()) return Result<bool>::failure(chosen);
+        choice = chosen.value;
         const detail::SumGeometry g{kind, &samples, wavelength, settings, scope, &sources, &film};
         if (choice.evaluator == Evaluator::Nufft && !empty) {
             evaluator = detail::make_nufft_evaluator(g, choice);

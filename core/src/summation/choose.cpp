@@ -1,0 +1,320 @@
+// The one chooser (choose.h): the exact sums' cost model, the psf summation's cost and memory,
+// the devices, and the frame's choice between them.
+#include "choose.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "chirp_interpolation.h"
+#include "coherent_geometry.h"
+#include "lattice_nufft.h"
+#include "stencil_choice.h"
+
+namespace wavecam {
+
+SumChoice choose_sum(const SumCounts& counts, Summation asked, bool on_gpu) {
+    if (on_gpu && asked == Summation::Auto) asked = Summation::Direct;
+    SumChoice c;
+    if (asked == Summation::Direct) {
+        c.direct_work = c.nufft_work = (counts.lattice_samples + counts.off_lattice) * counts.points;
+    } else {
+        c = detail::sum_work(counts);
+    }
+    const bool nufft = asked == Summation::Nufft || (asked == Summation::Auto && c.nufft_work < c.direct_work);
+    c.evaluator = nufft ? Evaluator::Nufft : Evaluator::Direct;
+    c.work = nufft ? c.nufft_work : c.direct_work;
+    return c;
+}
+
+namespace detail {
+namespace {
+
+// What a sum pairs: its samples on the lattice and off it, and its points (as SumCounts).
+struct SumTerms {
+    double lattice_samples, off_lattice, points;
+};
+
+// A disc of radius a on a lattice of n cells across, pitch h.
+struct DiscLattice {
+    int n;
+    double a, h;
+};
+
+// The nufft evaluator's work for one division into sub-apertures (`discs`, each of bnx x bny
+// cells): per sub-aperture and skeleton node an FFT and a lattice of chirps; per point and
+// sub-aperture its frequency and phase, its skeleton coefficients and each skeleton node's kernel
+// taps; the off-lattice samples direct. Skeleton ranks from the probed sub-apertures.
+SumChoice division_work(const ChirpGeometry& geo, const DirectionRange& range, const std::vector<ProbeDisc>& discs,
+                        int bnx, int bny, const SumTerms& terms) {
+    const double lattice_samples = terms.lattice_samples, off_lattice = terms.off_lattice, points = terms.points;
+    SumChoice w;
+    const std::vector<ChebyshevBox> boxes = geo.plan(range, discs);
+    const std::vector<ProbeDisc> probed = probe_discs(discs);
+    const LatticeNufft nufft(bnx, bny, geo.tolerance, 1);
+    const double parts = double(discs.size()), dims = geo.dims();
+    // each point meets one box (in proportion to its volume): its skeleton's taps and coefficients
+    double transforms = 0, point_work = 0, volume = 0;
+    for (const ChebyshevBox& b : boxes) {
+        double v = 1, rank = 0;
+        for (int d = 0; d < b.dims; ++d) v *= std::max(b.hi[d] - b.lo[d], 1e-12);
+        for (const ProbeDisc& d : probed) rank += box_skeleton(geo, b, d).rank();
+        rank /= double(probed.size());
+        volume += v;
+        point_work += v * (rank * kTapCost * nufft.taps_per_point() + b.rank() * (rank + dims) * kMacCost);
+        transforms += rank;
+    }
+    w.nufft_count = int(std::lround(transforms * parts));
+    w.nufft_work = transforms * (parts * kFftCost * nufft.fft_work() + kChirpCost * lattice_samples) +
+                   points * parts * (point_work / volume + 2 * kChirpCost) + off_lattice * points;
+    return w;
+}
+
+// Sub-apertures of a disc of radius a on a lattice of n cells across, pitch h: those whose square
+// meets the disc, reaching half their diagonal and a cell.
+std::vector<ProbeDisc> disc_division(int n, double a, double h, int blocks) {
+    std::vector<ProbeDisc> d;
+    const int bn = (n + blocks - 1) / blocks;
+    const double side = bn * h;
+    for (int by = 0; by < blocks; ++by)
+        for (int bx = 0; bx < blocks; ++bx) {
+            const double x0 = -a - 0.5 * h + bx * side, y0 = -a - 0.5 * h + by * side;
+            const double nxp = std::clamp(0.0, x0, x0 + side), nyp = std::clamp(0.0, y0, y0 + side);
+            if (std::hypot(nxp, nyp) > a) continue;
+            // reach: the farthest of a 9 x 9 grid over the square that lies in the disc
+            const double cx = x0 + 0.5 * side, cy = y0 + 0.5 * side;
+            double reach = 0;
+            for (int j = 0; j <= 8; ++j)
+                for (int i = 0; i <= 8; ++i) {
+                    const double x = x0 + side * i / 8, y = y0 + side * j / 8;
+                    if (std::hypot(x, y) <= a + h) reach = std::max(reach, std::hypot(x - cx, y - cy));
+                }
+            d.push_back({cx, cy, reach + h});
+        }
+    return d;
+}
+
+// The cheapest division (blocks per side): 1, 2, 4, ... while the work falls.
+SumChoice cheapest_division(const ChirpGeometry& geo, const DirectionRange& range, const DiscLattice& disc,
+                            const SumTerms& terms) {
+    const int n = disc.n;
+    const double a = disc.a, h = disc.h;
+    SumChoice best;
+    for (int blocks = 1; blocks <= kMaxBlocks; blocks *= 2) {
+        const int bn = (n + blocks - 1) / blocks;
+        if (blocks > 1 && bn < kMinCellsAcross) break;
+        SumChoice w = division_work(geo, range, disc_division(n, a, h, blocks), bn, bn, terms);
+        w.blocks = blocks;
+        if (blocks > 1 && w.nufft_work >= best.nufft_work) break;
+        best = w;
+    }
+    return best;
+}
+
+}  // namespace
+
+SumChoice sum_work(const SumCounts& c) {
+    const double direct = (c.lattice_samples + c.off_lattice) * c.points;
+    if (c.lattice_samples <= 0 || c.samples_across < 1) {
+        SumChoice w;
+        w.direct_work = w.nufft_work = direct;
+        return w;
+    }
+    const int n = c.samples_across;
+    const double a = c.aperture_radius, h = 2 * a / std::max(1, n - 1);
+    const DirectionRange& range = c.range;
+    // off-lattice samples through the stencil where the band allows: their stencils' cells join
+    // the lattice (about one row of `width` per rim sample), their spreading costs little; points
+    // beyond its reach (as a share of the range's area) take them directly, with transforms of
+    // their own
+    const StencilChoice sc =
+        choose_stencil(range, 2 * M_PI / c.wavelength, h, a, c.lattice_samples, c.off_lattice, c.tolerance);
+    const double width = sc.stencil.width();
+    double outside = 1;
+    if (sc.inner > 0) {
+        const double sx = std::max(std::fabs(range.ux0), std::fabs(range.ux1)),
+                     sy = std::max(std::fabs(range.uy0), std::fabs(range.uy1));
+        outside = 1 - std::min(1.0, sc.inner / std::max(sx, 1e-12)) * std::min(1.0, sc.inner / std::max(sy, 1e-12));
+    }
+    // the rim direct for every point, or the stencil (with the split) where it is cheaper
+    const ChirpGeometry geo = chirp_geometry(c.film, c.wavelength, c.tolerance, range);
+    const DiscLattice disc{n, a, h};
+    SumChoice f = cheapest_division(geo, range, disc, {c.lattice_samples, c.off_lattice, c.points});
+    f.stencil = false;
+    if (sc.inner > 0) {
+        SumChoice s = cheapest_division(geo, range, disc,
+                                        {c.lattice_samples + c.off_lattice * width, 0.0, (1 - outside) * c.points});
+        s.nufft_work += c.off_lattice * width * width * kMacCost;
+        if (outside > 0) {
+            const SumChoice o =
+                cheapest_division(geo, range, disc, {c.lattice_samples, c.off_lattice, outside * c.points});
+            s.nufft_work += o.nufft_work;
+            s.nufft_count += o.nufft_count;
+        }
+        s.stencil = true;
+        if (s.nufft_work < f.nufft_work) f = s;
+    }
+    f.direct_work = direct;
+    return f;
+}
+
+
+KernelSums kernel_sums(const CoherentSpec& spec) {
+    KernelSums k;
+    k.to_pinhole = k.to_film = spec.settings;
+    k.to_pinhole.summation = Summation::Direct;
+    const PinholeCamera& c = spec.camera;
+    const int o = spec.overscan;
+    if (c.cos_widest(o, o, c.width - o, c.height - o) < std::cos(kMaxNufftKernelField))
+        k.to_film.summation = Summation::Direct;
+    return k;
+}
+
+CoherentWork coherent_work(const CoherentSpec& spec, SumCounts in, SumCounts out) {
+    const CoherentGeometry g = coherent_geometry(spec);
+    const double side = 2.0 * g.radius + 1, S = double(spec.subsamples) * spec.subsamples;
+    const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxPsfLayers + 1);
+    in.points = 1;
+    out.points = side * side * S;
+    const double N = double(g.nx) * g.ny, transform = kFftCost * N * std::log2(N);
+    const KernelSums sums = kernel_sums(spec);
+    CoherentWork w;
+    w.kernels = kernels * (choose_sum(in, sums.to_pinhole.summation).work +
+                           choose_sum(out, sums.to_film.summation, spec.settings.device.gpu()).work + S * transform);
+    w.per_run = kernels * transform + (kernels + 1) * S * N * kMacCost + S * transform;
+    return w;
+}
+
+double coherent_bytes(const CoherentSpec& spec) {
+    const CoherentGeometry g = coherent_geometry(spec);
+    const double N = double(g.nx) * g.ny, S = double(spec.subsamples) * spec.subsamples;
+    const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxPsfLayers + 1);
+    const double complex_float = 8;
+    // (upper bounds: the basis holds at most every kernel) spectra, and the runs at once' images,
+    // sums and film (runs_at_once: within the spectra's size, one run at least)
+    const double spectra = complex_float * N * kernels * S, run = N * (complex_float * (kernels + S) + sizeof(double));
+    return spectra + std::max(run, std::min(spectra, kMaxRunsAtOnce * run));
+}
+
+namespace {
+
+// The refusal of the nufft summation on a GPU device (`setting` gpu, or auto that found one).
+std::string nufft_on_gpu(Device setting) {
+    return std::string("device ") + device_word(setting) +
+           ": the nufft summation has no GPU evaluator; expected summation direct, psf or auto, or device " +
+           (setting == Device::Gpu ? "auto or cpu" : "cpu");
+}
+
+}  // namespace
+
+}  // namespace detail
+
+DeviceChoice choose_device(Summation asked, Device setting) {
+    DeviceChoice d;
+    d.open = setting;
+    if (setting == Device::Cpu || asked != Summation::Nufft) return d;
+    if (setting == Device::Gpu) {
+        d.refusal = detail::nufft_on_gpu(setting);
+    } else {
+        d.open = Device::Cpu;
+        d.on_cpu = "not used: the nufft summation has no GPU evaluator";
+    }
+    return d;
+}
+
+namespace detail {
+
+Result<SumChoice> choose_plan_sum(const PlanSumQuery& q, const ComputeDevice& device) {
+    using R = Result<SumChoice>;
+    if (!device.ok()) return R::failure("device gpu: " + device.error(), ErrorKind::Failed, "device");
+    const bool empty = q.empty;
+    SumChoice c = q.fixed    ? *q.fixed
+                  : empty    ? choose_sum(SumCounts{}, Summation::Direct)
+                             : choose_sum(*q.counts, q.asked, device.gpu());
+    // a GPU runs the direct terms alone (auto takes them there, choose_sum)
+    if (device.gpu() && c.evaluator == Evaluator::Nufft && !empty)
+        return R::failure(nufft_on_gpu(device.setting()), ErrorKind::Invalid, "summation");
+    c.gpu = device.gpu() && !empty;
+    return R::success(c);
+}
+
+Result<bool> psf_runs_off_device(const ComputeDevice& device, const std::string& why, ErrorKind kind) {
+    if (device.setting() == Device::Gpu) return Result<bool>::failure("device gpu: " + why, kind, "device");
+    return Result<bool>::success(true);  // auto: the runs on the CPU (the device notes both)
+}
+
+namespace {
+
+// An estimate in words: seconds at the measured rate, or direct terms without one.
+std::string amount(double work, double rate) {
+    char s[48];
+    if (rate > 0) std::snprintf(s, sizeof s, "%.2g s", work / rate);
+    else std::snprintf(s, sizeof s, "%.3g terms", work);
+    return s;
+}
+
+// The exact sums' evaluators in words, as the header names them (summation_plan.h).
+std::string exact_words(const SumChoice& in, const SumChoice& out) {
+    const bool nin = in.evaluator == Evaluator::Nufft, nout = out.evaluator == Evaluator::Nufft;
+    return EvaluatorSet{!nin, nin, !nout, nout}.words();
+}
+
+}  // namespace
+
+Summation exact_asked(Summation asked, bool single) {
+    return single && asked == Summation::Nufft ? Summation::Auto : asked;
+}
+
+SummationChoice choose_summation(const FrameSums& f, const ChoiceSettings& cs) {
+    static const ComputeDevice cpu;
+    const ComputeDevice& device = cs.device ? *cs.device : cpu;
+    const bool gpu = device.gpu();
+    SummationChoice c;
+    c.gpu = gpu;
+    const double rate = cs.term_rate;
+    // the exact sums, each the cheaper where auto (direct on a GPU)
+    double exact = 0, all_direct = 0, all_nufft = 0;
+    if (cs.asked != Summation::Psf) {
+        const Summation asked = exact_asked(cs.asked, f.single);
+        c.in = choose_sum(f.in, asked, gpu);
+        c.out = choose_sum(f.out, asked, gpu);
+        exact = (c.in.work + c.out.work * f.film_share) * f.repeats;
+        all_direct = (c.in.direct_work + c.out.direct_work * f.film_share) * f.repeats;
+        all_nufft = (c.in.nufft_work + c.out.nufft_work * f.film_share) * f.repeats;
+    }
+    // the psf summation: its kernels, then every run
+    if (f.psf_counted) c.psf = coherent_work(f.psf, f.psf_in, f.psf_out);
+    const double psf = c.psf.kernels + c.psf.per_run * f.psf_runs;
+    const bool weighed = cs.asked == Summation::Auto && cs.weigh_psf && f.psf_applies && f.psf_counted;
+    const bool take_psf = cs.asked == Summation::Psf || (weighed && psf < exact);
+    const std::string words = exact_words(c.in, c.out);
+    if (take_psf) {
+        c.summation = Summation::Psf;
+        c.work = psf;
+        c.bytes = coherent_bytes(f.psf);
+    } else {
+        c.summation = c.in.evaluator != c.out.evaluator ? Summation::Auto
+                      : c.in.evaluator == Evaluator::Nufft ? Summation::Nufft
+                                                           : Summation::Direct;
+        c.work = exact;
+    }
+    c.seconds = rate > 0 ? c.work / rate : 0;
+    const std::string on = gpu ? " on the GPU" : "";
+    if (cs.asked != Summation::Auto) {
+        c.reason = std::string(take_psf ? "psf" : words) + on + ": asked, " + amount(c.work, rate) + " estimated";
+    } else if (weighed) {
+        c.reason = take_psf ? "psf" + on + ": " + amount(psf, rate) + " estimated against " + words + " " +
+                                  amount(exact, rate)
+                            : words + on + ": " + amount(exact, rate) + " estimated against psf " + amount(psf, rate);
+    } else if (gpu) {
+        c.reason = "direct on the GPU (its one exact evaluator): " + amount(exact, rate) + " estimated";
+    } else {
+        const bool nufft = c.summation == Summation::Nufft;
+        c.reason = words + ": " + amount(exact, rate) + " estimated against " + (nufft ? "direct " : "nufft ") +
+                   amount(nufft ? all_direct : all_nufft, rate);
+    }
+    return c;
+}
+
+}  // namespace detail
+}  // namespace wavecam
