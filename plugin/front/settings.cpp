@@ -45,9 +45,9 @@ Ok copy_text(const std::string& v, std::string& dst) {
     return Ok::success(true);
 }
 
-template <class E>
-Ok parse_choice(const std::string& name, const std::string& v, std::initializer_list<std::pair<const char*, E>> choices,
-                E& dst) {
+// `choices`: a braced list of (word, value), or any such range (summation_choices).
+template <class E, class Choices = std::initializer_list<std::pair<const char*, E>>>
+Ok parse_choice(const std::string& name, const std::string& v, const Choices& choices, E& dst) {
     std::string list;
     for (const auto& [word, value] : choices) {
         if (v == word) {
@@ -144,11 +144,7 @@ const std::vector<SettingKey> kKeys = {
      "sums compute at field anchors and depth layers; sources at pixel centres)",
      true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return parse_choice(n, v, {{"auto", Summation::Auto},
-                                    {"direct", Summation::Direct},
-                                    {"nufft", Summation::Nufft},
-                                    {"psf", Summation::Psf}},
-                             o.exact.summation);
+         return parse_choice(n, v, summation_choices(), o.exact.summation);  // the evaluators' table's words
      }},
     {"device", "gpu", "where the random-phase and incoherent methods run their direct sums and psf runs: cpu (default), gpu "
      "(a Vulkan device, a discrete GPU first, running every sum; an error if there is none, and for summation nufft, "

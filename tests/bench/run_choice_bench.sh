@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The chooser's estimates against the time each evaluator takes (bench_summation_choice.cpp):
 # per case and summation, the estimate, the measured time, their ratio (measured / estimated;
-# goal: within 2 either way) and the chooser's reason. About 3 minutes on 2 cores.
+# goal: within 2 either way) and the chooser's reason. About 5 minutes on 2 cores.
 # Usage: tests/bench/run_choice_bench.sh [build-dir]
 set -euo pipefail
 build=${1:-build}

@@ -17,6 +17,7 @@
 #include <complex>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 #include "wavecam/aperture.h"
 #include "wavecam/compute_device.h"
@@ -32,6 +33,9 @@ namespace wavecam {
 // anchors and depth layers (scene_diffraction.h; its plans then take `auto`).
 enum class Summation { Auto, Direct, Nufft, Psf };
 const char* summation_word(Summation s);  // "auto", "direct", "nufft", "psf"
+// Every word the `summation` setting takes with its value: `auto`, then each evaluator's, from
+// the evaluators' table (core/src/summation/evaluator_table.cpp).
+std::vector<std::pair<const char*, Summation>> summation_choices();
 
 // What a committed plan runs.
 enum class Evaluator { Direct, Nufft };

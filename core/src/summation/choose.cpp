@@ -10,6 +10,7 @@
 #include "coherent_geometry.h"
 #include "lattice_nufft.h"
 #include "stencil_choice.h"
+#include "summation_evaluator.h"
 
 namespace wavecam {
 
@@ -198,12 +199,19 @@ double coherent_bytes(const CoherentSpec& spec) {
 
 namespace {
 
-// The refusal of the nufft summation on a GPU device (`setting` gpu, or auto that found one).
-std::string nufft_on_gpu(Device setting) {
-    return std::string("device ") + device_word(setting) +
-           ": the nufft summation has no GPU evaluator; expected summation direct, psf or auto, or device " +
-           (setting == Device::Gpu ? "auto or cpu" : "cpu");
+// The refusal of a summation that has no GPU evaluator on a GPU device (`setting` gpu, or auto
+// that found one), naming those that have one (the evaluators' table).
+std::string no_gpu_evaluator(Summation asked, Device setting) {
+    std::string on_gpu;
+    for (const EvaluatorRow& row : kEvaluators)
+        if (row.devices & kOnGpu) on_gpu += std::string(row.word) + ", ";
+    return std::string("device ") + device_word(setting) + ": the " + summation_word(asked) +
+           " summation has no GPU evaluator; expected summation " + on_gpu.substr(0, on_gpu.size() - 2) +
+           " or auto, or device " + (setting == Device::Gpu ? "auto or cpu" : "cpu");
 }
+
+// Whether the evaluator `asked` runs on a GPU (auto: what the device runs).
+bool runs_on_gpu(Summation asked) { return asked == Summation::Auto || (evaluator_row(asked).devices & kOnGpu); }
 
 }  // namespace
 
@@ -212,12 +220,12 @@ std::string nufft_on_gpu(Device setting) {
 DeviceChoice choose_device(Summation asked, Device setting) {
     DeviceChoice d;
     d.open = setting;
-    if (setting == Device::Cpu || asked != Summation::Nufft) return d;
+    if (setting == Device::Cpu || detail::runs_on_gpu(asked)) return d;
     if (setting == Device::Gpu) {
-        d.refusal = detail::nufft_on_gpu(setting);
+        d.refusal = detail::no_gpu_evaluator(asked, setting);
     } else {
         d.open = Device::Cpu;
-        d.on_cpu = "not used: the nufft summation has no GPU evaluator";
+        d.on_cpu = std::string("not used: the ") + summation_word(asked) + " summation has no GPU evaluator";
     }
     return d;
 }
@@ -231,9 +239,10 @@ Result<SumChoice> choose_plan_sum(const PlanSumQuery& q, const ComputeDevice& de
     SumChoice c = q.fixed    ? *q.fixed
                   : empty    ? choose_sum(SumCounts{}, Summation::Direct)
                              : choose_sum(*q.counts, q.asked, device.gpu());
-    // a GPU runs the direct terms alone (auto takes them there, choose_sum)
-    if (device.gpu() && c.evaluator == Evaluator::Nufft && !empty)
-        return R::failure(nufft_on_gpu(device.setting()), ErrorKind::Invalid, "summation");
+    // a GPU runs the evaluators whose rows say so (auto takes the direct terms there, choose_sum)
+    const Summation runs = summation_of(c.evaluator);
+    if (device.gpu() && !empty && !runs_on_gpu(runs))
+        return R::failure(no_gpu_evaluator(runs, device.setting()), ErrorKind::Invalid, "summation");
     c.gpu = device.gpu() && !empty;
     return R::success(c);
 }
@@ -314,6 +323,22 @@ SummationChoice choose_summation(const FrameSums& f, const ChoiceSettings& cs) {
                    amount(nufft ? all_direct : all_nufft, rate);
     }
     return c;
+}
+
+double direct_cost(const FrameSums& f, const ChoiceSettings&) {
+    return (choose_sum(f.in, Summation::Direct).work + choose_sum(f.out, Summation::Direct).work * f.film_share) *
+           f.repeats;
+}
+
+double nufft_cost(const FrameSums& f, const ChoiceSettings&) {
+    const Summation asked = exact_asked(Summation::Nufft, f.single);
+    return (choose_sum(f.in, asked).work + choose_sum(f.out, asked).work * f.film_share) * f.repeats;
+}
+
+double psf_cost(const FrameSums& f, const ChoiceSettings&) {
+    if (!f.psf_counted) return INFINITY;
+    const CoherentWork w = coherent_work(f.psf, f.psf_in, f.psf_out);
+    return w.kernels + w.per_run * f.psf_runs;
 }
 
 }  // namespace detail

@@ -122,4 +122,11 @@ struct SummationChoice {
 };
 SummationChoice choose_summation(const FrameSums& frame, const ChoiceSettings& settings);
 
+// Each evaluator's work for the whole frame in direct terms, every sum by it (the evaluators'
+// table's cost column, summation_evaluator.h): direct; nufft (one source at a time the cheaper,
+// exact_asked); psf (infinite where the frame's psf counts are not set).
+double direct_cost(const FrameSums& frame, const ChoiceSettings& settings);
+double nufft_cost(const FrameSums& frame, const ChoiceSettings& settings);
+double psf_cost(const FrameSums& frame, const ChoiceSettings& settings);
+
 }  // namespace wavecam::detail

@@ -5,14 +5,10 @@
 
 #include "gpu/compute_device_impl.h"
 #include "lattice_layout.h"
-#include "sum_evaluator.h"
+#include "summation_evaluator.h"
 #include "choose.h"
 
 namespace wavecam {
-
-const char* summation_word(Summation s) {
-    return s == Summation::Direct ? "direct" : s == Summation::Nufft ? "nufft" : s == Summation::Psf ? "psf" : "auto";
-}
 
 const char* evaluator_word(Evaluator e) { return e == Evaluator::Nufft ? "nufft" : "direct"; }
 
@@ -118,13 +114,9 @@ struct SummationPlan::Impl {
         if (!chosen.ok()) return Result<bool>::failure(chosen);
         choice = chosen.value;
         const detail::SumGeometry g{kind, &samples, wavelength, settings, scope, &sources, &film};
-        if (choice.evaluator == Evaluator::Nufft && !empty) {
-            evaluator = detail::make_nufft_evaluator(g, choice);
-        } else if (choice.gpu) {
-            evaluator = detail::make_gpu_direct_evaluator(g);
-        } else {
-            evaluator = detail::make_direct_evaluator(g);
-        }
+        // its evaluator from the evaluators' table (no points: the direct terms, none of them)
+        const Summation runs = empty ? Summation::Direct : detail::summation_of(choice.evaluator);
+        evaluator = detail::evaluator_row(runs).create_sum(g, choice);
         if (!empty) detail::note_run(device, run_bits(kind, choice));
         return Result<bool>::success(true);
     }

@@ -1,0 +1,87 @@
+// Every evaluator of a frame's runs behind one interface, and the table that creates them.
+//
+// An evaluator runs one wavelength's frame (the exact methods' random-phase runs or incoherent
+// sum), explicitly, in the manner of FINUFFT's plans and Embree's objects:
+//   create      a row's `create`, for the frame (scene, its sources and film points, settings,
+//               the share's rows and runs);
+//   set_points  the frame's sources and film points fixed: the plans committed (direct, nufft)
+//               or the kernels computed (psf);
+//   execute     a batch of runs, each added to the output on its own (a job is the sum of its
+//               shares to the bit);
+//   release     destroying it (`reset()` of its unique_ptr).
+//
+// The creation table, kEvaluators, is the one list of evaluators: one row each, its word (the
+// `summation` setting's value), the devices it runs on, its create functions and its cost
+// function (choose.h). Adding an evaluator (a CUDA one, say) is one new file that implements
+// SummationEvaluator (or, for one sum, SumEvaluator) and one row. The command line's words for
+// `summation` come from it (summation_choices, summation_plan.h), `auto` added. Internal to core.
+#pragma once
+#include <cmath>
+#include <memory>
+
+#include "choose.h"
+#include "scene_sum.h"
+#include "sum_evaluator.h"
+
+namespace wavecam::detail {
+
+// What an evaluator is created for: one wavelength's frame and the share of it to run.
+struct EvaluatorSetup {
+    const MonochromeScene* scene = nullptr;
+    const SceneSum* sum = nullptr;  // its sources; with the frame's lattice and film points where the row samples them
+    double wavelength = 0;
+    const ExactSettings* settings = nullptr;
+    WorkRange range{};
+    double nearest = INFINITY;       // the scene's nearest planar depth
+    CoherentMemo* memo = nullptr;    // psf: the job's kept kernels, or none
+};
+
+// The runs one execute adds: [run_begin, run_end) of the settings' runs.
+struct RunBatch {
+    int run_begin = 0, run_end = 0;
+};
+
+class SummationEvaluator {
+public:
+    virtual ~SummationEvaluator() = default;
+    // The share of the frame's work that set_points does (for progress), from the cost model.
+    virtual double setup_share() const { return 0; }
+    // Fails when cancelled through `progress`, on the device, or where the frame is beyond the
+    // evaluator (psf: depths beyond its layers).
+    virtual Result<bool> set_points(const ProgressFn& progress) = 0;
+    // Adds the batch's runs (each weighted 1/runs) to irradiance (camera width x height).
+    virtual Result<bool> execute(const RunBatch& batch, float* irradiance, const ProgressFn& progress) = 0;
+};
+
+// The devices a row runs on.
+enum EvaluatorDevices : unsigned { kOnCpu = 1, kOnGpu = 2 };
+
+struct EvaluatorRow {
+    Summation summation;
+    const char* word;       // the `summation` setting's value
+    unsigned devices;       // EvaluatorDevices
+    bool frame_lattice;     // runs on the frame's pinhole lattice and film points (psf samples its kernels' own)
+    // a frame's runs through it
+    std::unique_ptr<SummationEvaluator> (*create)(const EvaluatorSetup& setup);
+    // one sum through it, for the exact sums' plans (summation_plan.h); null where the evaluator
+    // takes whole runs (psf)
+    std::unique_ptr<SumEvaluator> (*create_sum)(const SumGeometry& g, const SumChoice& choice);
+    // its work for a frame's sums, in direct terms (choose.h)
+    double (*cost)(const FrameSums& frame, const ChoiceSettings& settings);
+};
+
+constexpr int kEvaluatorCount = 3;
+extern const EvaluatorRow kEvaluators[kEvaluatorCount];
+
+// The summation that runs a committed plan's evaluator.
+inline Summation summation_of(Evaluator e) { return e == Evaluator::Nufft ? Summation::Nufft : Summation::Direct; }
+
+// The row of `s`; `auto` (the exact sums, each sum's evaluator the chooser's, after a job has
+// weighed psf) is direct's, whose runs are the exact sums' whichever evaluates each sum.
+const EvaluatorRow& evaluator_row(Summation s);
+
+// The rows' create functions (one file each).
+std::unique_ptr<SummationEvaluator> make_exact_runs(const EvaluatorSetup& setup);  // exact_runs.cpp
+std::unique_ptr<SummationEvaluator> make_psf_runs(const EvaluatorSetup& setup);    // psf_runs.cpp
+
+}  // namespace wavecam::detail
