@@ -70,6 +70,7 @@ void run_case(benchmark::State& state, const Case& k) {
     }
     state.counters["estimated_s"] = e.seconds;
     state.counters["measured_s"] = measured;
+    state.counters["term_rate"] = rate;
     state.counters["measured/estimated"] = e.seconds > 0 ? measured / e.seconds : 0.0;
     state.SetLabel(e.reason);
 }

@@ -11,9 +11,11 @@ OMP_WAIT_POLICY=passive "$build/tests/bench/bench_summation_choice" --benchmark_
   --benchmark_out_format=json >/dev/null
 python3 - "$out" <<'PY'
 import json, sys
+runs = json.load(open(sys.argv[1]))["benchmarks"]
+print(f"term rate measured at the start: {runs[0].get('term_rate', 0):.3g} terms/s")
 words = {"0": "auto", "1": "direct", "2": "nufft", "3": "psf"}
 print(f"{'case':28} {'summation':9} {'estimated s':>11} {'measured s':>10} {'ratio':>6}  reason")
-for b in json.load(open(sys.argv[1]))["benchmarks"]:
+for b in runs:
     name, arg = b["name"].split("/")[0][3:], b["name"].split("/")[1]
     if "error_occurred" in b:
         print(f"{name:28} {words[arg]:9} error: {b.get('error_message', '')}")

@@ -5,7 +5,8 @@
 namespace wavecam {
 
 // Terms per second of the exact propagation (pinhole samples x film points) on `nthreads`
-// threads (0 = every core), timed on a small synthetic job for about `seconds`. Measured once
+// threads (0 = every core), the fastest pass of a small synthetic job timed for about `seconds`
+// (at least three passes). Measured once
 // per thread count per process; later calls return the first measurement.
 double measured_term_rate(int nthreads = 0, double seconds = 0.1);
 
