@@ -1,7 +1,7 @@
 // One wavelength's sums over a frame, as the exact methods build them: the sources (the input's
 // pixels and the margin beyond it), the pinhole lattice, the film points (scene_sum.cpp); how
-// the two sums are evaluated and what they cost (scene_summation_choice.cpp); the runs
-// themselves are scene_diffraction.cpp's. Internal to wavecam_core.
+// the two sums are counted for the chooser (scene_summation_choice.cpp); the runs themselves
+// are the evaluators' (summation/summation_evaluator.h). Internal to wavecam_core.
 #pragma once
 #include <cstdint>
 #include <vector>
