@@ -1,6 +1,6 @@
 // The random-phase run count chosen from the PSF's size (run_count.h): the PSF's area against
 // the Airy pattern and the pinhole's shadow worked out here, the stretch at wide fields, and
-// what the count promises. That the count converges on a real frame: tests/io/test_phase_codes.cpp.
+// what the count promises. That the count converges on a real frame: tests/io/test_phase_code_noise.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
