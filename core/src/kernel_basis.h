@@ -1,6 +1,6 @@
 // A few kernels whose combinations give every kernel of a set within a tolerance: the psf
 // summation's runs transform one image per basis kernel instead of one per anchor and layer
-// (coherent_convolution.h). Internal to core.
+// (psf_summation.h). Internal to core.
 //
 // With the kernels as the rows of M (K x P) and their Gram matrix G = M M^H = V L V^H
 // (eigenvectors v_r, eigenvalues l_r, largest first), the kernels are

@@ -1,5 +1,5 @@
 // The psf summation's runs (summation_evaluator.h; the psf row): each run a convolution of the
-// sources' complex weights with amplitude PSFs (coherent_convolution.h). The sources are every
+// sources' complex weights with amplitude PSFs (psf_summation.h). The sources are every
 // pixel of the convolution's domain at its centre: the input's, and beyond it the edge continued
 // pixel by pixel (each with the edge pixel's radiance and planar depth at its own field
 // position), each with the phases the direct sums give it (scene_runs.h): an input pixel keeps
@@ -22,11 +22,11 @@ public:
         const SceneSum& sum = *setup.sum;
         too_deep_ = too_deep_for_psf(setup.nearest, s.aperture, setup.wavelength);
         if (too_deep_) return;  // refused by set_points, before any work
-        spec_ = coherent_spec(s, setup.scene->camera, setup.wavelength, setup.nearest, sum.subsamples);
+        spec_ = psf_summation_spec(s, setup.scene->camera, setup.wavelength, setup.nearest, sum.subsamples);
         // progress: the kernels and the runs by their work
         const int runs = spec_.incoherent ? 1 : setup.range.run_end - setup.range.run_begin;
         pitch_ = kernel_lattice_pitch(spec_, sum.samples.pitch);
-        const CoherentWork work = psf_work(s, sum, spec_, setup.nearest, pitch_);
+        const PsfSummationWork work = psf_work(s, sum, spec_, setup.nearest, pitch_);
         kernels_ = work.kernels / (work.kernels + runs * work.per_run);
     }
 
@@ -38,8 +38,8 @@ public:
         auto unit = [&c](double x, double y, double w) {
             return source_at(c, x, y, 1.0, w > 0 ? 1.0 / w : INFINITY, DepthMeaning::Planar, 0.0);
         };
-        auto make = [&] { return CoherentConvolution::create(spec_, pitch_, unit, progress); };
-        CoherentMemo none;
+        auto make = [&] { return PsfSummation::create(spec_, pitch_, unit, progress); };
+        PsfSummationMemo none;
         auto made = (setup_.memo ? setup_.memo : &none)->get(spec_, pitch_, make);
         if (!made.ok()) return Result<bool>::failure(made);
         conv_ = made.value;
@@ -54,7 +54,7 @@ public:
 
     Result<bool> execute(const RunBatch& batch, float* irradiance, const ProgressFn& progress) override {
         const ExactSettings& s = *setup_.settings;
-        const CoherentConvolution& conv = *conv_;
+        const PsfSummation& conv = *conv_;
         const bool incoherent = spec_.incoherent;
         const int W = conv.domain_width(), origin = conv.origin();
         const size_t n = size_t(W) * conv.domain_height();
@@ -85,12 +85,12 @@ public:
     }
 
 private:
-    // Every domain pixel's layer, amplitude (its power balanced, coherent_convolution.h) and
+    // Every domain pixel's layer, amplitude (its power balanced, psf_summation.h) and
     // random numbers' key.
     void place_sources() {
         const MonochromeScene& scene = *setup_.scene;
         const PinholeCamera& c = scene.camera;
-        const CoherentConvolution& conv = *conv_;
+        const PsfSummation& conv = *conv_;
         const int W = conv.domain_width(), H = conv.domain_height(), origin = conv.origin();
         const size_t n = size_t(W) * H;
         sources_.weight.resize(n);
@@ -119,10 +119,10 @@ private:
 
     EvaluatorSetup setup_;
     bool too_deep_ = false;  // the scene's depths need more layers than the kernels take
-    CoherentSpec spec_;
+    PsfSummationSpec spec_;
     double pitch_ = 0, kernels_ = 0;
-    std::shared_ptr<const CoherentConvolution> conv_;
-    CoherentSources sources_;
+    std::shared_ptr<const PsfSummation> conv_;
+    PsfSummationSources sources_;
     std::vector<float> amplitude_, tail_;
     std::vector<uint64_t> key_;
 };

@@ -15,7 +15,7 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
 }
 
 Result<bool> detail::diffract_monochrome(const MonochromeScene& scene, double wavelength, const ExactSettings& s,
-                                         float* irradiance, const ProgressFn& progress, CoherentMemo* memo) {
+                                         float* irradiance, const ProgressFn& progress, PsfSummationMemo* memo) {
     const PinholeCamera& c = scene.camera;
     if (auto v = check_settings(c, wavelength, s); !v.ok()) return v;
     if (!scene.checked)

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "coherent_convolution.h"
+#include "psf_summation.h"
 #include "summation/choose.h"
 #include "wavecam/scene_diffraction.h"
 #include "wavecam/summation_plan.h"
@@ -89,16 +89,16 @@ SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const ExactS
 SumPlan plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
                   double nearest, bool single);
 
-// The runs as convolutions with amplitude PSFs (coherent_convolution.h) for this wavelength.
-CoherentSpec coherent_spec(const ExactSettings& s, const PinholeCamera& c, double wavelength, double nearest,
-                           int subsamples);
+// The runs as convolutions with amplitude PSFs (psf_summation.h) for this wavelength.
+PsfSummationSpec psf_summation_spec(const ExactSettings& s, const PinholeCamera& c, double wavelength, double nearest,
+                                    int subsamples);
 
 // Whether the scene's depths, nearest at `nearest`, need more amplitude layers than the psf
-// summation takes (coherent_convolution.h).
+// summation takes (psf_summation.h).
 bool too_deep_for_psf(double nearest, const Aperture& aperture, double wavelength);
 
 // The psf summation's work: its kernels' sums counted on their own lattice of `pitch`.
-CoherentWork psf_work(const ExactSettings& s, const SceneSum& sum, const CoherentSpec& spec, double nearest,
-                      double pitch);
+PsfSummationWork psf_work(const ExactSettings& s, const SceneSum& sum, const PsfSummationSpec& spec, double nearest,
+                          double pitch);
 
 }  // namespace wavecam::detail

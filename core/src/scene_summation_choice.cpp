@@ -68,10 +68,10 @@ SumPlan plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCame
     return plan;
 }
 
-// The runs as convolutions with amplitude PSFs (coherent_convolution.h) for this wavelength.
-detail::CoherentSpec coherent_spec(const ExactSettings& s, const PinholeCamera& c, double wavelength,
-                                   double nearest, int subsamples) {
-    detail::CoherentSpec spec;
+// The runs as convolutions with amplitude PSFs (psf_summation.h) for this wavelength.
+detail::PsfSummationSpec psf_summation_spec(const ExactSettings& s, const PinholeCamera& c, double wavelength,
+                                            double nearest, int subsamples) {
+    detail::PsfSummationSpec spec;
     spec.camera = c;
     spec.overscan = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);
     spec.aperture = s.aperture;
@@ -84,17 +84,17 @@ detail::CoherentSpec coherent_spec(const ExactSettings& s, const PinholeCamera& 
 }
 
 // Whether the scene's depths, nearest at `nearest`, need more amplitude layers than the psf
-// summation takes (coherent_convolution.h).
+// summation takes (psf_summation.h).
 bool too_deep_for_psf(double nearest, const Aperture& aperture, double wavelength) {
     const double rho = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
     return detail::amplitude_layers(rho, aperture.bounding_radius(), wavelength).count > detail::kMaxPsfLayers;
 }
 
 // The psf summation's work: its kernels' sums counted on their own lattice of `pitch`.
-detail::CoherentWork psf_work(const ExactSettings& s, const SceneSum& sum, const detail::CoherentSpec& spec,
-                              double nearest, double pitch) {
+detail::PsfSummationWork psf_work(const ExactSettings& s, const SceneSum& sum, const detail::PsfSummationSpec& spec,
+                                  double nearest, double pitch) {
     const FrameCounts n = frame_counts(s, sum, pitch, spec.camera, spec.wavelength, nearest, false);
-    return detail::coherent_work(spec, n.in, n.out);
+    return detail::psf_summation_work(spec, n.in, n.out);
 }
 
 namespace {
@@ -133,7 +133,7 @@ SummationChoice scene_choice(const ExactSettings& s, const PinholeCamera& c, dou
     frame.psf_applies = psf_applies(s, nearest, wavelength);
     frame.psf_counted = s.summation == Summation::Psf || (asked.weigh_psf && frame.psf_applies);
     if (frame.psf_counted) {
-        frame.psf = coherent_spec(s, c, wavelength, nearest, sum.subsamples);
+        frame.psf = psf_summation_spec(s, c, wavelength, nearest, sum.subsamples);
         const double pitch = kernel_lattice_pitch(frame.psf, sum.samples.pitch);
         const FrameCounts n = frame_counts(s, sum, pitch, c, wavelength, nearest, false);
         frame.psf_in = n.in;
@@ -147,7 +147,7 @@ SummationChoice scene_choice(const ExactSettings& s, const PinholeCamera& c, dou
 }  // namespace detail
 
 using detail::ChoiceSettings;
-using detail::coherent_spec;
+using detail::psf_summation_spec;
 using detail::film_subsamples;
 using detail::scene_choice;
 using detail::SummationChoice;
@@ -193,7 +193,8 @@ double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double w
 double scene_summation_bytes(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {
     if (s.summation != Summation::Psf) return 0;
     const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
-    return detail::coherent_bytes(coherent_spec(s, camera, wavelength, nearest, film_subsamples(s, camera, wavelength)));
+    const int subsamples = film_subsamples(s, camera, wavelength);
+    return detail::psf_summation_bytes(psf_summation_spec(s, camera, wavelength, nearest, subsamples));
 }
 
 }  // namespace wavecam

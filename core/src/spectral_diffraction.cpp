@@ -3,13 +3,13 @@
 #include <cmath>
 #include <memory>
 
-#include "coherent_convolution.h"
+#include "psf_summation.h"
 
 namespace wavecam {
 
 MonochromePropagator wave_propagator(const ExactSettings& settings) {
     // one memo per propagator: a wavelength's negative part reuses its positive part's kernels
-    auto memo = std::make_shared<detail::CoherentMemo>();
+    auto memo = std::make_shared<detail::PsfSummationMemo>();
     return [settings, memo](const MonochromeScene& scene, double wavelength, float* irradiance,
                             const ProgressFn& progress) {
         return detail::diffract_monochrome(scene, wavelength, settings, irradiance, progress, memo.get());
@@ -17,7 +17,7 @@ MonochromePropagator wave_propagator(const ExactSettings& settings) {
 }
 
 RunPropagator run_propagator(const ExactSettings& settings) {
-    auto memo = std::make_shared<detail::CoherentMemo>();
+    auto memo = std::make_shared<detail::PsfSummationMemo>();
     return [settings, memo](const MonochromeScene& scene, double wavelength, int run, float* irradiance,
                             const ProgressFn& progress) {
         ExactSettings one = settings;

@@ -2,7 +2,7 @@
 // (propagation.cpp, all cores) and the Vulkan evaluator (gpu_sums.h) on the device `gpu` picks
 // (set VK_ICD_FILENAMES to choose a driver, e.g. Mesa's lavapipe). One term = one pinhole sample
 // contributing to one film point (sum 2) or one source to one pinhole sample (sum 1).
-// And the psf summation's frames (coherent_convolution.h) on each device: 1 and 16 runs of a
+// And the psf summation's frames (psf_summation.h) on each device: 1 and 16 runs of a
 // 96 x 96 frame, so that the script can take one run's time as the difference over 15.
 // Run: tests/bench/run_gpu_bench.sh [build-dir]
 #include <benchmark/benchmark.h>

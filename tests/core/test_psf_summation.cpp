@@ -1,5 +1,5 @@
 // The `psf` summation: the exact methods' runs as convolutions with amplitude PSFs that the
-// direct or nufft sums compute at field anchors and depth layers (coherent_convolution.h),
+// direct or nufft sums compute at field anchors and depth layers (psf_summation.h),
 // against the exact sums themselves (direct, incoherent: no noise) and the random phases' own
 // limit. Started with --device=gpu (tests/core/CMakeLists.txt), the same checks with the
 // kernels' direct sums and the runs' transforms on the Vulkan device.

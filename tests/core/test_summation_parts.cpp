@@ -4,7 +4,7 @@
 // samples (core/src/band_limited_stencil.h), the film points' average of a pixel
 // (core/src/pixel_average.h), the few kernels and sub-point modes the psf summation's runs
 // transform (core/src/kernel_basis.h), its kernels' own pinhole lattice and the memo that keeps
-// them for a wavelength's two parts (core/src/coherent_convolution.h).
+// them for a wavelength's two parts (core/src/psf_summation.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "band_limited_stencil.h"
-#include "coherent_convolution.h"
+#include "psf_summation.h"
 #include "kernel_basis.h"
 #include "node_skeleton.h"
 #include "pixel_average.h"
@@ -290,7 +290,7 @@ TEST(SubPointModes, KeepTheSubPointsPowerInFewerModes) {
 TEST(KernelLattice, GivesTheKernelTheFramesLatticeGives) {
     using namespace wavecam;
     const double lambda = 550e-9;
-    detail::CoherentSpec spec;
+    detail::PsfSummationSpec spec;
     spec.camera = {64, 64, 50 * M_PI / 180, 50e-3};
     spec.aperture = {ApertureShape::Circle, 0.3e-3};
     spec.wavelength = lambda;
@@ -343,7 +343,7 @@ TEST(KernelLattice, GivesTheKernelTheFramesLatticeGives) {
 // A job's memo makes a convolution once for the calls that ask for the same one (a wavelength's
 // positive and negative parts) and again when the wavelength changes; a call through it gives
 // the image a call without it gives, bit for bit.
-TEST(CoherentMemo, KeepsTheConvolutionForTheSameWavelength) {
+TEST(PsfSummationMemo, KeepsTheConvolutionForTheSameWavelength) {
     using namespace wavecam;
     const PinholeCamera camera{12, 12, 30 * M_PI / 180, 2e-3};
     std::vector<float> depth(144, 1.0f), first(144), second(144);
@@ -355,9 +355,9 @@ TEST(CoherentMemo, KeepsTheConvolutionForTheSameWavelength) {
     s.aperture = {ApertureShape::Circle, 0.05e-3};
     s.summation = Summation::Psf;
     s.runs = 2;
-    detail::CoherentMemo memo;
+    detail::PsfSummationMemo memo;
     int made = 0;
-    detail::CoherentSpec spec;
+    detail::PsfSummationSpec spec;
     spec.camera = camera;
     spec.aperture = s.aperture;
     spec.wavelength = 550e-9;
@@ -374,7 +374,7 @@ TEST(CoherentMemo, KeepsTheConvolutionForTheSameWavelength) {
     };
     auto make = [&] {
         ++made;
-        return detail::CoherentConvolution::create(spec, pitch, unit, {});
+        return detail::PsfSummation::create(spec, pitch, unit, {});
     };
     auto a = memo.get(spec, pitch, make), b = memo.get(spec, pitch, make);
     ASSERT_TRUE(a.ok() && b.ok());
@@ -384,7 +384,7 @@ TEST(CoherentMemo, KeepsTheConvolutionForTheSameWavelength) {
     ASSERT_TRUE(memo.get(spec, pitch, make).ok());
     EXPECT_EQ(made, 2);
 
-    detail::CoherentMemo job;
+    detail::PsfSummationMemo job;
     for (const std::vector<float>* power : {&first, &second}) {
         const MonochromeScene scene{camera, power->data(), depth.data(), DepthMeaning::Planar};
         std::vector<float> with(144, 0.0f), without(144, 0.0f);

@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "chirp_interpolation.h"
-#include "coherent_geometry.h"
+#include "psf_summation_geometry.h"
 #include "lattice_nufft.h"
 #include "stencil_choice.h"
 #include "summation_evaluator.h"
@@ -160,7 +160,7 @@ SumChoice sum_work(const SumCounts& c) {
 }
 
 
-KernelSums kernel_sums(const CoherentSpec& spec) {
+KernelSums kernel_sums(const PsfSummationSpec& spec) {
     KernelSums k;
     k.to_pinhole = k.to_film = spec.settings;
     k.to_pinhole.summation = Summation::Direct;
@@ -171,23 +171,23 @@ KernelSums kernel_sums(const CoherentSpec& spec) {
     return k;
 }
 
-CoherentWork coherent_work(const CoherentSpec& spec, SumCounts in, SumCounts out) {
-    const CoherentGeometry g = coherent_geometry(spec);
+PsfSummationWork psf_summation_work(const PsfSummationSpec& spec, SumCounts in, SumCounts out) {
+    const PsfSummationGeometry g = psf_summation_geometry(spec);
     const double side = 2.0 * g.radius + 1, S = double(spec.subsamples) * spec.subsamples;
     const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxPsfLayers + 1);
     in.points = 1;
     out.points = side * side * S;
     const double N = double(g.nx) * g.ny, transform = kFftCost * N * std::log2(N);
     const KernelSums sums = kernel_sums(spec);
-    CoherentWork w;
+    PsfSummationWork w;
     w.kernels = kernels * (choose_sum(in, sums.to_pinhole.summation).work +
                            choose_sum(out, sums.to_film.summation, spec.settings.device.gpu()).work + S * transform);
     w.per_run = kernels * transform + (kernels + 1) * S * N * kMacCost + S * transform;
     return w;
 }
 
-double coherent_bytes(const CoherentSpec& spec) {
-    const CoherentGeometry g = coherent_geometry(spec);
+double psf_summation_bytes(const PsfSummationSpec& spec) {
+    const PsfSummationGeometry g = psf_summation_geometry(spec);
     const double N = double(g.nx) * g.ny, S = double(spec.subsamples) * spec.subsamples;
     const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxPsfLayers + 1);
     const double complex_float = 8;
@@ -292,7 +292,7 @@ SummationChoice choose_summation(const FrameSums& f, const ChoiceSettings& cs) {
         all_nufft = (c.in.nufft_work + c.out.nufft_work * f.film_share) * f.repeats;
     }
     // the psf summation: its kernels, then every run
-    if (f.psf_counted) c.psf = coherent_work(f.psf, f.psf_in, f.psf_out);
+    if (f.psf_counted) c.psf = psf_summation_work(f.psf, f.psf_in, f.psf_out);
     const double psf = c.psf.kernels + c.psf.per_run * f.psf_runs;
     const bool weighed = cs.asked == Summation::Auto && cs.weigh_psf && f.psf_applies && f.psf_counted;
     const bool take_psf = cs.asked == Summation::Psf || (weighed && psf < exact);
@@ -300,7 +300,7 @@ SummationChoice choose_summation(const FrameSums& f, const ChoiceSettings& cs) {
     if (take_psf) {
         c.summation = Summation::Psf;
         c.work = psf;
-        c.bytes = coherent_bytes(f.psf);
+        c.bytes = psf_summation_bytes(f.psf);
     } else {
         c.summation = c.in.evaluator != c.out.evaluator ? Summation::Auto
                       : c.in.evaluator == Evaluator::Nufft ? Summation::Nufft
@@ -337,7 +337,7 @@ double nufft_cost(const FrameSums& f, const ChoiceSettings&) {
 
 double psf_cost(const FrameSums& f, const ChoiceSettings&) {
     if (!f.psf_counted) return INFINITY;
-    const CoherentWork w = coherent_work(f.psf, f.psf_in, f.psf_out);
+    const PsfSummationWork w = psf_summation_work(f.psf, f.psf_in, f.psf_out);
     return w.kernels + w.per_run * f.psf_runs;
 }
 

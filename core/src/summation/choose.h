@@ -11,7 +11,7 @@
 #include <cmath>
 #include <string>
 
-#include "coherent_convolution.h"
+#include "psf_summation.h"
 #include "wavecam/summation_plan.h"
 
 namespace wavecam::detail {
@@ -48,19 +48,19 @@ constexpr double kMaxNufftKernelField = M_PI / 4;
 struct KernelSums {
     SummationSettings to_pinhole, to_film;
 };
-KernelSums kernel_sums(const CoherentSpec& spec);
+KernelSums kernel_sums(const PsfSummationSpec& spec);
 
 // Work of one convolution in direct terms: the kernels' sums (`in` and `out`: the frame's two
 // sums' counts on the kernels' lattice, their points replaced by one source and a kernel's film
 // points), and per run the transforms and products (counted for every kernel: an upper bound,
 // the basis being known only once the kernels are).
-struct CoherentWork {
+struct PsfSummationWork {
     double kernels = 0, per_run = 0;
 };
-CoherentWork coherent_work(const CoherentSpec& spec, SumCounts in, SumCounts out);
+PsfSummationWork psf_summation_work(const PsfSummationSpec& spec, SumCounts in, SumCounts out);
 // Bytes a convolution holds at once: the kernels' spectra and a run's sums (on the CPU; a GPU
 // holds the same in its memory, padded to powers of two).
-double coherent_bytes(const CoherentSpec& spec);
+double psf_summation_bytes(const PsfSummationSpec& spec);
 
 // ---- the devices ----
 
@@ -95,7 +95,7 @@ struct FrameSums {
     double film_share = 1;   // the share of the film's rows counted (a share of a job)
     bool psf_counted = false;  // psf's counts below are set (asked for, or weighed by `auto`)
     bool psf_applies = false;  // sources at pixel centres, an opening of one piece, layers within reach
-    CoherentSpec psf;
+    PsfSummationSpec psf;
     SumCounts psf_in, psf_out;  // the frame's sums on the kernels' lattice
     double psf_runs = 1;        // runs (1 for the incoherent method: one pass of powers)
 };
@@ -115,7 +115,7 @@ struct ChoiceSettings {
 struct SummationChoice {
     Summation summation = Summation::Auto;  // Psf, or the exact sums: Direct, Nufft, or Auto where they differ
     SumChoice in, out;
-    CoherentWork psf;
+    PsfSummationWork psf;
     bool gpu = false;
     double work = 0, seconds = 0, bytes = 0;
     std::string reason;

@@ -33,7 +33,7 @@ struct EvaluatorSetup {
     const ExactSettings* settings = nullptr;
     WorkRange range{};
     double nearest = INFINITY;       // the scene's nearest planar depth
-    CoherentMemo* memo = nullptr;    // psf: the job's kept kernels, or none
+    PsfSummationMemo* memo = nullptr;    // psf: the job's kept kernels, or none
 };
 
 // The runs one execute adds: [run_begin, run_end) of the settings' runs.

@@ -1,4 +1,4 @@
-#include "coherent_convolution.h"
+#include "psf_summation.h"
 
 #include <omp.h>
 
@@ -8,11 +8,11 @@
 #include <cstdio>
 #include <mutex>
 
-#include "coherent_geometry.h"
+#include "psf_summation_geometry.h"
 #include "complex_fft2d.h"
 #include "far_tail.h"
 #include "gpu/compute_device_impl.h"
-#include "gpu/gpu_convolution.h"
+#include "gpu/gpu_psf_summation.h"
 #include "kernel_basis.h"
 #include "real_fft2d.h"
 #include "summation/choose.h"
@@ -48,7 +48,7 @@ __attribute__((target_clones("avx2", "default"))) void multiply_add(const std::c
     }
 }
 
-// A transform side the GPU's FFTs take (gpu_convolution.h): the next power of two.
+// A transform side the GPU's FFTs take (gpu_psf_summation.h): the next power of two.
 int gpu_side(int n) {
     int p = 2;
     while (p < n) p *= 2;
@@ -57,15 +57,15 @@ int gpu_side(int n) {
 
 }  // namespace
 
-struct CoherentConvolution::Impl {
-    CoherentSpec spec;
-    CoherentGeometry g;
+struct PsfSummation::Impl {
+    PsfSummationSpec spec;
+    PsfSummationGeometry g;
     int threads = 1;
     std::unique_ptr<ComplexFft2D> fft;
     KernelBasis basis;  // the kernels (layer x anchors + anchor) as combinations of a few
     std::vector<std::complex<float>> spectra;  // [basis kernel][sub-point][ny x nx] (none on a GPU)
     // the runs on a Vulkan device (the spectra kept there), or none: on the CPU
-    std::unique_ptr<GpuConvolution> gpu;
+    std::unique_ptr<GpuPsfSummation> gpu;
     // a run's images (one per basis kernel), sums (one per sub-point) and film values, kept from
     // run to run (hundreds of MiB at 1080p: allocated once, not every run); one run at a time
     mutable std::mutex busy;
@@ -88,7 +88,7 @@ struct CoherentConvolution::Impl {
     }
     // The kernels that domain pixel (i, j)'s source blends, and their weights (at most 8): bilinear
     // over the anchors round it, linear between its two layers.
-    int blend_of(const CoherentSources& s, int i, int j, size_t* index, double* weight) const {
+    int blend_of(const PsfSummationSources& s, int i, int j, size_t* index, double* weight) const {
         const size_t p = size_t(j) * g.width + i;
         const int cx = g.ax.cell_of(i), cy = g.ay.cell_of(j), lower = s.lower[p], nax = int(g.ax.knots.size());
         int used = 0;
@@ -108,23 +108,23 @@ struct CoherentConvolution::Impl {
     }
 };
 
-CoherentConvolution::CoherentConvolution() = default;
-CoherentConvolution::~CoherentConvolution() = default;
-CoherentConvolution::CoherentConvolution(CoherentConvolution&&) noexcept = default;
-CoherentConvolution& CoherentConvolution::operator=(CoherentConvolution&&) noexcept = default;
-int CoherentConvolution::radius() const { return impl_->g.radius; }
-int CoherentConvolution::domain_width() const { return impl_->g.width; }
-int CoherentConvolution::domain_height() const { return impl_->g.height; }
-int CoherentConvolution::origin() const { return impl_->g.origin; }
-const DepthLayers& CoherentConvolution::layers() const { return impl_->g.layers; }
+PsfSummation::PsfSummation() = default;
+PsfSummation::~PsfSummation() = default;
+PsfSummation::PsfSummation(PsfSummation&&) noexcept = default;
+PsfSummation& PsfSummation::operator=(PsfSummation&&) noexcept = default;
+int PsfSummation::radius() const { return impl_->g.radius; }
+int PsfSummation::domain_width() const { return impl_->g.width; }
+int PsfSummation::domain_height() const { return impl_->g.height; }
+int PsfSummation::origin() const { return impl_->g.origin; }
+const DepthLayers& PsfSummation::layers() const { return impl_->g.layers; }
 
-Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec, double lattice_pitch,
-                                                        const UnitSource& unit_source, const ProgressFn& progress) {
-    using R = Result<CoherentConvolution>;
+Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double lattice_pitch,
+                                          const UnitSource& unit_source, const ProgressFn& progress) {
+    using R = Result<PsfSummation>;
     auto impl = std::make_unique<Impl>();
     impl->spec = spec;
-    CoherentGeometry& g = impl->g;
-    g = coherent_geometry(spec);
+    PsfSummationGeometry& g = impl->g;
+    g = psf_summation_geometry(spec);
     if (g.layers.count > kMaxPsfLayers) return R::failure(too_many_layers());
     impl->threads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
     const int n = spec.subsamples, S = impl->points(), side = 2 * g.radius + 1, A = g.anchors();
@@ -216,7 +216,7 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
         if (stop || a == first) continue;
         PlanScope scope = film_scope;
         if (auto r = anchor_kernels(a, one_thread, scope); !r.ok()) {
-#pragma omp critical(coherent_kernels)
+#pragma omp critical(psf_summation_kernels)
             if (!stop.exchange(true)) failed = r;
             continue;
         }
@@ -252,7 +252,7 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
     const ComputeDevice& device = spec.settings.device;
     if (device.gpu()) {
         const int nx = gpu_side(g.width), ny = gpu_side(g.height);
-        auto made = GpuConvolution::create(device, nx, ny, basis.rank, M);
+        auto made = GpuPsfSummation::create(device, nx, ny, basis.rank, M);
         if (made.ok()) {
             impl->gpu = std::move(made.value);
             g.nx = nx;
@@ -301,15 +301,15 @@ Result<CoherentConvolution> CoherentConvolution::create(const CoherentSpec& spec
 #pragma omp parallel for num_threads(impl->threads) schedule(dynamic) if (N < ComplexFft2D::kParallelPoints)
         for (int rm = 0; rm < basis.rank * M; ++rm) spectrum_of(rm / M, rm % M, impl->spectrum(rm / M, rm % M));
     }
-    CoherentConvolution conv;
+    PsfSummation conv;
     conv.impl_ = std::move(impl);
     return R::success(std::move(conv));
 }
 
-Result<bool> CoherentConvolution::run(const CoherentSources& sources, double scale, int row_begin, int row_end,
-                                      const float* each, float* irradiance, const ProgressFn& progress) const {
+Result<bool> PsfSummation::run(const PsfSummationSources& sources, double scale, int row_begin, int row_end,
+                               const float* each, float* irradiance, const ProgressFn& progress) const {
     const Impl& m = *impl_;
-    const CoherentGeometry& g = m.g;
+    const PsfSummationGeometry& g = m.g;
     const KernelBasis& basis = m.basis;
     const int S = m.points(), M = m.modes.count, B = basis.rank, runs = sources.runs;
     const size_t N = m.fft->size(), n = size_t(g.width) * g.height;
@@ -420,7 +420,7 @@ Result<bool> CoherentConvolution::run(const CoherentSources& sources, double sca
     return Result<bool>::success(true);
 }
 
-int CoherentConvolution::runs_at_once() const {
+int PsfSummation::runs_at_once() const {
     const Impl& m = *impl_;
     const double N = double(m.fft->size()), B = m.basis.rank, M = m.modes.count;
     // a run's images, sums and film against the kernels' spectra (none kept here on a GPU)
@@ -428,9 +428,9 @@ int CoherentConvolution::runs_at_once() const {
     return int(std::clamp(std::floor(spectra / run), 1.0, double(kMaxRunsAtOnce)));
 }
 
-std::vector<float> CoherentConvolution::power_balance(const CoherentSources& sources) const {
+std::vector<float> PsfSummation::power_balance(const PsfSummationSources& sources) const {
     const Impl& m = *impl_;
-    const CoherentGeometry& g = m.g;
+    const PsfSummationGeometry& g = m.g;
     const size_t n = size_t(g.width) * g.height, K = size_t(g.layers.count) * g.anchors();
     std::vector<float> factor(n, 1.0f);
     if (m.spec.incoherent) return factor;
@@ -450,8 +450,8 @@ std::vector<float> CoherentConvolution::power_balance(const CoherentSources& sou
     return factor;
 }
 
-void CoherentConvolution::add_far_tail(const float* radiance, const float* depth, DepthMeaning meaning, double scale,
-                                       int row_begin, int row_end, float* irradiance) const {
+void PsfSummation::add_far_tail(const float* radiance, const float* depth, DepthMeaning meaning, double scale,
+                                int row_begin, int row_end, float* irradiance) const {
     const Impl& m = *impl_;
     const PinholeCamera& c = m.spec.camera;
     const int o = m.spec.overscan, out_w = c.width - 2 * o, out_h = c.height - 2 * o, R = m.g.radius;
@@ -464,9 +464,9 @@ void CoherentConvolution::add_far_tail(const float* radiance, const float* depth
             irradiance[size_t(cj) * c.width + ci] += float(scale * xyz[3 * (size_t(cj - o) * out_w + ci - o)]);
 }
 
-Result<std::shared_ptr<const CoherentConvolution>> CoherentMemo::get(const CoherentSpec& spec, double pitch,
-                                                                     const Make& make) {
-    using R = Result<std::shared_ptr<const CoherentConvolution>>;
+Result<std::shared_ptr<const PsfSummation>> PsfSummationMemo::get(const PsfSummationSpec& spec, double pitch,
+                                                                  const Make& make) {
+    using R = Result<std::shared_ptr<const PsfSummation>>;
     std::lock_guard<std::mutex> lock(busy_);
     const PinholeCamera &a = spec.camera, &b = spec_.camera;
     const bool same = kept_ && a.width == b.width && a.height == b.height && a.fov_h == b.fov_h &&
@@ -477,7 +477,7 @@ Result<std::shared_ptr<const CoherentConvolution>> CoherentMemo::get(const Coher
         kept_.reset();  // (its memory free before the next is made)
         auto made = make();
         if (!made.ok()) return R::failure(made);
-        kept_ = std::make_shared<const CoherentConvolution>(std::move(made.value));
+        kept_ = std::make_shared<const PsfSummation>(std::move(made.value));
         spec_ = spec;
         pitch_ = pitch;
     }

@@ -1,4 +1,4 @@
-#include "coherent_geometry.h"
+#include "psf_summation_geometry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -28,11 +28,11 @@ Result<bool> too_many_layers() {
     return Result<bool>::failure(m, ErrorKind::Invalid, "summation");
 }
 
-CoherentGeometry coherent_geometry(const CoherentSpec& s) {
+PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s) {
     const PinholeCamera& c = s.camera;
     const int o = s.overscan, out_w = c.width - 2 * o, out_h = c.height - 2 * o;
     const double nearest = s.max_inverse_depth > 0 ? 1.0 / s.max_inverse_depth : INFINITY;
-    CoherentGeometry g;
+    PsfSummationGeometry g;
     // the radius is the widest PSF's at the output frame's corners: the anchors lie within the
     // frame, and sources in the margin take the edge anchors' kernels
     g.radius = psf_kernel_radius(s.aperture, c.film_distance, nearest, s.wavelength,
@@ -64,7 +64,7 @@ namespace {
 // The widest turn, in direction sines along either axis, of any kernel's sum over the pinhole
 // (kernel_lattice_pitch): from each anchor's source at the nearest layer to its kernel's film
 // points' corners, the wavefronts' curvature at the rim added.
-double widest_kernel_turn(const CoherentSpec& s, const CoherentGeometry& g) {
+double widest_kernel_turn(const PsfSummationSpec& s, const PsfSummationGeometry& g) {
     const PinholeCamera& c = s.camera;
     const double a = s.aperture.bounding_radius(), w = g.layers.inverse_depth(std::max(0, g.layers.count - 1));
     double widest = 0;
@@ -90,8 +90,8 @@ double widest_kernel_turn(const CoherentSpec& s, const CoherentGeometry& g) {
 
 }  // namespace
 
-double kernel_lattice_pitch(const CoherentSpec& spec, double frame_pitch) {
-    const CoherentGeometry g = coherent_geometry(spec);
+double kernel_lattice_pitch(const PsfSummationSpec& spec, double frame_pitch) {
+    const PsfSummationGeometry g = psf_summation_geometry(spec);
     const double need = widest_kernel_turn(spec, g) + spec.wavelength / spec.aperture.diameter;
     const double pitch = std::min(spec.wavelength / (kKernelLatticeMargin * need),
                                   spec.aperture.diameter / kMinSamplesAcross);

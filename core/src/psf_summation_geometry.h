@@ -1,19 +1,19 @@
-// The psf summation's convolution domain (coherent_convolution.h): the kernel radius at the
+// The psf summation's convolution domain (psf_summation.h): the kernel radius at the
 // frame's widest field, the domain and its transform size, the anchors the kernels are
 // computed at and the depth layers; and what it costs. Internal to wavecam_core.
 #pragma once
-#include "coherent_convolution.h"
+#include "psf_summation.h"
 
 namespace wavecam::detail {
 
 // The convolution's geometry: kernel radius, domain, transform size, anchors and layers.
-struct CoherentGeometry {
+struct PsfSummationGeometry {
     int radius = 0, origin = 0, width = 0, height = 0, nx = 0, ny = 0;
     AnchorAxis ax, ay;
     DepthLayers layers;
     int anchors() const { return int(ax.knots.size() * ay.knots.size()); }
 };
 
-CoherentGeometry coherent_geometry(const CoherentSpec& s);
+PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s);
 
 }  // namespace wavecam::detail

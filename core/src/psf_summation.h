@@ -72,7 +72,7 @@ DepthLayers amplitude_layers(double max_inverse_depth, double aperture_radius, d
 // The refusal when they are more: names the setting `summation`.
 Result<bool> too_many_layers();
 
-struct CoherentSpec {
+struct PsfSummationSpec {
     PinholeCamera camera;
     int overscan = 0;
     Aperture aperture{ApertureShape::Circle, 0.0};
@@ -91,25 +91,25 @@ using UnitSource = std::function<PointSource(double x, double y, double inverse_
 // The sources on the convolution's domain (the output frame widened by the kernel radius on
 // every side), row-major: complex weights (coherent) or powers in .real() (incoherent), and each
 // pixel's layer and the share of it that goes to the layer above.
-struct CoherentSources {
+struct PsfSummationSources {
     int runs = 1;  // runs at once: `weight` holds runs x the domain's pixels, run by run
     std::vector<std::complex<float>> weight;
     std::vector<uint8_t> lower;
     std::vector<float> upper_share;
 };
 
-class CoherentConvolution {
+class PsfSummation {
 public:
-    CoherentConvolution();
-    ~CoherentConvolution();
-    CoherentConvolution(CoherentConvolution&&) noexcept;
-    CoherentConvolution& operator=(CoherentConvolution&&) noexcept;
+    PsfSummation();
+    ~PsfSummation();
+    PsfSummation(PsfSummation&&) noexcept;
+    PsfSummation& operator=(PsfSummation&&) noexcept;
 
     // Kernels from the exact sums on the pinhole lattice of `lattice_pitch` (kernel_lattice_pitch)
     // and their spectra; fails when cancelled, or where the depth range needs more than
     // kMaxPsfLayers layers.
-    static Result<CoherentConvolution> create(const CoherentSpec& spec, double lattice_pitch,
-                                              const UnitSource& unit_source, const ProgressFn& progress);
+    static Result<PsfSummation> create(const PsfSummationSpec& spec, double lattice_pitch,
+                                       const UnitSource& unit_source, const ProgressFn& progress);
 
     int radius() const;
     int domain_width() const;
@@ -123,7 +123,7 @@ public:
     // scale x `each` (camera width x height; may be null) to irradiance (camera width x height).
     // The runs at once share each pass over the kernels' spectra. Fails only when cancelled
     // through `progress`, or on the device.
-    Result<bool> run(const CoherentSources& sources, double scale, int row_begin, int row_end, const float* each,
+    Result<bool> run(const PsfSummationSources& sources, double scale, int row_begin, int row_end, const float* each,
                      float* irradiance, const ProgressFn& progress) const;
     // How many runs to give run() at once: as many as keep their work buffers within the
     // spectra's size (a run's pass over them streams them all), at least 1, at most
@@ -132,7 +132,7 @@ public:
 
     // Per domain pixel, the factor on its weight that gives its blended kernel the blend of its
     // kernels' powers (1 for the incoherent case).
-    std::vector<float> power_balance(const CoherentSources& sources) const;
+    std::vector<float> power_balance(const PsfSummationSources& sources) const;
 
     // Adds scale x the far tail of the scene (radiance and depth per camera pixel, the edge
     // continued beyond) on the same rows.
@@ -158,27 +158,27 @@ private:
 // than d / kMinSamplesAcross (the rim resolved as a quadrature), never finer than
 // `frame_pitch`, the frame's sums' own.
 constexpr double kKernelLatticeMargin = 4;
-double kernel_lattice_pitch(const CoherentSpec& spec, double frame_pitch);
+double kernel_lattice_pitch(const PsfSummationSpec& spec, double frame_pitch);
 
-// The last convolution made, kept for the next call of the same job that asks for the same one:
-// a wavelength's positive and negative parts are two calls (spectral_diffraction.cpp), and its
-// kernels are the same for both. A job's settings are fixed; what may change between calls is
+// The last psf summation made (its kernels and their spectra), kept for the next call of the
+// same job that asks for the same one: a wavelength's positive and negative parts are two calls
+// (spectral_diffraction.cpp), and its kernels are the same for both. A job's settings are fixed; what may change between calls is
 // the camera, the wavelength, the depth range and the lattice, and they are the key.
-class CoherentMemo {
+class PsfSummationMemo {
 public:
-    using Make = std::function<Result<CoherentConvolution>()>;
-    // The kept convolution where `spec` and `pitch` match it, else `make`'s (then kept instead).
-    Result<std::shared_ptr<const CoherentConvolution>> get(const CoherentSpec& spec, double pitch, const Make& make);
+    using Make = std::function<Result<PsfSummation>()>;
+    // The kept one where `spec` and `pitch` match it, else `make`'s (then kept instead).
+    Result<std::shared_ptr<const PsfSummation>> get(const PsfSummationSpec& spec, double pitch, const Make& make);
 
 private:
     std::mutex busy_;
-    CoherentSpec spec_;
+    PsfSummationSpec spec_;
     double pitch_ = 0;
-    std::shared_ptr<const CoherentConvolution> kept_;
+    std::shared_ptr<const PsfSummation> kept_;
 };
 
 // diffract_monochrome (scene_diffraction.h) with the job's memo: one job's calls, one at a time.
 Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const ExactSettings& s,
-                                 float* irradiance, const ProgressFn& progress, CoherentMemo* memo);
+                                 float* irradiance, const ProgressFn& progress, PsfSummationMemo* memo);
 
 }  // namespace wavecam::detail
