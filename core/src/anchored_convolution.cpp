@@ -18,7 +18,7 @@ int convolution_fft_size(int tile, int radius, int width, int height) {
 
 void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, std::vector<float>& image,
                                            std::complex<float>* spectrum) const {
-    const PsfTable& t = table_;
+    const KernelTable& t = table_;
     const int R = t.radius, kw = 2 * R + 1, N = fft_size_;
     const float* w = &t.weights[size_t(k) * t.kernel_size()];
     // the kernel centred on the origin, wrapped
@@ -29,14 +29,14 @@ void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, std::vector<f
         for (int a = -R; a <= R; ++a) image[size_t((b + N) % N) * N + (a + N) % N] = 0.0f;
 }
 
-Result<AnchoredConvolution> AnchoredConvolution::create(PsfTable table, int tile, int width, int height, int nthreads,
-                                                        const ProgressFn& progress) {
+Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int tile, int width, int height,
+                                                        int nthreads, const ProgressFn& progress) {
     AnchoredConvolution c;
     c.tile_ = tile;
     c.fft_size_ = convolution_fft_size(tile, table.radius, width, height);
     c.nthreads_ = nthreads;
     c.table_ = std::move(table);
-    const PsfTable& t = c.table_;
+    const KernelTable& t = c.table_;
     const int N = c.fft_size_;
     const long count = long(t.layers.count) * t.anchors() * 9;
     {
@@ -93,7 +93,7 @@ struct LayerAnchor {
 
 // Layer l's and anchor (kx, ky)'s share of each source of the tile into `weight` (row stride
 // T); whether any is lit.
-bool anchor_weights(const PsfTable& t, const DomainSources& src, const TileBounds& b, const LayerAnchor& la, int T,
+bool anchor_weights(const KernelTable& t, const DomainSources& src, const TileBounds& b, const LayerAnchor& la, int T,
                     std::vector<float>& weight) {
     const int l = la.layer, kx = la.kx, ky = la.ky;
     bool any = false;
@@ -158,7 +158,7 @@ void add_to_output(const std::vector<float>& image, const TileFrame& frame, cons
 
 Result<bool> AnchoredConvolution::apply(const DomainSources& src, int out_x0, int out_y0, int out_width,
                                         int out_height, float* xyz, const ProgressFn& progress) const {
-    const PsfTable& t = table_;
+    const KernelTable& t = table_;
     const int T = tile_, N = fft_size_, R = t.radius, W = src.width, H = src.height;
     const int ntx = (W + T - 1) / T, nty = (H + T - 1) / T, nkx = int(t.ax.knots.size());
     const size_t spec = spectrum_size_;

@@ -1,5 +1,5 @@
 // A spatially varying convolution that is continuous over the field: each source is spread by
-// the kernel interpolated at its own position (bilinearly over the PSF table's anchors,
+// the kernel interpolated at its own position (bilinearly over the kernel table's anchors,
 // linearly in 1/z over its two depth layers). Internal to core.
 //
 // Why interpolate per source. Cutting the image into tiles that each take one kernel makes a
@@ -17,7 +17,7 @@
 #include <complex>
 #include <cstdint>
 #include <vector>
-#include "psf_table.h"
+#include "kernel_table.h"
 
 namespace wavecam::detail {
 
@@ -46,7 +46,7 @@ class AnchoredConvolution {
 public:
     // Transforms every kernel of `table` once, for tiles of side `tile` (>= 2 x the radius) on
     // a source domain of width x height.
-    static Result<AnchoredConvolution> create(PsfTable table, int tile, int width, int height, int nthreads,
+    static Result<AnchoredConvolution> create(KernelTable table, int tile, int width, int height, int nthreads,
                                               const ProgressFn& progress);
 
     // Adds to `xyz` (interleaved, out_width x out_height) the image of `sources` on the output
@@ -54,11 +54,11 @@ public:
     Result<bool> apply(const DomainSources& sources, int out_x0, int out_y0, int out_width, int out_height,
                        float* xyz, const ProgressFn& progress) const;
 
-    const PsfTable& table() const { return table_; }
+    const KernelTable& table() const { return table_; }
     int tile() const { return tile_; }
 
 private:
-    PsfTable table_;
+    KernelTable table_;
     int tile_ = 0, fft_size_ = 0, nthreads_ = 1;
     size_t spectrum_size_ = 0;
     std::vector<std::complex<float>> kernel_spectra_;  // [layer][anchor][m][spectrum]; empty: none kept

@@ -28,7 +28,7 @@ double cos4_sum(double u0, double u1, double v, double pitch) {
 // field position, so with its own cos^4 fall-off).
 class FrameSources {
 public:
-    FrameSources(const PsfTable& t, const SpectralScene& scene)
+    FrameSources(const KernelTable& t, const SpectralScene& scene)
         : scene_(scene), c_(scene.camera), pitch_(c_.tan_pitch()) {
         const size_t n = size_t(c_.width) * c_.height;
         lower_.resize(n);
@@ -129,7 +129,7 @@ struct CoarseGrid {
 
 // Per coarse cell, the light its sources send beyond their kernels: each layer's light times the
 // kernels' missing shares at the cell's centre, interpolated as the kernels are.
-std::vector<float> missing_light(const PsfTable& t, const SpectralScene& scene, int origin, const CoarseGrid& g,
+std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scene, int origin, const CoarseGrid& g,
                                  int nthreads) {
     const int L = t.layers.count, nkx = int(t.ax.knots.size()), anchors = t.anchors();
     std::vector<float> missing(3 * size_t(g.cw) * g.ch, 0.0f);
@@ -224,7 +224,7 @@ std::vector<float> spread_over_annulus(const std::vector<float>& missing, const 
 
 }  // namespace
 
-void add_far_tail(const PsfTable& t, const SpectralScene& scene, int origin, const OutputWindow& out, float* xyz,
+void add_far_tail(const KernelTable& t, const SpectralScene& scene, int origin, const OutputWindow& out, float* xyz,
                   int nthreads) {
     const int out_x0 = out.x0, out_y0 = out.y0, out_w = out.width, out_h = out.height;
     const int R = t.radius, reach = kTailReach * R;

@@ -13,7 +13,7 @@
 // missing shares interpolated at the cell's centre) and interpolated back bilinearly.
 #pragma once
 #include "output_window.h"
-#include "psf_table.h"
+#include "kernel_table.h"
 #include "wavecam/spectral_diffraction.h"
 
 namespace wavecam::detail {
@@ -23,7 +23,7 @@ constexpr int kTailReach = 16;
 // deficit(layer, anchor, m): the share of the power the kernel m = 3p + q does not hold.
 // Adds the far tail of `scene` to `xyz` (out.width x out.height), whose pixel (0, 0) is the
 // table's domain pixel (out.x0, out.y0) and camera pixel (out.x0 - origin, out.y0 - origin).
-void add_far_tail(const PsfTable& table, const SpectralScene& scene, int origin, const OutputWindow& out, float* xyz,
+void add_far_tail(const KernelTable& table, const SpectralScene& scene, int origin, const OutputWindow& out, float* xyz,
                   int nthreads);
 
 }  // namespace wavecam::detail

@@ -1,7 +1,7 @@
 // The scene beyond the frame, for the exact sums. Internal to core.
 //
 // Film pixels near the border receive light from scene points outside the frame. As the fast
-// path does (psf_convolution.h), the scene beyond the input is its edge continued: a point
+// path does (convolution_method.h), the scene beyond the input is its edge continued: a point
 // outside takes the radiance and planar depth of the nearest edge pixel, at its own field
 // position. The margin reaches kTailReach R beyond the output frame (R: psf_kernel_radius, the
 // kPsfKernelEnergy radius): the light the convolution method's kernels and far tail hold, all but about

@@ -16,7 +16,7 @@ namespace wavecam::detail {
 
 // Above this many kernels no basis is sought (a Jacobi eigen-decomposition of 2K x 2K, seconds
 // at this bound): each kernel is its own basis kernel. Wide frames need hundreds of anchors
-// (psf_table.h, kMaxAnchorStep: 13 x 13 at 60 deg, 21 x 21 at 90), whose kernels a few dozen
+// (kernel_table.h, kMaxAnchorStep: 13 x 13 at 60 deg, 21 x 21 at 90), whose kernels a few dozen
 // basis kernels carry.
 constexpr int kMaxBasisKernels = 512;
 // A kernel's power left out of its basis, as a fraction: amplitudes within sqrt of it (0.3%).

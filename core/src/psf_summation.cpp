@@ -17,7 +17,7 @@
 #include "real_fft2d.h"
 #include "summation/choose.h"
 #include "wavecam/fresnel_psf.h"
-#include "wavecam/psf_convolution.h"
+#include "wavecam/convolution_method.h"
 #include "wavecam/scene_diffraction.h"
 
 namespace wavecam::detail {
@@ -71,7 +71,7 @@ struct PsfSummation::Impl {
     mutable std::mutex busy;
     mutable std::vector<std::complex<float>> image, total;
     mutable std::vector<double> film;
-    PsfTable tail;  // layers, anchors and, in deficit's first entry, the light beyond each kernel
+    KernelTable tail;  // layers, anchors and, in deficit's first entry, the light beyond each kernel
     // Re <K_i, K_j> (the pixel-mean over sub-points) for kernels i = layer x anchors + anchor
     // and, where there are more than kMaxBasisKernels, only their neighbours j in layer and
     // both anchor axes (0 elsewhere)
@@ -129,7 +129,7 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
     impl->threads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
     const int n = spec.subsamples, S = impl->points(), side = 2 * g.radius + 1, A = g.anchors();
     const PinholeCamera& c = spec.camera;
-    PsfTable& tail = impl->tail;
+    KernelTable& tail = impl->tail;
     tail.radius = g.radius;
     tail.layers = g.layers;
     tail.ax = g.ax;

@@ -50,7 +50,7 @@
 #include <mutex>
 #include <vector>
 
-#include "psf_table.h"
+#include "kernel_table.h"
 #include "wavecam/scene_diffraction.h"
 #include "wavecam/summation_plan.h"
 
@@ -162,8 +162,9 @@ double kernel_lattice_pitch(const PsfSummationSpec& spec, double frame_pitch);
 
 // The last psf summation made (its kernels and their spectra), kept for the next call of the
 // same job that asks for the same one: a wavelength's positive and negative parts are two calls
-// (spectral_diffraction.cpp), and its kernels are the same for both. A job's settings are fixed; what may change between calls is
-// the camera, the wavelength, the depth range and the lattice, and they are the key.
+// (spectral_diffraction.cpp), and its kernels are the same for both. A job's settings are
+// fixed; what may change between calls is the camera, the wavelength, the depth range and the
+// lattice, and they are the key.
 class PsfSummationMemo {
 public:
     using Make = std::function<Result<PsfSummation>()>;

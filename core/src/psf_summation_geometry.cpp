@@ -6,7 +6,7 @@
 
 #include "real_fft2d.h"
 #include "wavecam/fresnel_psf.h"
-#include "wavecam/psf_convolution.h"
+#include "wavecam/convolution_method.h"
 
 namespace wavecam::detail {
 
@@ -51,7 +51,7 @@ PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s) {
                               g.radius);
     g.ay = AnchorAxis::across(g.height, 1, std::max(1, int(std::lround(double(cells) * g.height / longest))),
                               min_cell, g.radius);
-    // and close enough that the field's stretch of the PSF changes little between them (psf_table.h)
+    // and close enough that the field's stretch of the PSF changes little between them (kernel_table.h)
     const double step = anchor_step(s.aperture, s.wavelength, c.film_distance, c.pixel_pitch());
     g.ax = AnchorAxis::refined_for_field(g.ax, c.tan_pitch(), step);
     g.ay = AnchorAxis::refined_for_field(g.ay, c.tan_pitch(), step);

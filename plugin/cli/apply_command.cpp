@@ -184,7 +184,7 @@ struct FrameFiles {
 };
 
 // One frame: read, resolve its settings, diffract, write (and the pictures for people). `plan`
-// is kept for the next frame while the settings stay the same (a sequence pays for one PSF table).
+// is kept for the next frame while the settings stay the same (a sequence pays for one kernel table).
 int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, front::Settings& plan_settings,
               const ProgressFn& progress, const FrameFiles& files) {
     const std::string &input = files.input, &output = files.output, &compare = files.compare, &png = files.png;
@@ -272,7 +272,7 @@ int run(const ApplyFlags& flags) {
     if (flags.frames.empty())
         return run_frame(flags, plan, plan_settings, terminal_progress("apply"),
                          {flags.input, flags.output, flags.compare, flags.png});
-    // one plan while the frames' settings agree: the PSF table is built once and reused
+    // one plan while the frames' settings agree: the kernel table is built once and reused
     auto bar = std::make_shared<ProgressFn>();
     const ProgressFn progress = [bar](double f) { return (*bar)(f); };
     for (size_t f = 0; f < frames.size(); ++f) {

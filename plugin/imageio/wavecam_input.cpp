@@ -61,7 +61,7 @@ void report_where_the_host_drops_it(const std::string& name, const ImageSpec& co
 // Computed images, by source file (its identity and version) and settings: oiiotool opens one
 // input several times per command. The last 4, at most 512 MiB of pixels (docs/oiio.md).
 wavecam::plugin::ResultCache g_results(4, size_t(512) << 20);
-// Plans by settings: frames of a sequence (oiiotool --frames) share one PSF table. A handful
+// Plans by settings: frames of a sequence (oiiotool --frames) share one kernel table. A handful
 // is kept; a host that cycles through more settings rebuilds.
 std::mutex g_plans_mutex;
 std::map<std::string, std::shared_ptr<wavecam::DiffractPlan>> g_plans;

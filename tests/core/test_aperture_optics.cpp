@@ -11,7 +11,7 @@
 #include "exact_kernel.h"
 #include "psf_measures.h"
 #include "wavecam/aperture.h"
-#include "wavecam/psf_convolution.h"
+#include "wavecam/convolution_method.h"
 #include "wavecam/photon_sieve.h"
 #include "wavecam/psf.h"
 #include "summation_flag.h"

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <complex>
 
-#include "wavecam/psf_convolution.h"
+#include "wavecam/convolution_method.h"
 
 using namespace wavecam;
 

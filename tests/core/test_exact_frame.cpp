@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "wavecam/psf_convolution.h"
+#include "wavecam/convolution_method.h"
 #include "wavecam/scene_diffraction.h"
 #include "summation_flag.h"
 

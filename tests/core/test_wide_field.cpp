@@ -13,7 +13,7 @@
 
 #include "rs_reference.h"
 #include "summation_flag.h"
-#include "wavecam/psf_convolution.h"
+#include "wavecam/convolution_method.h"
 #include "wavecam/scene_diffraction.h"
 
 using namespace wavecam;

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 #include "wavecam/render_input.h"
-#include "wavecam/psf_convolution.h"
+#include "wavecam/convolution_method.h"
 #include "wavecam/scene_diffraction.h"
 #include "wavecam/spectral_diffraction.h"
 
@@ -82,7 +82,7 @@ namespace detail {
 struct ResolvedFrame;  // one frame's render, camera, colours and method settings (core/io/src/resolved_frame.h)
 }
 
-// Options resolved once and the convolution method's plan (PSF table, kernel spectra) kept for the next
+// Options resolved once and the convolution method's plan (kernel table, kernel spectra) kept for the next
 // frame that shares its camera, pinhole, colours and depth range: a sequence, or an OIIO host
 // opening the same shot again, pays for the table once. Safe to share between threads.
 class DiffractPlan {

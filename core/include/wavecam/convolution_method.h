@@ -3,7 +3,7 @@
 // varying convolution instead of a sum over pinhole samples.
 //
 // A ConvolutionPlan holds everything that depends only on the camera, the pinhole, the wavelengths,
-// the colour basis and the depth range: the PSF table (psf_table.h: depth layers even in 1/z x
+// the colour basis and the depth range: the kernel table (kernel_table.h: depth layers even in 1/z x
 // field anchors, the wavelength sum folded into nine RGB -> XYZ kernels per grid point) and
 // the kernels' spectra for the tiled FFT convolution (anchored_convolution.h). It is built
 // once (create) and applied to any number of frames that share those (apply), as Embree's
@@ -50,7 +50,7 @@ struct ConvolutionPlanSpec {
 
 class ConvolutionPlan {
 public:
-    // Builds the PSF table and kernel spectra (the costly part: progress reports it).
+    // Builds the kernel table and kernel spectra (the costly part: progress reports it).
     static Result<std::shared_ptr<const ConvolutionPlan>> create(const ConvolutionPlanSpec& spec, const ProgressFn& progress = {});
 
     // Whether this plan serves a frame of `spec` (same geometry, pinhole, colour and settings,

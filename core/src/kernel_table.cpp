@@ -1,4 +1,4 @@
-#include "psf_table.h"
+#include "kernel_table.h"
 
 #include <omp.h>
 
@@ -89,7 +89,7 @@ int AnchorAxis::cell_of(int pixel) const {
     return std::clamp(int(it - knots.begin()) - 1, 0, cells() - 1);
 }
 
-AnchorAxis anchor_axis(const PsfTableSpec& spec, bool vertical) {
+AnchorAxis anchor_axis(const KernelTableSpec& spec, bool vertical) {
     const int length = vertical ? spec.domain_height : spec.domain_width;
     const int cells = vertical ? std::max(1, int(std::lround(double(spec.anchor_cells) * length /
                                                              std::max(spec.domain_width, spec.domain_height))))
@@ -102,8 +102,8 @@ AnchorAxis anchor_axis(const PsfTableSpec& spec, bool vertical) {
                                          anchor_step(spec.aperture, longest, c.film_distance, c.pixel_pitch()));
 }
 
-Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& progress) {
-    PsfTable t;
+Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const ProgressFn& progress) {
+    KernelTable t;
     t.radius = spec.radius;
     t.layers = spec.layers;
     t.ax = anchor_axis(spec, false);
@@ -159,8 +159,8 @@ Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& pro
             ticker.advance(1, omp_get_thread_num() == 0);
         }
     }
-    if (ticker.cancelled()) return Result<PsfTable>::failure("cancelled", ErrorKind::Cancelled);
-    return Result<PsfTable>::success(std::move(t));
+    if (ticker.cancelled()) return Result<KernelTable>::failure("cancelled", ErrorKind::Cancelled);
+    return Result<KernelTable>::success(std::move(t));
 }
 
 }  // namespace wavecam::detail

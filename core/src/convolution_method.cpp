@@ -1,4 +1,4 @@
-#include "wavecam/psf_convolution.h"
+#include "wavecam/convolution_method.h"
 
 #include <omp.h>
 
@@ -48,7 +48,7 @@ int tile_side(int requested, int radius, int domain) {
 
 // Transform work (points x log2 points) per depth layer of a plan tiled as `t` says: 9 kernel
 // spectra per anchor, and per tile 3 forward transforms for each anchor it meets and 3 inverse.
-double transform_work(const detail::PsfTableSpec& t) {
+double transform_work(const detail::KernelTableSpec& t) {
     const int n = detail::convolution_fft_size(t.tile, t.radius, t.domain_width, t.domain_height);
     const detail::AnchorAxis ax = detail::anchor_axis(t, false), ay = detail::anchor_axis(t, true);
     auto met = [&](const detail::AnchorAxis& a, int length) {  // knots met, summed over a row of tiles
@@ -75,8 +75,8 @@ int ConvolutionPlan::kernel_radius() const { return impl_->convolution.table().r
 namespace {
 
 // The plan's geometry: kernel radius, source domain, tiles, anchors and depth layers.
-Result<detail::PsfTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
-    using R = Result<detail::PsfTableSpec>;
+Result<detail::KernelTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
+    using R = Result<detail::KernelTableSpec>;
     const PinholeCamera& c = spec.camera;
     const int o = spec.overscan;
     if (auto v = check_frame(c, o); !v.ok()) return R::failure(v);
@@ -98,10 +98,10 @@ Result<detail::PsfTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
     const double pitch = c.pixel_pitch();
     const double nearest = spec.max_inverse_depth > 0 ? 1.0 / spec.max_inverse_depth : INFINITY;
     // The kernel radius is the widest PSF's at the output frame's corners: the anchors lie within
-    // the frame, and sources in the margin beyond take the edge anchors' kernels (psf_table.h).
+    // the frame, and sources in the margin beyond take the edge anchors' kernels (kernel_table.h).
     const int radius = psf_kernel_radius(spec.aperture, c.film_distance, nearest, lambda_max,
                                          c.cos_widest(o, o, o + out_w, o + out_h), pitch, spec.settings.max_radius);
-    detail::PsfTableSpec t;
+    detail::KernelTableSpec t;
     t.camera = c;
     t.origin = radius - o;
     t.domain_width = out_w + 2 * radius;
@@ -117,9 +117,9 @@ Result<detail::PsfTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
         // anchors are the domain's corners (those knots lie on tile boundaries), so it is taken
         // only where the tiles have no more anchors (cells of kMinCellRadii kernel radii already
         // span the frame, or the field's split sets them all).
-        detail::PsfTableSpec whole = t;
+        detail::KernelTableSpec whole = t;
         whole.tile = std::max(t.domain_width, t.domain_height);
-        auto anchors = [](const detail::PsfTableSpec& s) {
+        auto anchors = [](const detail::KernelTableSpec& s) {
             return detail::anchor_axis(s, false).knots.size() * detail::anchor_axis(s, true).knots.size();
         };
         if (anchors(whole) == anchors(t) && transform_work(whole) < transform_work(t)) t.tile = whole.tile;
@@ -135,7 +135,7 @@ Result<detail::PsfTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
 double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
     auto g = plan_geometry(spec);
     if (!g.ok()) return 0;
-    const detail::PsfTableSpec& t = g.value;
+    const detail::KernelTableSpec& t = g.value;
     const double anchors =
         double(detail::anchor_axis(t, false).knots.size()) * detail::anchor_axis(t, true).knots.size();
     const double side = 2.0 * t.radius + 1,
@@ -178,10 +178,10 @@ Result<std::shared_ptr<const ConvolutionPlan>> ConvolutionPlan::create(const Con
     using R = Result<std::shared_ptr<const ConvolutionPlan>>;
     auto geometry = plan_geometry(spec);
     if (!geometry.ok()) return R::failure(geometry.error);
-    detail::PsfTableSpec& t = geometry.value;
+    detail::KernelTableSpec& t = geometry.value;
     const int threads = t.nthreads;
-    // progress: the PSF table is most of the work, the kernels' transforms the rest
-    auto table = detail::build_psf_table(t, progress_part(progress, 0.0, 0.8));
+    // progress: the kernel table is most of the work, the kernels' transforms the rest
+    auto table = detail::build_kernel_table(t, progress_part(progress, 0.0, 0.8));
     if (!table.ok()) return R::failure(table.error);
     auto conv = detail::AnchoredConvolution::create(std::move(table.value), t.tile, t.domain_width, t.domain_height,
                                                     threads, progress_part(progress, 0.8, 1.0));
@@ -200,7 +200,7 @@ bool ConvolutionPlan::serves(const ConvolutionPlanSpec& s) const {
     // the frame's depth range must lead to this very plan (kernel radius, layers, tiles), so that
     // a frame's image never depends on the frames before it
     auto g = plan_geometry(s);
-    const detail::PsfTable& t = impl_->convolution.table();
+    const detail::KernelTable& t = impl_->convolution.table();
     return g.ok() && g.value.radius == t.radius && g.value.layers.count == t.layers.count &&
            g.value.layers.step == t.layers.step && g.value.tile == impl_->convolution.tile();
 }
@@ -209,7 +209,7 @@ Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting,
     const ConvolutionPlanSpec& spec = impl_->spec;
     const PinholeCamera& c = spec.camera;
     if (!same_camera(scene.camera, c)) return Result<bool>::failure("image: not the camera this plan was made for");
-    const detail::PsfTable& table = impl_->convolution.table();
+    const detail::KernelTable& table = impl_->convolution.table();
     const int R = table.radius, o = spec.overscan, origin = impl_->origin;
     const int out_w = c.width - 2 * o, out_h = c.height - 2 * o;
 

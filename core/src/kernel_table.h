@@ -1,4 +1,4 @@
-// The convolution method's PSF table: point-source images on a grid of depth layers x field anchors,
+// The convolution method's kernel table: point-source images on a grid of depth layers x field anchors,
 // each folded over wavelength into nine RGB -> XYZ kernels (the spectral basis is linear, so
 // the wavelength sum need not be carried through the convolution). Internal to core.
 #pragma once
@@ -19,7 +19,7 @@ namespace wavecam::detail {
 // in the geometric regime, where the PSF is the blur disc of radius a (1 + f w), itself linear
 // in w: there steps that change the disc by at most half a pixel suffice (the larger step of
 // the two is taken; at most 16 layers). Where the defocus phase stays within 0.3 rad even at
-// the nearest source (small pinholes), one layer serves every depth (psf_table.cpp says why).
+// the nearest source (small pinholes), one layer serves every depth (kernel_table.cpp says why).
 struct DepthLayers {
     int count = 1;
     double step = 1.0;  // in 1/m
@@ -93,7 +93,7 @@ struct AnchorAxis {
 
 // The geometry the table is built for: the source domain's pixel (0, 0) is the camera's pixel
 // (origin, origin); the domain may reach beyond the camera's frame on every side.
-struct PsfTableSpec {
+struct KernelTableSpec {
     PinholeCamera camera;
     int origin = 0;
     int domain_width = 0, domain_height = 0;
@@ -105,7 +105,7 @@ struct PsfTableSpec {
 };
 
 // kernel(layer, anchor, m): (2 radius + 1)^2 weights, m = 3 p + q (primary p -> XYZ q).
-struct PsfTable {
+struct KernelTable {
     int radius = 0;
     DepthLayers layers;
     AnchorAxis ax, ay;
@@ -119,11 +119,11 @@ struct PsfTable {
     }
 };
 
-// The anchor axis build_psf_table lays out across (vertical: down) the spec's domain:
+// The anchor axis build_kernel_table lays out across (vertical: down) the spec's domain:
 // anchor_cells cells across, fewer down in proportion when the domain is wider than tall.
-AnchorAxis anchor_axis(const PsfTableSpec& spec, bool vertical);
+AnchorAxis anchor_axis(const KernelTableSpec& spec, bool vertical);
 
 // Fails only when cancelled through `progress`.
-Result<PsfTable> build_psf_table(const PsfTableSpec& spec, const ProgressFn& progress);
+Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const ProgressFn& progress);
 
 }  // namespace wavecam::detail

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <random>
 
-#include "wavecam/psf_convolution.h"
+#include "wavecam/convolution_method.h"
 
 using namespace wavecam;
 
@@ -44,7 +44,7 @@ Scene occlusion_scene(int w, double fov, double f, double far, double near, int 
 }
 }  // namespace
 
-TEST(PsfConvolution, AgreesWithTheExactIncoherentSum) {
+TEST(ConvolutionMethod, AgreesWithTheExactIncoherentSum) {
     const double f = 2e-3;
     const int w = 18;
     const Scene sc = occlusion_scene(w, 2 * std::atan(w * 15e-6 / (2 * f)), f, 0.05, 0.005, 4);
