@@ -151,7 +151,7 @@ private:
 // wavefronts' curvature, k a (1/|P_s| + 1/|T_t|) at the rim: slowly for film points near the
 // image, where the frame's sums must serve every source and film point at once. A square lattice
 // of pitch h repeats a kernel's field at direction shifts of lambda / h along each axis (the
-// frame's own condition, lattice_pitch in scene_diffraction.cpp); at kKernelLatticeMargin times
+// frame's own condition, lattice_pitch in scene_sum.cpp); at kKernelLatticeMargin times
 // the kernels' widest turn, their core's width lambda / D added, the repeats of every kernel's
 // core lie kKernelLatticeMargin - 1 kernel widths beyond it, and what falls on the kernel is
 // the far tail's (docs/summation.md gives the error against the frame's lattice). Never coarser
