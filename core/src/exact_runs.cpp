@@ -91,7 +91,7 @@ private:
 
     EvaluatorSetup setup_;
     bool incoherent_ = false;
-    SumPlan plan_;
+    SumChoices plan_;
     SummationPlan to_film_;
     std::vector<float> points_;
 };

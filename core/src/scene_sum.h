@@ -59,7 +59,7 @@ struct SceneSum {
 // s.summation asks for (summation/choose.h). Decided from the whole frame's counts, so
 // that every share of a job evaluates its part as the job would; the film's chirps planned over
 // the frame.
-struct SumPlan {
+struct SumChoices {
     SummationSettings settings;
     PlanScope in, out;
     double in_work = 0, out_work = 0;  // the film's for the whole frame
@@ -86,7 +86,7 @@ SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const ExactS
                    const WorkRange& range, bool with_samples);
 
 // The two sums' evaluators and work for a run (or one source's, `single`).
-SumPlan plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
+SumChoices plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
                   double nearest, bool single);
 
 // The runs as convolutions with amplitude PSFs (psf_summation.h) for this wavelength.

@@ -48,7 +48,7 @@ FrameCounts frame_counts(const ExactSettings& s, const SceneSum& sum, double pit
 
 }  // namespace
 
-SumPlan plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
+SumChoices plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
                   double nearest, bool single) {
     const FrameCounts n = frame_counts(s, sum, sum.samples.pitch, c, wavelength, nearest, single);
     FrameSums frame;
@@ -56,7 +56,7 @@ SumPlan plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCame
     frame.out = n.out;
     frame.single = single;
     const SummationChoice chosen = choose_summation(frame, {s.summation, false, &s.device, 0});
-    SumPlan plan;
+    SumChoices plan;
     plan.settings = {exact_asked(s.summation, single), s.summation_tolerance, s.nthreads, s.device};
     plan.in.fixed_choice = plan.out.fixed_choice = true;
     plan.in.choice = chosen.in;
