@@ -10,7 +10,10 @@
 
 namespace wavecam {
 
-const char* evaluator_word(Evaluator e) { return e == Evaluator::Nufft ? "nufft" : "direct"; }
+// the words of the table's rows (evaluator_table.cpp)
+const char* evaluator_word(Evaluator e) {
+    return summation_word(e == Evaluator::Nufft ? Summation::Nufft : Summation::Direct);
+}
 
 void EvaluatorSet::add(const EvaluatorSet& o) {
     direct_to_pinhole |= o.direct_to_pinhole;
