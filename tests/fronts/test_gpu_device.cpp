@@ -18,7 +18,8 @@ namespace fs = std::filesystem;
 
 // The command line with `--device gpu` and every summation: direct, psf and auto run on the device
 // (the CPU's image within float rounding, but not its bits) and the header names the device and
-// the one evaluator that ran; nufft is refused before any work, named. With no Vulkan driver
+// the one evaluator that ran; nufft is refused before any work, named. On the CPU, `auto` names
+// what it chose and why in the job line. With no Vulkan driver
 // `gpu` is refused and writes nothing, and `auto` says in the job line that the CPU runs it.
 TEST(GpuDevice, CommandLineDeviceKey) {
     REQUIRE_VULKAN();
@@ -77,6 +78,9 @@ TEST(GpuDevice, CommandLineDeviceKey) {
     const auto a = pixels("auto_cpu_choice.exr", &device, &chosen);
     EXPECT_EQ(device, "cpu");
     EXPECT_EQ(chosen.find(" or "), std::string::npos) << chosen;
+    // the job line names it and says why: the chooser's estimate beside the one it weighed against
+    EXPECT_NE(cpu_auto.output.find("auto summation (" + chosen + "; at "), std::string::npos) << cpu_auto.output;
+    EXPECT_NE(cpu_auto.output.find(" terms estimated against "), std::string::npos) << cpu_auto.output;
     if (chosen == "direct" || chosen == "nufft" || chosen == "psf") {
         const auto named = apply("named_cpu.exr", "--summation " + chosen + " --device cpu");
         ASSERT_EQ(named.status, 0) << named.output;

@@ -265,7 +265,14 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
         else job << "noise within " << 100 * kRunNoiseGoal << "% per channel)";
     }
     job << ", " << summation_word(opt.exact.summation) << " summation";
-    if (opt.exact.summation == Summation::Auto) job << " (" << auto_choice(f.exact, f.camera, f.colour.basis) << ")";
+    if (opt.exact.summation == Summation::Auto && f.colour.basis.size() > 0) {
+        // what ran, and why at the middle wavelength, where the job weighed psf (the chooser's reason)
+        ExactSettings asked = f.exact;
+        asked.summation = Summation::Auto;
+        const double middle = f.colour.basis.wavelength(f.colour.basis.size() / 2);
+        job << " (" << auto_choice(f.exact, f.camera, f.colour.basis) << "; at " << std::lround(middle * 1e9)
+            << " nm, " << estimate_summation(asked, f.camera, middle).reason << ")";
+    }
     if (device.gpu()) job << " on " << device.description();
     if (!on_cpu.empty()) job << " (GPU: " << on_cpu << "; on the CPU)";
     f.job = job.str();
