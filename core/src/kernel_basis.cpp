@@ -4,54 +4,11 @@
 #include <cmath>
 #include <numeric>
 
+#include <Eigen/Eigenvalues>
+
 namespace wavecam::detail {
 
 namespace {
-
-// Eigenvalues and eigenvectors (the columns of v) of the real symmetric n x n matrix a
-// (row-major, destroyed): cyclic Jacobi rotations, each zeroing one off-diagonal pair,
-//   t = sgn(h) / (|h| + sqrt(h^2 + 1)),  h = (a_qq - a_pp) / (2 a_pq),  c = 1 / sqrt(t^2 + 1),  s = t c,
-// until the off-diagonal part is below rounding of the diagonal (Golub & Van Loan, sec. 8.5).
-void symmetric_eigen(std::vector<double>& a, int n, std::vector<double>& value, std::vector<double>& v) {
-    v.assign(size_t(n) * n, 0.0);
-    for (int i = 0; i < n; ++i) v[size_t(i) * n + i] = 1;
-    auto at = [&](int i, int j) -> double& { return a[size_t(i) * n + j]; };
-    for (int sweep = 0; sweep < 60; ++sweep) {
-        double off = 0, diagonal = 0;
-        for (int p = 0; p < n; ++p) {
-            diagonal += at(p, p) * at(p, p);
-            for (int q = p + 1; q < n; ++q) off += at(p, q) * at(p, q);
-        }
-        if (off <= 1e-30 * diagonal || off == 0) break;
-        for (int p = 0; p < n; ++p)
-            for (int q = p + 1; q < n; ++q) {
-                const double apq = at(p, q);
-                if (apq == 0) continue;
-                const double h = (at(q, q) - at(p, p)) / (2 * apq);
-                const double t = (h >= 0 ? 1.0 : -1.0) / (std::abs(h) + std::sqrt(h * h + 1));
-                const double c = 1 / std::sqrt(t * t + 1), s = t * c;
-                for (int k = 0; k < n; ++k) {  // columns p, q
-                    const double kp = at(k, p), kq = at(k, q);
-                    at(k, p) = c * kp - s * kq;
-                    at(k, q) = s * kp + c * kq;
-                }
-                for (int k = 0; k < n; ++k) {  // rows p, q
-                    const double pk = at(p, k), qk = at(q, k);
-                    at(p, k) = c * pk - s * qk;
-                    at(q, k) = s * pk + c * qk;
-                }
-                for (int k = 0; k < n; ++k) {
-                    double& kp = v[size_t(k) * n + p];
-                    double& kq = v[size_t(k) * n + q];
-                    const double vp = kp, vq = kq;
-                    kp = c * vp - s * vq;
-                    kq = s * vp + c * vq;
-                }
-            }
-    }
-    value.resize(n);
-    for (int i = 0; i < n; ++i) value[i] = at(i, i);
-}
 
 KernelBasis identity(int K) {
     KernelBasis b;
@@ -66,47 +23,15 @@ KernelBasis identity(int K) {
 
 KernelBasis kernel_basis(const std::vector<std::complex<double>>& gram, int K, double tolerance) {
     if (K < 2 || K > kMaxBasisKernels) return identity(K);
-    // H = X + iY as the real symmetric [[X, -Y], [Y, X]]: its eigenvector (x, y) is H's x + iy,
-    // each eigenvalue twice (x + iy and i (x + iy))
-    const int n = 2 * K;
-    std::vector<double> real(size_t(n) * n);
-    for (int i = 0; i < K; ++i)
-        for (int j = 0; j < K; ++j) {
-            const std::complex<double> h = gram[size_t(i) * K + j];
-            real[size_t(i) * n + j] = real[size_t(i + K) * n + j + K] = h.real();
-            real[size_t(i) * n + j + K] = -h.imag();
-            real[size_t(i + K) * n + j] = h.imag();
-        }
-    std::vector<double> value, vector;
-    symmetric_eigen(real, n, value, vector);
-    std::vector<int> order(n);
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return value[a] > value[b]; });
-    // H's eigenvectors, largest first: each pair's second (and any vector within the span of
-    // those kept) removed by Gram-Schmidt
-    std::vector<std::vector<std::complex<double>>> kept;
-    std::vector<double> eigenvalue;
-    for (const int e : order) {
-        if (int(kept.size()) == K || !(value[e] > 0)) break;
-        std::vector<std::complex<double>> u(K);
-        for (int k = 0; k < K; ++k) u[k] = {vector[size_t(k) * n + e], vector[size_t(k + K) * n + e]};
-        for (const auto& w : kept) {
-            std::complex<double> dot = 0;
-            for (int k = 0; k < K; ++k) dot += std::conj(w[k]) * u[k];
-            for (int k = 0; k < K; ++k) u[k] -= dot * w[k];
-        }
-        double norm = 0;
-        for (const auto& x : u) norm += std::norm(x);
-        if (norm < 0.5) continue;  // (x, y) has unit length: the pair's partner leaves nothing
-        for (auto& x : u) x /= std::sqrt(norm);
-        double l = 0;  // u^H H u
-        for (int i = 0; i < K; ++i)
-            for (int j = 0; j < K; ++j) l += (std::conj(u[i]) * gram[size_t(i) * K + j] * u[j]).real();
-        if (!(l > 0)) break;
-        kept.push_back(std::move(u));
-        eigenvalue.push_back(l);
-    }
-    // the fewest that leave no kernel more than `tolerance` of its power out
+    // G = V L V^H: Householder tridiagonalisation and implicit QL (Eigen's self-adjoint solver;
+    // Golub & Van Loan, sec. 8.3), eigenvalues ascending
+    const Eigen::Map<const Eigen::Matrix<std::complex<double>, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> g(
+        gram.data(), K, K);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> solver(g);
+    if (solver.info() != Eigen::Success) return identity(K);
+    const Eigen::VectorXd& value = solver.eigenvalues();
+    const Eigen::MatrixXcd& vector = solver.eigenvectors();
+    // the fewest, largest first, that leave no kernel more than `tolerance` of its power out
     int rank = 0;
     std::vector<double> held(K, 0.0);
     for (;; ++rank) {
@@ -116,8 +41,9 @@ KernelBasis kernel_basis(const std::vector<std::complex<double>>& gram, int K, d
             enough = enough && power - held[k] <= tolerance * power;
         }
         if (enough) break;
-        if (rank == int(kept.size())) return identity(K);  // (rounding: the kernels themselves)
-        for (int k = 0; k < K; ++k) held[k] += std::norm(kept[rank][k]) * eigenvalue[rank];
+        const int e = K - 1 - rank;
+        if (rank == K || !(value[e] > 0)) return identity(K);  // (rounding: the kernels themselves)
+        for (int k = 0; k < K; ++k) held[k] += std::norm(vector(k, e)) * value[e];
     }
     if (rank == 0 || rank >= K) return identity(K);
     KernelBasis b;
@@ -126,10 +52,11 @@ KernelBasis kernel_basis(const std::vector<std::complex<double>>& gram, int K, d
     b.coefficient.resize(size_t(K) * rank);
     b.mix.resize(size_t(rank) * K);
     for (int r = 0; r < rank; ++r) {
-        const double sigma = std::sqrt(eigenvalue[r]);
+        const int e = K - 1 - r;
+        const double sigma = std::sqrt(value[e]);
         for (int k = 0; k < K; ++k) {
-            b.coefficient[size_t(k) * rank + r] = kept[r][k] * sigma;
-            b.mix[size_t(r) * K + k] = std::conj(kept[r][k]) / sigma;
+            b.coefficient[size_t(k) * rank + r] = vector(k, e) * sigma;
+            b.mix[size_t(r) * K + k] = std::conj(vector(k, e)) / sigma;
         }
     }
     return b;

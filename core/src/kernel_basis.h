@@ -14,8 +14,8 @@
 
 namespace wavecam::detail {
 
-// Above this many kernels no basis is sought (a Jacobi eigen-decomposition of 2K x 2K, seconds
-// at this bound): each kernel is its own basis kernel. Wide frames need hundreds of anchors
+// Above this many kernels no basis is sought (their Gram matrix is K^2 dot products of kernels,
+// its eigen-decomposition K^3): each kernel is its own basis kernel. Wide frames need hundreds of anchors
 // (kernel_table.h, kMaxAnchorStep: 13 x 13 at 60 deg, 21 x 21 at 90), whose kernels a few dozen
 // basis kernels carry.
 constexpr int kMaxBasisKernels = 512;

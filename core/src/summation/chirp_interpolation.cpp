@@ -18,17 +18,22 @@ ChebyshevBox ChirpGeometry::box(const DirectionRange& r) const {
     return b;
 }
 
-std::vector<ChebyshevBox> ChirpGeometry::plan(const DirectionRange& r, const std::vector<ProbeDisc>& discs) const {
+std::vector<ChebyshevBox> ChirpGeometry::plan(const DirectionRange& r, const std::vector<ProbeDisc>& discs,
+                                              double* probed) const {
     std::vector<std::array<double, 4>> pr;  // centre, probe point: 8 directions at each disc's reach
     for (const ProbeDisc& d : probe_discs(discs))
         for (int a = 0; a < 8; ++a)
             pr.push_back({d.cx, d.cy, d.cx + d.reach * std::cos(a * M_PI / 4), d.cy + d.reach * std::sin(a * M_PI / 4)});
-    return plan_boxes(
+    double evaluations = 0;
+    std::vector<ChebyshevBox> boxes = plan_boxes(
         box(r),
         [&](const Parameter& p, int i) {
+            ++evaluations;
             return cdouble(at(p, pr[i][0], pr[i][1]).remainder(pr[i][2], pr[i][3], k / (2 * M_PI), power()));
         },
         int(pr.size()), {tolerance, kMaxRank, kMaxNodes, false});
+    if (probed) *probed = evaluations;
+    return boxes;
 }
 
 ChirpGeometry chirp_geometry(bool film, double wavelength, double tolerance, const DirectionRange& range) {

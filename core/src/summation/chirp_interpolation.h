@@ -25,8 +25,11 @@ struct ChirpGeometry {
         return {p[0], p[1], film ? film_rho(p[0], p[1], f) : p[2], cx, cy};
     }
     // The boxes tiling `r`, split only where an axis needs more than kMaxNodes: the nodes' count
-    // costs only per-point arithmetic, the transforms are the skeleton's.
-    std::vector<ChebyshevBox> plan(const DirectionRange& r, const std::vector<ProbeDisc>& discs) const;
+    // costs only per-point arithmetic, the transforms are the skeleton's. `probed` (where given)
+    // is set to the kernel's evaluations the planning took: a fixed cost per sum that small sums
+    // (a psf kernel's few film points) feel.
+    std::vector<ChebyshevBox> plan(const DirectionRange& r, const std::vector<ProbeDisc>& discs,
+                                   double* probed = nullptr) const;
     static constexpr int kMaxRank = 4096, kMaxNodes = 12;
 };
 

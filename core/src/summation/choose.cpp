@@ -50,7 +50,8 @@ SumChoice division_work(const ChirpGeometry& geo, const DirectionRange& range, c
                         int bnx, int bny, const SumTerms& terms) {
     const double lattice_samples = terms.lattice_samples, off_lattice = terms.off_lattice, points = terms.points;
     SumChoice w;
-    const std::vector<ChebyshevBox> boxes = geo.plan(range, discs);
+    double planning = 0;
+    const std::vector<ChebyshevBox> boxes = geo.plan(range, discs, &planning);
     const std::vector<ProbeDisc> probed = probe_discs(discs);
     const LatticeNufft nufft(bnx, bny, geo.tolerance, 1);
     const double parts = double(discs.size()), dims = geo.dims();
@@ -67,7 +68,8 @@ SumChoice division_work(const ChirpGeometry& geo, const DirectionRange& range, c
     }
     w.nufft_count = int(std::lround(transforms * parts));
     w.nufft_work = transforms * (parts * kFftCost * nufft.fft_work() + kChirpCost * lattice_samples) +
-                   points * parts * (point_work / volume + 2 * kChirpCost) + off_lattice * points;
+                   points * parts * (point_work / volume + 2 * kChirpCost) + off_lattice * points +
+                   planning * kPlanProbeCost;
     return w;
 }
 
@@ -164,9 +166,10 @@ KernelSums kernel_sums(const PsfSummationSpec& spec) {
     KernelSums k;
     k.to_pinhole = k.to_film = spec.settings;
     k.to_pinhole.summation = Summation::Direct;
+    // the anchors span the frame and its margin, R beyond the output frame
     const PinholeCamera& c = spec.camera;
-    const int o = spec.overscan;
-    if (c.cos_widest(o, o, c.width - o, c.height - o) < std::cos(kMaxNufftKernelField))
+    const int o = spec.overscan, r = psf_summation_geometry(spec).radius;
+    if (c.cos_widest(o - r, o - r, c.width - o + r, c.height - o + r) < std::cos(kMaxNufftKernelField))
         k.to_film.summation = Summation::Direct;
     return k;
 }

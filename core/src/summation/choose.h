@@ -25,6 +25,11 @@ namespace wavecam::detail {
 constexpr double kFftCost = 1.33, kTapCost = 2.9, kChirpCost = 15.0;
 // A complex multiply-add in double, a third of a term.
 constexpr double kMacCost = 0.35;
+// One evaluation of the chirp's remainder while the boxes are planned (ChirpGeometry::plan): the
+// chirp at the box's parameter and at the probe point, two chirps. The planning is a fixed cost
+// per sum: nothing beside a frame's millions of points, but all of a psf kernel's sum where its
+// chirp needs many boxes (kMaxNufftKernelField).
+constexpr double kPlanProbeCost = 2 * kChirpCost;
 
 // Sub-apertures per side tried: 1, 2, 4, ... while each keeps at least kMinCellsAcross cells across
 // and the work falls.
@@ -37,9 +42,13 @@ SumChoice sum_work(const SumCounts& counts);
 
 // ---- the psf summation's cost and memory ----
 
-// Frames whose corners lie beyond this field angle (radians, 45 deg) sum their kernels directly:
-// there the nufft evaluator's chirp plans for the corners' kernels took minutes each (a 24 px
-// frame at 90 deg), far more than their direct sums over a kernel's few thousand film points.
+// Frames whose kernels' anchors (the frame and its margin, R beyond it) reach beyond this field
+// angle (radians, 45 deg) sum every kernel directly: there the nufft evaluator's chirp plans for
+// the outer kernels took minutes each (a 24 px frame at 90 deg), far more than their direct sums
+// over a kernel's few thousand film points (kernels of 49 x 49 pixels in the margin of a 32 px
+// frame at 60 deg, beyond 45 deg: 4e7 to 6e7 chirp evaluations in 2300 to 3400 boxes each,
+// against 1.2e8 direct terms for the whole sum). The anchor nearest the frame's centre, which
+// chooses for all of them, sees none of that: its own plan is one box.
 constexpr double kMaxNufftKernelField = M_PI / 4;
 
 // How the psf summation's kernels are summed: one source to the pinhole directly (a lattice of
