@@ -12,7 +12,7 @@ namespace {
 class ExactRuns final : public SummationEvaluator {
 public:
     explicit ExactRuns(const EvaluatorSetup& setup) : setup_(setup) {
-        const ExactSettings& s = *setup.settings;
+        const SceneSumSettings& s = *setup.settings;
         incoherent_ = s.method == CoherenceMethod::Incoherent;
         plan_ = plan_sums(s, *setup.sum, setup.scene->camera, setup.wavelength, setup.nearest, incoherent_);
     }
@@ -60,7 +60,7 @@ private:
     Result<bool> random_phase_runs(const RunBatch& batch, float* irradiance, const ProgressFn& progress) {
         const SceneSum& sum = *setup_.sum;
         const PinholeCamera& c = setup_.scene->camera;
-        const ExactSettings& s = *setup_.settings;
+        const SceneSumSettings& s = *setup_.settings;
         const double wavelength = setup_.wavelength;
         PinholeField field;
         const PhaseCode code(s.runs);

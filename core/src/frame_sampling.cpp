@@ -1,4 +1,4 @@
-// How the exact methods sample a frame (wavecam/scene_diffraction.h): the pinhole lattice's pitch,
+// How the scene-sum methods sample a frame (wavecam/scene_diffraction.h): the pinhole lattice's pitch,
 // the film points per pixel, and the nearest source that both depend on.
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 namespace wavecam {
 
-double scene_sample_pitch(const ExactSettings& s, const PinholeCamera& camera, double wavelength,
+double scene_sample_pitch(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength,
                           double nearest) {
     if (s.sin_theta_max > 0) return sample_pitch(wavelength, s.sin_theta_max);
     const double sin_corner = camera.sin_max_field_angle();

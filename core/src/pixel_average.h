@@ -1,4 +1,4 @@
-// How well n x n film points average a pixel (the exact methods' film sampling, scene_diffraction.h).
+// How well n x n film points average a pixel (the scene-sum methods' film sampling, scene_diffraction.h).
 //
 // A pixel of width p records the irradiance averaged over its area: at spatial frequency f the
 // box filter sinc(f p). n points at the centres of an n-split of the pixel give instead the

@@ -18,7 +18,7 @@ namespace {
 class PsfRuns final : public SummationEvaluator {
 public:
     explicit PsfRuns(const EvaluatorSetup& setup) : setup_(setup) {
-        const ExactSettings& s = *setup.settings;
+        const SceneSumSettings& s = *setup.settings;
         const SceneSum& sum = *setup.sum;
         too_deep_ = too_deep_for_psf(setup.nearest, s.aperture, setup.wavelength);
         if (too_deep_) return;  // refused by set_points, before any work
@@ -53,7 +53,7 @@ public:
     }
 
     Result<bool> execute(const RunBatch& batch, float* irradiance, const ProgressFn& progress) override {
-        const ExactSettings& s = *setup_.settings;
+        const SceneSumSettings& s = *setup_.settings;
         const PsfSummation& conv = *conv_;
         const bool incoherent = spec_.incoherent;
         const int W = conv.domain_width(), origin = conv.origin();

@@ -1,4 +1,4 @@
-// The exact methods' runs as convolutions with amplitude PSFs: the `psf` summation
+// The scene-sum methods' runs as convolutions with amplitude PSFs: the `psf` summation
 // (docs/summation.md, "The runs as convolutions"). Internal to core.
 //
 // The two sums composed carry a source s to a film point t through
@@ -179,7 +179,7 @@ private:
 };
 
 // diffract_monochrome (scene_diffraction.h) with the job's memo: one job's calls, one at a time.
-Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const ExactSettings& s,
+Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const SceneSumSettings& s,
                                  float* irradiance, const ProgressFn& progress, PsfSummationMemo* memo);
 
 }  // namespace wavecam::detail

@@ -9,12 +9,12 @@
 
 namespace wavecam {
 
-Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const ExactSettings& s,
+Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const SceneSumSettings& s,
                                  float* irradiance, const ProgressFn& progress) {
     return detail::diffract_monochrome(scene, wavelength, s, irradiance, progress, nullptr);
 }
 
-Result<bool> detail::diffract_monochrome(const MonochromeScene& scene, double wavelength, const ExactSettings& s,
+Result<bool> detail::diffract_monochrome(const MonochromeScene& scene, double wavelength, const SceneSumSettings& s,
                                          float* irradiance, const ProgressFn& progress, PsfSummationMemo* memo) {
     const PinholeCamera& c = scene.camera;
     if (auto v = check_settings(c, wavelength, s); !v.ok()) return v;

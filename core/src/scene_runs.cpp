@@ -24,7 +24,7 @@ PointSource centred(const PinholeCamera& c, const Emitter& e, double phase) {
 }
 
 double source_turns(const PhaseDraw& d, long i, long j, uint64_t key, int run) {
-    const ExactSettings& s = d.settings;
+    const SceneSumSettings& s = d.settings;
     if (!s.coded_phases) return counter_uniform(s.seed ^ d.stream, uint64_t(run), key, 3);
     const PhaseCode::CellPhase place = d.code.cell_phase(i, j);
     return counter_uniform(s.seed ^ d.stream, 0, place.key, 4) + place.ramp_turns +
@@ -39,7 +39,7 @@ double source_turns(const PhaseDraw& d, long i, long j, uint64_t key, int run) {
 // Independent (the seed paper's own): a fresh uniform phase and place per emitter and run.
 std::vector<PointSource> run_sources(const PinholeCamera& c, const std::vector<Emitter>& emitters, const PhaseDraw& d,
                                      int run) {
-    const ExactSettings& s = d.settings;
+    const SceneSumSettings& s = d.settings;
     std::vector<PointSource> sources;
     sources.reserve(emitters.size());
     const uint64_t draw = s.coded_phases ? 0 : uint64_t(run);  // the counter the random numbers use

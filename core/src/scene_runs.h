@@ -20,7 +20,7 @@ PointSource centred(const PinholeCamera& c, const Emitter& e, double phase);
 // Where a wavelength's phases come from: the settings (seed, coded or independent), the runs'
 // code and the wavelength's stream of random numbers.
 struct PhaseDraw {
-    const ExactSettings& settings;
+    const SceneSumSettings& settings;
     const PhaseCode& code;
     uint64_t stream;
 };

@@ -11,7 +11,7 @@ namespace wavecam {
 namespace detail {
 
 // The settings one wavelength's sum needs (the pixels are check_pixels').
-Result<bool> check_settings(const PinholeCamera& c, double wavelength, const ExactSettings& s) {
+Result<bool> check_settings(const PinholeCamera& c, double wavelength, const SceneSumSettings& s) {
     auto fail = [](const std::string& m) { return Result<bool>::failure(m); };
     if (!(s.aperture.diameter > 0)) return fail("pinhole: expected a diameter > 0");
     if (!(c.film_distance > 0)) return fail("film-distance: expected a distance > 0");
@@ -82,7 +82,7 @@ std::vector<Emitter> scene_emitters(const MonochromeScene& scene, const std::vec
 // own (scene_sample_pitch), refined where sources beyond it need it. A square lattice of pitch h
 // also sends light to directions shifted by lambda / h along each axis; they miss the film while
 // lambda / h >= sin(widest source) + sin(widest film point) on that axis (frame_margin.h).
-double lattice_pitch(const ExactSettings& s, const PinholeCamera& c, double wavelength, double nearest,
+double lattice_pitch(const SceneSumSettings& s, const PinholeCamera& c, double wavelength, double nearest,
                      const Extent& source, const Extent& film) {
     const double frame = scene_sample_pitch(s, c, wavelength, nearest);
     if (s.sin_theta_max > 0) return frame;
@@ -112,7 +112,7 @@ FilmPoints camera_film(const PinholeCamera& c, int n, int row_begin, int row_end
     return film;
 }
 
-WorkRange work_range(const ExactSettings& s, int height) {
+WorkRange work_range(const SceneSumSettings& s, int height) {
     const int o = std::clamp(s.overscan, 0, height / 2);
     WorkRange w;
     w.row_begin = std::clamp(s.row_begin, o, height - o);
@@ -165,13 +165,13 @@ Result<bool> check_pixels(const PinholeCamera& c, const float* radiance, int cha
 namespace detail {
 
 // Film points per pixel side: as asked, or auto_film_subsamples.
-int film_subsamples(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {
+int film_subsamples(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength) {
     return s.film_subsamples > 0 ? s.film_subsamples : auto_film_subsamples(s.aperture, camera, wavelength);
 }
 
 
 // With `scene.power` null every pixel and margin cell counts as lit (estimates).
-SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const ExactSettings& s, double nearest,
+SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const SceneSumSettings& s, double nearest,
                    const WorkRange& range, bool with_samples) {
     const PinholeCamera& c = scene.camera;
     const int o = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);

@@ -1,4 +1,4 @@
-// One wavelength's sums over a frame, as the exact methods build them: the sources (the input's
+// One wavelength's sums over a frame, as the scene-sum methods build them: the sources (the input's
 // pixels and the margin beyond it), the pinhole lattice, the film points (scene_sum.cpp); how
 // the two sums are counted for the chooser (scene_summation_choice.cpp); the runs themselves
 // are the evaluators' (summation/summation_evaluator.h). Internal to wavecam_core.
@@ -66,39 +66,39 @@ struct SumChoices {
 };
 
 // The settings one wavelength's sum needs (the pixels are check_pixels').
-Result<bool> check_settings(const PinholeCamera& c, double wavelength, const ExactSettings& s);
+Result<bool> check_settings(const PinholeCamera& c, double wavelength, const SceneSumSettings& s);
 
 // A point source at image position (x, y) (camera pixels) with power `power_on_pinhole` =
 // radiance x solid angle: the irradiance it puts on the pinhole whatever its depth.
 PointSource source_at(const PinholeCamera& c, double x, double y, double power_on_pinhole, double depth,
                       DepthMeaning meaning, double phase);
 
-WorkRange work_range(const ExactSettings& s, int height);
+WorkRange work_range(const SceneSumSettings& s, int height);
 
 // The wavelength's own stream of random numbers: its bits.
 uint64_t wavelength_stream(double wavelength);
 
 // Film points per pixel side: as asked, or auto_film_subsamples.
-int film_subsamples(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
+int film_subsamples(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength);
 
 // With `scene.power` null every pixel and margin cell counts as lit (estimates).
-SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const ExactSettings& s, double nearest,
+SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const SceneSumSettings& s, double nearest,
                    const WorkRange& range, bool with_samples);
 
 // The two sums' evaluators and work for a run (or one source's, `single`).
-SumChoices plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
+SumChoices plan_sums(const SceneSumSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
                   double nearest, bool single);
 
 // The runs as convolutions with amplitude PSFs (psf_summation.h) for this wavelength.
-PsfSummationSpec psf_summation_spec(const ExactSettings& s, const PinholeCamera& c, double wavelength, double nearest,
-                                    int subsamples);
+PsfSummationSpec psf_summation_spec(const SceneSumSettings& s, const PinholeCamera& c, double wavelength,
+                                    double nearest, int subsamples);
 
 // Whether the scene's depths, nearest at `nearest`, need more amplitude layers than the psf
 // summation takes (psf_summation.h).
 bool too_deep_for_psf(double nearest, const Aperture& aperture, double wavelength);
 
 // The psf summation's work: its kernels' sums counted on their own lattice of `pitch`.
-PsfSummationWork psf_work(const ExactSettings& s, const SceneSum& sum, const PsfSummationSpec& spec, double nearest,
+PsfSummationWork psf_work(const SceneSumSettings& s, const SceneSum& sum, const PsfSummationSpec& spec, double nearest,
                           double pitch);
 
 }  // namespace wavecam::detail

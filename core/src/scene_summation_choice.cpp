@@ -23,7 +23,7 @@ DirectionRange direction_range(const Extent& e, double rho0, double rho1) {
 struct FrameCounts {
     SumCounts in, out;
 };
-FrameCounts frame_counts(const ExactSettings& s, const SceneSum& sum, double pitch, const PinholeCamera& c,
+FrameCounts frame_counts(const SceneSumSettings& s, const SceneSum& sum, double pitch, const PinholeCamera& c,
                          double wavelength, double nearest, bool single) {
     const double radius = s.aperture.bounding_radius(), f = c.film_distance;
     const double samples = estimate_sample_count(s.aperture, pitch);
@@ -48,7 +48,7 @@ FrameCounts frame_counts(const ExactSettings& s, const SceneSum& sum, double pit
 
 }  // namespace
 
-SumChoices plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
+SumChoices plan_sums(const SceneSumSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
                   double nearest, bool single) {
     const FrameCounts n = frame_counts(s, sum, sum.samples.pitch, c, wavelength, nearest, single);
     FrameSums frame;
@@ -69,7 +69,7 @@ SumChoices plan_sums(const ExactSettings& s, const SceneSum& sum, const PinholeC
 }
 
 // The runs as convolutions with amplitude PSFs (psf_summation.h) for this wavelength.
-detail::PsfSummationSpec psf_summation_spec(const ExactSettings& s, const PinholeCamera& c, double wavelength,
+detail::PsfSummationSpec psf_summation_spec(const SceneSumSettings& s, const PinholeCamera& c, double wavelength,
                                             double nearest, int subsamples) {
     detail::PsfSummationSpec spec;
     spec.camera = c;
@@ -91,7 +91,7 @@ bool too_deep_for_psf(double nearest, const Aperture& aperture, double wavelengt
 }
 
 // The psf summation's work: its kernels' sums counted on their own lattice of `pitch`.
-detail::PsfSummationWork psf_work(const ExactSettings& s, const SceneSum& sum, const detail::PsfSummationSpec& spec,
+detail::PsfSummationWork psf_work(const SceneSumSettings& s, const SceneSum& sum, const detail::PsfSummationSpec& spec,
                                   double nearest, double pitch) {
     const FrameCounts n = frame_counts(s, sum, pitch, spec.camera, spec.wavelength, nearest, false);
     return detail::psf_summation_work(spec, n.in, n.out);
@@ -102,7 +102,7 @@ namespace {
 // Where the psf summation applies: sources at their pixels' centres (no jitter), an opening of one
 // piece (masks, zone plates and sieves have structure finer than the kernels' lattice), the
 // scene's depths within its layers.
-bool psf_applies(const ExactSettings& s, double nearest, double wavelength) {
+bool psf_applies(const SceneSumSettings& s, double nearest, double wavelength) {
     const ApertureShape shape = s.aperture.shape;
     const bool one_opening =
         shape == ApertureShape::Circle || shape == ApertureShape::Square || shape == ApertureShape::Polygon;
@@ -112,7 +112,7 @@ bool psf_applies(const ExactSettings& s, double nearest, double wavelength) {
 // The chooser's view of the settings' share of a frame at `wavelength`, every pixel lit, for
 // s.nearest_depth (NaN counts as all sky): the exact sums (but where psf is asked), psf where
 // asked, or weighed by `auto` where it applies.
-SummationChoice scene_choice(const ExactSettings& s, const PinholeCamera& c, double wavelength,
+SummationChoice scene_choice(const SceneSumSettings& s, const PinholeCamera& c, double wavelength,
                              const ChoiceSettings& asked) {
     const WorkRange w = work_range(s, c.height);
     const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
@@ -152,18 +152,18 @@ using detail::film_subsamples;
 using detail::scene_choice;
 using detail::SummationChoice;
 
-Summation chosen_summation(const ExactSettings& asked, const PinholeCamera& c, double wavelength) {
+Summation chosen_summation(const SceneSumSettings& asked, const PinholeCamera& c, double wavelength) {
     if (asked.summation != Summation::Auto) return asked.summation;
     const double nearest = std::isnan(asked.nearest_depth) ? INFINITY : asked.nearest_depth;
     if (!detail::psf_applies(asked, nearest, wavelength)) return Summation::Auto;
-    ExactSettings s = asked;  // the whole job: every row and run
+    SceneSumSettings s = asked;  // the whole job: every row and run
     s.row_begin = s.run_begin = 0;
     s.row_end = s.run_end = -1;
     const SummationChoice chosen = scene_choice(s, c, wavelength, {Summation::Auto, true, &s.device, 0});
     return chosen.summation == Summation::Psf ? Summation::Psf : Summation::Auto;
 }
 
-SummationEstimate estimate_summation(const ExactSettings& s, const PinholeCamera& camera, double wavelength,
+SummationEstimate estimate_summation(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength,
                                      double term_rate) {
     const SummationChoice c = scene_choice(s, camera, wavelength, {s.summation, true, &s.device, term_rate});
     SummationEstimate e;
@@ -180,17 +180,17 @@ SummationEstimate estimate_summation(const ExactSettings& s, const PinholeCamera
     return e;
 }
 
-EvaluatorSet scene_evaluators(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {
+EvaluatorSet scene_evaluators(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength) {
     const SummationChoice c = scene_choice(s, camera, wavelength, {s.summation, false, &s.device, 0});
     const bool in = c.in.evaluator == Evaluator::Nufft, out = c.out.evaluator == Evaluator::Nufft;
     return {!in, in, !out, out};
 }
 
-double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {
+double scene_terms(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength) {
     return scene_choice(s, camera, wavelength, {s.summation, false, &s.device, 0}).work;
 }
 
-double scene_summation_bytes(const ExactSettings& s, const PinholeCamera& camera, double wavelength) {
+double scene_summation_bytes(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength) {
     if (s.summation != Summation::Psf) return 0;
     const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
     const int subsamples = film_subsamples(s, camera, wavelength);

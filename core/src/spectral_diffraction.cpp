@@ -7,7 +7,7 @@
 
 namespace wavecam {
 
-MonochromePropagator wave_propagator(const ExactSettings& settings) {
+MonochromePropagator wave_propagator(const SceneSumSettings& settings) {
     // one memo per propagator: a wavelength's negative part reuses its positive part's kernels
     auto memo = std::make_shared<detail::PsfSummationMemo>();
     return [settings, memo](const MonochromeScene& scene, double wavelength, float* irradiance,
@@ -16,11 +16,11 @@ MonochromePropagator wave_propagator(const ExactSettings& settings) {
     };
 }
 
-RunPropagator run_propagator(const ExactSettings& settings) {
+RunPropagator run_propagator(const SceneSumSettings& settings) {
     auto memo = std::make_shared<detail::PsfSummationMemo>();
     return [settings, memo](const MonochromeScene& scene, double wavelength, int run, float* irradiance,
                             const ProgressFn& progress) {
-        ExactSettings one = settings;
+        SceneSumSettings one = settings;
         one.run_begin = run;
         one.run_end = run + 1;
         return detail::diffract_monochrome(scene, wavelength, one, irradiance, progress, memo.get());

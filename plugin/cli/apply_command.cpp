@@ -141,7 +141,7 @@ int fail_with(const Result<bool>& r) {
     return fail(front::word_failure(r, front::Front::Command), r.kind == ErrorKind::Cancelled || interrupted() ? interrupted_status() : 1);
 }
 
-// One share of an exact job (--part K/N): a part file for `wavecam merge`. A part already there
+// One share of a scene-sum job (--part K/N): a part file for `wavecam merge`. A part already there
 // for the same job and share is kept, so a re-run array task finishes at once.
 int run_share(const ApplyFlags& flags, const std::string& input, const std::string& output) {
     auto k = parse_share(flags.part);
@@ -306,7 +306,7 @@ void add_apply_command(CLI::App& app, int& status) {
                     "Frame range, e.g. 1-100; input, -o, --compare and --png are then patterns (#, @ or %04d)");
     cmd->add_option("--threads", f->threads, "Threads (0 = every core)")->capture_default_str();
     cmd->add_option("--part", f->part,
-                    "K/N: compute share K of N of an exact job and write it to -o as a part file for "
+                    "K/N: compute share K of N of a scene-sum job and write it to -o as a part file for "
                     "`wavecam merge` (see `wavecam farm`)");
     cmd->callback([f, &status] { status = run(*f); });
 }

@@ -1,4 +1,4 @@
-// `wavecam farm`: an exact job on a Slurm cluster. `submit` writes an sbatch job array (one task
+// `wavecam farm`: a scene-sum job on a Slurm cluster. `submit` writes an sbatch job array (one task
 // per frame x share, each `wavecam apply --part K/N`) and one merge job per frame that waits for
 // that frame's tasks (--dependency=afterok), skipping shares whose part files are complete;
 // `status` says what is done. Files live in OUT.farm/: parts/FRAME/share-K-of-N.exr, logs/, the
@@ -466,14 +466,14 @@ int submit(const FarmFlags& flags) {
 }  // namespace
 
 void add_farm_command(CLI::App& app, int& status) {
-    CLI::App* farm = app.add_subcommand("farm", "Run an exact job on a Slurm cluster: shares, then a merge per frame");
+    CLI::App* farm = app.add_subcommand("farm", "Run a scene-sum job on a Slurm cluster: shares, then a merge per frame");
     farm->require_subcommand(1);
     auto f = std::make_shared<FarmFlags>();
     CLI::App* cmd = farm->add_subcommand("submit", "Submit the job array and the merge jobs (sbatch on PATH)");
     cmd->add_option("input", f->input, "Input EXR (or a pattern with --frames)")->required();
     cmd->add_option("-o,--output", f->output, "Output EXR (or a pattern with --frames)")->required();
     add_setting_options(cmd, f->given);
-    cmd->add_option("--tasks", f->tasks, "Exact methods: shares per frame (array tasks per frame); convolution method: tasks in all, each a chunk of frames")->required();
+    cmd->add_option("--tasks", f->tasks, "Scene-sum methods: shares per frame (array tasks per frame); convolution method: tasks in all, each a chunk of frames")->required();
     cmd->add_option("--frames", f->frames, "Frame range, e.g. 1-100; input and -o are then patterns (#, @, %04d)");
     cmd->add_option("--partition", f->partition, "Slurm partition");
     cmd->add_option("--cpus-per-task", f->cpus, "Cores per task (its threads)")->capture_default_str();

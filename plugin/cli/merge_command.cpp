@@ -1,4 +1,4 @@
-// `wavecam merge PARTS... -o OUT`: the shares of an exact job (`wavecam apply --part K/N`) into
+// `wavecam merge PARTS... -o OUT`: the shares of a scene-sum job (`wavecam apply --part K/N`) into
 // the image the single-machine run makes. A set that is not exactly one whole job is refused,
 // one line per problem, and nothing is written.
 #include <glob.h>
@@ -96,7 +96,7 @@ int run(const MergeFlags& flags) {
     const OIIO::ImageBuf& src = in.value.image;
     DiffractOptions opt = in.value.settings.options;
     opt.max_terms = INFINITY;  // nothing is propagated: the shares hold the sums
-    opt.exact_propagator = stored_units(parts);
+    opt.scene_sum_propagator = stored_units(parts);
     OIIO::ImageBuf dst;
     if (auto r = DiffractPlan(opt).diffract(dst, src, first.input); !r.ok())
         return refuse({front::word_failure(r, front::Front::Command)});

@@ -127,7 +127,8 @@ const std::vector<SettingKey> kKeys = {
      "1024, for every colour channel's noise within 2%; the job line says the count)", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          o.runs_from_psf = v == "auto";
-         return o.runs_from_psf ? Result<bool>::success(true) : take(parse_whole_number(v, n, 1, 100000), o.exact.runs);
+         return o.runs_from_psf ? Result<bool>::success(true)
+                                : take(parse_whole_number(v, n, 1, 100000), o.scene_sum.runs);
      }},
     {"method", "random-phase", "convolution (the default: PSF-grid convolution), random-phase (the seed paper's "
      "random-phase runs) or incoherent (every source propagated alone: the infinite-run limit)",
@@ -144,7 +145,7 @@ const std::vector<SettingKey> kKeys = {
      "sums compute at field anchors and depth layers; sources at pixel centres)",
      true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return parse_choice(n, v, summation_choices(), o.exact.summation);  // the evaluators' table's words
+         return parse_choice(n, v, summation_choices(), o.scene_sum.summation);  // the evaluators' table's words
      }},
     {"device", "gpu", "where the random-phase and incoherent methods run their direct sums and psf runs: cpu (default), gpu "
      "(a Vulkan device, a discrete GPU first, running every sum; an error if there is none, and for summation nufft, "
@@ -159,21 +160,21 @@ const std::vector<SettingKey> kKeys = {
      "that different classes cancel exactly; default) or independent (the seed paper's; noise ~ 1/sqrt(runs))",
      true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return parse_choice(n, v, {{"coded", true}, {"independent", false}}, o.exact.coded_phases);
+         return parse_choice(n, v, {{"coded", true}, {"independent", false}}, o.scene_sum.coded_phases);
      }},
     {"seed", "7", "random seed: the same seed gives the same image", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return take(parse_whole_number(v, n, 0, 1L << 62), o.exact.seed);
+         return take(parse_whole_number(v, n, 0, 1L << 62), o.scene_sum.seed);
      }},
     {"film-subsamples", "3", "n: each film pixel averages n x n points over its area (0 = enough to resolve the PSF)",
      true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return take(parse_whole_number(v, n, 0, 16), o.exact.film_subsamples);
+         return take(parse_whole_number(v, n, 0, 16), o.scene_sum.film_subsamples);
      }},
     {"jitter", "true", "true: move the sources within their pixels (coded phases: all by one random offset; "
      "independent: each anew every run); default false, sources at pixel centres as the convolution method has them", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
-         return take(parse_bool(n, v), o.exact.jitter);
+         return take(parse_bool(n, v), o.scene_sum.jitter);
      }},
     {"vignetting", "false", "true: keep the natural cos^4 fall-off; false divides it out", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) { return take(parse_bool(n, v), o.vignetting); }},
@@ -191,7 +192,7 @@ const std::vector<SettingKey> kKeys = {
          o.desaturate_out_of_gamut = desaturate;
          return c;
      }},
-    {"max-terms", "1e14", "refuse exact-method jobs (or shares) beyond this many terms (default 4e12); the estimate "
+    {"max-terms", "1e14", "refuse scene-sum jobs (or shares) beyond this many terms (default 4e12); the estimate "
      "and its time at the measured rate print before work", false,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          char* end = nullptr;

@@ -121,7 +121,7 @@ void psf_frame(benchmark::State& state, const ComputeDevice& device) {
         power[p] = float(0.2 + 0.8 * ((p * 2654435761u) >> 8 & 0xffff) / 65535.0);
         depth[p] = p % c.width < 48 ? 0.05f : 2.0f;
     }
-    ExactSettings s;
+    SceneSumSettings s;
     s.aperture = {ApertureShape::Circle, 0.05e-3};
     s.runs = int(state.range(0));
     s.summation = Summation::Psf;

@@ -47,7 +47,7 @@ struct Case {
 void run_case(benchmark::State& state, const Case& k) {
     const Frame frame(k.side, k.side, 50.0);
     const double lambda = 550e-9;
-    ExactSettings s;
+    SceneSumSettings s;
     s.aperture = {ApertureShape::Circle, rayleigh_optimal_diameter(50e-3, lambda)};
     s.method = k.incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     s.runs = k.runs;

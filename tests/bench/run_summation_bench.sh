@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The exact (random-phase) method's summation measured, whole process, each
+# The random-phase method's summation measured, whole process, each
 # figure from this run:
 # Parts 1 to 5 measure the exact sums (--summation nufft, the lattice evaluator; part 1 against
 # direct), parts 6 and 7 the psf summation and the defaults (64 runs, auto: psf where it applies).
@@ -48,25 +48,25 @@ noise() {  # noise IMAGE REFERENCE [CHANNEL]: RMS of (R+G+B, or one channel) / t
   oiiotool "$1" --ch "$ch" --chsum "$2" --ch "$ch" --chsum --div --crop 40x40+4+4 --printstats |
     awk '/Stats Avg/ {a = $3} /Stats StdDev/ {s = $3} END {printf "%.2f", 100 * sqrt(s * s + (a - 1) * (a - 1))}'
 }
-exact_sums="--method random-phase --max-terms 1e15"
-exact="$exact_sums --summation nufft"
+random_phase="--method random-phase --max-terms 1e15"
+random_phase_nufft="$random_phase --summation nufft"
 
 for part in $parts; do
 case $part in
 1)
   frame 96 96 50.0 f96.exr
-  t_nufft=$(seconds "$wavecam" apply f96.exr -o nufft.exr $exact --wavelengths 550nm --runs 1)
-  t_direct=$(seconds "$wavecam" apply f96.exr -o direct.exr $exact_sums --wavelengths 550nm --runs 1 --summation direct)
+  t_nufft=$(seconds "$wavecam" apply f96.exr -o nufft.exr $random_phase_nufft --wavelengths 550nm --runs 1)
+  t_direct=$(seconds "$wavecam" apply f96.exr -o direct.exr $random_phase --wavelengths 550nm --runs 1 --summation direct)
   diff=$( (oiiotool nufft.exr direct.exr --diff 2>&1 || true) | sed -n 's/.*Max error  = \([^ ]*\).*/\1/p' | head -1)
   echo "1. 96x96, 1 wavelength, 1 run, 50deg: direct ${t_direct} s, nufft ${t_nufft} s, direct/nufft $(ratio "$t_direct" "$t_nufft") (goal >= 80); largest difference ${diff:-?} (values about 0.5)" ;;
 2)
   frame 256 256 50.0 f256.exr
-  t=$(seconds "$wavecam" apply f256.exr -o o256.exr $exact --wavelengths 3 --runs 16)
+  t=$(seconds "$wavecam" apply f256.exr -o o256.exr $random_phase_nufft --wavelengths 3 --runs 16)
   echo "2. 256x256, 3 wavelengths, 16 runs, 50deg: nufft ${t} s (goal <= 300 s)" ;;
 3)
   frame 1920 1080 50.0 f1080.exr
-  t=$(seconds "$wavecam" apply f1080.exr -o o1080.exr $exact --wavelengths 16 --runs 16)
-  estimate=$("$wavecam" apply f1080.exr -o o1080.exr $exact --wavelengths 16 --runs 16 --max-terms 1 2>&1 |
+  t=$(seconds "$wavecam" apply f1080.exr -o o1080.exr $random_phase_nufft --wavelengths 16 --runs 16)
+  estimate=$("$wavecam" apply f1080.exr -o o1080.exr $random_phase_nufft --wavelengths 16 --runs 16 --max-terms 1 2>&1 |
              sed -n 's/.*, about \([^,]*\) at .*/\1/p' || true)
   echo "3. 1920x1080, 16 wavelengths, 16 runs, 50deg, nufft: the job ${t} s, $(python3 -c "print(f'{$t / 60:.0f}')") min; estimated before work: ${estimate:-?}" ;;
 4)
@@ -78,7 +78,7 @@ case $part in
     line="4. wall, ${fov}deg, 16 runs:"
     for phases in coded independent; do
       for seed in 1 2; do
-        "$wavecam" apply wall.exr -o rp.exr $camera $exact --runs 16 --phases $phases --seed $seed >/dev/null 2>&1
+        "$wavecam" apply wall.exr -o rp.exr $camera $random_phase_nufft --runs 16 --phases $phases --seed $seed >/dev/null 2>&1
         line="$line $phases seed $seed $(noise rp.exr conv.exr)% (R $(noise rp.exr conv.exr R)%, G $(noise rp.exr conv.exr G)%, B $(noise rp.exr conv.exr B)%);"
       done
     done
@@ -87,8 +87,8 @@ case $part in
 5)
   frame 128 128 50.0 f128.exr
   t_conv=$(seconds "$wavecam" apply f128.exr -o conv.exr --method convolution --wavelengths 3)
-  t16=$(seconds "$wavecam" apply f128.exr -o rp16.exr $exact --wavelengths 3 --runs 16)
-  t64=$(seconds "$wavecam" apply f128.exr -o rp64.exr $exact --wavelengths 3 --runs 64)
+  t16=$(seconds "$wavecam" apply f128.exr -o rp16.exr $random_phase_nufft --wavelengths 3 --runs 16)
+  t64=$(seconds "$wavecam" apply f128.exr -o rp64.exr $random_phase_nufft --wavelengths 3 --runs 64)
   echo "5. 128x128, 3 wavelengths, 50deg: convolution ${t_conv} s; random-phase 16 runs ${t16} s, 64 runs ${t64} s; 64 runs / convolution $(ratio "$t64" "$t_conv") (goal <= 30)" ;;
 6)
   frame 128 128 50.0 f128.exr

@@ -52,7 +52,7 @@ TEST(ConvolutionMethod, AgreesWithTheExactIncoherentSum) {
     const Aperture ap{ApertureShape::Circle, 1.9 * std::sqrt(f * 550e-9)};
     const SpectralScene scene{sc.cam, sc.rgb.data(), sc.depth.data(), DepthMeaning::Planar};
 
-    ExactSettings exact;
+    SceneSumSettings exact;
     exact.aperture = ap;
     exact.method = CoherenceMethod::Incoherent;
     exact.film_subsamples = 3;  // film pixels averaged over their area, as the convolution kernels are

@@ -1,7 +1,8 @@
-// The exact methods' frames at their edge: the scene beyond the frame is its edge continued
-// (frame_margin.h), so a uniform wall through the incoherent sum comes back uniform to the last
-// pixel, the random-phase method's border agrees with its interior within its own noise, border
-// pixels agree with the convolution method's, and an overscan margin's light reaches the frame.
+// The scene-sum methods' frames at their edge, through the exact sums: the scene beyond the frame
+// is its edge continued (frame_margin.h), so a uniform wall through the incoherent sum comes back
+// uniform to the last pixel, the random-phase method's border agrees with its interior within its
+// own noise, border pixels agree with the convolution method's, and an overscan margin's light
+// reaches the frame.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -36,7 +37,7 @@ double flattened(const PinholeCamera& c, const std::vector<float>& irr, int i, i
 }
 
 // Rows [row_begin, row_end) of the wall through `s` (the others are left zero).
-std::vector<float> wall_rows(const PinholeCamera& c, ExactSettings s, int row_begin, int row_end,
+std::vector<float> wall_rows(const PinholeCamera& c, SceneSumSettings s, int row_begin, int row_end,
                              const std::vector<float>& power) {
     const std::vector<float> depth(power.size(), float(kDepth));
     std::vector<float> irr(power.size(), 0.0f);
@@ -47,8 +48,8 @@ std::vector<float> wall_rows(const PinholeCamera& c, ExactSettings s, int row_be
     return irr;
 }
 
-ExactSettings settings(CoherenceMethod method) {
-    ExactSettings s;
+SceneSumSettings settings(CoherenceMethod method) {
+    SceneSumSettings s;
     s.summation = test_summation();
     s.device = test_device();
     s.aperture = {ApertureShape::Circle, kPinhole};
@@ -75,7 +76,7 @@ ExactSettings settings(CoherenceMethod method) {
 TEST(ExactFrame, UniformWallThroughTheIncoherentSumIsUniformToTheLastPixel) {
     const PinholeCamera c = wall_camera(kSide);
     const std::vector<float> power(kSide * kSide, 1.0f);
-    const ExactSettings s = settings(CoherenceMethod::Incoherent);
+    const SceneSumSettings s = settings(CoherenceMethod::Incoherent);
     const auto top = wall_rows(c, s, 0, 1, power), middle = wall_rows(c, s, kSide / 2, kSide / 2 + 1, power);
     const double centre = flattened(c, middle, kSide / 2, kSide / 2);
     double worst = 0;
@@ -100,7 +101,7 @@ TEST(ExactFrame, UniformWallThroughTheIncoherentSumIsUniformToTheLastPixel) {
 TEST(ExactFrame, RandomPhaseBorderMeanIsTheInteriorsWithinItsNoise) {
     const PinholeCamera c = wall_camera(kSide);
     const std::vector<float> power(kSide * kSide, 1.0f);
-    ExactSettings s = settings(CoherenceMethod::RandomPhase);
+    SceneSumSettings s = settings(CoherenceMethod::RandomPhase);
     s.runs = 24;
     s.film_subsamples = 2;
     const auto irr = wall_rows(c, s, 0, kSide, power);
@@ -143,7 +144,7 @@ TEST(ExactFrame, BorderPixelsAgreeWithTheConvolutionMethod) {
     const Aperture ap{ApertureShape::Circle, kPinhole};
     std::vector<float> fast(rgb.size()), exact_top(rgb.size()), exact_bottom(rgb.size());
     ASSERT_TRUE(diffract_convolution(scene, basis, ap, false, fast.data()).ok());
-    ExactSettings s = settings(CoherenceMethod::Incoherent);
+    SceneSumSettings s = settings(CoherenceMethod::Incoherent);
     for (auto [rows, out] : {std::pair{0, &exact_top}, std::pair{kSide - 1, &exact_bottom}}) {
         s.row_begin = rows;
         s.row_end = rows + 1;
@@ -169,7 +170,7 @@ TEST(ExactFrame, OverscanMarginLightsTheFrameAndIsNotFilm) {
     std::vector<float> power(kSide * kSide, 0.05f);
     for (int j = 10; j < 14; ++j)
         for (int i = 1; i < o; ++i) power[size_t(j) * kSide + i] = 50.0f;
-    ExactSettings s = settings(CoherenceMethod::RandomPhase);
+    SceneSumSettings s = settings(CoherenceMethod::RandomPhase);
     s.runs = 4;
     s.overscan = o;
     const auto irr = wall_rows(c, s, 0, kSide, power);

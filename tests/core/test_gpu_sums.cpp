@@ -257,7 +257,7 @@ TEST(GpuSums, PointSourceImageIsTheAiryPattern) {
     }
 }
 
-// A small exact frame through the scene path with the device set: GPU and CPU agree.
+// A small scene-sum frame through the scene path with the device set: GPU and CPU agree.
 TEST(GpuSums, SceneFrameMatchesTheCpu) {
     REQUIRE_VULKAN();
     // the incoherent sum dispatches each source alone: a smaller frame (lavapipe is slow)
@@ -270,7 +270,7 @@ TEST(GpuSums, SceneFrameMatchesTheCpu) {
         c.fov_h = 2 * std::atan(c.width * 50e-6 / (2 * c.film_distance));
         std::vector<float> power(c.width * c.height), depth(power.size(), 2.0f);
         for (size_t p = 0; p < power.size(); ++p) power[p] = (p % 7) * 0.3f + 0.1f;
-        ExactSettings s;
+        SceneSumSettings s;
         s.aperture = {ApertureShape::Circle, 0.1e-3};
         s.method = method;
         s.runs = 2;
@@ -309,7 +309,7 @@ TEST(GpuSums, PsfSummationRunsMatchTheCpu) {
         depth[p] = (p % c.width) < size_t(c.width / 2) ? 0.05f : 2.0f;
     }
     for (CoherenceMethod method : {CoherenceMethod::RandomPhase, CoherenceMethod::Incoherent}) {
-        ExactSettings s;
+        SceneSumSettings s;
         s.aperture = {ApertureShape::Circle, 0.05e-3};
         s.method = method;
         s.runs = 3;

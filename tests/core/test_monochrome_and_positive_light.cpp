@@ -1,5 +1,5 @@
-// Monochromatic light (the seed paper's setting) and non-negative spectra through the exact
-// method: a grey star at one wavelength against the point-source image at that wavelength, and
+// Monochromatic light (the seed paper's setting) and non-negative spectra through the scene-sum
+// methods: a grey star at one wavelength against the point-source image at that wavelength, and
 // saturated colours that must not come out as negative light.
 #include <gtest/gtest.h>
 
@@ -54,7 +54,7 @@ TEST(Monochrome, GreyStarAtOneWavelengthIsThePsfInEveryChannel) {
 // has no negative channel in the working space. (Single runs can dip below zero in RGB where
 // speckle leaves a pixel lit by a narrow band of wavelengths whose colour lies outside the
 // working gamut; averaging K runs removes it as the speckle does.)
-TEST(PositiveLight, SaturatedColoursThroughTheExactMethodStayNonNegative) {
+TEST(PositiveLight, SaturatedColoursThroughTheSceneSumMethodsStayNonNegative) {
     const double f = 20e-3, z = 0.3;
     const int w = 12;
     const PinholeCamera cam = test::small_camera(w, f, 25e-6);  // about the Airy radius: sharp fringes
@@ -69,7 +69,7 @@ TEST(PositiveLight, SaturatedColoursThroughTheExactMethodStayNonNegative) {
     for (int s = 0; s < basis.value.size(); ++s)
         for (int p = 0; p < 3; ++p) ASSERT_GE(basis.value.power(s, p == 0, p == 1, p == 2), 0.0) << s << " " << p;
     for (auto method : {CoherenceMethod::RandomPhase, CoherenceMethod::Incoherent}) {
-        ExactSettings s;
+        SceneSumSettings s;
         s.summation = test_summation();
         s.device = test_device();
         s.aperture = {ApertureShape::Circle, 0.2e-3};

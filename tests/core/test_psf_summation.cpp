@@ -1,4 +1,4 @@
-// The `psf` summation: the exact methods' runs as convolutions with amplitude PSFs that the
+// The `psf` summation: the scene-sum methods' runs as convolutions with amplitude PSFs that the
 // direct or nufft sums compute at field anchors and depth layers (psf_summation.h),
 // against the exact sums themselves (direct, incoherent: no noise) and the random phases' own
 // limit. Started with --device=gpu (tests/core/CMakeLists.txt), the same checks with the
@@ -38,7 +38,7 @@ struct Frame {
                 power[size_t(j) * camera.width + i] = float(checker * (state >> 8) / double(1 << 24));
             }
     }
-    std::vector<float> diffract(const ExactSettings& s, double lambda = 550e-9) const {
+    std::vector<float> diffract(const SceneSumSettings& s, double lambda = 550e-9) const {
         std::vector<float> out(power.size(), 0.0f);
         const MonochromeScene view{camera, power.data(), depth.data(), DepthMeaning::Planar};
         auto r = diffract_monochrome(view, lambda, s, out.data());
@@ -47,8 +47,8 @@ struct Frame {
     }
 };
 
-ExactSettings settings(Summation summation, CoherenceMethod method, int runs = 1) {
-    ExactSettings s;
+SceneSumSettings settings(Summation summation, CoherenceMethod method, int runs = 1) {
+    SceneSumSettings s;
     s.aperture = {ApertureShape::Circle, 0.05e-3};
     s.method = method;
     s.runs = runs;
@@ -145,7 +145,7 @@ TEST(PsfSummation, UniformWallIsUniform) {
 TEST(PsfSummation, SharesAddUpToTheJob) {
     Frame frame(16, 30, 1.0);
     frame.texture(4);
-    ExactSettings s = settings(Summation::Psf, CoherenceMethod::RandomPhase, 4);
+    SceneSumSettings s = settings(Summation::Psf, CoherenceMethod::RandomPhase, 4);
     const auto job = frame.diffract(s);
     std::vector<float> shares(job.size(), 0.0f);
     for (const int first : {0, 2}) {
@@ -164,7 +164,7 @@ TEST(PsfSummation, RefusesWhatItCannotServe) {
     std::fill(frame.power.begin(), frame.power.end(), 1.0f);
     const MonochromeScene view{frame.camera, frame.power.data(), frame.depth.data(), DepthMeaning::Planar};
     std::vector<float> out(frame.power.size(), 0.0f);
-    ExactSettings s = settings(Summation::Psf, CoherenceMethod::RandomPhase);
+    SceneSumSettings s = settings(Summation::Psf, CoherenceMethod::RandomPhase);
     s.jitter = true;
     auto r = diffract_monochrome(view, 550e-9, s, out.data());
     ASSERT_FALSE(r.ok());
@@ -185,7 +185,7 @@ TEST(PsfSummation, RefusesWhatItCannotServe) {
 // kernels; a summation asked by name as it is.
 TEST(AutoSummation, TakesPsfWhereItAppliesAndCostsLess) {
     const PinholeCamera camera{128, 128, 50 * M_PI / 180, 50e-3};
-    ExactSettings s;
+    SceneSumSettings s;
     s.aperture = {ApertureShape::Circle, 0.3e-3};
     s.nearest_depth = 0.3;
     EXPECT_EQ(s.runs, 64);
@@ -194,20 +194,20 @@ TEST(AutoSummation, TakesPsfWhereItAppliesAndCostsLess) {
     EXPECT_EQ(chosen_summation(s, camera, 550e-9), Summation::Psf);
     s.method = CoherenceMethod::RandomPhase;
     for (Summation asked : {Summation::Direct, Summation::Nufft, Summation::Psf}) {
-        ExactSettings named = s;
+        SceneSumSettings named = s;
         named.summation = asked;
         EXPECT_EQ(chosen_summation(named, camera, 550e-9), asked);
     }
-    ExactSettings jitter = s;
+    SceneSumSettings jitter = s;
     jitter.jitter = true;
     EXPECT_EQ(chosen_summation(jitter, camera, 550e-9), Summation::Auto);
     for (ApertureShape shape : {ApertureShape::ZonePlate, ApertureShape::PhotonSieve}) {
-        ExactSettings zones = s;
+        SceneSumSettings zones = s;
         zones.aperture.shape = shape;
         zones.aperture.zones = 8;
         EXPECT_EQ(chosen_summation(zones, camera, 550e-9), Summation::Auto);
     }
-    ExactSettings tiny = s;
+    SceneSumSettings tiny = s;
     tiny.runs = 1;
     EXPECT_EQ(chosen_summation(tiny, PinholeCamera{4, 4, 30 * M_PI / 180, 20e-3}, 550e-9), Summation::Auto);
 }

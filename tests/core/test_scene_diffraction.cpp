@@ -21,7 +21,7 @@ struct TestScene {
     explicit TestScene(const PinholeCamera& c)
         : camera(c), power(size_t(c.width) * c.height, 0.0f), depth(size_t(c.width) * c.height, 1.0f) {}
     MonochromeScene view() const { return {camera, power.data(), depth.data(), DepthMeaning::Planar}; }
-    std::vector<float> diffract(double lambda, const ExactSettings& s) const {
+    std::vector<float> diffract(double lambda, const SceneSumSettings& s) const {
         std::vector<float> out(power.size(), 0.0f);
         auto r = diffract_monochrome(view(), lambda, s, out.data());
         EXPECT_TRUE(r.ok()) << r.error;
@@ -62,7 +62,7 @@ std::vector<float> box3(const std::vector<float>& a, int w) {
 TEST(SceneDiffraction, OneBrightPixelIsThePointSourceImage) {
     const double f = 20e-3, lambda = 550e-9, z = 0.5;
     TestScene scene(test::small_camera(15, f, 4e-6));  // 4 um film pixels
-    ExactSettings s;
+    SceneSumSettings s;
     s.summation = test_summation();
     s.device = test_device();
     s.aperture = {ApertureShape::Circle, 0.2e-3};
@@ -114,7 +114,7 @@ TEST(SceneDiffraction, DepthChangesTheZoneCountAsTheoryPredicts) {
         TestScene scene(test::small_camera(5, f, 10e-6));
         scene.power[12] = 1.0f;
         scene.depth[12] = std::isinf(z) ? 1e10f : float(z);
-        ExactSettings s;
+        SceneSumSettings s;
         s.summation = test_summation();
         s.device = test_device();
         s.aperture = {ApertureShape::Circle, d};
@@ -143,7 +143,7 @@ TEST(SceneDiffraction, LargePinholeApproachesRayOptics) {
             scene.power[j * w + i] = uni(rng);
             scene.depth[j * w + i] = (i + j) % 3 == 0 ? 1e10f : 0.02f;  // sky and near points
         }
-    ExactSettings s;
+    SceneSumSettings s;
     s.summation = test_summation();
     s.device = test_device();
     s.aperture = {ApertureShape::Circle, d};
@@ -190,7 +190,7 @@ TEST(SceneDiffraction, LargePinholeApproachesRayOptics) {
     EXPECT_LT(rms_difference(wave, rays) / rms(rays), 0.12);  // pixel by pixel, rim ringing included
 
     // The same comparison for a diffraction-limited pinhole fails: the test can tell them apart.
-    ExactSettings small = s;
+    SceneSumSettings small = s;
     small.aperture.diameter = d / 6;
     auto narrow = scene.diffract(lambda, small);
     const double scale = std::pow(6.0, 2);  // area ratio, so both have the same total energy
@@ -212,7 +212,7 @@ TEST(SceneDiffraction, RandomPhaseAverageConvergesAsOneOverRootK) {
         scene.power[p] = i == 0 || j == 0 || i == 7 || j == 7 ? 0.0f : uni(rng);
         scene.depth[p] = p % 5 == 0 ? 1e10f : 0.1f + uni(rng);
     }
-    ExactSettings s;
+    SceneSumSettings s;
     s.summation = test_summation();
     s.device = test_device();
     s.aperture = {ApertureShape::Circle, 40e-6};
@@ -238,7 +238,7 @@ TEST(SceneDiffraction, RandomPhaseAverageConvergesAsOneOverRootK) {
 
 TEST(SceneDiffraction, BadPixelsAreErrorsNamingTheField) {
     TestScene scene({4, 4, 0.1, 10e-3});
-    ExactSettings s;
+    SceneSumSettings s;
     s.summation = test_summation();
     s.device = test_device();
     s.aperture = {ApertureShape::Circle, 50e-6};
@@ -289,7 +289,7 @@ TEST(SceneDiffraction, DefaultFilmSamplingAveragesFresnelStructure) {
         const int mid = c.w / 2;
         scene.power[mid * c.w + mid] = 1.0f;
         std::fill(scene.depth.begin(), scene.depth.end(), 1e10f);  // a star
-        ExactSettings s;
+        SceneSumSettings s;
         s.summation = test_summation();
         s.device = test_device();
         s.aperture = {ApertureShape::Circle, c.d};

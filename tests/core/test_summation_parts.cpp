@@ -1,4 +1,4 @@
-// Parts of the exact method's evaluation checked on their own against independent math
+// Parts of the exact sums' evaluation checked on their own against independent math
 // (docs/summation.md): the interpolative decomposition of node functions
 // (core/src/node_skeleton.h), the band-limited stencil that reads and spreads off-lattice
 // samples (core/src/band_limited_stencil.h), the film points' average of a pixel
@@ -351,7 +351,7 @@ TEST(PsfSummationMemo, KeepsTheConvolutionForTheSameWavelength) {
         first[p] = float((p * 37 % 11) / 10.0);
         second[p] = float((p * 53 % 7) / 6.0);
     }
-    ExactSettings s;
+    SceneSumSettings s;
     s.aperture = {ApertureShape::Circle, 0.05e-3};
     s.summation = Summation::Psf;
     s.runs = 2;

@@ -46,7 +46,7 @@ struct Scene {
             depth.push_back(std::isinf(d) ? 1e10f : float(d));
         }
     }
-    std::vector<float> diffract(ExactSettings s, Summation how, double lambda) const {
+    std::vector<float> diffract(SceneSumSettings s, Summation how, double lambda) const {
         s.summation = how;
         std::vector<float> out(power.size(), 0.0f);
         auto r = diffract_monochrome({camera, power.data(), depth.data()}, lambda, s, out.data());
@@ -67,7 +67,7 @@ void expect_agreement(const Difference& d, const char* what) {
 // 0.3 mm at f = 50 mm, 64 x 64 over 30 degrees, sources at 0.3 m, 2 m and sky; one run.
 TEST(NufftSummation, MatchesTheDirectSumsAtPointThreeMillimetres) {
     const Scene scene(64, 30 * M_PI / 180, 50e-3, {0.3, 2.0, INFINITY});
-    ExactSettings s;
+    SceneSumSettings s;
     s.aperture = {ApertureShape::Circle, 0.3e-3};
     s.runs = 1;
     s.film_subsamples = 2;
@@ -79,7 +79,7 @@ TEST(NufftSummation, MatchesTheDirectSumsAtPointThreeMillimetres) {
 // tens of radians over the pinhole, so the interpolation needs its most nodes here.
 TEST(NufftSummation, MatchesTheDirectSumsAtOneMillimetre) {
     const Scene scene(24, 10 * M_PI / 180, 50e-3, {0.3, 2.0, INFINITY});
-    ExactSettings s;
+    SceneSumSettings s;
     s.aperture = {ApertureShape::Circle, 1e-3};
     s.runs = 1;
     s.film_subsamples = 2;
@@ -111,7 +111,7 @@ TEST(NufftSummation, MatchesTheDirectSumsForAnOffAxisPsf) {
 // run by run, so the K-run image agrees too; and Fast (the default) takes the NUFFTs here.
 TEST(NufftSummation, TheDefaultTakesTheNufftsWhereTheyAreCheaper) {
     const Scene scene(48, 40 * M_PI / 180, 50e-3, {0.5, INFINITY});
-    ExactSettings s;
+    SceneSumSettings s;
     s.aperture = {ApertureShape::Circle, 0.2e-3};
     s.runs = 2;
     s.film_subsamples = 2;

@@ -118,7 +118,7 @@ std::vector<float> exact_image(const test::RsStar& s, Summation summation, int f
     const int w = s.camera.width, h = s.camera.height;
     std::vector<float> power(size_t(w) * h, 0.0f), depth(power.size(), float(s.depth)), out(power.size(), 0.0f);
     power[size_t(s.j) * w + s.i] = 1.0f;
-    ExactSettings e;
+    SceneSumSettings e;
     e.aperture = {ApertureShape::Circle, s.diameter};
     e.method = CoherenceMethod::Incoherent;
     e.summation = summation;
@@ -222,10 +222,10 @@ TEST(WideField, PsfRunsMatchTheExactSumsWithTheSamePhases) {
                 power[size_t(j) * side + i] = float((near ? 1.0 : 0.3) * (0.2 + 0.8 * (state >> 8) / double(1 << 24)));
                 depth[size_t(j) * side + i] = near ? 0.05f : 3.0f;
             }
-        ExactSettings e;
+        SceneSumSettings e;
         e.aperture = {ApertureShape::Circle, d};
         e.method = CoherenceMethod::RandomPhase;
-        e.runs = ExactSettings{}.runs;  // the default
+        e.runs = SceneSumSettings{}.runs;  // the default
         e.device = test_device();
         const MonochromeScene view{camera, power.data(), depth.data(), DepthMeaning::Planar};
         e.summation = Summation::Psf;

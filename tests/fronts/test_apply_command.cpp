@@ -216,7 +216,7 @@ TEST(ApplyCommand, InterruptStopsPromptlyAndLeavesNothing) {
     write_render((dir / "in.exr").string(), 64, 64, 2.0f, 30.0f);
     const fs::path out = dir / "out.exr";
     for (const char* signal : {"INT", "TERM"}) {
-        // the exact method on this image takes minutes; it is stopped after three seconds (a
+        // the random-phase method on this image takes minutes; it is stopped after three seconds (a
         // loaded machine, or a sanitizer build, can take more than one just to load the libraries
         // and install the handler) and must then stop within two
         const auto start = std::chrono::steady_clock::now();

@@ -340,7 +340,7 @@ TEST(OutputFiles, NoOutputIsAnInputOrAnotherOutputInAnyCommand) {
     }
     fs::create_symlink(dir / "in.exr", dir / "link.exr");
     fs::create_hard_link(dir / "in.exr", dir / "hard.exr");
-    // two shares of a tiny exact job (2 wavelengths x 2 runs) for the merges
+    // two shares of a tiny scene-sum job (2 wavelengths x 2 runs) for the merges
     const std::string job = " --method exact --film-distance 20mm --pinhole 0.05mm --wavelengths 2 --runs 2 "
                             "--film-subsamples 1 --seed 7";
     for (const char* k : {"1", "2"}) {

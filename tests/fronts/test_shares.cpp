@@ -259,7 +259,7 @@ TEST(Shares, MonochromeSharesMergeEqualToTheSingleRun) {
     EXPECT_GT(max_difference(f.path("single.exr"), f.input), 1e-3f);
 }
 
-// The exact method's cost: one propagation per wavelength for colour, three for monochrome
+// The scene-sum methods' cost: one propagation per wavelength for colour, three for monochrome
 // light whether asked for (--monochrome) or found (549, 550, 551 nm cannot carry colour); against
 // the per-wavelength terms summed here.
 TEST(Shares, EstimateCountsMonochromeLightThreeTimes) {
@@ -274,12 +274,12 @@ TEST(Shares, EstimateCountsMonochromeLightThreeTimes) {
     opt.colorconfig = std::string(WAVECAM_SOURCE_DIR) + "/ocio_configs/wavecam.ocio";
     opt.film_distance = 20e-3;
     opt.pinhole = 0.1e-3;
-    opt.exact.runs = 2;  // kJob's
-    opt.exact.summation = test_summation();
+    opt.scene_sum.runs = 2;  // kJob's
+    opt.scene_sum.summation = test_summation();
     opt.device = test_device().setting();
-    opt.exact.film_subsamples = 1;
+    opt.scene_sum.film_subsamples = 1;
     auto per_wavelength = [&](const std::vector<double>& wavelengths) {
-        wavecam::ExactSettings s = opt.exact;
+        wavecam::SceneSumSettings s = opt.scene_sum;
         s.aperture = wavecam::resolved_aperture(opt);
         s.nearest_depth = wavecam::nearest_depth(camera, depth.data(), opt.depth_meaning);
         // `auto` decided as a job decides it: once, at the middle of its wavelengths
@@ -341,9 +341,9 @@ TEST(Shares, EverySplitOfEveryJobShapeMergesToTheSingleRun) {
             opt.film_distance = 20e-3;
             opt.pinhole = 0.04e-3;
             opt.wavelength_count = waves;
-            opt.exact.runs = runs;
-            opt.exact.film_subsamples = 1;
-            opt.exact.seed = 7;
+            opt.scene_sum.runs = runs;
+            opt.scene_sum.film_subsamples = 1;
+            opt.scene_sum.seed = 7;
             const std::string shape = std::to_string(waves) + " wavelengths x " + std::to_string(runs) + " runs";
             OIIO::ImageBuf single;
             auto s = wavecam::DiffractPlan(opt).diffract(single, src, input, 1);
@@ -372,7 +372,7 @@ TEST(Shares, EverySplitOfEveryJobShapeMergesToTheSingleRun) {
                 ASSERT_TRUE(set.ok()) << shape << ", " << n << " shares: " << set.error;
                 wavecam::DiffractOptions merge = opt;
                 merge.max_terms = INFINITY;
-                merge.exact_propagator = wavecam::stored_units(parts);
+                merge.scene_sum_propagator = wavecam::stored_units(parts);
                 OIIO::ImageBuf merged;
                 auto m = wavecam::DiffractPlan(merge).diffract(merged, src, input, 1);
                 ASSERT_TRUE(m.ok()) << shape << ", " << n << " shares: " << m.error;

@@ -19,7 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     sources.given_name = [](const std::string& key) { return "--" + key; };
     auto r = wavecam::front::resolve_settings(OIIO::ImageSpec(), sources);
     if (!r.ok() && r.error.empty()) std::abort();
-    if (r.ok() && (r.value.options.exact.runs < 1 || r.value.options.wavelength_count < 1)) std::abort();
+    if (r.ok() && (r.value.options.scene_sum.runs < 1 || r.value.options.wavelength_count < 1)) std::abort();
     // bounds are numbers: no nan or inf switches one off; a film at least 0.1 mm from the pinhole
     if (r.ok() && (!std::isfinite(r.value.options.max_terms) || !(r.value.options.max_terms > 0) ||
                    !(r.value.options.film_distance >= 0.1e-3)))

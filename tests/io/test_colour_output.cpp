@@ -1,7 +1,7 @@
 // Output colour (docs/colour.md): out-of-gamut colours desaturated at constant luminance, no
-// negative output pixel for saturated stars through the exact method at K = 1 or the convolution method,
-// the in-gamut round trip through OCIO untouched, and the exact method's per-channel noise
-// against what its runs predict.
+// negative output pixel for saturated stars through the random-phase method at K = 1 or the
+// convolution method, the in-gamut round trip through OCIO untouched, and the random-phase method's
+// per-channel noise against what its runs predict.
 #include <gtest/gtest.h>
 #include <OpenImageIO/imagebuf.h>
 
@@ -75,7 +75,7 @@ TEST(OutOfGamut, DesaturationKeepsLuminanceAndLeavesInGamutColoursAlone) {
     for (int q = 0; q < 3; ++q) EXPECT_EQ(c[7][q], 0.0f);
 }
 
-// Saturated stars - pure R, G, B and orange (1, 0.5, 0) - through the exact method at K = 1
+// Saturated stars - pure R, G, B and orange (1, 0.5, 0) - through the random-phase method at K = 1
 // (one random-phase run, the noisiest) and through the convolution method: no output pixel is negative,
 // and the mapping changed no pixel's luminance (the same run written with --out-of-gamut keep).
 TEST(OutOfGamut, SaturatedStarsGiveNoNegativePixelRandomPhaseAtOneRunAndConvolution) {
@@ -89,9 +89,9 @@ TEST(OutOfGamut, SaturatedStarsGiveNoNegativePixelRandomPhaseAtOneRunAndConvolut
         opt.colorconfig = kConfig;
         opt.film_distance = f;
         opt.pinhole = 0.2e-3;
-        opt.exact.runs = 1;
-        opt.exact.seed = 3;
-        opt.exact.film_subsamples = 1;
+        opt.scene_sum.runs = 1;
+        opt.scene_sum.seed = 3;
+        opt.scene_sum.film_subsamples = 1;
         OIIO::ImageBuf mapped, kept;
         ASSERT_TRUE(diffract(mapped, src, "stars", opt, 2)) << mapped.geterror();
         opt.desaturate_out_of_gamut = false;
@@ -113,7 +113,7 @@ TEST(OutOfGamut, SaturatedStarsGiveNoNegativePixelRandomPhaseAtOneRunAndConvolut
         EXPECT_GT(brightest, 0.0f) << name;
         EXPECT_GE(lowest_mapped, 0.0f) << name;
         EXPECT_LT(worst_luminance, 1e-5 * brightest) << name;
-        // the exact method's single run does make out-of-gamut light here: the test bites
+        // the random-phase method's single run does make out-of-gamut light here: the test bites
         if (method == DiffractMethod::RandomPhase) {
             EXPECT_LT(lowest_kept, -1e-3f * brightest) << name;
         }
@@ -139,7 +139,7 @@ TEST(OutOfGamut, InGamutUniformFieldsRoundTripThroughOcio) {
         opt.film_distance = f;
         opt.pinhole = d;
         opt.vignetting = false;
-        opt.exact_propagator = [&](const MonochromeScene& scene, double, float* irr, const ProgressFn&) {
+        opt.scene_sum_propagator = [&](const MonochromeScene& scene, double, float* irr, const ProgressFn&) {
             const PinholeCamera& c = scene.camera;
             for (int j = 0; j < c.height; ++j)
                 for (int i = 0; i < c.width; ++i)
@@ -155,13 +155,13 @@ TEST(OutOfGamut, InGamutUniformFieldsRoundTripThroughOcio) {
     }
 }
 
-// Per-channel noise of the exact method on a uniform grey field, over independent seeds:
-// (1) each output channel is a fixed linear mix of the wavelengths' irradiances, and the
-// wavelengths carry independent random phases, so Var(channel) = sum_s a_s^2 Var(I_s) (a_s: the
-// wavelength's weight in that channel) - the single-channel prediction, with no cross terms;
-// (2) K runs average K independent runs: the variance falls as 1/K.
-// Printed: each wavelength's speckle contrast (std/mean, 1 for fully developed speckle) and each
-// channel's relative noise in Rec.709, in XYZ, and for an observer with non-negative channels.
+// Per-channel noise of the random-phase method (its exact sums) on a uniform grey field, over
+// independent seeds: (1) each output channel is a fixed linear mix of the wavelengths' irradiances,
+// and the wavelengths carry independent random phases, so Var(channel) = sum_s a_s^2 Var(I_s) (a_s:
+// the wavelength's weight in that channel) - the single-channel prediction, with no cross terms;
+// (2) K runs average K independent runs: the variance falls as 1/K. Printed: each wavelength's
+// speckle contrast (std/mean, 1 for fully developed speckle) and each channel's relative noise in
+// Rec.709, in XYZ, and for an observer with non-negative channels.
 TEST(ExactNoise, PerChannelVarianceIsTheWavelengthSumAndFallsAsOneOverK) {
     // film pixels of 60 um, about the Airy radius: neighbouring pixels' speckle nearly independent
     const double f = 20e-3;
@@ -193,7 +193,7 @@ TEST(ExactNoise, PerChannelVarianceIsTheWavelengthSumAndFallsAsOneOverK) {
     auto sample = [&](int runs, int seeds) {
         std::vector<std::vector<std::vector<float>>> out(seeds, std::vector<std::vector<float>>(S));
         for (int seed = 0; seed < seeds; ++seed) {
-            ExactSettings s;
+            SceneSumSettings s;
             s.aperture = {ApertureShape::Circle, 0.2e-3};
             s.runs = runs;
             s.seed = 1000 + seed;

@@ -42,7 +42,7 @@ std::vector<float> diffracted(const OIIO::ImageBuf& src, DiffractMethod method, 
     opt.method = method;
     opt.pinhole = pinhole;
     opt.wavelength_count = 3;
-    opt.exact.runs = runs;
+    opt.scene_sum.runs = runs;
     OIIO::ImageBuf dst;
     EXPECT_TRUE(diffract(dst, src, "textured", opt)) << dst.geterror();
     const int w = src.spec().width;

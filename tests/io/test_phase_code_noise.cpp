@@ -45,10 +45,10 @@ std::vector<float> diffracted(const OIIO::ImageBuf& src, DiffractMethod method, 
     opt.method = method;
     opt.pinhole = pinhole;
     opt.wavelength_count = wavelengths;
-    if (runs > 0) opt.exact.runs = runs;
+    if (runs > 0) opt.scene_sum.runs = runs;
     opt.runs_from_psf = runs < 0;
-    opt.exact.seed = seed;
-    opt.exact.coded_phases = coded;
+    opt.scene_sum.seed = seed;
+    opt.scene_sum.coded_phases = coded;
     OIIO::ImageBuf dst;
     EXPECT_TRUE(diffract(dst, src, "wall", opt)) << dst.geterror();
     if (chosen) *chosen = dst.spec().get_string_attribute("wavecam.summation-chosen");
@@ -137,7 +137,7 @@ TEST(PhaseCode, UniformWallAtTheDefaultRunsIsWithinTwoPercentInEveryChannel) {
     std::string chosen;
     const auto image = diffracted(src, DiffractMethod::RandomPhase, true, 1, 0, &chosen);
     EXPECT_EQ(chosen, "psf");
-    EXPECT_EQ(ExactSettings{}.runs, 64);
+    EXPECT_EQ(SceneSumSettings{}.runs, 64);
     for (int c = 0; c < 3; ++c) {
         const Deviation d = against_fast(image, fast, 4, c);
         std::printf("uniform wall at the defaults, channel %c: noise %.2f%%, mean %+.2f%%\n", "RGB"[c], 100 * d.rms,

@@ -1,5 +1,5 @@
-// One lit pixel (a star) at depth z in a tiny square render, through the exact random-phase
-// method with one run, no jitter and one film point per pixel; and the image the point-source
+// One lit pixel (a star) at depth z in a tiny square render, through the random-phase method's
+// exact sums with one run, no jitter and one film point per pixel; and the image the point-source
 // computation (compute_psf) says each wavelength must give it. Shared by the scene and the
 // monochrome tests, which light the star in colour and in grey.
 #pragma once
@@ -27,8 +27,8 @@ struct OneStarScene {
     static constexpr double f = 20e-3, z = 0.3;
     static constexpr int w = 9, i0 = 5, j0 = 4;  // the star, on the middle row (v = 0)
     PinholeCamera camera = small_camera(w, f, 5e-6);
-    ExactSettings settings = [] {
-        ExactSettings s;
+    SceneSumSettings settings = [] {
+        SceneSumSettings s;
         s.summation = test_summation();
         s.device = test_device();
         s.aperture = {ApertureShape::Circle, 0.2e-3};

@@ -1,8 +1,9 @@
-// The evaluator the exact tests run their sums through: auto (the default) unless the test binary
-// was started with --summation=direct or --summation=nufft, on the CPU unless --device=gpu (the
-// Vulkan evaluator of the direct terms, through one device handle the binary creates). tests/CMakeLists.txt registers every exact test once more
-// per evaluator, so the same physics checks hold through each; the flags are the only way in (no
-// environment variable changes a default).
+// The evaluator the exact sums' tests run their sums through: auto (the default) unless the test
+// binary was started with --summation=direct or --summation=nufft, on the CPU unless --device=gpu
+// (the Vulkan evaluator of the direct terms, through one device handle the binary creates).
+// tests/CMakeLists.txt registers every such test once more per evaluator, so the same physics
+// checks hold through each; the flags are the only way in (no environment variable changes a
+// default).
 #pragma once
 #include <string>
 

@@ -1,4 +1,4 @@
-// main() for the exact tests: GoogleTest's, --summation=auto|direct|nufft and --device=cpu|gpu
+// main() for the exact sums' tests: GoogleTest's, --summation=auto|direct|nufft and --device=cpu|gpu
 // (summation_flag.h).
 #include <gtest/gtest.h>
 

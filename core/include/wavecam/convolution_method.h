@@ -1,5 +1,5 @@
-// The convolution method: the same physics as the exact method (every pixel a source whose image is
-// the wave PSF for its depth, field position and wavelength), evaluated as a spatially
+// The convolution method: the same physics as the scene-sum methods (every pixel a source whose
+// image is the wave PSF for its depth, field position and wavelength), evaluated as a spatially
 // varying convolution instead of a sum over pinhole samples.
 //
 // A ConvolutionPlan holds everything that depends only on the camera, the pinhole, the wavelengths,
@@ -24,7 +24,7 @@
 // Layers are added, not composited: the render already holds only what the pinhole's centre
 // sees, and the parallax across a pinhole (d / z, about a milliradian) is below a pixel, so a
 // nearer layer hides nothing more; depth-of-field tools composite because a lens aperture is
-// centimetres wide. This matches the exact method, which also sums every visible pixel.
+// centimetres wide. This matches the scene-sum methods, which also sum every visible pixel.
 #pragma once
 #include <memory>
 #include "wavecam/spectral_diffraction.h"

@@ -1,6 +1,6 @@
-// Diffracting a rendered scene at one wavelength: every pixel is a point source on its ray at
-// its depth, the seed paper's random-phase method (or the exact incoherent sum) carries the
-// light through the sampled pinhole to every film pixel.
+// Diffracting a rendered scene at one wavelength by the scene-sum methods: every pixel is a point
+// source on its ray at its depth, and the seed paper's random-phase method (or the exact
+// incoherent sum) carries each source's waves through the sampled pinhole to every film pixel.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -18,7 +18,8 @@ enum class CoherenceMethod {
     Incoherent,   // exact: every source propagated alone, irradiances summed (small images)
 };
 
-struct ExactSettings {
+// The scene-sum methods' settings (random-phase and incoherent).
+struct SceneSumSettings {
     Aperture aperture{ApertureShape::Circle, 0.0};
     CoherenceMethod method = CoherenceMethod::RandomPhase;
     int runs = 64;             // K, random-phase runs averaged (64: every channel within 2% of the limit)
@@ -88,7 +89,7 @@ Result<bool> check_pixels(const PinholeCamera& camera, const float* radiance, in
 // margin; never coarser than d / kMinSamplesAcross. A lit scene beyond the frame can need a
 // finer one (frame_margin.h).
 constexpr double kMinSamplesAcross = 128;
-double scene_sample_pitch(const ExactSettings& s, const PinholeCamera& camera, double wavelength,
+double scene_sample_pitch(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength,
                           double nearest_depth);
 
 // What a job runs for `auto` summation (diffract_image decides it once per job): `psf` where it
@@ -98,7 +99,7 @@ double scene_sample_pitch(const ExactSettings& s, const PinholeCamera& camera, d
 // the cheaper of direct and nufft (estimate_summation's chooser), as diffract_monochrome reads `auto`. Counted for
 // the whole job (every run and row, the frame as lit), so every share decides as its job; for
 // s.nearest_depth (NaN counts as all sky). A summation asked by name is returned as it is.
-Summation chosen_summation(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
+Summation chosen_summation(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength);
 
 // What the chooser (core/src/summation/choose.h, the one place evaluators and devices are chosen
 // and priced) makes of the settings' share of a frame at `wavelength`, every pixel lit, for
@@ -113,25 +114,25 @@ struct SummationEstimate {
     double bytes = 0;                       // what the psf summation holds at once (0 for the exact sums)
     std::string reason;                     // e.g. "psf: 1.9 s estimated against nufft 6.3 s"
 };
-SummationEstimate estimate_summation(const ExactSettings& s, const PinholeCamera& camera, double wavelength,
+SummationEstimate estimate_summation(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength,
                                      double term_rate = 0);
 
 // The evaluators the two sums take at `wavelength` (s.summation auto, direct or nufft), as the
 // estimate counts the frame (every pixel lit, s.nearest_depth): the job's sums take these where
 // the frame is lit; a darker frame's fewer sources can tip a sum to the other evaluator.
-EvaluatorSet scene_evaluators(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
+EvaluatorSet scene_evaluators(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength);
 
 // Work estimate in direct terms (the time of one term of the direct sums, so that --max-terms
 // and the time printed mean the same for either evaluator): direct, pinhole samples x (sources +
 // film points); nufft, the NUFFTs' and chirps' work (the chooser's cost model), each sum by
 // the evaluator s.summation picks for it (psf: its kernels and runs); over the runs and rows set,
 // the margin beyond the frame counted as lit, for s.nearest_depth (NaN counts as all sky).
-double scene_terms(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
+double scene_terms(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength);
 
 // Bytes the psf summation holds at once for one wavelength (its kernels' spectra: layers x
 // anchors x film points per pixel transforms of the frame; the runs' sums), for
 // s.nearest_depth (NaN counts as all sky); 0 for the other summations.
-double scene_summation_bytes(const ExactSettings& s, const PinholeCamera& camera, double wavelength);
+double scene_summation_bytes(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength);
 
 // Film points per pixel side so that the points are closer than the irradiance's finest
 // fringe, lambda f / span (span: the aperture's largest width): then a pixel's points average
@@ -150,7 +151,7 @@ double nearest_depth(const PinholeCamera& camera, const float* depth, DepthMeani
 // image of render pixel (i, j)), in units of power x steradian. The sources are every pixel and
 // the scene beyond the input (frame_margin.h); the film is the frame within s.overscan, whose
 // margin pixels are left untouched.
-Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const ExactSettings& s,
+Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const SceneSumSettings& s,
                                  float* irradiance, const ProgressFn& progress = {});
 
 }  // namespace wavecam

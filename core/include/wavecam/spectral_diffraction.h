@@ -21,14 +21,14 @@ struct SpectralScene {
 using MonochromePropagator = std::function<Result<bool>(const MonochromeScene& scene, double wavelength,
                                                         float* irradiance, const ProgressFn& progress)>;
 
-MonochromePropagator wave_propagator(const ExactSettings& settings);
+MonochromePropagator wave_propagator(const SceneSumSettings& settings);
 
 // One run of `settings` at a time, each into an image of its own (a share's units, work_share.h):
 // adds run `run`'s film irradiance, weighted 1/settings.runs, for `scene` to `irradiance`. Its
 // calls share a wavelength's psf kernels, as one wave_propagator's runs do.
 using RunPropagator = std::function<Result<bool>(const MonochromeScene& scene, double wavelength, int run,
                                                  float* irradiance, const ProgressFn& progress)>;
-RunPropagator run_propagator(const ExactSettings& settings);
+RunPropagator run_propagator(const SceneSumSettings& settings);
 
 // Exposure: a uniform radiance L through a pinhole of area A at film distance f gives film
 // irradiance L A / f^2 at the centre (the cos^4 law at angle 0), so the film is scaled by

@@ -39,7 +39,7 @@ Result<SpectralSampling> explicit_sampling(const std::vector<double>& wavelength
 // working space such as ACEScg, or few wavelengths) is pulled toward white until one can; the
 // basis is then calibrated by the inverse of the realised primaries, so the round trip stays
 // exact, colours inside the realised gamut stay non-negative and colours beyond it carry a
-// negative share of a primary (the exact method diffracts that share separately and subtracts).
+// negative share of a primary (the scene-sum methods diffract that share separately and subtract).
 // Monochrome: every channel is diffracted with the same light - the sampled wavelengths'
 // weighted mean PSF - as three virtual samples per wavelength, one per channel: power(s, rgb)
 // is one channel's value, xyz_per_power(s) that channel's primary's XYZ. Grey in, grey out.

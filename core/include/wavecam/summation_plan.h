@@ -1,4 +1,4 @@
-// The exact methods' two sums as plans (docs/summation.md), in the manner of FINUFFT's:
+// The scene-sum methods' two sums as plans (docs/summation.md), in the manner of FINUFFT's:
 //   create     for one sum (sources -> pinhole samples, or pinhole samples -> film points), a
 //              pinhole lattice and a wavelength;
 //   set_points the points on the far side (source positions, or film points); this commits the

@@ -1,4 +1,4 @@
-// Splitting one exact-method job into N shares for a cluster (wavecam farm). The work is a set
+// Splitting one scene-sum job into N shares for a cluster (wavecam farm). The work is a set
 // of units, one per (wavelength, run), in wavelength-major order. A unit's film irradiance is a
 // pure function of the input, the settings and the unit (counter-based random phases: the
 // phases of run r depend on (seed, wavelength, r, pixel) only), so it does not matter which

@@ -65,7 +65,7 @@ Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, co
     double summation = 0;  // the psf summation's kernels: the largest wavelength's (one at a time)
     if (opt.method != DiffractMethod::Convolution)
         for (int k = 0; k < f.colour.basis.size(); ++k)
-            summation = std::max(summation, scene_summation_bytes(f.exact, f.camera, f.colour.basis.wavelength(k)));
+            summation = std::max(summation, scene_summation_bytes(f.scene_sum, f.camera, f.colour.basis.wavelength(k)));
     const bool table = opt.method == DiffractMethod::Convolution || alpha_is_diffracted(f.in);
     const double bytes = estimate_memory(opt, f.camera) + summation +
                          (table ? ConvolutionPlan::estimate_bytes(f.convolution) : 0.0);
@@ -82,12 +82,12 @@ Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, co
 
 // The exact sums light the film within the overscan from every input pixel and the scene beyond
 // the input (frame_margin.h); the output frame is then moved to the front of the same buffer.
-Result<bool> run_exact(const DiffractOptions& opt, const ResolvedFrame& f, std::vector<float>& xyz) {
+Result<bool> run_scene_sum(const DiffractOptions& opt, const ResolvedFrame& f, std::vector<float>& xyz) {
     const int width = f.in.width, o = f.overscan;
     xyz.assign(3 * size_t(width) * f.in.height, 0.0f);
     auto r = diffract_spectral(f.scene(opt.depth_meaning), f.colour.basis, f.aperture,
-                               opt.exact_propagator ? opt.exact_propagator : wave_propagator(f.exact), opt.vignetting,
-                               xyz.data(), opt.progress);
+                               opt.scene_sum_propagator ? opt.scene_sum_propagator : wave_propagator(f.scene_sum),
+                               opt.vignetting, xyz.data(), opt.progress);
     if (!r.ok()) return r;
     if (o > 0)  // each row moves to a place before its own: a forward copy in place
         for (int j = 0; j < f.out_h; ++j) {
@@ -103,7 +103,7 @@ Result<bool> run_exact(const DiffractOptions& opt, const ResolvedFrame& f, std::
 OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& channels, const DiffractOptions& opt,
                             const ResolvedFrame& f, size_t mapped) {
     const RenderInput& in = f.in;
-    const ExactSettings& s = f.exact;
+    const SceneSumSettings& s = f.scene_sum;
     // the input's data and display windows, its channels but the diffracted ones as they were
     OIIO::ImageSpec spec = output_header(input, channels, opt.other_channels);
     if (f.overscan > 0) {  // the frame within the overscan setting's margin, an image of its own
@@ -130,13 +130,13 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
     spec.attribute("wavecam.wavelengths", wl);
     spec.attribute("wavecam.light", f.colour.basis.description());
     spec.attribute("wavecam.method", method_word(opt.method));
-    if (opt.method != DiffractMethod::Convolution) {  // what only the exact sums use
+    if (opt.method != DiffractMethod::Convolution) {  // what only the scene-sum methods use
         if (opt.method == DiffractMethod::RandomPhase) spec.attribute("wavecam.runs", s.runs);
         spec.attribute("wavecam.seed", std::to_string(s.seed));
         spec.attribute("wavecam.film-subsamples", s.film_subsamples);  // the setting: 0 = enough to resolve the PSF
         spec.attribute("wavecam.jitter", s.jitter ? "true" : "false");
-        spec.attribute("wavecam.summation", summation_word(opt.exact.summation));  // the setting, and what it ran
-        if (opt.exact.summation == Summation::Auto)
+        spec.attribute("wavecam.summation", summation_word(opt.scene_sum.summation));  // the setting, and what it ran
+        if (opt.scene_sum.summation == Summation::Auto)
             spec.attribute("wavecam.summation-chosen", detail::auto_choice(s, f.camera, f.colour.basis));
         if (opt.method == DiffractMethod::RandomPhase)
             spec.attribute("wavecam.phases", s.coded_phases ? "coded" : "independent");
@@ -282,7 +282,7 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
     DiffractOptions image_opt = opt;
     if (alpha_pass) image_opt.progress = progress_part(opt.progress, 0.0, opt.method == DiffractMethod::Convolution ? 0.6 : 0.95);
     Result<bool> r = opt.method == DiffractMethod::Convolution ? run_convolution(image_opt, f, xyz)
-                                                              : run_exact(image_opt, f, xyz);
+                                                              : run_scene_sum(image_opt, f, xyz);
     if (r.ok() && alpha_pass) r = diffract_alpha(opt, f, alpha);
     if (!r.ok() && (*stopped || r.kind == ErrorKind::Cancelled))
         return Fail::failure(name + ": interrupted", ErrorKind::Cancelled);

@@ -65,16 +65,17 @@ double longest_wavelength(const SpectralBasis& basis) {
 
 // The random-phase run count this frame's PSF asks (run_count.h), for settings `s` already
 // holding the aperture and nearest source.
-RunCount frame_run_count(const ExactSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
+RunCount frame_run_count(const SceneSumSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
     return runs_for_convergence(camera, s.aperture, longest_wavelength(basis), wavelength_count(basis), s.nearest_depth);
 }
 
-// The job's settings for the exact methods, `auto` summation decided once for the whole job
+// The job's settings for the scene-sum methods, `auto` summation decided once for the whole job
 // (chosen_summation) at the middle of its wavelengths: both ways' work scales alike with the
 // wavelength, and every wavelength then runs the same way.
-ExactSettings exact_settings(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
-                             const SpectralBasis& basis, int nthreads = 0, const ComputeDevice& device = {}) {
-    ExactSettings s = opt.exact;
+SceneSumSettings scene_sum_settings(const DiffractOptions& opt, const PinholeCamera& camera,
+                                    const std::vector<float>& depth, const SpectralBasis& basis, int nthreads = 0,
+                                    const ComputeDevice& device = {}) {
+    SceneSumSettings s = opt.scene_sum;
     s.device = device;  // what auto may choose depends on it
     s.aperture = resolved_aperture(opt);
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
@@ -87,7 +88,7 @@ ExactSettings exact_settings(const DiffractOptions& opt, const PinholeCamera& ca
     return s;
 }
 
-double exact_terms(const ExactSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
+double scene_sum_terms(const SceneSumSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
     // one propagation per basis sample: monochrome light has three per wavelength, one per
     // channel (spectrum.h), whether asked for or found (wavelengths too close to carry colour)
     double terms = 0;
@@ -167,7 +168,7 @@ Result<bool> check_camera(const ResolvedFrame& f, const std::string& name, const
 
 // What `auto` chose for the job's sums: psf, else the evaluators that ran on the job's device
 // (the header's), or, before they ran, those the estimate gives each sum (the job line's).
-std::string detail::auto_choice(const ExactSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
+std::string detail::auto_choice(const SceneSumSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
     if (s.summation == Summation::Psf) return "psf";
     EvaluatorSet e = evaluators_run(s.device);
     if (e.words().empty())
@@ -186,7 +187,7 @@ double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, c
     if (opt.method == DiffractMethod::Convolution) return 0;  // PSF grid + FFTs: minutes at most
     auto colour = resolve_colour(opt, file_colour);
     if (!colour.ok()) return 0;
-    return exact_terms(exact_settings(opt, camera, depth, colour.value.basis), camera, colour.value.basis);
+    return scene_sum_terms(scene_sum_settings(opt, camera, depth, colour.value.basis), camera, colour.value.basis);
 }
 
 int job_runs(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
@@ -194,7 +195,7 @@ int job_runs(const DiffractOptions& opt, const PinholeCamera& camera, const std:
     if (opt.method != DiffractMethod::RandomPhase) return opt.method == DiffractMethod::Incoherent ? 1 : 0;
     auto colour = resolve_colour(opt, file_colour);
     if (!colour.ok()) return 0;
-    return exact_settings(opt, camera, depth, colour.value.basis).runs;
+    return scene_sum_settings(opt, camera, depth, colour.value.basis).runs;
 }
 
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) {
@@ -244,33 +245,33 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
     if (opt.method == DiffractMethod::Convolution) return R::success(std::move(f));
     // the job's device (compute_device.h): `gpu` runs every sum there or is refused here, `auto`
     // says why it runs on the CPU
-    const DeviceChoice chosen = choose_device(opt.exact.summation, opt.device);
+    const DeviceChoice chosen = choose_device(opt.scene_sum.summation, opt.device);
     if (!chosen.refusal.empty()) return R::failure(name + ": " + chosen.refusal, ErrorKind::Invalid, "summation");
     const Device setting = chosen.open;
     std::string on_cpu = chosen.on_cpu;
     const ComputeDevice device = ComputeDevice::create(setting);
     if (!device.ok()) return R::failure(name + ": device gpu: " + device.error(), ErrorKind::Failed, "device");
     if (setting == Device::Auto && !device.gpu()) on_cpu = "none usable: " + device.error();
-    f.exact = exact_settings(opt, f.camera, in.depth, f.colour.basis, nthreads, device);
-    f.terms = exact_terms(f.exact, f.camera, f.colour.basis);
+    f.scene_sum = scene_sum_settings(opt, f.camera, in.depth, f.colour.basis, nthreads, device);
+    f.terms = scene_sum_terms(f.scene_sum, f.camera, f.colour.basis);
     std::ostringstream job;
     job << in.width << "x" << in.height << " pixels x " << f.colour.sampling.wavelength.size() << " wavelengths x "
-        << (f.exact.method == CoherenceMethod::Incoherent ? 1 : f.exact.runs) << " runs";
-    if (opt.runs_from_psf && f.exact.method == CoherenceMethod::RandomPhase) {
+        << (f.scene_sum.method == CoherenceMethod::Incoherent ? 1 : f.scene_sum.runs) << " runs";
+    if (opt.runs_from_psf && f.scene_sum.method == CoherenceMethod::RandomPhase) {
         // the count and why: the PSF's area, and the noise where the price caps the count
-        const RunCount rc = frame_run_count(f.exact, f.camera, f.colour.basis);
+        const RunCount rc = frame_run_count(f.scene_sum, f.camera, f.colour.basis);
         job << " (for a PSF of about " << long(std::lround(rc.psf_pixels)) << " pixels: ";
         if (rc.capped) job << "at most " << kMaxRuns << ", expect about " << std::lround(1000 * rc.expected_noise) / 10.0
                            << "% noise per channel; more with the runs setting)";
         else job << "noise within " << 100 * kRunNoiseGoal << "% per channel)";
     }
-    job << ", " << summation_word(opt.exact.summation) << " summation";
-    if (opt.exact.summation == Summation::Auto && f.colour.basis.size() > 0) {
+    job << ", " << summation_word(opt.scene_sum.summation) << " summation";
+    if (opt.scene_sum.summation == Summation::Auto && f.colour.basis.size() > 0) {
         // what ran, and why at the middle wavelength, where the job weighed psf (the chooser's reason)
-        ExactSettings asked = f.exact;
+        SceneSumSettings asked = f.scene_sum;
         asked.summation = Summation::Auto;
         const double middle = f.colour.basis.wavelength(f.colour.basis.size() / 2);
-        job << " (" << auto_choice(f.exact, f.camera, f.colour.basis) << "; at " << std::lround(middle * 1e9)
+        job << " (" << auto_choice(f.scene_sum, f.camera, f.colour.basis) << "; at " << std::lround(middle * 1e9)
             << " nm, " << estimate_summation(asked, f.camera, middle).reason << ")";
     }
     if (device.gpu()) job << " on " << device.description();

@@ -26,10 +26,10 @@ struct ResolvedFrame {
     OIIO::ROI kept;  // the film's pixels the output holds: all, or the data window within a widened frame
     Aperture aperture;
     JobColour colour;
-    ExactSettings exact;  // exact methods: the estimate's and the run's settings, the job's device handle
-    ConvolutionPlanSpec convolution;   // convolution method: what its plan is built for
-    double terms = 0;           // exact methods: the sums' cost
-    std::string job;            // "24x16 pixels x 3 wavelengths x 2 runs"
+    SceneSumSettings scene_sum;       // scene-sum methods: the estimate's and run's settings, the job's device handle
+    ConvolutionPlanSpec convolution;  // convolution method: what its plan is built for
+    double terms = 0;                 // scene-sum methods: the sums' cost
+    std::string job;                  // "24x16 pixels x 3 wavelengths x 2 runs"
 
     SpectralScene scene(DepthMeaning meaning) const {
         return {camera, in.rgb.data(), in.depth.data(), meaning, true};
@@ -41,7 +41,7 @@ constexpr double kDesignWavelength = 550e-9;
 
 // What `auto` chose for the job's sums (resolve_frame.cpp): psf, else the evaluators that ran on
 // the job's device (the header's), or, before they ran, those the estimate gives each sum.
-std::string auto_choice(const ExactSettings& s, const PinholeCamera& camera, const SpectralBasis& basis);
+std::string auto_choice(const SceneSumSettings& s, const PinholeCamera& camera, const SpectralBasis& basis);
 
 // `input` (load_render's value) under `opt`; errors name `name`.
 Result<ResolvedFrame> resolve_frame(const DiffractOptions& opt, RenderInput input, const std::string& name,

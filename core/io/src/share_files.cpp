@@ -105,7 +105,7 @@ struct Share {
     detail::ResolvedFrame f;
     int S = 0, R = 1, per_wavelength = 1;  // wavelengths, runs, propagations per unit
     WorkShare sh;
-    ExactSettings s;  // the frame's exact settings, on the share's rows
+    SceneSumSettings s;  // the frame's scene-sum settings, on the share's rows
     std::vector<double> unit_terms;
     double terms = 0;
     std::string fingerprint;
@@ -116,7 +116,8 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
                             int index, int count, int nthreads) {
     using R = Result<Share>;
     if (opt.method == DiffractMethod::Convolution)
-        return R::failure(input_path + ": shares are of the exact methods' work; expected method random-phase or incoherent",
+        return R::failure(input_path +
+                              ": shares are of the scene-sum methods' work; expected method random-phase or incoherent",
                           ErrorKind::Invalid, "method");
     auto input = load_render(src, input_path, opt.read);
     if (!input.ok()) return R::failure(input);
@@ -127,18 +128,18 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
     const std::vector<double>& wavelengths = j.f.colour.sampling.wavelength;
     j.S = int(wavelengths.size());
     j.per_wavelength = j.f.colour.basis.size() / j.S;
-    j.R = opt.method == DiffractMethod::Incoherent ? 1 : j.f.exact.runs;
+    j.R = opt.method == DiffractMethod::Incoherent ? 1 : j.f.scene_sum.runs;
     auto share = work_share(index, count, j.S, j.R, j.f.in.height);
     if (!share.ok()) return R::failure(share.error);
     j.sh = share.value;
     auto fingerprint = file_fingerprint(input_path);
     if (!fingerprint.ok()) return R::failure(fingerprint.error);
     j.fingerprint = fingerprint.value;
-    j.s = j.f.exact;
+    j.s = j.f.scene_sum;
     j.s.row_begin = j.sh.row_begin;
     j.s.row_end = j.sh.row_end;
     for (int u = j.sh.unit_begin; u < j.sh.unit_end; ++u) {
-        ExactSettings unit = j.s;
+        SceneSumSettings unit = j.s;
         unit.run_begin = u % j.R;
         unit.run_end = u % j.R + 1;
         j.unit_terms.push_back(j.per_wavelength * scene_terms(unit, j.f.camera, wavelengths[u / j.R]));
@@ -230,7 +231,7 @@ Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, con
     run.max_terms = INFINITY;  // bounded above, by the share's own terms
     run.on_estimate = {};
     run.progress = {};
-    run.exact_propagator = unit_propagator(j, opt.progress, units, done);
+    run.scene_sum_propagator = unit_propagator(j, opt.progress, units, done);
     OIIO::ImageBuf whole;
     if (auto r = DiffractPlan(run).diffract(whole, src, j.f, input_path, nthreads); !r.ok()) return r;
     std::vector<std::string> order;  // by name, as OpenEXR stores them

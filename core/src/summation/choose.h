@@ -1,4 +1,4 @@
-// Which evaluator and which device run the exact methods' sums, and what each costs: every cost
+// Which evaluator and which device run the scene-sum methods' sums, and what each costs: every cost
 // model, memory model and tuning constant that decides between the evaluators (direct, nufft,
 // psf) and between the devices, in one place, as FINUFFT keeps its choices in heuristics.hpp.
 // The evaluators' own physics (the psf summation's layers and anchors, the NUFFT's kernel) stays

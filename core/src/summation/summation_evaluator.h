@@ -1,6 +1,6 @@
 // Every evaluator of a frame's runs behind one interface, and the table that creates them.
 //
-// An evaluator runs one wavelength's frame (the exact methods' random-phase runs or incoherent
+// An evaluator runs one wavelength's frame (the scene-sum methods' random-phase runs or incoherent
 // sum), explicitly, in the manner of FINUFFT's plans and Embree's objects:
 //   create      a row's `create`, for the frame (scene, its sources and film points, settings,
 //               the share's rows and runs);
@@ -30,7 +30,7 @@ struct EvaluatorSetup {
     const MonochromeScene* scene = nullptr;
     const SceneSum* sum = nullptr;  // its sources; with the frame's lattice and film points where the row samples them
     double wavelength = 0;
-    const ExactSettings* settings = nullptr;
+    const SceneSumSettings* settings = nullptr;
     WorkRange range{};
     double nearest = INFINITY;       // the scene's nearest planar depth
     PsfSummationMemo* memo = nullptr;    // psf: the job's kept kernels, or none

@@ -14,7 +14,7 @@
 
 namespace wavecam {
 
-// Convolution: PSF-grid convolution (the default, `--method convolution`). The exact methods,
+// Convolution: PSF-grid convolution (the default, `--method convolution`). The scene-sum methods,
 // two sums over pinhole samples: RandomPhase, the seed paper's random-phase runs (`--method
 // random-phase`), and Incoherent, every source propagated alone (`--method incoherent`).
 enum class DiffractMethod { Convolution, RandomPhase, Incoherent };
@@ -29,10 +29,10 @@ struct DiffractOptions {
     double film_distance = 50e-3;                  // f, metres
     double pinhole = 0;                            // diameter (m); 0 = Rayleigh's optimum for f at 550 nm
     Aperture aperture;                             // shape (--aperture); its diameter comes from `pinhole`
-    ExactSettings exact;                           // exact methods: runs, seed, jitter, film subsamples, summation
-    Device device = Device::Cpu;                   // exact methods: where the sums run; each job opens it
-                                                   // as exact.device (compute_device.h)
-    // random-phase: the run count from the frame's PSF size (run_count.h) instead of exact.runs;
+    SceneSumSettings scene_sum;                    // scene-sum methods: runs, seed, jitter, film subsamples, summation
+    Device device = Device::Cpu;                   // scene-sum methods: where the sums run; each job opens it
+                                                   // as scene_sum.device (compute_device.h)
+    // random-phase: the run count from the frame's PSF size (run_count.h) instead of scene_sum.runs;
     // what the fronts do unless a count is given
     bool runs_from_psf = false;
     ConvolutionSettings convolution;               // convolution method: tiles, kernel size
@@ -51,13 +51,13 @@ struct DiffractOptions {
                                                    // (AOVs, Cryptomatte, IDs); false keeps RGB(A) and depth
     OIIO::TypeDesc pixel_type = OIIO::TypeUnknown;  // the diffracted channels' type in the file; unknown = the input's
     std::string compression;                       // the file's compression; "" = the input's
-    double max_terms = 4e12;                       // refuse larger exact jobs (see term_rate.h for the time)
+    double max_terms = 4e12;                       // refuse larger scene-sum jobs (see term_rate.h for the time)
     double max_memory = 16.0 * (1ull << 30);       // bytes; refuse jobs estimated to need more
     ProgressFn progress;
     // Told the job before any work starts: "24x16 pixels x 3 wavelengths x 2 runs" and its terms.
     std::function<void(const std::string& job, double terms)> on_estimate;
-    // Replaces the exact methods' physical propagator (shares and merges, share_files.h).
-    MonochromePropagator exact_propagator;
+    // Replaces the scene-sum methods' physical propagator (shares and merges, share_files.h).
+    MonochromePropagator scene_sum_propagator;
 };
 
 // The aperture the options resolve to: its diameter `pinhole`, Rayleigh's optimum when none is given.
@@ -69,7 +69,7 @@ Aperture resolved_aperture(const DiffractOptions& opt);
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
                       const FileColour& file_colour = {});
 
-// The random-phase runs the job averages: exact.runs, or the count runs_for_convergence gives
+// The random-phase runs the job averages: scene_sum.runs, or the count runs_for_convergence gives
 // this frame where runs_from_psf (its longest wavelength, nearest source); 1 for the incoherent
 // method, 0 for the convolution method or when the colour cannot be resolved.
 int job_runs(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,

@@ -1,4 +1,4 @@
-// Part files: one share (work_share.h) of an exact-method job as an EXR, and their merge.
+// Part files: one share (work_share.h) of a scene-sum job as an EXR, and their merge.
 // A part holds, per unit (wavelength w, run r) of its share and per sign of the spectral power,
 // the film irradiance that run adds before the colour step (one float channel
 // "w003.r001.pos"/".neg", rows of its band only), and in its header what was summed, the job's
@@ -31,7 +31,7 @@ struct JobRecord {
 };
 
 // Computes share share.index/share.count (as parse_share gives it; the units and rows are
-// resolved here) of the exact job `diffract(src, opt)` describes into `part` (failures as
+// resolved here) of the scene-sum job `diffract(src, opt)` describes into `part` (failures as
 // DiffractPlan::diffract's). `job` is recorded for the merge; opt.on_estimate hears the share's
 // own terms, opt.max_terms bounds them.
 Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const DiffractOptions& opt,
@@ -55,7 +55,7 @@ Result<PartFile> read_part(const std::string& path);
 // and settings. The error has one line per problem, each naming the share and its file.
 Result<bool> check_part_set(const std::vector<PartFile>& parts);
 
-// The propagator that gives back the stored units (for opt.exact_propagator in the merge).
+// The propagator that gives back the stored units (for opt.scene_sum_propagator in the merge).
 MonochromePropagator stored_units(const std::vector<PartFile>& parts);
 
 }  // namespace wavecam
