@@ -278,7 +278,7 @@ bool NufftEvaluator::pass_to_film(const LatticePass& pass, const PinholeField& f
         off.im.push_back(field.im[L.off_index[i]]);
     }
     const double share = double(L.off.size()) / std::max<double>(1, samples.size()) * 0.5;
-    if (!add_film_field(L.off, off, pass.film, wavelength, out, nthreads, progress_part(progress, 0, share)))
+    if (!add_film_field({L.off, off, pass.film, wavelength}, out, nthreads, progress_part(progress, 0, share)))
         return false;
     if (L.nx == 0) return true;
     std::vector<cfloat> w(size_t(L.nx) * L.ny, cfloat(0));
