@@ -156,8 +156,8 @@ void add_to_output(const std::vector<float>& image, const TileFrame& frame, cons
 
 }  // namespace
 
-Result<bool> AnchoredConvolution::apply(const DomainSources& src, int out_x0, int out_y0, int out_width,
-                                        int out_height, float* xyz, const ProgressFn& progress) const {
+Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWindow& out, float* xyz,
+                                        const ProgressFn& progress) const {
     const KernelTable& t = table_;
     const int T = tile_, N = fft_size_, R = t.radius, W = src.width, H = src.height;
     const int ntx = (W + T - 1) / T, nty = (H + T - 1) / T, nkx = int(t.ax.knots.size());
@@ -182,8 +182,8 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, int out_x0, in
                 if ((tx % 2) + 2 * (ty % 2) != phase || ticker.cancelled()) continue;
                 const TileBounds b{tx * T, ty * T, std::min(W, tx * T + T), std::min(H, ty * T + T)};
                 // skip tiles whose light cannot reach the output window
-                if (b.x1 + R <= out_x0 || b.x0 - R >= out_x0 + out_width || b.y1 + R <= out_y0 ||
-                    b.y0 - R >= out_y0 + out_height) {
+                if (b.x1 + R <= out.x0 || b.x0 - R >= out.x0 + out.width || b.y1 + R <= out.y0 ||
+                    b.y0 - R >= out.y0 + out.height) {
                     ticker.advance(1, omp_get_thread_num() == 0);
                     continue;
                 }
@@ -218,7 +218,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, int out_x0, in
                 if (hi >= lo)
                     for (int q = 0; q < 3; ++q) {
                         fft.inverse(&acc[q * spec], image.data());
-                        add_to_output(image, {N, R, b}, {out_x0, out_y0, out_width, out_height}, norm, q, xyz);
+                        add_to_output(image, {N, R, b}, out, norm, q, xyz);
                     }
                 ticker.advance(1, omp_get_thread_num() == 0);
             }

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <vector>
 #include "kernel_table.h"
+#include "output_window.h"
 
 namespace wavecam::detail {
 
@@ -49,10 +50,10 @@ public:
     static Result<AnchoredConvolution> create(KernelTable table, int tile, int width, int height, int nthreads,
                                               const ProgressFn& progress);
 
-    // Adds to `xyz` (interleaved, out_width x out_height) the image of `sources` on the output
-    // window whose top-left is domain pixel (out_x0, out_y0).
-    Result<bool> apply(const DomainSources& sources, int out_x0, int out_y0, int out_width, int out_height,
-                       float* xyz, const ProgressFn& progress) const;
+    // Adds to `xyz` (interleaved, out.width x out.height) the image of `sources` on the output
+    // window `out`.
+    Result<bool> apply(const DomainSources& sources, const OutputWindow& out, float* xyz,
+                       const ProgressFn& progress) const;
 
     const KernelTable& table() const { return table_; }
     int tile() const { return tile_; }

@@ -9,10 +9,10 @@
 namespace wavecam {
 namespace {
 
-// Mean of `t` over 16 x 16 sub-cells of the cell and the t-weighted centroid: the rim-cell rule.
+// Mean of `t` over 16 x 16 sub-cells of `cell` and the t-weighted centroid: the rim-cell rule.
 template <class Transmission>
-double subsampled_coverage(const Transmission& t, double x0, double x1, double y0, double y1, double& cx,
-                           double& cy) {
+double subsampled_coverage(const Transmission& t, const ApertureCell& cell, double& cx, double& cy) {
+    const double x0 = cell.x0, x1 = cell.x1, y0 = cell.y0, y1 = cell.y1;
     constexpr int kSub = 16;
     double sum = 0, sx = 0, sy = 0;
     for (int j = 0; j < kSub; ++j)
@@ -138,7 +138,7 @@ double Aperture::coverage(double x0, double x1, double y0, double y1, double& cx
             break;
         default: break;
     }
-    return subsampled_coverage(t, x0, x1, y0, y1, cx, cy);
+    return subsampled_coverage(t, {x0, x1, y0, y1}, cx, cy);
 }
 
 double Aperture::area() const {

@@ -99,8 +99,9 @@ Result<detail::KernelTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
     const double nearest = spec.max_inverse_depth > 0 ? 1.0 / spec.max_inverse_depth : INFINITY;
     // The kernel radius is the widest PSF's at the output frame's corners: the anchors lie within
     // the frame, and sources in the margin beyond take the edge anchors' kernels (kernel_table.h).
-    const int radius = psf_kernel_radius(spec.aperture, c.film_distance, nearest, lambda_max,
-                                         c.cos_widest(o, o, o + out_w, o + out_h), pitch, spec.settings.max_radius);
+    const WidestPsf widest{spec.aperture, c.film_distance, nearest, lambda_max,
+                           c.cos_widest(o, o, o + out_w, o + out_h)};
+    const int radius = psf_kernel_radius(widest, pitch, spec.settings.max_radius);
     detail::KernelTableSpec t;
     t.camera = c;
     t.origin = radius - o;
@@ -167,8 +168,9 @@ double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
                     c.tangent(detail::anchor_axis(t, false).knots.front() - t.origin,
                               detail::anchor_axis(t, true).knots.front() - t.origin, q.u, q.v);
                 q.pixel_pitch = c.pixel_pitch();
-                q.radius = psf_kernel_radius(q.aperture, q.film_distance, q.depth, q.wavelength,
-                                             1.0 / std::sqrt(1.0 + q.u * q.u + q.v * q.v), q.pixel_pitch, t.radius);
+                const double cos_anchor = 1.0 / std::sqrt(1.0 + q.u * q.u + q.v * q.v);
+                q.radius = psf_kernel_radius({q.aperture, q.film_distance, q.depth, q.wavelength, cos_anchor},
+                                             q.pixel_pitch, t.radius);
                 psf = std::max(psf, field_psf_scratch_bytes(q));
             }
     return kernels + domain + tiles + t.nthreads * psf;
@@ -241,7 +243,7 @@ Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting,
         }
     }
     std::fill(xyz, xyz + 3 * size_t(out_w) * out_h, 0.0f);
-    if (auto r = impl_->convolution.apply(src, R, R, out_w, out_h, xyz, progress); !r.ok()) return r;
+    if (auto r = impl_->convolution.apply(src, {R, R, out_w, out_h}, xyz, progress); !r.ok()) return r;
     detail::add_far_tail(table, scene, origin, {R, R, out_w, out_h}, xyz, threads);
     if (!vignetting)
         for (int j = 0; j < out_h; ++j)
@@ -253,14 +255,15 @@ Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting,
 }
 
 Result<bool> diffract_convolution(const SpectralScene& scene, const SpectralBasis& basis, const Aperture& aperture,
-                           bool vignetting, float* xyz, const ConvolutionSettings& settings, const ProgressFn& progress) {
+                                  const XyzOutput& out, const ConvolutionSettings& settings,
+                                  const ProgressFn& progress) {
     if (!scene.checked)
         if (auto v = check_pixels(scene.camera, scene.rgb, 3, false, scene.depth); !v.ok()) return v;
     const double nearest = nearest_depth(scene.camera, scene.depth, scene.depth_meaning);
     ConvolutionPlanSpec spec{scene.camera, 0, aperture, basis, 1.0 / nearest, settings};
     auto plan = ConvolutionPlan::create(spec, progress_part(progress, 0.0, 0.5));
     if (!plan.ok()) return Result<bool>::failure(plan.error);
-    return plan.value->apply(scene, vignetting, xyz, progress_part(progress, 0.5, 1.0));
+    return plan.value->apply(scene, out.vignetting, out.xyz, progress_part(progress, 0.5, 1.0));
 }
 
 }  // namespace wavecam

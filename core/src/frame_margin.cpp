@@ -42,7 +42,7 @@ MarginRadii margin_radii(const Aperture& aperture, const PinholeCamera& c, int o
     double cos_widened = 1;
     for (int pass = 0; pass < 2; ++pass) {
         cos_widened = c.cos_widest(o - m.kernel, o - m.kernel, o + out_w + m.kernel, o + out_h + m.kernel);
-        m.kernel = psf_kernel_radius(aperture, c.film_distance, nearest, wavelength, cos_widened, pitch, side);
+        m.kernel = psf_kernel_radius({aperture, c.film_distance, nearest, wavelength, cos_widened}, pitch, side);
     }
     m.reach = std::min(kTailReach * m.kernel, side);
     // the shadow (span / 2)(1 + f / z), stretched 1 / cos^3 radially off axis (fresnel_psf.h)

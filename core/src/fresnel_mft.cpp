@@ -132,14 +132,18 @@ PupilGrid sample_pupil(const FieldPsfRequest& q, const FieldGeometry& g, const M
     return pupil;
 }
 
-// One axis's matrix M[o][p] (see above), real and imaginary parts, for film offsets
-// d_o = (o - offset) step whose frequency is mu_o = d_o stretch / (lambda f).
-void axis_matrix(const std::vector<double>& xi, double rate, const FieldPsfRequest& q, const MftPlan& plan,
-                 double stretch, std::vector<float>& re, std::vector<float>& im) {
+// One axis's matrix M[o][p] (see above), real and imaginary parts, row o at [o * pupil cells].
+struct AxisMatrix {
+    std::vector<float> re, im;
+};
+
+// The axis's matrix for film offsets d_o = (o - offset) step whose frequency is
+// mu_o = d_o stretch / (lambda f).
+AxisMatrix axis_matrix(const std::vector<double>& xi, double rate, const FieldPsfRequest& q, const MftPlan& plan,
+                       double stretch) {
     const int m = plan.grid(), offset = plan.mirrored ? 0 : plan.half;
     const size_t n = xi.size();
-    re.resize(size_t(m) * n);
-    im.resize(size_t(m) * n);
+    AxisMatrix matrix{std::vector<float>(size_t(m) * n), std::vector<float>(size_t(m) * n)};
     // Along o the phase xi mu steps by a fixed amount, so exp(-2 pi i xi mu) is the previous
     // column's times that step's: a complex multiply where a sine and a cosine were. In double,
     // m < 2^12 steps drift below 1e-12 of a turn.
@@ -151,8 +155,8 @@ void axis_matrix(const std::vector<double>& xi, double rate, const FieldPsfReque
         step[p] = std::polar(1.0, -2 * M_PI * std::remainder(xi[p] * dmu, 1.0));
     }
     for (int o = 0; o < m; ++o) {
-        float* r = &re[size_t(o) * n];
-        float* i = &im[size_t(o) * n];
+        float* r = &matrix.re[size_t(o) * n];
+        float* i = &matrix.im[size_t(o) * n];
         for (size_t p = 0; p < n; ++p) {
             const std::complex<double> e = plan.mirrored ? 2 * turn[p].real() * chirp[p] : turn[p] * chirp[p];
             r[p] = float(e.real());
@@ -160,20 +164,19 @@ void axis_matrix(const std::vector<double>& xi, double rate, const FieldPsfReque
             turn[p] *= step[p];
         }
     }
+    return matrix;
 }
 
 // |Q|^2 on the output grid (grid x grid, rows radial): tmp[ir][ot] = sum_it open[ir][it]
 // M_t[ot][it], then Q[or][ot] = sum_ir M_r[or][ir] tmp[ir][ot].
-std::vector<float> transform_power(const PupilGrid& pupil, const std::vector<float>& mr_re,
-                                   const std::vector<float>& mr_im, const std::vector<float>& mt_re,
-                                   const std::vector<float>& mt_im, int m) {
+std::vector<float> transform_power(const PupilGrid& pupil, const AxisMatrix& mr, const AxisMatrix& mt, int m) {
     const int nr = int(pupil.xi_r.size()), nt = int(pupil.xi_t.size());
     std::vector<float> tmp_re(size_t(nr) * m), tmp_im(size_t(nr) * m);
     for (int ir = 0; ir < nr; ++ir)
         for (int o = 0; o < m; ++o) {
             const float* a = &pupil.open[size_t(ir) * nt];
-            const float* br = &mt_re[size_t(o) * nt];
-            const float* bi = &mt_im[size_t(o) * nt];
+            const float* br = &mt.re[size_t(o) * nt];
+            const float* bi = &mt.im[size_t(o) * nt];
             float sr = 0, si = 0;
 #pragma omp simd reduction(+ : sr, si)
             for (int it = 0; it < nt; ++it) {
@@ -188,7 +191,7 @@ std::vector<float> transform_power(const PupilGrid& pupil, const std::vector<flo
         std::fill(row_re.begin(), row_re.end(), 0.0f);
         std::fill(row_im.begin(), row_im.end(), 0.0f);
         for (int ir = 0; ir < nr; ++ir) {
-            const float ar = mr_re[size_t(orr) * nr + ir], ai = mr_im[size_t(orr) * nr + ir];
+            const float ar = mr.re[size_t(orr) * nr + ir], ai = mr.im[size_t(orr) * nr + ir];
             const float* br = &tmp_re[size_t(ir) * m];
             const float* bi = &tmp_im[size_t(ir) * m];
 #pragma omp simd
@@ -272,10 +275,9 @@ std::vector<float> kernel_by_mft(const FieldPsfRequest& q, const FieldGeometry& 
                   plan.mirrored ? 0.0 : g.er_x, plan.mirrored ? 0.0 : g.er_y},
                  [&] { return sample_pupil(q, g, plan); });
     const double c = g.c;
-    std::vector<float> mr_re, mr_im, mt_re, mt_im;
-    axis_matrix(pupil.xi_r, g.ar, q, plan, c * c * c, mr_re, mr_im);
-    axis_matrix(pupil.xi_t, g.at, q, plan, c, mt_re, mt_im);
-    FilmGrid film{plan, transform_power(pupil, mr_re, mr_im, mt_re, mt_im, plan.grid())};
+    const AxisMatrix mr = axis_matrix(pupil.xi_r, g.ar, q, plan, c * c * c);
+    const AxisMatrix mt = axis_matrix(pupil.xi_t, g.at, q, plan, c);
+    FilmGrid film{plan, transform_power(pupil, mr, mt, plan.grid())};
     // Power per film area. The transform is Q(mu) = sum_p Q_p exp(-2 pi i xi_p mu) without
     // its cell area hr ht; Parseval gives int |Q|^2 d^2mu = aperture area, and d^2mu =
     // c^4 / (lambda f)^2 d^2(film), so the fraction of the transmitted power per film area is

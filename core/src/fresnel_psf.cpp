@@ -44,10 +44,10 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
     return k;
 }
 
-int psf_kernel_radius(const Aperture& aperture, double film_distance, double nearest_depth, double wavelength,
-                      double cos_theta_max, double pixel_pitch, int max_radius) {
+int psf_kernel_radius(const WidestPsf& psf, double pixel_pitch, int max_radius) {
     const double r =
-        detail::psf_radius(aperture, film_distance, nearest_depth, wavelength, cos_theta_max) / pixel_pitch;
+        detail::psf_radius(psf.aperture, psf.film_distance, psf.nearest_depth, psf.wavelength, psf.cos_theta_max) /
+        pixel_pitch;
     return int(std::clamp(std::ceil(r), 1.0, double(max_radius)));  // (clamped as a double: no overflow)
 }
 

@@ -94,43 +94,6 @@ private:
     kiss_fft_cfg cfg_;
 };
 
-// The spectrum times the transfer function with the pupil cells' box response divided out,
-// for the first `lines` lines kx of the transposed grid (frequency nu = k / L, k taken in
-// [-n/2, n/2)). In image axes the exponent is a quadratic form, -pi lambda (A nx^2 + B ny^2 +
-// 2 C nx ny) with A = zr ex^2 + zt ey^2, B = zr ey^2 + zt ex^2, C = ex ey (zr - zt) (e the
-// radial unit vector): a factor per axis times exp(-2 pi i lambda C nx ny), which along a line
-// is a geometric sequence in ky (one complex multiplication per point instead of a sine and
-// cosine).
-void transfer(const std::vector<std::complex<float>>& spectrum, std::vector<std::complex<float>>& field, int n,
-              int lines, double h, double wavelength, const FieldGeometry& g) {
-    const double L = n * h, zr = 1.0 / g.ar, zt = 1.0 / g.at;
-    const double A = zr * g.er_x * g.er_x + zt * g.er_y * g.er_y, B = zr * g.er_y * g.er_y + zt * g.er_x * g.er_x;
-    const double C = g.er_x * g.er_y * (zr - zt);
-    auto signed_index = [n](int k) { return k < n / 2 ? k : k - n; };
-    auto axis = [&](double rate) {
-        std::vector<std::complex<double>> f(n);
-        for (int k = 0; k < n; ++k) {
-            const double nu = signed_index(k) / L;
-            f[k] = std::polar(1.0 / box_response(nu * h), -M_PI * wavelength * rate * nu * nu);
-        }
-        return f;
-    };
-    const std::vector<std::complex<double>> fx = axis(A), fy = axis(B);
-    field.resize(size_t(lines) * n);
-    std::vector<std::complex<float>> line(n);
-    for (int kx = 0; kx < lines; ++kx) {
-        // fx exp(i beta ky') fy for ky' = -n/2 ... n/2 - 1, the exponential by repeated
-        // multiplication (in double: n steps)
-        const double beta = -2 * M_PI * wavelength * C * signed_index(kx) / (L * L);
-        const std::complex<double> w = std::polar(1.0, beta);
-        std::complex<double> z = fx[kx] * std::polar(1.0, -beta * (n / 2));
-        for (int k = -n / 2; k < n - n / 2; ++k, z *= w) line[(k + n) % n] = std::complex<float>(z * fy[(k + n) % n]);
-        const std::complex<float>* in = &spectrum[size_t(kx) * n];
-        std::complex<float>* out = &field[size_t(kx) * n];
-        for (int ky = 0; ky < n; ++ky) out[ky] = in[ky] * line[ky];
-    }
-}
-
 // The pupil's spectrum on an n x n grid of pitch h: it depends on neither the wavelength nor
 // the field angle (the chirp is all in the transfer function), so a table's requests at one
 // depth share it. Each thread keeps the last kSpectraKept; a request whose grid must be at
@@ -194,6 +157,45 @@ const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometr
     return kept;
 }
 
+// The spectrum times the transfer function with the pupil cells' box response divided out,
+// for the first `lines` lines kx of the transposed grid (frequency nu = k / L, k taken in
+// [-n/2, n/2)). In image axes the exponent is a quadratic form, -pi lambda (A nx^2 + B ny^2 +
+// 2 C nx ny) with A = zr ex^2 + zt ey^2, B = zr ey^2 + zt ex^2, C = ex ey (zr - zt) (e the
+// radial unit vector): a factor per axis times exp(-2 pi i lambda C nx ny), which along a line
+// is a geometric sequence in ky (one complex multiplication per point instead of a sine and
+// cosine).
+void transfer(const PupilSpectrum& spectrum, int lines, double wavelength, const FieldGeometry& g,
+              std::vector<std::complex<float>>& field) {
+    const int n = spectrum.n;
+    const double h = spectrum.h;
+    const double L = n * h, zr = 1.0 / g.ar, zt = 1.0 / g.at;
+    const double A = zr * g.er_x * g.er_x + zt * g.er_y * g.er_y, B = zr * g.er_y * g.er_y + zt * g.er_x * g.er_x;
+    const double C = g.er_x * g.er_y * (zr - zt);
+    auto signed_index = [n](int k) { return k < n / 2 ? k : k - n; };
+    auto axis = [&](double rate) {
+        std::vector<std::complex<double>> f(n);
+        for (int k = 0; k < n; ++k) {
+            const double nu = signed_index(k) / L;
+            f[k] = std::polar(1.0 / box_response(nu * h), -M_PI * wavelength * rate * nu * nu);
+        }
+        return f;
+    };
+    const std::vector<std::complex<double>> fx = axis(A), fy = axis(B);
+    field.resize(size_t(lines) * n);
+    std::vector<std::complex<float>> line(n);
+    for (int kx = 0; kx < lines; ++kx) {
+        // fx exp(i beta ky') fy for ky' = -n/2 ... n/2 - 1, the exponential by repeated
+        // multiplication (in double: n steps)
+        const double beta = -2 * M_PI * wavelength * C * signed_index(kx) / (L * L);
+        const std::complex<double> w = std::polar(1.0, beta);
+        std::complex<double> z = fx[kx] * std::polar(1.0, -beta * (n / 2));
+        for (int k = -n / 2; k < n - n / 2; ++k, z *= w) line[(k + n) % n] = std::complex<float>(z * fy[(k + n) % n]);
+        const std::complex<float>* in = &spectrum.value[size_t(kx) * n];
+        std::complex<float>* out = &field[size_t(kx) * n];
+        for (int ky = 0; ky < n; ++ky) out[ky] = in[ky] * line[ky];
+    }
+}
+
 }  // namespace
 
 std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeometry& g, const TransferPlan& plan) {
@@ -211,7 +213,7 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
     const bool even = plan.symmetric && o == 0.0;
     const int lines = even ? n / 2 + 1 : n;
     thread_local std::vector<std::complex<float>> field, columns;  // scratch, reused
-    transfer(spectrum.value, field, n, lines, h, q.wavelength, g);
+    transfer(spectrum, lines, q.wavelength, g, field);
     const LineFft inverse(n, true);
     columns.resize(size_t(lines) * n);
     inverse(field.data(), columns.data(), lines);  // columns[kx][y]: image row y at frequency kx

@@ -138,7 +138,7 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
             q.wavelength = spec.basis->wavelength(s);
             // each PSF only as large as its own depth, field angle and wavelength need (the cost
             // grows as its area), centred in the table's common size
-            q.radius = psf_kernel_radius(q.aperture, q.film_distance, q.depth, q.wavelength, cos_anchor,
+            q.radius = psf_kernel_radius({q.aperture, q.film_distance, q.depth, q.wavelength, cos_anchor},
                                          q.pixel_pitch, t.radius);
             const PsfKernel psf = field_psf_kernel(q);
             const int inset = t.radius - q.radius, pw = 2 * q.radius + 1, tw = 2 * t.radius + 1;

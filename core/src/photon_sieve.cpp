@@ -134,7 +134,8 @@ std::vector<SieveHole> sieve_holes(const SieveDesign& d, double R) {
     return holes;
 }
 
-DiscMoments disc_in_cell(double cx, double cy, double a, double x0, double x1, double y0, double y1) {
+DiscMoments disc_in_cell(double cx, double cy, double a, const ApertureCell& cell) {
+    const double x0 = cell.x0, x1 = cell.x1, y0 = cell.y0, y1 = cell.y1;
     // With u = x - cx, v = y - cy, s(u) = sqrt(a^2 - u^2): the column at u holds v from
     // lo = max(v0, -s) to hi = min(v1, s). Between the u where a bound switches from the cell's
     // edge to the circle, each bound is c0 + c1 s (c1 = 0 or +-1), and the integrals of
@@ -192,7 +193,7 @@ double sieve_open_area_in_cell(const SieveDesign& d, double R, const ApertureCel
     DiscMoments sum;
     const double reach = 0.5 * std::hypot(x1 - x0, y1 - y0);
     nearby_holes(d, R, 0.5 * (x0 + x1), 0.5 * (y0 + y1), reach, [&](double hx, double hy, double a) {
-        const DiscMoments m = disc_in_cell(hx, hy, a, x0, x1, y0, y1);
+        const DiscMoments m = disc_in_cell(hx, hy, a, cell);
         sum.area += m.area;
         sum.mx += m.mx;
         sum.my += m.my;

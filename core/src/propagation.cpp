@@ -124,8 +124,12 @@ bool illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointS
     return !ticker.cancelled();
 }
 
-bool add_film_field(const ApertureSamples& samples, const PinholeField& field, const FilmPoints& film,
-                    double wavelength, std::complex<double>* film_field, int nthreads, const ProgressFn& progress) {
+bool add_film_field(const FilmPropagation& propagation, std::complex<double>* film_field, int nthreads,
+                    const ProgressFn& progress) {
+    const ApertureSamples& samples = propagation.samples;
+    const PinholeField& field = propagation.field;
+    const FilmPoints& film = propagation.film;
+    const double wavelength = propagation.wavelength;
     const long n = static_cast<long>(film.size());
     const double f = film.film_distance;
     const float inv_lambda = static_cast<float>(1.0 / wavelength);
@@ -148,7 +152,7 @@ bool accumulate_film_irradiance(const FilmPropagation& propagation, double scale
                                 const ProgressFn& progress) {
     const FilmPropagation& p = propagation;
     std::vector<std::complex<double>> u(p.film.size(), 0.0);
-    if (!add_film_field(p.samples, p.field, p.film, p.wavelength, u.data(), nthreads, progress)) return false;
+    if (!add_film_field(p, u.data(), nthreads, progress)) return false;
     for (size_t t = 0; t < u.size(); ++t) irradiance[t] += static_cast<float>(scale * std::norm(u[t]));
     return true;
 }

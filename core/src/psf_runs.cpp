@@ -36,7 +36,7 @@ public:
         const PinholeCamera& c = setup_.scene->camera;
         if (too_deep_) return too_many_layers();
         auto unit = [&c](double x, double y, double w) {
-            return source_at(c, x, y, 1.0, w > 0 ? 1.0 / w : INFINITY, DepthMeaning::Planar, 0.0);
+            return source_at(c, {x, y, w > 0 ? 1.0 / w : INFINITY, DepthMeaning::Planar}, 1.0, 0.0);
         };
         auto make = [&] { return PsfSummation::create(spec_, pitch_, unit, progress); };
         PsfSummationMemo none;
@@ -47,8 +47,7 @@ public:
         // the far tail, in every run's mean (added with each run: a job is the sum of its shares)
         const MonochromeScene& scene = *setup_.scene;
         tail_.assign(size_t(c.width) * c.height, 0.0f);
-        conv_->add_far_tail(scene.power, scene.depth, scene.depth_meaning, 1.0, setup_.range.row_begin,
-                            setup_.range.row_end, tail_.data());
+        conv_->add_far_tail(scene.power, scene.depth, scene.depth_meaning, 1.0, rows(), tail_.data());
         return Result<bool>::success(true);
     }
 
@@ -75,8 +74,7 @@ public:
                 }
             }
             const double at = k0 * per_run;
-            if (auto r = conv.run(sources_, incoherent ? 1.0 : 1.0 / s.runs, setup_.range.row_begin,
-                                  setup_.range.row_end, tail_.data(), irradiance,
+            if (auto r = conv.run(sources_, incoherent ? 1.0 : 1.0 / s.runs, rows(), tail_.data(), irradiance,
                                   progress_part(progress, at, at + sources_.runs * per_run));
                 !r.ok())
                 return r;
@@ -85,6 +83,8 @@ public:
     }
 
 private:
+    RowRange rows() const { return {setup_.range.row_begin, setup_.range.row_end}; }  // the share's film rows
+
     // Every domain pixel's layer, amplitude (its power balanced, psf_summation.h) and
     // random numbers' key.
     void place_sources() {

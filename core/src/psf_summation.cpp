@@ -306,7 +306,7 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
     return R::success(std::move(conv));
 }
 
-Result<bool> PsfSummation::run(const PsfSummationSources& sources, double scale, int row_begin, int row_end,
+Result<bool> PsfSummation::run(const PsfSummationSources& sources, double scale, const RowRange& rows,
                                const float* each, float* irradiance, const ProgressFn& progress) const {
     const Impl& m = *impl_;
     const PsfSummationGeometry& g = m.g;
@@ -410,7 +410,7 @@ Result<bool> PsfSummation::run(const PsfSummationSources& sources, double scale,
         for (int cj = 0; cj < c.height; ++cj)
             for (int ci = 0; ci < c.width; ++ci) {
                 const size_t p = size_t(cj) * c.width + ci;
-                const bool lit = cj >= row_begin && cj < row_end && ci >= o && ci < c.width - o;
+                const bool lit = cj >= rows.begin && cj < rows.end && ci >= o && ci < c.width - o;
                 const double v = (lit ? f[size_t(cj + g.origin) * g.nx + ci + g.origin] * norm : 0.0) +
                                  (each ? scale * each[p] : 0.0);
                 if (v != 0) irradiance[p] += float(v);
@@ -451,7 +451,7 @@ std::vector<float> PsfSummation::power_balance(const PsfSummationSources& source
 }
 
 void PsfSummation::add_far_tail(const float* radiance, const float* depth, DepthMeaning meaning, double scale,
-                                int row_begin, int row_end, float* irradiance) const {
+                                const RowRange& rows, float* irradiance) const {
     const Impl& m = *impl_;
     const PinholeCamera& c = m.spec.camera;
     const int o = m.spec.overscan, out_w = c.width - 2 * o, out_h = c.height - 2 * o, R = m.g.radius;
@@ -459,7 +459,7 @@ void PsfSummation::add_far_tail(const float* radiance, const float* depth, Depth
     for (size_t q = 0; q < size_t(c.width) * c.height; ++q) rgb[3 * q] = radiance[q];
     const SpectralScene scene{c, rgb.data(), depth, meaning, true};
     detail::add_far_tail(m.tail, scene, m.g.origin, {R, R, out_w, out_h}, xyz.data(), m.threads);
-    for (int cj = std::max(row_begin, o); cj < std::min(row_end, c.height - o); ++cj)
+    for (int cj = std::max(rows.begin, o); cj < std::min(rows.end, c.height - o); ++cj)
         for (int ci = o; ci < c.width - o; ++ci)
             irradiance[size_t(cj) * c.width + ci] += float(scale * xyz[3 * (size_t(cj - o) * out_w + ci - o)]);
 }

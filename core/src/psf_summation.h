@@ -98,6 +98,11 @@ struct PsfSummationSources {
     std::vector<float> upper_share;
 };
 
+// Camera rows [begin, end): a share's rows of the film.
+struct RowRange {
+    int begin, end;
+};
+
 class PsfSummation {
 public:
     PsfSummation();
@@ -119,11 +124,11 @@ public:
     const DepthLayers& layers() const;
 
     // Adds, run by run, scale x the film pixels' irradiance (the mean of |U|^2 over each pixel's
-    // n x n points) of camera rows [row_begin, row_end), columns within the overscan, and then
+    // n x n points) of camera rows `rows`, columns within the overscan, and then
     // scale x `each` (camera width x height; may be null) to irradiance (camera width x height).
     // The runs at once share each pass over the kernels' spectra. Fails only when cancelled
     // through `progress`, or on the device.
-    Result<bool> run(const PsfSummationSources& sources, double scale, int row_begin, int row_end, const float* each,
+    Result<bool> run(const PsfSummationSources& sources, double scale, const RowRange& rows, const float* each,
                      float* irradiance, const ProgressFn& progress) const;
     // How many runs to give run() at once: as many as keep their work buffers within the
     // spectra's size (a run's pass over them streams them all), at least 1, at most
@@ -136,8 +141,8 @@ public:
 
     // Adds scale x the far tail of the scene (radiance and depth per camera pixel, the edge
     // continued beyond) on the same rows.
-    void add_far_tail(const float* radiance, const float* depth, DepthMeaning meaning, double scale, int row_begin,
-                      int row_end, float* irradiance) const;
+    void add_far_tail(const float* radiance, const float* depth, DepthMeaning meaning, double scale,
+                      const RowRange& rows, float* irradiance) const;
 
     struct Impl;
 

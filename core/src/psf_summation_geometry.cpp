@@ -34,9 +34,9 @@ PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s) {
     const double nearest = s.max_inverse_depth > 0 ? 1.0 / s.max_inverse_depth : INFINITY;
     PsfSummationGeometry g;
     // the radius is the widest PSF's at the output frame's corners
-    g.radius = psf_kernel_radius(s.aperture, c.film_distance, nearest, s.wavelength,
-                                 c.cos_widest(o, o, o + out_w, o + out_h), c.pixel_pitch(),
-                                 ConvolutionSettings{}.max_radius);
+    const WidestPsf widest{s.aperture, c.film_distance, nearest, s.wavelength,
+                           c.cos_widest(o, o, o + out_w, o + out_h)};
+    g.radius = psf_kernel_radius(widest, c.pixel_pitch(), ConvolutionSettings{}.max_radius);
     g.origin = g.radius - o;
     g.width = out_w + 2 * g.radius;
     g.height = out_h + 2 * g.radius;

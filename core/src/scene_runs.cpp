@@ -20,7 +20,7 @@ void average_into_output(std::vector<float>& points, const SceneSum& sum, const 
 }
 
 PointSource centred(const PinholeCamera& c, const Emitter& e, double phase) {
-    return source_at(c, e.x + 0.5 * e.w, e.y + 0.5 * e.h, e.power, e.depth, e.meaning, phase);
+    return source_at(c, {e.x + 0.5 * e.w, e.y + 0.5 * e.h, e.depth, e.meaning}, e.power, phase);
 }
 
 double source_turns(const PhaseDraw& d, long i, long j, uint64_t key, int run) {
@@ -53,7 +53,7 @@ std::vector<PointSource> run_sources(const PinholeCamera& c, const std::vector<E
         const uint64_t place = s.coded_phases ? ~0ull : e.key;  // one offset for all, or one each
         const double jx = counter_uniform(s.seed, draw, place, 1);
         const double jy = counter_uniform(s.seed, draw, place, 2);
-        sources.push_back(source_at(c, e.x + jx * e.w, e.y + jy * e.h, e.power, e.depth, e.meaning, phase));
+        sources.push_back(source_at(c, {e.x + jx * e.w, e.y + jy * e.h, e.depth, e.meaning}, e.power, phase));
     }
     return sources;
 }

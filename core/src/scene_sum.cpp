@@ -24,13 +24,13 @@ Result<bool> check_settings(const PinholeCamera& c, double wavelength, const Sce
     return check_frame(c, s.overscan);
 }
 
-// A point source at image position (x, y) (camera pixels) with power `power_on_pinhole` =
-// radiance x solid angle: the irradiance it puts on the pinhole whatever its depth
-// (docs/physics.md), so a finite source gets amplitude sqrt(L Omega) |P|.
-PointSource source_at(const PinholeCamera& c, double x, double y, double power_on_pinhole, double depth,
-                      DepthMeaning meaning, double phase) {
+// A point source at `at` with power `power_on_pinhole` = radiance x solid angle: the irradiance
+// it puts on the pinhole whatever its depth (docs/physics.md), so a finite source gets amplitude
+// sqrt(L Omega) |P|.
+PointSource source_at(const PinholeCamera& c, const ScenePoint& at, double power_on_pinhole, double phase) {
+    const double depth = at.depth;
     double u, v;
-    c.tangent(x, y, u, v);
+    c.tangent(at.x, at.y, u, v);
     const double norm = std::sqrt(1.0 + u * u + v * v);
     const double root_power = std::sqrt(power_on_pinhole);
     PointSource s;
@@ -44,7 +44,7 @@ PointSource source_at(const PinholeCamera& c, double x, double y, double power_o
         return s;
     }
     // planar depth: P = Z (u, v, 1); ray depth: P = D (u, v, 1) / |(u, v, 1)|
-    const double scale = meaning == DepthMeaning::Planar ? depth : depth / norm;
+    const double scale = at.meaning == DepthMeaning::Planar ? depth : depth / norm;
     s.x = scale * u;
     s.y = scale * v;
     s.z = scale;

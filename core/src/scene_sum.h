@@ -68,10 +68,15 @@ struct SumChoices {
 // The settings one wavelength's sum needs (the pixels are check_pixels').
 Result<bool> check_settings(const PinholeCamera& c, double wavelength, const SceneSumSettings& s);
 
-// A point source at image position (x, y) (camera pixels) with power `power_on_pinhole` =
-// radiance x solid angle: the irradiance it puts on the pinhole whatever its depth.
-PointSource source_at(const PinholeCamera& c, double x, double y, double power_on_pinhole, double depth,
-                      DepthMeaning meaning, double phase);
+// A point of the scene: image position (x, y) (camera pixels) and its depth, read as `meaning`.
+struct ScenePoint {
+    double x, y, depth;
+    DepthMeaning meaning;
+};
+
+// A point source at `at` with power `power_on_pinhole` = radiance x solid angle: the irradiance
+// it puts on the pinhole whatever its depth.
+PointSource source_at(const PinholeCamera& c, const ScenePoint& at, double power_on_pinhole, double phase);
 
 WorkRange work_range(const SceneSumSettings& s, int height);
 

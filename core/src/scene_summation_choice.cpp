@@ -18,13 +18,21 @@ DirectionRange direction_range(const Extent& e, double rho0, double rho1) {
 }
 
 
+// A wavelength's frame: its camera, the wavelength and the nearest source's depth.
+struct WavelengthFrame {
+    const PinholeCamera& camera;
+    double wavelength, nearest;
+};
+
 // The two sums' counts for the cost model (the film's for the whole frame), on a pinhole lattice of
-// `pitch` (the frame's, or the psf kernels' own).
+// `pitch` (the frame's, or the psf kernels' own), for one source at a time where `single`.
 struct FrameCounts {
     SumCounts in, out;
 };
-FrameCounts frame_counts(const SceneSumSettings& s, const SceneSum& sum, double pitch, const PinholeCamera& c,
-                         double wavelength, double nearest, bool single) {
+FrameCounts frame_counts(const SceneSumSettings& s, const SceneSum& sum, const WavelengthFrame& frame, double pitch,
+                         bool single) {
+    const PinholeCamera& c = frame.camera;
+    const double wavelength = frame.wavelength, nearest = frame.nearest;
     const double radius = s.aperture.bounding_radius(), f = c.film_distance;
     const double samples = estimate_sample_count(s.aperture, pitch);
     // Samples off the lattice: the rim's cells (about 1.3 per pitch of perimeter, twice for a
@@ -50,7 +58,7 @@ FrameCounts frame_counts(const SceneSumSettings& s, const SceneSum& sum, double 
 
 SumChoices plan_sums(const SceneSumSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
                   double nearest, bool single) {
-    const FrameCounts n = frame_counts(s, sum, sum.samples.pitch, c, wavelength, nearest, single);
+    const FrameCounts n = frame_counts(s, sum, {c, wavelength, nearest}, sum.samples.pitch, single);
     FrameSums frame;
     frame.in = n.in;
     frame.out = n.out;
@@ -93,7 +101,7 @@ bool too_deep_for_psf(double nearest, const Aperture& aperture, double wavelengt
 // The psf summation's work: its kernels' sums counted on their own lattice of `pitch`.
 detail::PsfSummationWork psf_work(const SceneSumSettings& s, const SceneSum& sum, const detail::PsfSummationSpec& spec,
                                   double nearest, double pitch) {
-    const FrameCounts n = frame_counts(s, sum, pitch, spec.camera, spec.wavelength, nearest, false);
+    const FrameCounts n = frame_counts(s, sum, {spec.camera, spec.wavelength, nearest}, pitch, false);
     return detail::psf_summation_work(spec, n.in, n.out);
 }
 
@@ -121,7 +129,7 @@ SummationChoice scene_choice(const SceneSumSettings& s, const PinholeCamera& c, 
     const double runs = w.run_end - w.run_begin;
     FrameSums frame;
     if (s.summation != Summation::Psf) {
-        const FrameCounts n = frame_counts(s, sum, sum.samples.pitch, c, wavelength, nearest, incoherent);
+        const FrameCounts n = frame_counts(s, sum, {c, wavelength, nearest}, sum.samples.pitch, incoherent);
         frame.in = n.in;
         frame.out = n.out;
     }
@@ -135,7 +143,7 @@ SummationChoice scene_choice(const SceneSumSettings& s, const PinholeCamera& c, 
     if (frame.psf_counted) {
         frame.psf = psf_summation_spec(s, c, wavelength, nearest, sum.subsamples);
         const double pitch = kernel_lattice_pitch(frame.psf, sum.samples.pitch);
-        const FrameCounts n = frame_counts(s, sum, pitch, c, wavelength, nearest, false);
+        const FrameCounts n = frame_counts(s, sum, {c, wavelength, nearest}, pitch, false);
         frame.psf_in = n.in;
         frame.psf_out = n.out;
         frame.psf_runs = incoherent ? 1.0 : runs;

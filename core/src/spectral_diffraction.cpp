@@ -32,8 +32,10 @@ double exposure_scale(const Aperture& aperture, double film_distance) {
 }
 
 Result<bool> diffract_spectral(const SpectralScene& scene, const SpectralBasis& basis, const Aperture& aperture,
-                               const MonochromePropagator& propagate, bool vignetting, float* xyz,
+                               const MonochromePropagator& propagate, const XyzOutput& out,
                                const ProgressFn& progress) {
+    const bool vignetting = out.vignetting;
+    float* xyz = out.xyz;
     const PinholeCamera& c = scene.camera;
     // the pixels are checked once for every wavelength: each wavelength's parts of a finite
     // radiance are finite and >= 0

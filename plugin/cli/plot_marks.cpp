@@ -10,7 +10,10 @@ namespace {
 constexpr const char* kFont = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 }
 
-void draw_text(OIIO::ImageBuf& img, int x, int y, const std::string& s, int size, const Colour& colour, Align align) {
+void draw_text(OIIO::ImageBuf& img, int x, int y, const std::string& s, const TextStyle& style) {
+    const int size = style.size;
+    const Colour& colour = style.colour;
+    const Align align = style.align;
     using OIIO::ImageBufAlgo::TextAlignX;
     const TextAlignX a = align == Align::Left ? TextAlignX::Left : align == Align::Centre ? TextAlignX::Center
                                                                                            : TextAlignX::Right;
@@ -41,7 +44,7 @@ void draw_scale_bar(OIIO::ImageBuf& img, int x, int y, double pitch, int max_pix
     OIIO::ImageBufAlgo::render_box(img, x, y - 1, x + length - 1, y + 1, c, true);
     OIIO::ImageBufAlgo::render_line(img, x, y - 5, x, y + 1, c);
     OIIO::ImageBufAlgo::render_line(img, x + length - 1, y - 5, x + length - 1, y + 1, c);
-    draw_text(img, x, y - 7, tick_label(um) + " um", 12, colour);
+    draw_text(img, x, y - 7, tick_label(um) + " um", {12, colour});
 }
 
 std::vector<Tick> log_ticks(double lo, double hi) {

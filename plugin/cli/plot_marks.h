@@ -13,9 +13,16 @@ using Colour = std::array<float, 3>;
 
 enum class Align { Left, Centre, Right };
 
-// `s` (ASCII: OpenImageIO 2.4 draws bytes, not UTF-8) with its baseline at y, starting at, centred on or ending at x.
-void draw_text(OIIO::ImageBuf& img, int x, int y, const std::string& s, int size, const Colour& colour,
-               Align align = Align::Left);
+// How text is drawn: its size in pixels, its colour, and whether it starts at, is centred on or
+// ends at its x.
+struct TextStyle {
+    int size;
+    Colour colour;
+    Align align = Align::Left;
+};
+
+// `s` (ASCII: OpenImageIO 2.4 draws bytes, not UTF-8) with its baseline at y, placed at x as `style` aligns it.
+void draw_text(OIIO::ImageBuf& img, int x, int y, const std::string& s, const TextStyle& style);
 
 // How wide draw_text draws `s`, in pixels.
 int text_width(const std::string& s, int size);

@@ -25,8 +25,13 @@ void line(OIIO::ImageBuf& img, int x0, int y0, int x1, int y1, const Colour& c) 
     OIIO::ImageBufAlgo::render_line(img, x0, y0, x1, y1, OIIO::cspan<float>(c.data(), 3));
 }
 
-void box(OIIO::ImageBuf& img, int x0, int y0, int x1, int y1, const Colour& c, bool fill) {
-    OIIO::ImageBufAlgo::render_box(img, x0, y0, x1, y1, OIIO::cspan<float>(c.data(), 3), fill);
+// Pixels (x0, y0) and (x1, y1), opposite corners of a box, both in it.
+struct Corners {
+    int x0, y0, x1, y1;
+};
+
+void box(OIIO::ImageBuf& img, const Corners& at, const Colour& c, bool fill) {
+    OIIO::ImageBufAlgo::render_box(img, at.x0, at.y0, at.x1, at.y1, OIIO::cspan<float>(c.data(), 3), fill);
 }
 
 // A vertical dashed line from y0 down to y1.
@@ -62,11 +67,11 @@ OIIO::ImageBuf psf_sheet(const std::vector<SweepPoint>& pts, const SweepFigure& 
     draw_text(sheet, 6, 17,
               "Point-source images (PSFs), f = " + format("%.4g mm", fig.film_distance * 1e3) + ", lambda = " +
                   format("%.4g nm", fig.wavelength * 1e9) + ", " + fig.aperture + ", source on axis at infinity",
-              13, kWhite);
+              {13, kWhite});
     draw_text(sheet, 6, 36,
               "Windows differ in size (3x the larger of the shadow and the Airy disc: see the bars, micrometres on the "
               "film); each is scaled to its own peak, sRGB-encoded.",
-              12, kGrey);
+              {12, kGrey});
     for (size_t k = 0; k < pts.size(); ++k) {
         const PsfImage& p = pts[k].psf;
         OIIO::ImageBuf one(OIIO::ImageSpec(n, n, 1, OIIO::TypeDesc::FLOAT));
@@ -79,7 +84,7 @@ OIIO::ImageBuf psf_sheet(const std::vector<SweepPoint>& pts, const SweepFigure& 
         const int x = int(k % cols) * cell, y = head + int(k / cols) * (cell + label);
         OIIO::ImageBufAlgo::paste(sheet, x, y + label, 0, 0, one);
         draw_text(sheet, x + 4, y + 15, format("d = %.3g mm, r50 = %.3g um", pts[k].diameter * 1e3, pts[k].r50 * 1e6),
-                  12, kYellow);
+                  {12, kYellow});
         draw_scale_bar(sheet, x + 8, y + label + cell - 8, p.resolution * p.pixel_pitch / cell, cell / 3, kWhite);
     }
     return sheet;
@@ -101,20 +106,20 @@ OIIO::ImageBuf spot_size_plot(const std::vector<SweepPoint>& pts, const SweepFig
     for (const Tick& t : log_ticks(d0, d1)) {  // grid, ticks and numbers: diameter in mm
         if (t.labelled) line(img, px(t.value), T, px(t.value), B, kGrid);
         line(img, px(t.value), B, px(t.value), B + (t.labelled ? 7 : 4), kBlack);
-        if (t.labelled) draw_text(img, px(t.value), B + 22, tick_label(t.value), 13, kBlack, Align::Centre);
+        if (t.labelled) draw_text(img, px(t.value), B + 22, tick_label(t.value), {13, kBlack, Align::Centre});
     }
     for (const Tick& t : log_ticks(r0, r1)) {  // spot radius in um
         if (t.labelled) line(img, L, py(t.value), R, py(t.value), kGrid);
         line(img, L - (t.labelled ? 7 : 4), py(t.value), L, py(t.value), kBlack);
-        if (t.labelled) draw_text(img, L - 10, py(t.value) + 5, tick_label(t.value), 13, kBlack, Align::Right);
+        if (t.labelled) draw_text(img, L - 10, py(t.value) + 5, tick_label(t.value), {13, kBlack, Align::Right});
     }
-    box(img, L, T, R, B, kBlack, false);
-    draw_text(img, (L + R) / 2, H - 18, "pinhole diameter d (mm), log scale", 14, kBlack, Align::Centre);
-    draw_text(img, 10, T - 14, "spot radius r (micrometres), log scale", 14, kBlack);
+    box(img, {L, T, R, B}, kBlack, false);
+    draw_text(img, (L + R) / 2, H - 18, "pinhole diameter d (mm), log scale", {14, kBlack, Align::Centre});
+    draw_text(img, 10, T - 14, "spot radius r (micrometres), log scale", {14, kBlack});
     draw_text(img, 10, 24,
               "Spot size against pinhole diameter: f = " + format("%.4g mm", fig.film_distance * 1e3) + ", lambda = " +
                   format("%.4g nm", fig.wavelength * 1e9) + ", " + fig.aperture,
-              16, kBlack);
+              {16, kBlack});
 
     const double best_um = r50_at(pts, fig.best) * 1e6;
     auto mark = [&](double d, const Colour& c, bool dash) {
@@ -132,8 +137,8 @@ OIIO::ImageBuf spot_size_plot(const std::vector<SweepPoint>& pts, const SweepFig
     }
     for (const auto& p : pts) {
         const int x = px(p.diameter * 1e3);
-        box(img, x - 3, py(p.r50 * 1e6) - 3, x + 3, py(p.r50 * 1e6) + 3, kBlack, true);
-        box(img, x - 2, py(p.r80 * 1e6) - 2, x + 2, py(p.r80 * 1e6) + 2, kGrey, true);
+        box(img, {x - 3, py(p.r50 * 1e6) - 3, x + 3, py(p.r50 * 1e6) + 3}, kBlack, true);
+        box(img, {x - 2, py(p.r80 * 1e6) - 2, x + 2, py(p.r80 * 1e6) + 2}, kGrey, true);
     }
     // the optimum: a blue diamond on the r50 curve and its values beneath
     const int bx = px(fig.best * 1e3), by = py(best_um);
@@ -142,8 +147,8 @@ OIIO::ImageBuf spot_size_plot(const std::vector<SweepPoint>& pts, const SweepFig
     const std::string values[2] = {format("d = %#.3g mm", fig.best * 1e3), format("r50 = %.3g um", best_um)};
     for (int k = 0; k < 2; ++k) {
         const int right = bx - 10, base = by + 20 + 16 * k;
-        box(img, right - text_width(values[k], 13) - 2, base - 13, right + 1, base + 4, kWhite, true);
-        draw_text(img, right, base, values[k], 13, kBlue, Align::Right);
+        box(img, {right - text_width(values[k], 13) - 2, base - 13, right + 1, base + 4}, kWhite, true);
+        draw_text(img, right, base, values[k], {13, kBlue, Align::Right});
     }
 
     int y = T + 10;  // the legend: a sample of each line, then its words
@@ -151,8 +156,8 @@ OIIO::ImageBuf spot_size_plot(const std::vector<SweepPoint>& pts, const SweepFig
         const int x = R + 20;
         if (dash) for (int s = 0; s < 30; s += 10) line(img, x + s, y, x + s + 5, y, c);
         else line(img, x, y, x + 30, y, c);
-        if (points) box(img, x + 12, y - 3, x + 18, y + 3, c, true);
-        for (const std::string& w : words) draw_text(img, x + 40, y + 5, w, 13, kBlack), y += 18;
+        if (points) box(img, {x + 12, y - 3, x + 18, y + 3}, c, true);
+        for (const std::string& w : words) draw_text(img, x + 40, y + 5, w, {13, kBlack}), y += 18;
         y += 12;
     };
     const double unit = std::sqrt(fig.film_distance * fig.wavelength);

@@ -23,7 +23,7 @@ FieldPsfRequest corner_request(double pinhole, int max_radius) {
     q.u = q.v = tan_half;
     q.pixel_pitch = 2 * f * tan_half / 512;
     const double cos_corner = 1.0 / std::sqrt(1.0 + 2 * tan_half * tan_half);
-    q.radius = psf_kernel_radius(q.aperture, f, INFINITY, q.wavelength, cos_corner, q.pixel_pitch, max_radius);
+    q.radius = psf_kernel_radius({q.aperture, f, INFINITY, q.wavelength, cos_corner}, q.pixel_pitch, max_radius);
     return q;
 }
 

@@ -58,7 +58,7 @@ void rate(benchmark::State& state, double terms) {
 void BM_FilmSumCpu(benchmark::State& state) {
     const Case& c = the_case();
     std::vector<std::complex<double>> u(c.film.size());
-    for (auto _ : state) add_film_field(c.samples, c.field, c.film, c.lambda, u.data());
+    for (auto _ : state) add_film_field({c.samples, c.field, c.film, c.lambda}, u.data());
     state.SetLabel("CPU direct kernel");
     rate(state, c.film_terms());
 }

@@ -165,7 +165,7 @@ TEST(Aperture, DiscInCellMatchesAFineGridInAreaAndMoments) {
     const double cells[][4] = {{-0.2, 0.4, -0.5, 0.1}, {0.9, 1.6, -0.9, 0.3}, {0.8, 1.5, 0.5, 1.2},
                                {-1.0, 1.6, -1.5, 1.0}, {1.35, 2.0, 0.0, 1.0}, {-0.75, 0.05, 0.4, 0.8}};
     for (const auto& c : cells) {
-        const DiscMoments m = disc_in_cell(cx, cy, a, c[0], c[1], c[2], c[3]);
+        const DiscMoments m = disc_in_cell(cx, cy, a, {c[0], c[1], c[2], c[3]});
         const int g = 2000;  // reference: midpoints of a g x g grid over the cell
         double area = 0, mx = 0, my = 0;
         const double hx = (c[1] - c[0]) / g, hy = (c[3] - c[2]) / g;
@@ -181,7 +181,7 @@ TEST(Aperture, DiscInCellMatchesAFineGridInAreaAndMoments) {
         EXPECT_NEAR(m.mx, mx, 2e-5) << c[0] << " " << c[2];
         EXPECT_NEAR(m.my, my, 2e-5) << c[0] << " " << c[2];
     }
-    EXPECT_NEAR(disc_in_cell(cx, cy, a, -5, 5, -5, 5).area, M_PI, 1e-12);
+    EXPECT_NEAR(disc_in_cell(cx, cy, a, {-5, 5, -5, 5}).area, M_PI, 1e-12);
 }
 
 TEST(Aperture, PhotonSieveHolesSitOnTheOpenZonesAtOneAndAHalfZoneWidths) {
@@ -272,7 +272,7 @@ TEST(Aperture, PhotonSieveLooksUpTheSameHolesItLists) {
             const double c = ap.coverage(x0, x0 + cell, y0, y0 + cell, cx, cy) * cell * cell;
             DiscMoments all;
             for (const auto& h : holes) {
-                const DiscMoments m = disc_in_cell(h.x, h.y, h.radius, x0, x0 + cell, y0, y0 + cell);
+                const DiscMoments m = disc_in_cell(h.x, h.y, h.radius, {x0, x0 + cell, y0, y0 + cell});
                 all.area += m.area;
                 all.mx += m.mx;
                 all.my += m.my;

@@ -285,7 +285,8 @@ TEST(ApertureOptics, ConvolutionTurnsTheLMaskLikeTheExactPsf) {
     const auto basis = make_spectral_basis(explicit_sampling({550e-9}).value, to709);
     ASSERT_TRUE(basis.ok());
     std::vector<float> xyz(3 * w * w);
-    auto r = diffract_convolution({cam, rgb.data(), depth.data(), DepthMeaning::Planar}, basis.value, ell, false, xyz.data());
+    auto r = diffract_convolution({cam, rgb.data(), depth.data(), DepthMeaning::Planar}, basis.value, ell,
+                                  {false, xyz.data()});
     ASSERT_TRUE(r.ok()) << r.error;
     const double half = 0.5 * d / 20e-6;
     double quad[2][2] = {{0, 0}, {0, 0}};

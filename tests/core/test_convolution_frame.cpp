@@ -62,7 +62,8 @@ TEST(ConvolutionFrame, UniformWallIsUniformToTheLastPixel) {
             s.tile = tile;
             s.anchor_cells = tile ? 6 : 4;
             std::vector<float> xyz(3 * 200 * 112);
-            ASSERT_TRUE(diffract_convolution(f.scene(), b, {ApertureShape::Circle, pinhole}, false, xyz.data(), s).ok());
+            ASSERT_TRUE(diffract_convolution(f.scene(), b, {ApertureShape::Circle, pinhole}, {false, xyz.data()}, s)
+                            .ok());
             double pixel, line, mean;
             uniformity(xyz, 200, 112, pixel, line, mean);
             std::printf("pinhole %.3f mm, tile %d: worst pixel %.4f%%, worst row/column %.4f%%, mean Y %.4f\n",
@@ -91,7 +92,8 @@ TEST(ConvolutionFrame, UniformWallComesBackAtItsRadianceUnderASubPixelPsf) {
             f.cam.film_distance = 20e-3;
             ConvolutionSettings s;
             std::vector<float> xyz(3 * size_t(k.width) * k.width);
-            ASSERT_TRUE(diffract_convolution(f.scene(), b, {ApertureShape::Circle, 0.2e-3}, false, xyz.data(), s).ok());
+            ASSERT_TRUE(diffract_convolution(f.scene(), b, {ApertureShape::Circle, 0.2e-3}, {false, xyz.data()}, s)
+                            .ok());
             // grey 0.5 in the working space is Y = 0.5
             double lo = 1e9, hi = -1e9;
             for (int p = 0; p < k.width * k.width; ++p) {
@@ -123,7 +125,7 @@ TEST(ConvolutionFrame, OverscanMarginLightsTheFrameAndIsCropped) {
     ASSERT_TRUE(plan.value->apply(f.scene(), true, cropped.data()).ok());
     // the same sources, whole: its centre is the cropped frame (the anchors differ, so the
     // kernels are interpolated from other field positions: within 0.5% of the brightest pixel)
-    ASSERT_TRUE(diffract_convolution(f.scene(), b, ap, true, full.data()).ok());
+    ASSERT_TRUE(diffract_convolution(f.scene(), b, ap, {true, full.data()}).ok());
     double worst = 0, brightest = 0, patch_light = 0;
     for (int j = 0; j < oh; ++j)
         for (int i = 0; i < ow; ++i) {
@@ -203,7 +205,7 @@ TEST(ConvolutionFrame, StarLightLandsWhereTheFresnelIntegralPutsIt) {
     for (int k = 0; k < 3; ++k) star.rgb[3 * (c * w + c) + k] = 1.0f;
     const SpectralBasis b = basis(3);
     std::vector<float> xyz(3 * w * w);
-    ASSERT_TRUE(diffract_convolution(star.scene(), b, {ApertureShape::Circle, d}, true, xyz.data()).ok());
+    ASSERT_TRUE(diffract_convolution(star.scene(), b, {ApertureShape::Circle, d}, {true, xyz.data()}).ok());
 
     // the reference Y per pixel: each wavelength's Fresnel PSF averaged over the pixel's area
     const double pitch = star.cam.pixel_pitch();
@@ -257,19 +259,19 @@ TEST(ConvolutionFrame, BadPixelsAreNamedBeforeAnyWork) {
     };
     const Aperture pinhole{ApertureShape::Circle, 0.3e-3};
     f.rgb[3 * (2 * 8 + 5) + 1] = std::nanf("");
-    for (auto r : {diffract_convolution(f.scene(), basis(3), pinhole, true, xyz.data()),
-                   diffract_spectral(f.scene(), basis(3), pinhole, counting, true, xyz.data())})
+    for (auto r : {diffract_convolution(f.scene(), basis(3), pinhole, {true, xyz.data()}),
+                   diffract_spectral(f.scene(), basis(3), pinhole, counting, {true, xyz.data()})})
         EXPECT_EQ(r.error.rfind("radiance: pixel (5, 2) is nan, expected a finite value", 0), 0u) << r.error;
     // finite, but its sums would overflow single precision (the image came back NaN)
     f.rgb[3 * (2 * 8 + 5) + 1] = 3e38f;
-    for (auto r : {diffract_convolution(f.scene(), basis(3), pinhole, true, xyz.data()),
-                   diffract_spectral(f.scene(), basis(3), pinhole, counting, true, xyz.data())})
+    for (auto r : {diffract_convolution(f.scene(), basis(3), pinhole, {true, xyz.data()}),
+                   diffract_spectral(f.scene(), basis(3), pinhole, counting, {true, xyz.data()})})
         EXPECT_EQ(r.error.rfind("radiance: pixel (5, 2) is 3e+38, expected a finite value within +-1e30", 0), 0u)
             << r.error;
     f.rgb[3 * (2 * 8 + 5) + 1] = 0.5f;
     f.depth[3 * 8 + 1] = -1;
-    for (auto r : {diffract_convolution(f.scene(), basis(3), pinhole, true, xyz.data()),
-                   diffract_spectral(f.scene(), basis(3), pinhole, counting, true, xyz.data())})
+    for (auto r : {diffract_convolution(f.scene(), basis(3), pinhole, {true, xyz.data()}),
+                   diffract_spectral(f.scene(), basis(3), pinhole, counting, {true, xyz.data()})})
         EXPECT_EQ(r.error.rfind("depth: pixel (1, 3) is -1, expected a distance > 0", 0), 0u) << r.error;
     EXPECT_EQ(propagations, 0);
 }

@@ -57,11 +57,11 @@ TEST(ConvolutionMethod, AgreesWithTheExactIncoherentSum) {
     exact.method = CoherenceMethod::Incoherent;
     exact.film_subsamples = 3;  // film pixels averaged over their area, as the convolution kernels are
     std::vector<float> reference(3 * w * w), fast(3 * w * w);
-    ASSERT_TRUE(diffract_spectral(scene, basis, ap, wave_propagator(exact), true, reference.data()).ok());
+    ASSERT_TRUE(diffract_spectral(scene, basis, ap, wave_propagator(exact), {true, reference.data()}).ok());
     ConvolutionSettings fs;
     fs.tile = 4;           // several tiles and anchor cells, so overlap-add and interpolation are exercised
     fs.anchor_cells = 3;
-    ASSERT_TRUE(diffract_convolution(scene, basis, ap, true, fast.data(), fs).ok());
+    ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, fast.data()}, fs).ok());
 
     double err = 0, ref = 0;
     for (size_t k = 0; k < fast.size(); ++k) {

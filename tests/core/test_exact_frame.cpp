@@ -143,12 +143,12 @@ TEST(ExactFrame, BorderPixelsAgreeWithTheConvolutionMethod) {
     const SpectralBasis basis = make_spectral_basis(explicit_sampling({kLambda}).value, xyz_to_709).value;
     const Aperture ap{ApertureShape::Circle, kPinhole};
     std::vector<float> fast(rgb.size()), exact_top(rgb.size()), exact_bottom(rgb.size());
-    ASSERT_TRUE(diffract_convolution(scene, basis, ap, false, fast.data()).ok());
+    ASSERT_TRUE(diffract_convolution(scene, basis, ap, {false, fast.data()}).ok());
     SceneSumSettings s = settings(CoherenceMethod::Incoherent);
     for (auto [rows, out] : {std::pair{0, &exact_top}, std::pair{kSide - 1, &exact_bottom}}) {
         s.row_begin = rows;
         s.row_end = rows + 1;
-        ASSERT_TRUE(diffract_spectral(scene, basis, ap, wave_propagator(s), false, out->data()).ok());
+        ASSERT_TRUE(diffract_spectral(scene, basis, ap, wave_propagator(s), {false, out->data()}).ok());
     }
     double worst = 0;
     for (int i = 0; i < kSide; ++i)

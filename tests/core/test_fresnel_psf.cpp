@@ -81,7 +81,7 @@ TEST(FresnelPsf, SmallPinholesAt50mmMatchTheExactImage) {
         q.wavelength = 550e-9;
         q.u = std::tan(c.deg * M_PI / 180);
         q.pixel_pitch = pitch_512_40deg_50mm();
-        q.radius = psf_kernel_radius(q.aperture, q.film_distance, c.depth, q.wavelength, std::cos(c.deg * M_PI / 180),
+        q.radius = psf_kernel_radius({q.aperture, q.film_distance, c.depth, q.wavelength, std::cos(c.deg * M_PI / 180)},
                                      q.pixel_pitch, 200);
         // pinhole sampling: the window's half-diagonal over f plus the pinhole's diffraction angle
         const double window = 1.5 * (q.radius + 1) * q.pixel_pitch / q.film_distance;
@@ -115,7 +115,7 @@ TEST(FresnelPsf, KernelRadiusHoldsTheStatedEnergy) {
     const double f = 50e-3, lambda = 550e-9, p = pitch_512_40deg_50mm();
     for (double d : {0.02e-3, 0.04e-3, 0.08e-3}) {
         const Aperture ap{ApertureShape::Circle, d};
-        const int R = psf_kernel_radius(ap, f, INFINITY, lambda, 1.0, p, 1000);
+        const int R = psf_kernel_radius({ap, f, INFINITY, lambda, 1.0}, p, 1000);
         EXPECT_GE(airy_in_square(d, lambda, f, (R + 0.5) * p), kPsfKernelEnergy) << d * 1e3 << " mm";
         // and not wastefully: a kernel of half that radius holds less
         EXPECT_LT(airy_in_square(d, lambda, f, (R / 2 + 0.5) * p), kPsfKernelEnergy) << d * 1e3 << " mm";
@@ -137,12 +137,12 @@ TEST(FresnelPsf, KernelRadiusHoldsTheStatedEnergy) {
         q.wavelength = lambda;
         q.u = std::tan(25 * M_PI / 180);
         q.pixel_pitch = p;
-        q.radius = psf_kernel_radius(q.aperture, f, q.depth, lambda, std::cos(25 * M_PI / 180), p, 1000);
+        q.radius = psf_kernel_radius({q.aperture, f, q.depth, lambda, std::cos(25 * M_PI / 180)}, p, 1000);
         const auto exact = exact_kernel(q, 2, 2.0 * (q.radius + 1) * p / f + 2 * lambda / d);
         EXPECT_GE(total(exact), kPsfKernelEnergy) << d * 1e3 << " mm";
         EXPECT_NEAR(total(field_psf_kernel(q).weight), total(exact), 0.005 * total(exact)) << d * 1e3 << " mm";
     }
-    EXPECT_EQ(psf_kernel_radius({ApertureShape::Circle, 0.08e-3}, f, INFINITY, lambda, 1.0, p, 16), 16);
+    EXPECT_EQ(psf_kernel_radius({{ApertureShape::Circle, 0.08e-3}, f, INFINITY, lambda, 1.0}, p, 16), 16);
 }
 
 // The two evaluations (matrix Fourier transform, transfer function) where both are affordable:
@@ -178,7 +178,7 @@ TEST(FresnelPsf, BothEvaluationsAgree) {
         q.u = 0.3;
         q.v = -0.2;
         q.pixel_pitch = pitch_512_40deg_50mm();
-        q.radius = psf_kernel_radius(q.aperture, q.film_distance, q.depth, q.wavelength, 0.85, q.pixel_pitch, 200);
+        q.radius = psf_kernel_radius({q.aperture, q.film_distance, q.depth, q.wavelength, 0.85}, q.pixel_pitch, 200);
         q.method = FieldPsfMethod::MatrixFourier;
         const auto mft = weights(field_psf_kernel(q));
         q.method = FieldPsfMethod::TransferFunction;

@@ -22,8 +22,9 @@ TEST(FresnelPsfLarge, LargePinholesAt50mmMatchTheExactImage) {
             q.wavelength = 550e-9;
             q.u = std::tan(deg * M_PI / 180);
             q.pixel_pitch = pitch_512_40deg_50mm();
-            q.radius = psf_kernel_radius(q.aperture, q.film_distance, q.depth, q.wavelength,
-                                         std::cos(deg * M_PI / 180), q.pixel_pitch, 200);
+            const double cos_theta = std::cos(deg * M_PI / 180);
+            q.radius =
+                psf_kernel_radius({q.aperture, q.film_distance, q.depth, q.wavelength, cos_theta}, q.pixel_pitch, 200);
             const std::vector<float> fast = field_psf_kernel(q).weight;
             // pinhole sampling: the largest angle between a pinhole point and a window point
             const double window = (1.5 * (q.radius + 1) * q.pixel_pitch + 0.5 * d) / q.film_distance;

@@ -138,7 +138,7 @@ TEST(GpuSums, FilmSumMatchesTheCpu) {
         illuminate_pinhole(s, random_sources(60, 20, 3), lambda, field);
         const FilmPoints film = film_grid(24, 1e-3, 20e-3);
         std::vector<std::complex<double>> cpu(film.size(), 0.0), gpu(film.size(), 0.0);
-        add_film_field(s, field, film, lambda, cpu.data());
+        add_film_field({s, field, film, lambda}, cpu.data());
         auto r = g->add_film_field(s, field, film, lambda, gpu.data());
         ASSERT_TRUE(r.ok()) << r.error;
         EXPECT_LE(relative_rms(gpu, cpu), 1e-4) << lambda << " m, double " << f64;
@@ -164,7 +164,7 @@ TEST(GpuSums, SumsOfMoreThanSixtyFiveThousandTermsMatchTheCpu) {
     film.film_distance = 50e-3;
     for (int i = 0; i < 64; ++i) film.x.push_back(float(i * 2e-6)), film.y.push_back(0.0f);
     std::vector<std::complex<double>> cpu(film.size(), 0.0), gpu(film.size(), 0.0);
-    add_film_field(s, cpu_field, film, lambda, cpu.data());
+    add_film_field({s, cpu_field, film, lambda}, cpu.data());
     ASSERT_TRUE(g->add_film_field(s, cpu_field, film, lambda, gpu.data()).ok());
     EXPECT_LE(relative_rms(gpu, cpu), 1e-4);
 }
@@ -189,7 +189,7 @@ TEST(GpuSums, RunsAtOnceMatchTheCpuRunByRun) {
             w.push_back(std::polar(p.amplitude, p.phase));
         }
     std::vector<PinholeField> fields;
-    auto r1 = g->illuminate_pinhole_runs(s, sources, w, runs, lambda, fields);
+    auto r1 = g->illuminate_pinhole_runs(s, sources, {w, runs}, lambda, fields);
     ASSERT_TRUE(r1.ok()) << r1.error;
     ASSERT_EQ(fields.size(), size_t(runs));
     const FilmPoints film = film_grid(12, 0.5e-3, 20e-3);
@@ -203,7 +203,7 @@ TEST(GpuSums, RunsAtOnceMatchTheCpuRunByRun) {
         illuminate_pinhole(s, each[r], lambda, cpu);
         EXPECT_LE(relative_rms(as_complex(fields[r]), as_complex(cpu)), 1e-4) << "run " << r;
         std::vector<std::complex<double>> film_cpu(film.size(), 0.0);
-        add_film_field(s, cpu, film, lambda, film_cpu.data());
+        add_film_field({s, cpu, film, lambda}, film_cpu.data());
         EXPECT_LE(relative_rms(gpu[r], film_cpu), 1e-4) << "run " << r;
     }
 }

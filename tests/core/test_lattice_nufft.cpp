@@ -59,7 +59,7 @@ TEST_P(LatticeNufftTest, ToLatticeMatchesTheDirectSum) {
     }
     std::vector<cfloat> got(size_t(c.nx) * c.ny), twice(got.size());
     cfloat* lattices[2] = {got.data(), twice.data()};
-    t.to_lattice(p.x.data(), p.y.data(), a.data(), 2, p.a.size(), lattices);
+    t.to_lattice({p.x.data(), p.y.data(), p.a.size()}, a.data(), 2, lattices);
     for (size_t i = 0; i < got.size(); ++i) ASSERT_NEAR(std::abs(twice[i] - 2.0f * got[i]), 0.0, 1e-4 * std::abs(got[i]) + 1e-6);
     std::vector<std::complex<double>> want(got.size());
     for (int n = 0; n < c.ny; ++n)
@@ -80,7 +80,7 @@ TEST_P(LatticeNufftTest, FromLatticeMatchesTheDirectSum) {
     const cfloat* lattices[2] = {g.a.data(), g.a.data()};
     std::vector<cfloat> weights;
     for (size_t s = 0; s < p.x.size(); ++s) weights.insert(weights.end(), {cfloat(0, 0.25f), cfloat(0.75f)});
-    t.from_lattice(lattices, 2, p.x.data(), p.y.data(), weights.data(), p.x.size(), got.data());
+    t.from_lattice(lattices, 2, {p.x.data(), p.y.data(), p.x.size()}, weights.data(), got.data());
     const std::complex<double> weight(0.75, 0.25);
     for (size_t s = 0; s < p.x.size(); ++s)
         got[s] = cfloat(std::complex<double>(got[s]) * t.centring(p.x[s], p.y[s]) / weight);

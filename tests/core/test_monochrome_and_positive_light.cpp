@@ -77,7 +77,7 @@ TEST(PositiveLight, SaturatedColoursThroughTheSceneSumMethodsStayNonNegative) {
         s.method = method;
         std::vector<float> xyz(3 * w * w);
         ASSERT_TRUE(diffract_spectral({cam, rgb.data(), depth.data(), DepthMeaning::Planar}, basis.value, s.aperture,
-                                      wave_propagator(s), true, xyz.data())
+                                      wave_propagator(s), {true, xyz.data()})
                         .ok());
         double lowest_xyz = 0, lowest_rgb = 0, brightest = 0;
         for (int p = 0; p < w * w; ++p) {

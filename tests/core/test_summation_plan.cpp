@@ -159,7 +159,7 @@ TEST(NufftSummation, EveryDivisionIntoSubAperturesMatchesTheDirectSums) {
         PinholeField direct;
         ASSERT_TRUE(illuminate_pinhole(samples, sources, lambda, direct, 0));
         std::vector<std::complex<double>> film_direct(film.size());
-        ASSERT_TRUE(add_film_field(samples, direct, film, lambda, film_direct.data(), 0));
+        ASSERT_TRUE(add_film_field({samples, direct, film, lambda}, film_direct.data(), 0));
         for (int blocks : {1, 2, 4, 8}) {
             PlanScope scope;  // the nufft evaluator with this division, as a job passes its choice to shares
             scope.fixed_choice = true;

@@ -109,7 +109,7 @@ std::vector<float> convolution_image(const std::vector<test::RsStar>& stars) {
     for (const test::RsStar& star : stars)
         for (int k = 0; k < 3; ++k) rgb[3 * (size_t(star.j) * w + star.i) + k] = 1.0f;
     auto r = diffract_convolution({s.camera, rgb.data(), depth.data(), DepthMeaning::Planar}, basis,
-                                  {ApertureShape::Circle, s.diameter}, false, xyz.data());
+                                  {ApertureShape::Circle, s.diameter}, {false, xyz.data()});
     EXPECT_TRUE(r.ok()) << r.error;
     return xyz;
 }

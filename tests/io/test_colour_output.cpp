@@ -213,7 +213,7 @@ TEST(ExactNoise, PerChannelVarianceIsTheWavelengthSumAndFallsAsOneOverK) {
             };
             std::vector<float> xyz(3 * n);
             EXPECT_TRUE(diffract_spectral({cam, rgb.data(), depth.data(), DepthMeaning::Planar}, basis.value, s.aperture,
-                                          record, true, xyz.data())
+                                          record, {true, xyz.data()})
                             .ok());
         }
         return out;

@@ -156,8 +156,8 @@ TEST(SpectralBasisTest, IdealPropagatorGivesBackTheImage) {
         return Result<bool>::success(true);
     };
     std::vector<float> xyz(18);
-    ASSERT_TRUE(diffract_spectral({cam, rgb.data(), depth.data(), DepthMeaning::Planar}, basis.value, ap, ideal, false,
-                                  xyz.data())
+    ASSERT_TRUE(diffract_spectral({cam, rgb.data(), depth.data(), DepthMeaning::Planar}, basis.value, ap, ideal,
+                                  {false, xyz.data()})
                     .ok());
     ASSERT_TRUE(c.convert_from_xyz(xyz.data(), 6, "lin_rec709").ok());
     for (size_t k = 0; k < 18; ++k) EXPECT_NEAR(xyz[k], rgb[k], 1e-4) << k;

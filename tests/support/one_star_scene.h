@@ -43,7 +43,7 @@ struct OneStarScene {
         std::vector<float> radiance(3 * w * w, 0.0f), depth(w * w, float(z)), xyz(3 * w * w);
         for (int k = 0; k < 3; ++k) radiance[3 * (j0 * w + i0) + k] = rgb[k];
         const auto r = diffract_spectral({camera, radiance.data(), depth.data(), DepthMeaning::Planar}, basis,
-                                         settings.aperture, wave_propagator(settings), true, xyz.data());
+                                         settings.aperture, wave_propagator(settings), {true, xyz.data()});
         EXPECT_TRUE(r.ok()) << r.error;
         return xyz;
     }

@@ -75,7 +75,7 @@ private:
 
 // One frame, one plan: check its pixels (unless scene.checked), create, apply (tests and one-off calls).
 Result<bool> diffract_convolution(const SpectralScene& scene, const SpectralBasis& basis, const Aperture& aperture,
-                           bool vignetting, float* xyz, const ConvolutionSettings& settings = {},
-                           const ProgressFn& progress = {});
+                                  const XyzOutput& out, const ConvolutionSettings& settings = {},
+                                  const ProgressFn& progress = {});
 
 }  // namespace wavecam

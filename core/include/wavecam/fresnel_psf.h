@@ -61,15 +61,20 @@ double field_psf_scratch_bytes(const FieldPsfRequest& request);
 // Share of the PSF's power that a kernel of psf_kernel_radius holds, at least.
 constexpr double kPsfKernelEnergy = 0.97;
 
-// Kernel half-width (pixels) that holds kPsfKernelEnergy of the PSF at every depth >=
-// nearest_depth, wavelength <= `wavelength` and field angle up to acos(cos_theta_max): the
+// The widest PSF of a set of sources through `aperture` at `film_distance`: every depth >=
+// nearest_depth, wavelength <= `wavelength` and field angle up to acos(cos_theta_max).
+struct WidestPsf {
+    const Aperture& aperture;
+    double film_distance, nearest_depth, wavelength, cos_theta_max;
+};
+
+// Kernel half-width (pixels of `pixel_pitch`) that holds kPsfKernelEnergy of `psf`: the
 // geometric shadow's radius (span/2)(1 + f/z) plus the diffraction tail. A sharp edge sends a
 // share 2 lambda f / (pi^2 D s) of the power farther than s beyond the shadow's rim (the Airy
 // tail 1 - EE = J0^2 + J1^2 ~ 2 / (pi x), x = pi D r / (lambda f), Born & Wolf 8.5.2; for a
 // straight edge the Fresnel integrals give half of it, one side only), stretched 1/cos^3 off
 // axis; the kernel square holds more than its inscribed disc. `max_radius` is only a safety
 // bound: a kernel cut there holds less.
-int psf_kernel_radius(const Aperture& aperture, double film_distance, double nearest_depth, double wavelength,
-                      double cos_theta_max, double pixel_pitch, int max_radius);
+int psf_kernel_radius(const WidestPsf& psf, double pixel_pitch, int max_radius);
 
 }  // namespace wavecam

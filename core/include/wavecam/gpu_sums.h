@@ -21,6 +21,13 @@
 
 namespace wavecam {
 
+// Several runs' weights on one set of sources: weights[r * sources.size() + s] replaces source
+// s's amplitude exp(i phase) in run r, for r < runs.
+struct RunWeights {
+    const std::vector<std::complex<double>>& weights;
+    int runs;
+};
+
 class GpuSums {
 public:
     // The sums' pipelines on `device`'s Vulkan context; fails on a handle without one, naming
@@ -40,12 +47,10 @@ public:
     // As wavecam::illuminate_pinhole: the field at every sample, times its weight / lambda.
     Result<bool> illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointSource>& sources,
                                     double wavelength, PinholeField& field, const ProgressFn& progress = {});
-    // The same for `runs` weight vectors at once (one dispatch): weights[r * sources.size() + s]
-    // replaces source s's amplitude exp(i phase) in run r; fields[r] receives run r's field.
+    // The same for several runs' weights at once (one dispatch); fields[r] receives run r's field.
     Result<bool> illuminate_pinhole_runs(const ApertureSamples& samples, const std::vector<PointSource>& sources,
-                                         const std::vector<std::complex<double>>& weights, int runs,
-                                         double wavelength, std::vector<PinholeField>& fields,
-                                         const ProgressFn& progress = {});
+                                         const RunWeights& run_weights, double wavelength,
+                                         std::vector<PinholeField>& fields, const ProgressFn& progress = {});
 
     // As wavecam::add_film_field: adds the film field U(x) to film_field[t].
     Result<bool> add_film_field(const ApertureSamples& samples, const PinholeField& field, const FilmPoints& film,

@@ -60,17 +60,17 @@ struct SieveHole {
 };
 std::vector<SieveHole> sieve_holes(const SieveDesign& design, double outer_radius);
 
-// Area and first moments (integrals of x and y) of the disc of radius a centred on (cx, cy)
-// inside the cell [x0, x1] x [y0, y1], in closed form.
-struct DiscMoments {
-    double area = 0, mx = 0, my = 0;
-};
-DiscMoments disc_in_cell(double cx, double cy, double a, double x0, double x1, double y0, double y1);
-
 // A cell [x0, x1] x [y0, y1] of the aperture plane, metres.
 struct ApertureCell {
     double x0, x1, y0, y1;
 };
+
+// Area and first moments (integrals of x and y) of the disc of radius a centred on (cx, cy)
+// inside `cell`, in closed form.
+struct DiscMoments {
+    double area = 0, mx = 0, my = 0;
+};
+DiscMoments disc_in_cell(double cx, double cy, double a, const ApertureCell& cell);
 
 // The sieve of outer radius R in metres: transmission 0/1 at a point, exact open area and
 // centroid over a cell (returns the area), total open area, and the smallest hole's diameter.

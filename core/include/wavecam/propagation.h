@@ -49,8 +49,7 @@ bool accumulate_film_irradiance(const FilmPropagation& propagation, double scale
                                 int nthreads = 0, const ProgressFn& progress = {});
 
 // The film field U(x) of the sum above (before |U|^2), added to film_field[t].
-bool add_film_field(const ApertureSamples& samples, const PinholeField& field, const FilmPoints& film,
-                    double wavelength, std::complex<double>* film_field, int nthreads = 0,
+bool add_film_field(const FilmPropagation& propagation, std::complex<double>* film_field, int nthreads = 0,
                     const ProgressFn& progress = {});
 
 }  // namespace wavecam

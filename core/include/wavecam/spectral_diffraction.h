@@ -16,6 +16,14 @@ struct SpectralScene {
     bool checked = false;          // its pixels already checked, once for the job (load_render)
 };
 
+// Where a frame's film image goes: XYZ interleaved, width x height, into `xyz`. `vignetting`
+// keeps the natural cos^4 fall-off; false divides it out so the result compares with an ideal
+// render.
+struct XyzOutput {
+    bool vignetting;
+    float* xyz;
+};
+
 // One wavelength's propagation: adds film irradiance for `scene` to `irradiance`.
 // diffract_monochrome is the physical one; tests substitute an ideal (delta) propagator.
 using MonochromePropagator = std::function<Result<bool>(const MonochromeScene& scene, double wavelength,
@@ -35,13 +43,12 @@ RunPropagator run_propagator(const SceneSumSettings& settings);
 // f^2 / A. Off axis the film records flux through its plane, |U|^2 cos(incidence).
 double exposure_scale(const Aperture& aperture, double film_distance);
 
-// Writes XYZ (interleaved, width x height) of the film image. `vignetting` keeps the natural
-// cos^4 fall-off; false divides it out so the result compares with an ideal render.
+// Writes the film image to `out`.
 // Spectral power can be negative for saturated colours (the basis is calibrated, not
 // physical); each wavelength then propagates its positive and negative parts separately,
 // which keeps the method linear in RGB.
 Result<bool> diffract_spectral(const SpectralScene& scene, const SpectralBasis& basis, const Aperture& aperture,
-                               const MonochromePropagator& propagate, bool vignetting, float* xyz,
+                               const MonochromePropagator& propagate, const XyzOutput& out,
                                const ProgressFn& progress = {});
 
 }  // namespace wavecam

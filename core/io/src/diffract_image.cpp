@@ -87,7 +87,7 @@ Result<bool> run_scene_sum(const DiffractOptions& opt, const ResolvedFrame& f, s
     xyz.assign(3 * size_t(width) * f.in.height, 0.0f);
     auto r = diffract_spectral(f.scene(opt.depth_meaning), f.colour.basis, f.aperture,
                                opt.scene_sum_propagator ? opt.scene_sum_propagator : wave_propagator(f.scene_sum),
-                               opt.vignetting, xyz.data(), opt.progress);
+                               {opt.vignetting, xyz.data()}, opt.progress);
     if (!r.ok()) return r;
     if (o > 0)  // each row moves to a place before its own: a forward copy in place
         for (int j = 0; j < f.out_h; ++j) {

@@ -186,9 +186,11 @@ MonochromePropagator unit_propagator(const Share& j, const ProgressFn& progress,
 
 // The part's header: the whole job's (`spec`), its channels the units by name, its window the
 // share's rows of the input (an overscan margin included: the merge crops it, as a single run
-// does), and what was summed.
-OIIO::ImageSpec part_spec(OIIO::ImageSpec spec, const Share& j, const std::vector<std::string>& order, int index,
-                          int count, const std::string& input_path, const SettingsText& settings) {
+// does), and what was summed: share `share` of `job`.
+OIIO::ImageSpec part_spec(OIIO::ImageSpec spec, const Share& j, const std::vector<std::string>& order,
+                          const JobRecord& job, const WorkShare& share) {
+    const std::string& input_path = job.input_path;
+    const SettingsText& settings = job.settings;
     spec.nchannels = int(order.size());
     spec.channelnames = order;
     spec.alpha_channel = -1;
@@ -199,7 +201,7 @@ OIIO::ImageSpec part_spec(OIIO::ImageSpec spec, const Share& j, const std::vecto
     spec.height = j.sh.row_end - j.sh.row_begin;
     spec.full_y = 0;
     spec.full_height = j.f.in.height;
-    spec.attribute("wavecam.part.share", std::to_string(index) + "/" + std::to_string(count));
+    spec.attribute("wavecam.part.share", std::to_string(share.index) + "/" + std::to_string(share.count));
     spec.attribute("wavecam.part.units", range_text(j.sh.unit_begin, j.sh.unit_end));
     spec.attribute("wavecam.part.rows", range_text(j.sh.row_begin, j.sh.row_end));
     spec.attribute("wavecam.part.summed", describe_share(j.sh, j.R));
@@ -219,7 +221,6 @@ OIIO::ImageSpec part_spec(OIIO::ImageSpec spec, const Share& j, const std::vecto
 Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const DiffractOptions& opt,
                             const JobRecord& job, const WorkShare& share, int nthreads) {
     const std::string& input_path = job.input_path;
-    const SettingsText& settings = job.settings;
     const int index = share.index, count = share.count;
     auto resolved = resolve_share(src, input_path, opt, index, count, nthreads);
     if (!resolved.ok()) return Result<bool>::failure(resolved);
@@ -236,7 +237,7 @@ Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, con
     if (auto r = DiffractPlan(run).diffract(whole, src, j.f, input_path, nthreads); !r.ok()) return r;
     std::vector<std::string> order;  // by name, as OpenEXR stores them
     for (const auto& unit : units) order.push_back(unit.first);
-    const OIIO::ImageSpec spec = part_spec(whole.spec(), j, order, index, count, input_path, settings);
+    const OIIO::ImageSpec spec = part_spec(whole.spec(), j, order, job, share);
     part.reset(spec);
     // each unit's rows written once, straight into its channel of the part
     const OIIO::stride_t row = OIIO::stride_t(j.f.in.width) * sizeof(float);

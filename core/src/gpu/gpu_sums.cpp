@@ -152,15 +152,16 @@ Result<bool> GpuSums::illuminate_pinhole(const ApertureSamples& samples, const s
     w.reserve(sources.size());
     for (const PointSource& s : sources) w.push_back(std::polar(s.amplitude, s.phase));
     std::vector<PinholeField> fields;
-    auto r = illuminate_pinhole_runs(samples, sources, w, 1, wavelength, fields, progress);
+    auto r = illuminate_pinhole_runs(samples, sources, {w, 1}, wavelength, fields, progress);
     if (r.ok()) field = std::move(fields[0]);
     return r;
 }
 
 Result<bool> GpuSums::illuminate_pinhole_runs(const ApertureSamples& samples, const std::vector<PointSource>& sources,
-                                              const std::vector<std::complex<double>>& weights, int runs,
-                                              double wavelength, std::vector<PinholeField>& fields,
-                                              const ProgressFn& progress) {
+                                              const RunWeights& run_weights, double wavelength,
+                                              std::vector<PinholeField>& fields, const ProgressFn& progress) {
+    const std::vector<std::complex<double>>& weights = run_weights.weights;
+    const int runs = run_weights.runs;
     if (runs < 1 || weights.size() != size_t(runs) * sources.size())
         return Result<bool>::failure("GPU sums: expected runs x sources weights, got " +
                                      std::to_string(weights.size()) + " for " + std::to_string(runs) + " x " +

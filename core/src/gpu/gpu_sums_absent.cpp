@@ -38,8 +38,8 @@ Result<bool> GpuSums::illuminate_pinhole(const ApertureSamples&, const std::vect
     return Result<bool>::failure(kWithoutVulkan);
 }
 Result<bool> GpuSums::illuminate_pinhole_runs(const ApertureSamples&, const std::vector<PointSource>&,
-                                              const std::vector<std::complex<double>>&, int, double,
-                                              std::vector<PinholeField>&, const ProgressFn&) {
+                                              const RunWeights&, double, std::vector<PinholeField>&,
+                                              const ProgressFn&) {
     return Result<bool>::failure(kWithoutVulkan);
 }
 Result<bool> GpuSums::add_film_field(const ApertureSamples&, const PinholeField&, const FilmPoints&, double,

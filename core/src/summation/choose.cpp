@@ -131,7 +131,7 @@ SumChoice sum_work(const SumCounts& c) {
     // beyond its reach (as a share of the range's area) take them directly, with transforms of
     // their own
     const StencilChoice sc =
-        choose_stencil(range, 2 * M_PI / c.wavelength, h, a, c.lattice_samples, c.off_lattice, c.tolerance);
+        choose_stencil(range, 2 * M_PI / c.wavelength, h, {c.lattice_samples, c.off_lattice, a}, c.tolerance);
     const double width = sc.stencil.width();
     double outside = 1;
     if (sc.inner > 0) {

@@ -17,7 +17,7 @@ public:
     Result<bool> pinhole_to_film(const PinholeField& field, std::complex<double>* film_field,
                                  const ProgressFn& progress) const override {
         return finished(
-            add_film_field(*g_.samples, field, *g_.film, g_.wavelength, film_field, g_.settings.nthreads, progress));
+            add_film_field({*g_.samples, field, *g_.film, g_.wavelength}, film_field, g_.settings.nthreads, progress));
     }
 
 private:

@@ -13,7 +13,7 @@ public:
                                     const ProgressFn& progress) const override {
         // the weights as they are (one run): no round trip through amplitude and phase
         std::vector<PinholeField> fields;
-        auto r = gpu_->illuminate_pinhole_runs(*g_.samples, *g_.sources, weights, 1, g_.wavelength, fields, progress);
+        auto r = gpu_->illuminate_pinhole_runs(*g_.samples, *g_.sources, {weights, 1}, g_.wavelength, fields, progress);
         if (r.ok()) field = std::move(fields[0]);
         return r;
     }

@@ -167,8 +167,9 @@ std::vector<std::vector<cfloat>>& LatticeNufft::workspace(int batch, size_t plan
 
 std::complex<double> LatticeNufft::centring(double x, double y) const { return std::polar(1.0, centring_phase(x, y)); }
 
-void LatticeNufft::to_lattice(const double* x, const double* y, const cfloat* a, int batch, size_t count,
-                              cfloat* const* lattices) const {
+void LatticeNufft::to_lattice(const LatticePoints& points, const cfloat* a, int batch, cfloat* const* lattices) const {
+    const double *x = points.x, *y = points.y;
+    const size_t count = points.count;
     const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_);
     std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);
     const double to_gx = mx_ / (2 * M_PI), to_gy = my_ / (2 * M_PI);
@@ -224,8 +225,10 @@ void LatticeNufft::to_lattice(const double* x, const double* y, const cfloat* a,
     }
 }
 
-void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const double* x, const double* y,
-                                const cfloat* c, size_t count, cfloat* out) const {
+void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const LatticePoints& points, const cfloat* c,
+                                cfloat* out) const {
+    const double *x = points.x, *y = points.y;
+    const size_t count = points.count;
     const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_);
     const int cx = nx_ / 2, cy = ny_ / 2;
     std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);

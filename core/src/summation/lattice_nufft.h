@@ -21,6 +21,13 @@ namespace wavecam::detail {
 
 using cfloat = std::complex<float>;
 
+// The points of a transform: (x[s], y[s]) for s < count, in radians per lattice step.
+struct LatticePoints {
+    const double* x;
+    const double* y;
+    size_t count;
+};
+
 class LatticeNufft {
 public:
     // `tolerance`: the relative error asked for (1e-2 .. 1e-7); `nthreads` 0 = every core.
@@ -39,12 +46,11 @@ public:
 
     // Type 1 for `batch` strength sets at once (the kernel weights of a point computed once):
     // lattices[q][n * nx + m] = sum_s a[s * batch + q] exp(-i ((m - cx) x[s] + (n - cy) y[s])).
-    void to_lattice(const double* x, const double* y, const cfloat* a, int batch, size_t count,
-                    cfloat* const* lattices) const;
+    void to_lattice(const LatticePoints& points, const cfloat* a, int batch, cfloat* const* lattices) const;
     // Type 2 for `batch` lattices at once, weighted per point:
     // out[s] = sum_q c[s * batch + q] sum_{m,n} lattices[q][n * nx + m] exp(-i ((m - cx) x[s] + (n - cy) y[s])).
-    void from_lattice(const cfloat* const* lattices, int batch, const double* x, const double* y, const cfloat* c,
-                      size_t count, cfloat* out) const;
+    void from_lattice(const cfloat* const* lattices, int batch, const LatticePoints& points, const cfloat* c,
+                      cfloat* out) const;
 
     // The work of one transform in units of its parts: FFT points x log2, kernel taps per point.
     double fft_work() const;

@@ -22,28 +22,6 @@ using cdouble = std::complex<double>;
 
 int threads(int n) { return n > 0 ? n : omp_get_max_threads(); }
 
-// Per point for one sub-aperture: the NUFFT frequency k h (u - grad psi(c)) (radians per lattice
-// step) and the phase exp(i k (psi(c) - grad psi(c).c)) times the lattice-start phase of the
-// sub-aperture's first cell (i0, j0) and the NUFFT's centring, applied once per point.
-struct SubApertureFrequencies {
-    std::vector<double> fx, fy;
-    std::vector<cdouble> shift;
-    SubApertureFrequencies(const std::vector<size_t>& in, const std::vector<Parameter>& p, const ChirpGeometry& geo,
-                           const SubAperture& a, double h, const LatticeNufft& nufft, int nthreads)
-        : fx(in.size()), fy(in.size()), shift(in.size()) {
-        const double k = geo.k;
-#pragma omp parallel for schedule(static) num_threads(threads(nthreads))
-        for (long i = 0; i < long(in.size()); ++i) {
-            const Parameter& q = p[in[i]];
-            const ChirpAtCentre c = geo.at(q, a.cx, a.cy);
-            fx[i] = k * h * (q[0] - c.gx);
-            fy[i] = k * h * (q[1] - c.gy);
-            shift[i] = std::polar(1.0, k * (c.psi - c.gx * a.cx - c.gy * a.cy) - (fx[i] * a.i0 + fy[i] * a.j0) +
-                                           nufft.centring_phase(fx[i], fy[i]));
-        }
-    }
-};
-
 // One pass over the lattice for a subset of the points (those the stencil serves, or the rest):
 // its layout, and the chirp interpolation built for its points.
 struct LatticePass {
@@ -58,6 +36,33 @@ struct LatticePass {
     std::unique_ptr<LatticeNufft> nufft;
     std::vector<PointSource> sources;  // SourcesToPinhole: the pass's sources (for off-lattice direct terms)
     FilmPoints film;                   // PinholeToFilm: the pass's film points
+};
+
+// Per point of a pass's parameter box, for one sub-aperture: the NUFFT frequency
+// k h (u - grad psi(c)) (radians per lattice step) and the phase exp(i k (psi(c) - grad psi(c).c))
+// times the lattice-start phase of the sub-aperture's first cell (i0, j0) and the NUFFT's
+// centring, applied once per point.
+struct SubApertureFrequencies {
+    std::vector<double> fx, fy;
+    std::vector<cdouble> shift;
+    LatticePoints points() const { return {fx.data(), fy.data(), fx.size()}; }
+    SubApertureFrequencies(const LatticePass& pass, size_t box, const ChirpGeometry& geo, const SubAperture& a,
+                           double h, int nthreads)
+        : fx(pass.members[box].size()), fy(fx.size()), shift(fx.size()) {
+        const std::vector<size_t>& in = pass.members[box];
+        const std::vector<Parameter>& p = pass.p;
+        const LatticeNufft& nufft = *pass.nufft;
+        const double k = geo.k;
+#pragma omp parallel for schedule(static) num_threads(threads(nthreads))
+        for (long i = 0; i < long(in.size()); ++i) {
+            const Parameter& q = p[in[i]];
+            const ChirpAtCentre c = geo.at(q, a.cx, a.cy);
+            fx[i] = k * h * (q[0] - c.gx);
+            fy[i] = k * h * (q[1] - c.gy);
+            shift[i] = std::polar(1.0, k * (c.psi - c.gx * a.cx - c.gy * a.cy) - (fx[i] * a.i0 + fy[i] * a.j0) +
+                                           nufft.centring_phase(fx[i], fy[i]));
+        }
+    }
 };
 
 class NufftEvaluator final : public SumEvaluator {
@@ -113,8 +118,7 @@ NufftEvaluator::NufftEvaluator(const SumGeometry& g, const SumChoice& choice) : 
     geo_ = {film, film ? g.film->film_distance : 0.0, k, g.settings.tolerance};
     const SampleCount n = count_samples(samples);
     // (none designed where the choice takes none)
-    const StencilChoice sc =
-        choice.stencil ? choose_stencil(range, k, h_, n.reach, n.on, n.off, g.settings.tolerance) : StencilChoice{};
+    const StencilChoice sc = choice.stencil ? choose_stencil(range, k, h_, n, g.settings.tolerance) : StencilChoice{};
     // the points the stencil serves, and the rest
     std::vector<size_t> inner, outer;
     for (size_t i = 0; i < p.size(); ++i) (within(sc.inner, p[i][0], p[i][1]) ? inner : outer).push_back(i);
@@ -178,7 +182,7 @@ bool NufftEvaluator::walk(const LatticePass& pass, const ProgressFn& progress, c
                 done += bx.rank();
                 continue;
             }
-            const SubApertureFrequencies fr(pass.members[bi], pass.p, geo_, part, h_, *pass.nufft, g_.settings.nthreads);
+            const SubApertureFrequencies fr(pass, bi, geo_, part, h_, g_.settings.nthreads);
             for (int j0 = 0; j0 < r; j0 += kNodeBatch) {
                 const int batch = std::min(kNodeBatch, r - j0);
                 batch_of(part, bi, fr, j0, batch);
@@ -226,7 +230,7 @@ bool NufftEvaluator::pass_to_pinhole(const LatticePass& pass, const std::vector<
                 for (size_t i = 0; i < in.size(); ++i) base[i] = b[in[i]] * fr.shift[i];
             }
             skeleton_coefficients({pass.weights[bi], 3, in.size(), bx.rank()}, {sk, j0, batch}, base.data(), a, nthreads);
-            pass.nufft->to_lattice(fr.fx.data(), fr.fy.data(), a.data(), batch, in.size(), out.data());
+            pass.nufft->to_lattice(fr.points(), a.data(), batch, out.data());
             for (int q = 0; q < batch; ++q) {
                 const ChirpAtCentre node = geo_.at(bx.node(sk.rows[j0 + q]), part.cx, part.cy);
                 const cfloat* F = lattice[q].data();
@@ -278,7 +282,7 @@ bool NufftEvaluator::pass_to_film(const LatticePass& pass, const PinholeField& f
         off.im.push_back(field.im[L.off_index[i]]);
     }
     const double share = double(L.off.size()) / std::max<double>(1, samples.size()) * 0.5;
-    if (!add_film_field(L.off, off, pass.film, wavelength, out, nthreads, progress_part(progress, 0, share)))
+    if (!add_film_field({L.off, off, pass.film, wavelength}, out, nthreads, progress_part(progress, 0, share)))
         return false;
     if (L.nx == 0) return true;
     std::vector<cfloat> w(size_t(L.nx) * L.ny, cfloat(0));
@@ -315,7 +319,7 @@ bool NufftEvaluator::pass_to_film(const LatticePass& pass, const PinholeField& f
         }
         skeleton_coefficients({pass.weights[bi], 2, in.size(), bx.rank()}, {sk, j0, batch}, nullptr, coeff, nthreads);
         G.resize(in.size());
-        pass.nufft->from_lattice(lattices.data(), batch, fr.fx.data(), fr.fy.data(), coeff.data(), in.size(), G.data());
+        pass.nufft->from_lattice(lattices.data(), batch, fr.points(), coeff.data(), G.data());
 #pragma omp parallel for schedule(static) num_threads(threads(nthreads))
         for (long i = 0; i < long(in.size()); ++i) {
             const double tx = pass.film.x[in[i]], ty = pass.film.y[in[i]];

@@ -5,8 +5,9 @@
 
 namespace wavecam::detail {
 
-StencilChoice choose_stencil(const DirectionRange& r, double k, double h, double reach, double on, double off,
+StencilChoice choose_stencil(const DirectionRange& r, double k, double h, const SampleCount& samples,
                              double tolerance) {
+    const double on = samples.on, off = samples.off, reach = samples.reach;
     const double u = std::max({std::fabs(r.ux0), std::fabs(r.ux1), std::fabs(r.uy0), std::fabs(r.uy1)});
     const double slope = 2 * std::max(std::fabs(r.rho0), std::fabs(r.rho1)) * reach;
     const double per_term = std::min(1e-2, tolerance / 3 * (on + off) / std::max(1.0, off));

@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "band_limited_stencil.h"
+#include "lattice_layout.h"
 #include "wavecam/summation_plan.h"
 
 namespace wavecam::detail {
@@ -23,9 +24,9 @@ struct StencilChoice {
     static BandLimitedStencil no_stencil() { return {M_PI, 1e-2}; }
 };
 
-// For a sum over `range` on a lattice of pitch h, wavenumber k, samples within `reach` of the axis,
-// `on` of them on the lattice and `off` off it.
-StencilChoice choose_stencil(const DirectionRange& r, double k, double h, double reach, double on, double off,
+// For a sum over `range` on a lattice of pitch h, wavenumber k, its `samples` within samples.reach
+// of the axis, samples.on of them on the lattice and samples.off off it.
+StencilChoice choose_stencil(const DirectionRange& r, double k, double h, const SampleCount& samples,
                              double tolerance);
 
 // Whether a point (in-plane direction components) is within the stencil's reach.
