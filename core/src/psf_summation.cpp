@@ -138,7 +138,7 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
     // every kernel (sub-point by sub-point, (2R + 1)^2 each): amplitudes, or powers in .real()
     std::vector<std::vector<std::complex<double>>> kernel(size_t(g.layers.count) * A);
     // how the kernels' sums are evaluated (choose.h: one source's directly)
-    const KernelSums sums = kernel_sums(spec);
+    const KernelSums sums = kernel_sums(spec, g);
     const ApertureSamples samples = sample_aperture(spec.aperture, lattice_pitch);
     // The kernels of anchor a, every layer: its pixel (camera coordinates), its kernel's film
     // points as the direct sums place them (n x n per pixel, sub-point by sub-point), the sums.

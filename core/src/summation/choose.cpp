@@ -162,13 +162,13 @@ SumChoice sum_work(const SumCounts& c) {
 }
 
 
-KernelSums kernel_sums(const PsfSummationSpec& spec) {
+KernelSums kernel_sums(const PsfSummationSpec& spec, const PsfSummationGeometry& g) {
     KernelSums k;
     k.to_pinhole = k.to_film = spec.settings;
     k.to_pinhole.summation = Summation::Direct;
     // the anchors span the frame and its margin, R beyond the output frame
     const PinholeCamera& c = spec.camera;
-    const int o = spec.overscan, r = psf_summation_geometry(spec).radius;
+    const int o = spec.overscan, r = g.radius;
     if (c.cos_widest(o - r, o - r, c.width - o + r, c.height - o + r) < std::cos(kMaxNufftKernelField))
         k.to_film.summation = Summation::Direct;
     return k;
@@ -181,7 +181,7 @@ PsfSummationWork psf_summation_work(const PsfSummationSpec& spec, SumCounts in, 
     in.points = 1;
     out.points = side * side * S;
     const double N = double(g.nx) * g.ny, transform = kFftCost * N * std::log2(N);
-    const KernelSums sums = kernel_sums(spec);
+    const KernelSums sums = kernel_sums(spec, g);
     PsfSummationWork w;
     w.kernels = kernels * (choose_sum(in, sums.to_pinhole.summation).work +
                            choose_sum(out, sums.to_film.summation, spec.settings.device.gpu()).work + S * transform);

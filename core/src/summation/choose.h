@@ -12,6 +12,7 @@
 #include <string>
 
 #include "psf_summation.h"
+#include "psf_summation_geometry.h"
 #include "wavecam/summation_plan.h"
 
 namespace wavecam::detail {
@@ -57,7 +58,8 @@ constexpr double kMaxNufftKernelField = M_PI / 4;
 struct KernelSums {
     SummationSettings to_pinhole, to_film;
 };
-KernelSums kernel_sums(const PsfSummationSpec& spec);
+// (`g`: the spec's psf_summation_geometry, which the callers hold)
+KernelSums kernel_sums(const PsfSummationSpec& spec, const PsfSummationGeometry& g);
 
 // Work of one convolution in direct terms: the kernels' sums (`in` and `out`: the frame's two
 // sums' counts on the kernels' lattice, their points replaced by one source and a kernel's film
