@@ -5,7 +5,7 @@
 foreach(cost_and_test
     400 WideField.PsfRunsMatchTheExactSumsWithTheSamePhases
     250 WideField.ConvolutionMethodMatchesTheRayleighSommerfeldIntegral
-    160 GpuSums.PsfSummationRunsMatchTheCpu
+    95 GpuSums.PsfSummationRunsMatchTheCpu
     96 OneSourceModel.AllThreeMethodsConvergeToOneImage
     87 ApplyCommand.TheEnvironmentChangesNoImageAndNoWordMeansTwoThings
     72 PhaseCode.RunsFromThePsfKeepEveryChannelWithinTwoPercentWhereThePsfIsWide

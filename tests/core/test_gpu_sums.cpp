@@ -296,11 +296,11 @@ TEST(GpuSums, SceneFrameMatchesTheCpu) {
 
 // The psf summation's runs on the device (transforms, products and film powers in its shaders,
 // the kernels' one-source sums through its direct terms) against the same runs on the CPU: a
-// textured frame at 30 deg over two depths (two layers), random-phase and incoherent; `auto`
+// textured 12 x 10 frame at 30 deg over two depths (two layers), random-phase and incoherent; `auto`
 // without a discrete GPU gives the CPU's image bit for bit.
 TEST(GpuSums, PsfSummationRunsMatchTheCpu) {
     REQUIRE_VULKAN();
-    PinholeCamera c{20, 16, 30 * M_PI / 180, 2e-3};
+    PinholeCamera c{12, 10, 30 * M_PI / 180, 2e-3};
     std::vector<float> power(size_t(c.width) * c.height), depth(power.size());
     uint32_t state = 11;
     for (size_t p = 0; p < power.size(); ++p) {
@@ -310,7 +310,7 @@ TEST(GpuSums, PsfSummationRunsMatchTheCpu) {
     }
     for (CoherenceMethod method : {CoherenceMethod::RandomPhase, CoherenceMethod::Incoherent}) {
         SceneSumSettings s;
-        s.aperture = {ApertureShape::Circle, 0.05e-3};
+        s.aperture = {ApertureShape::Circle, 0.04e-3};
         s.method = method;
         s.runs = 3;
         s.summation = Summation::Psf;

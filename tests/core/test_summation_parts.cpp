@@ -4,7 +4,8 @@
 // samples (core/src/band_limited_stencil.h), the film points' average of a pixel
 // (core/src/pixel_average.h), the few kernels and sub-point modes the psf summation's runs
 // transform (core/src/kernel_basis.h), its kernels' own pinhole lattice and the memo that keeps
-// them for a wavelength's two parts (core/src/psf_summation.h).
+// them for a wavelength's two parts (core/src/psf_summation.h); and that the exact sums' tests
+// re-run through every row of the evaluators' table (tests/CMakeLists.txt).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,6 +19,7 @@
 #include "kernel_basis.h"
 #include "node_skeleton.h"
 #include "pixel_average.h"
+#include "summation_evaluator.h"
 
 using wavecam::detail::BandLimitedStencil;
 using wavecam::detail::node_skeleton;
@@ -391,5 +393,36 @@ TEST(PsfSummationMemo, KeepsTheConvolutionForTheSameWavelength) {
         ASSERT_TRUE(detail::diffract_monochrome(scene, 550e-9, s, with.data(), {}, &job).ok());
         ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, without.data()).ok());
         for (size_t p = 0; p < 144; ++p) ASSERT_EQ(with[p], without[p]) << p;
+    }
+}
+
+// Every row of the evaluators' table re-runs the exact sums' tests through its word
+// (tests/CMakeLists.txt: WAVECAM_EVALUATOR_RERUNS), and every row that runs on a device there too
+// where the Vulkan evaluator is built (WAVECAM_GPU_RERUNS), but psf: its runs on the device are
+// checked against the CPU's by GpuSums.PsfSummationRunsMatchTheCpu. A row added to the table
+// without its re-runs fails here.
+TEST(EvaluatorReruns, EveryRowOfTheTable) {
+    const std::string reruns = " " WAVECAM_EVALUATOR_RERUNS " ", gpu_reruns = " " WAVECAM_GPU_RERUNS " ";
+    const bool vulkan_built = gpu_reruns != "  ";
+    for (const wavecam::detail::EvaluatorRow& row : wavecam::detail::kEvaluators) {
+        const std::string word = std::string(" ") + row.word + " ";
+        EXPECT_NE(reruns.find(word), std::string::npos) << row.word << " has no re-run of the exact sums' tests";
+        if (vulkan_built && (row.devices & wavecam::detail::kOnGpu) && row.summation != wavecam::Summation::Psf) {
+            EXPECT_NE(gpu_reruns.find(word), std::string::npos) << row.word << " has no re-run on the device";
+        }
+    }
+    // and nothing re-runs that is not a row
+    for (const std::string& list : {reruns, gpu_reruns}) {
+        size_t at = 1;
+        while (at < list.size()) {
+            const size_t end = list.find(' ', at);
+            if (end > at) {
+                const std::string word = list.substr(at, end - at);
+                bool row = false;
+                for (const auto& r : wavecam::detail::kEvaluators) row = row || word == r.word;
+                EXPECT_TRUE(row) << word << " is re-run but is no row of the table";
+            }
+            at = end + 1;
+        }
     }
 }

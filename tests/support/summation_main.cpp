@@ -1,4 +1,4 @@
-// main() for the exact sums' tests: GoogleTest's, --summation=auto|direct|nufft and --device=cpu|gpu
+// main() for the exact sums' tests: GoogleTest's, --summation=WORD (any of the evaluators' table) and --device=cpu|gpu
 // (summation_flag.h).
 #include <gtest/gtest.h>
 
@@ -14,6 +14,8 @@ wavecam::ComputeDevice g_device;  // the CPU unless --device=gpu
 
 wavecam::Summation test_summation() { return g_summation; }
 const wavecam::ComputeDevice& test_device() { return g_device; }
+
+double one_source_bound() { return g_summation == wavecam::Summation::Psf ? 3e-3 : 1e-3; }
 
 std::string test_summation_flag() {
     std::string flags;
@@ -39,11 +41,17 @@ int main(int argc, char** argv) {
             continue;
         }
         const std::string word = argv[i] + std::strlen(prefix);
-        if (word == "direct") g_summation = wavecam::Summation::Direct;
-        else if (word == "nufft") g_summation = wavecam::Summation::Nufft;
-        else if (word == "auto") g_summation = wavecam::Summation::Auto;
-        else {
-            std::fprintf(stderr, "--summation: expected auto, direct or nufft, got '%s'\n", word.c_str());
+        bool known = false;
+        std::string words;
+        for (const auto& [choice, summation] : wavecam::summation_choices()) {
+            if (word == choice) {
+                g_summation = summation;
+                known = true;
+            }
+            words += std::string(words.empty() ? "" : ", ") + choice;
+        }
+        if (!known) {
+            std::fprintf(stderr, "--summation: expected one of %s, got '%s'\n", words.c_str(), word.c_str());
             return 2;
         }
     }
