@@ -3,7 +3,7 @@
 # does not end on one of them alone. ctest prefers its own record (Testing/Temporary/CTestCostData.txt)
 # once it has one; a name not in the directory is ignored.
 foreach(cost_and_test
-    400 WideField.PsfRunsMatchTheExactSumsWithTheSamePhases
+    440 WideField.PsfRunsMatchTheExactSumsWithTheSamePhases
     250 WideField.ConvolutionMethodMatchesTheRayleighSommerfeldIntegral
     95 GpuSums.PsfSummationRunsMatchTheCpu
     96 OneSourceModel.AllThreeMethodsConvergeToOneImage

@@ -21,10 +21,11 @@ FieldGeometry geometry_of(const FieldPsfRequest& q) {
     return g;
 }
 
-double psf_radius(const Aperture& aperture, double film_distance, double depth, double wavelength, double cos_theta) {
+double psf_radius(const Aperture& aperture, double film_distance, double depth, double wavelength, double cos_theta,
+                  double energy) {
     const double span = 2 * aperture.bounding_radius();
     const double shadow = 0.5 * span * (1.0 + film_distance / depth);
-    const double tail = 2 * wavelength * film_distance / (M_PI * M_PI * aperture.diameter * (1 - kPsfKernelEnergy));
+    const double tail = 2 * wavelength * film_distance / (M_PI * M_PI * aperture.diameter * (1 - energy));
     return shadow + tail / std::pow(cos_theta, 3);
 }
 

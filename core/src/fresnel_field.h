@@ -18,10 +18,11 @@ struct FieldGeometry {
 
 FieldGeometry geometry_of(const FieldPsfRequest& q);
 
-// Film radius (m) holding kPsfKernelEnergy of the PSF: the shadow's radius plus the sharp
-// edge's tail, light beyond the rim by s being at most 2 lambda f / (pi^2 D s) of the power,
-// stretched 1/cos^3 off axis (see psf_kernel_radius in wavecam/fresnel_psf.h).
-double psf_radius(const Aperture& aperture, double film_distance, double depth, double wavelength, double cos_theta);
+// Film radius (m) holding `energy` of the PSF: the shadow's radius plus the sharp edge's tail,
+// light beyond the rim by s being at most 2 lambda f / (pi^2 D s) of the power, stretched
+// 1/cos^3 off axis (see psf_kernel_radius in wavecam/fresnel_psf.h).
+double psf_radius(const Aperture& aperture, double film_distance, double depth, double wavelength, double cos_theta,
+                  double energy = kPsfKernelEnergy);
 
 // Rotationally symmetric (circle, zone plate): the same in the (r, t) axes of every field
 // azimuth and even in each.

@@ -46,7 +46,8 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
 
 int psf_kernel_radius(const WidestPsf& psf, double pixel_pitch, int max_radius) {
     const double r =
-        detail::psf_radius(psf.aperture, psf.film_distance, psf.nearest_depth, psf.wavelength, psf.cos_theta_max) /
+        detail::psf_radius(psf.aperture, psf.film_distance, psf.nearest_depth, psf.wavelength, psf.cos_theta_max,
+                           psf.energy) /
         pixel_pitch;
     return int(std::clamp(std::ceil(r), 1.0, double(max_radius)));  // (clamped as a double: no overflow)
 }

@@ -472,7 +472,8 @@ Result<std::shared_ptr<const PsfSummation>> PsfSummationMemo::get(const PsfSumma
     const bool same = kept_ && a.width == b.width && a.height == b.height && a.fov_h == b.fov_h &&
                       a.film_distance == b.film_distance && spec.overscan == spec_.overscan &&
                       spec.wavelength == spec_.wavelength && spec.max_inverse_depth == spec_.max_inverse_depth &&
-                      spec.subsamples == spec_.subsamples && spec.incoherent == spec_.incoherent && pitch == pitch_;
+                      spec.subsamples == spec_.subsamples && spec.incoherent == spec_.incoherent &&
+                      kernel_energy(spec) == kernel_energy(spec_) && pitch == pitch_;
     if (!same) {
         kept_.reset();  // (its memory free before the next is made)
         auto made = make();

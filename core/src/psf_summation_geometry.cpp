@@ -28,6 +28,15 @@ Result<bool> too_many_layers() {
     return Result<bool>::failure(m, ErrorKind::Invalid, "summation");
 }
 
+double kernel_energy(const PsfSummationSpec& s) {
+    // (a PSF narrower than a pixel on the axis: the film pixels average its tail's cross terms,
+    // and kernels holding more changed nothing there, psf_summation.h)
+    const double airy = 1.22 * s.wavelength * s.camera.film_distance / (2 * s.aperture.bounding_radius());
+    if (s.incoherent || airy < s.camera.pixel_pitch()) return kPsfKernelEnergy;
+    const double deficit = std::clamp(kFewRunsDeficit * s.runs / 64.0, kFewRunsDeficit, 1 - kPsfKernelEnergy);
+    return 1 - deficit;
+}
+
 PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s) {
     const PinholeCamera& c = s.camera;
     const int o = s.overscan, out_w = c.width - 2 * o, out_h = c.height - 2 * o;
@@ -35,7 +44,7 @@ PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s) {
     PsfSummationGeometry g;
     // the radius is the widest PSF's at the output frame's corners
     const WidestPsf widest{s.aperture, c.film_distance, nearest, s.wavelength,
-                           c.cos_widest(o, o, o + out_w, o + out_h)};
+                           c.cos_widest(o, o, o + out_w, o + out_h), kernel_energy(s)};
     g.radius = psf_kernel_radius(widest, c.pixel_pitch(), ConvolutionSettings{}.max_radius);
     g.origin = g.radius - o;
     g.width = out_w + 2 * g.radius;
@@ -45,7 +54,11 @@ PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s) {
     g.nx = fft_friendly_size(g.width);
     g.ny = fft_friendly_size(g.height);
     const int longest = std::max(g.width, g.height), cells = std::max(1, s.anchor_cells);
-    const int min_cell = kMinAmplitudeCellRadii * g.radius;
+    // cells as wide as the PSF allows (kMinAmplitudeCellRadii), the radius that holds
+    // kPsfKernelEnergy: kernels that hold more for few runs must not spread the anchors
+    WidestPsf core = widest;
+    core.energy = kPsfKernelEnergy;
+    const int min_cell = kMinAmplitudeCellRadii * psf_kernel_radius(core, c.pixel_pitch(), ConvolutionSettings{}.max_radius);
     // The anchors span the whole domain, the margin too: a margin source's PSF is its own
     // field's, stretched as 1/cos^3 radially (docs/physics.md, wide fields), wider than the frame
     // edge's. Taking the edge anchors' kernels for the margin made a 32 px frame at 60 deg (R =

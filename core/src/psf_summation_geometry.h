@@ -16,4 +16,8 @@ struct PsfSummationGeometry {
 
 PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s);
 
+// The share of its PSF's power a kernel holds: kPsfKernelEnergy, or more for coherent runs of a
+// job of few runs (psf_summation.h, the far tail).
+double kernel_energy(const PsfSummationSpec& s);
+
 }  // namespace wavecam::detail

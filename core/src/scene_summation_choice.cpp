@@ -87,6 +87,7 @@ detail::PsfSummationSpec psf_summation_spec(const SceneSumSettings& s, const Pin
     spec.max_inverse_depth = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
     spec.subsamples = subsamples;
     spec.incoherent = s.method == CoherenceMethod::Incoherent;
+    spec.runs = s.runs;
     spec.settings = {Summation::Auto, s.summation_tolerance, s.nthreads, s.device};
     return spec;
 }

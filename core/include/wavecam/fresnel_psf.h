@@ -62,13 +62,15 @@ double field_psf_scratch_bytes(const FieldPsfRequest& request);
 constexpr double kPsfKernelEnergy = 0.97;
 
 // The widest PSF of a set of sources through `aperture` at `film_distance`: every depth >=
-// nearest_depth, wavelength <= `wavelength` and field angle up to acos(cos_theta_max).
+// nearest_depth, wavelength <= `wavelength` and field angle up to acos(cos_theta_max); `energy`,
+// the share of its power a kernel is to hold.
 struct WidestPsf {
     const Aperture& aperture;
     double film_distance, nearest_depth, wavelength, cos_theta_max;
+    double energy = kPsfKernelEnergy;
 };
 
-// Kernel half-width (pixels of `pixel_pitch`) that holds kPsfKernelEnergy of `psf`: the
+// Kernel half-width (pixels of `pixel_pitch`) that holds psf.energy of `psf`: the
 // geometric shadow's radius (span/2)(1 + f/z) plus the diffraction tail. A sharp edge sends a
 // share 2 lambda f / (pi^2 D s) of the power farther than s beyond the shadow's rim (the Airy
 // tail 1 - EE = J0^2 + J1^2 ~ 2 / (pi x), x = pi D r / (lambda f), Born & Wolf 8.5.2; for a
