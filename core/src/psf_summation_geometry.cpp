@@ -58,7 +58,8 @@ PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s) {
     // kPsfKernelEnergy: kernels that hold more for few runs must not spread the anchors
     WidestPsf core = widest;
     core.energy = kPsfKernelEnergy;
-    const int min_cell = kMinAmplitudeCellRadii * psf_kernel_radius(core, c.pixel_pitch(), ConvolutionSettings{}.max_radius);
+    const int min_cell =
+        kMinAmplitudeCellRadii * psf_kernel_radius(core, c.pixel_pitch(), ConvolutionSettings{}.max_radius);
     // The anchors span the whole domain, the margin too: a margin source's PSF is its own
     // field's, stretched as 1/cos^3 radially (docs/physics.md, wide fields), wider than the frame
     // edge's. Taking the edge anchors' kernels for the margin made a 32 px frame at 60 deg (R =
