@@ -16,6 +16,39 @@ int convolution_fft_size(int tile, int radius, int width, int height) {
     return fft_friendly_size(tile >= std::max(width, height) ? std::max(width, height) : tile + 2 * radius);
 }
 
+std::vector<int> cell_edges(const AnchorAxis& a, int length) {
+    std::vector<int> e(a.knots.begin(), a.knots.end());
+    e.front() = 0;
+    e.back() = length;
+    return e;
+}
+
+std::vector<int> tile_edges(const AnchorAxis& a, int length, int tile, int radius, bool on_cells) {
+    if (tile >= length) return {0, length};  // one tile: its transform wraps into the margin
+    std::vector<int> even;
+    for (int x = 0; x < length; x += tile) even.push_back(x);
+    even.push_back(length);
+    if (!on_cells) return even;
+    // whole cells joined while they fit in a tile; a cell wider than a tile split evenly
+    std::vector<int> edges{0};
+    int end = 0;  // the end of the cells joined so far
+    for (const int b : cell_edges(a, length)) {
+        if (b - edges.back() <= tile) {
+            end = b;
+            continue;
+        }
+        if (end > edges.back()) edges.push_back(end);
+        end = b;
+        if (b - edges.back() <= tile) continue;
+        const int from = edges.back(), parts = (b - from + tile - 1) / tile;
+        for (int m = 1; m <= parts; ++m) edges.push_back(from + int(std::lround(double(m) * (b - from) / parts)));
+    }
+    if (end > edges.back()) edges.push_back(end);
+    for (size_t k = 0; k + 1 < edges.size(); ++k)
+        if (edges[k + 1] - edges[k] < 2 * radius) return even;
+    return edges;
+}
+
 void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, std::vector<float>& image,
                                            std::complex<float>* spectrum) const {
     const KernelTable& t = table_;
@@ -29,16 +62,26 @@ void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, std::vector<f
         for (int a = -R; a <= R; ++a) image[size_t((b + N) % N) * N + (a + N) % N] = 0.0f;
 }
 
-Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int tile, int width, int height,
-                                                        int nthreads, const ProgressFn& progress) {
+Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int tile, bool tiles_on_cells, int width,
+                                                        int height, int nthreads, const ProgressFn& progress) {
     AnchoredConvolution c;
     c.tile_ = tile;
+    c.tiles_on_cells_ = tiles_on_cells;
     c.fft_size_ = convolution_fft_size(tile, table.radius, width, height);
     c.nthreads_ = nthreads;
+    c.edges_x_ = tile_edges(table.ax, width, tile, table.radius, tiles_on_cells);
+    c.edges_y_ = tile_edges(table.ay, height, tile, table.radius, tiles_on_cells);
     c.table_ = std::move(table);
     const KernelTable& t = c.table_;
     const int N = c.fft_size_;
-    const long count = long(t.layers.count) * t.anchors() * 9;
+    // only the computed anchors' spectra are kept: a mirror image's is its source's, reflected
+    // as it is read (KernelView)
+    c.slot_.assign(t.anchors(), -1);
+    int kept = 0;
+    for (int a = 0; a < t.anchors(); ++a)
+        if (t.source[a] == a) c.slot_[a] = kept++;
+    c.kept_anchors_ = kept;
+    const long count = long(t.layers.count) * kept * 9;
     {
         RealFft2D probe(N);
         if (!probe.ok())
@@ -51,6 +94,11 @@ Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int t
         return Result<AnchoredConvolution>::success(std::move(c));
     }
     c.kernel_spectra_.resize(size_t(count) * c.spectrum_size_);
+    std::vector<long> table_kernel(count);  // the table's kernel index of each kept spectrum
+    for (int l = 0; l < t.layers.count; ++l)
+        for (int a = 0; a < t.anchors(); ++a)
+            for (int m = 0; c.slot_[a] >= 0 && m < 9; ++m)
+                table_kernel[(size_t(l) * kept + c.slot_[a]) * 9 + m] = (long(l) * t.anchors() + a) * 9 + m;
     ProgressTicker ticker(progress, double(count));
 #pragma omp parallel num_threads(nthreads)
     {
@@ -59,12 +107,21 @@ Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int t
 #pragma omp for schedule(dynamic, 4)
         for (long k = 0; k < count; ++k) {
             if (ticker.cancelled()) continue;
-            c.transform_kernel(k, fft, image, &c.kernel_spectra_[size_t(k) * c.spectrum_size_]);
+            c.transform_kernel(table_kernel[k], fft, image, &c.kernel_spectra_[size_t(k) * c.spectrum_size_]);
             ticker.advance(1, omp_get_thread_num() == 0);
         }
     }
     if (ticker.cancelled()) return Result<AnchoredConvolution>::failure("cancelled", ErrorKind::Cancelled);
     return Result<AnchoredConvolution>::success(std::move(c));
+}
+
+AnchoredConvolution::KernelView AnchoredConvolution::spectrum(int layer, int anchor, int m) const {
+    const KernelTable& t = table_;
+    const int from = t.source[anchor], nkx = int(t.ax.knots.size());
+    // w(-x, y) has the spectrum X(-kx, ky) = conj X(kx, -ky) (real input); w(x, -y) has X(kx, -ky)
+    const bool columns = from % nkx != anchor % nkx, rows = from / nkx != anchor / nkx;
+    return {&kernel_spectra_[((size_t(layer) * kept_anchors_ + slot_[from]) * 9 + m) * spectrum_size_],
+            columns != rows, columns};
 }
 
 namespace {
@@ -113,21 +170,26 @@ bool anchor_weights(const KernelTable& t, const DomainSources& src, const TileBo
 }
 
 // acc_q += sum_p in_p K_{3p+q}, written on floats so that it vectorises (std::complex's
-// operator* keeps a NaN-recovery branch).
-void multiply_accumulate(const std::complex<float>* in, const std::complex<float>* const kernels[9],
-                         std::complex<float>* acc, size_t spec) {
-    for (int q = 0; q < 3; ++q) {
-        float* a = reinterpret_cast<float*>(&acc[q * spec]);
+// operator* keeps a NaN-recovery branch); spectra of N rows of `half`.
+void multiply_accumulate(const std::complex<float>* in, const AnchoredConvolution::KernelView kernels[9],
+                         std::complex<float>* acc, int N, int half) {
+    const size_t spec = size_t(N) * half;
+    for (int q = 0; q < 3; ++q)
         for (int p = 0; p < 3; ++p) {
-            const float* x = reinterpret_cast<const float*>(&in[p * spec]);
-            const float* k = reinterpret_cast<const float*>(kernels[3 * p + q]);
+            const AnchoredConvolution::KernelView& kv = kernels[3 * p + q];
+            const float sign = kv.conjugate ? -1.0f : 1.0f;
+            for (int r = 0; r < N; ++r) {
+                float* a = reinterpret_cast<float*>(&acc[q * spec + size_t(r) * half]);
+                const float* x = reinterpret_cast<const float*>(&in[p * spec + size_t(r) * half]);
+                const float* k = reinterpret_cast<const float*>(kv.data + size_t(kv.flip_rows ? (N - r) % N : r) * half);
 #pragma omp simd
-            for (size_t e = 0; e < spec; ++e) {
-                a[2 * e] += x[2 * e] * k[2 * e] - x[2 * e + 1] * k[2 * e + 1];
-                a[2 * e + 1] += x[2 * e] * k[2 * e + 1] + x[2 * e + 1] * k[2 * e];
+                for (int e = 0; e < half; ++e) {
+                    const float kr = k[2 * e], ki = sign * k[2 * e + 1];
+                    a[2 * e] += x[2 * e] * kr - x[2 * e + 1] * ki;
+                    a[2 * e + 1] += x[2 * e] * ki + x[2 * e + 1] * kr;
+                }
             }
         }
-    }
 }
 
 // A tile's FFT frame: N x N, holding the tile's sources `bounds` and the R pixels its kernels
@@ -159,13 +221,14 @@ void add_to_output(const std::vector<float>& image, const TileFrame& frame, cons
 Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWindow& out, float* xyz,
                                         const ProgressFn& progress) const {
     const KernelTable& t = table_;
-    const int T = tile_, N = fft_size_, R = t.radius, W = src.width, H = src.height;
-    const int ntx = (W + T - 1) / T, nty = (H + T - 1) / T, nkx = int(t.ax.knots.size());
+    const int T = tile_, N = fft_size_, R = t.radius, W = src.width;
+    const int ntx = int(edges_x_.size()) - 1, nty = int(edges_y_.size()) - 1, nkx = int(t.ax.knots.size());
     const size_t spec = spectrum_size_;
     const float norm = 1.0f / (float(N) * N);  // kissfft leaves the inverse unnormalised
     ProgressTicker ticker(progress, double(ntx) * nty);
-    // Four passes: tiles of one parity are at least one tile apart, and a tile writes at most
-    // R <= T/2 pixels beyond itself, so concurrent tiles never write the same pixel.
+    // Four passes: tiles of one parity are at least one tile apart, a tile is at least 2 R wide
+    // (tile_edges), and a tile writes at most R pixels beyond itself, so concurrent tiles never
+    // write the same pixel.
     for (int phase = 0; phase < 4; ++phase) {
 #pragma omp parallel num_threads(nthreads_)
         {
@@ -180,7 +243,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
             for (long k = 0; k < long(ntx) * nty; ++k) {
                 const int tx = int(k % ntx), ty = int(k / ntx);
                 if ((tx % 2) + 2 * (ty % 2) != phase || ticker.cancelled()) continue;
-                const TileBounds b{tx * T, ty * T, std::min(W, tx * T + T), std::min(H, ty * T + T)};
+                const TileBounds b{edges_x_[tx], edges_y_[ty], edges_x_[tx + 1], edges_y_[ty + 1]};
                 // skip tiles whose light cannot reach the output window
                 if (b.x1 + R <= out.x0 || b.x0 - R >= out.x0 + out.width || b.y1 + R <= out.y0 ||
                     b.y0 - R >= out.y0 + out.height) {
@@ -206,14 +269,15 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
                                             weight[size_t(j - b.y0) * T + (i - b.x0)] * src.rgb[3 * (size_t(j) * W + i) + p];
                                 fft.forward(image.data(), &in[p * spec], b.y1 - b.y0, N);
                             }
-                            const std::complex<float>* kernels[9];
+                            KernelView kernels[9];
                             for (int m = 0; m < 9; ++m) {
                                 if (kernel_spectra_.empty())
                                     transform_kernel((long(l) * t.anchors() + anchor) * 9 + m, fft, scratch,
                                                      &own[m * spec]);
-                                kernels[m] = kernel_spectra_.empty() ? &own[m * spec] : spectrum(l, anchor, m);
+                                kernels[m] = kernel_spectra_.empty() ? KernelView{&own[m * spec], false, false}
+                                                                     : spectrum(l, anchor, m);
                             }
-                            multiply_accumulate(in.data(), kernels, acc.data(), spec);
+                            multiply_accumulate(in.data(), kernels, acc.data(), N, N / 2 + 1);
                         }
                 if (hi >= lo)
                     for (int q = 0; q < 3; ++q) {

@@ -37,6 +37,17 @@ struct DomainSources {
 // round the period (at most R beyond the domain) lands in that margin, which is never read.
 int convolution_fft_size(int tile, int radius, int width, int height);
 
+// The anchor cells' edges along one axis of a domain `length` long, the margins joined to the
+// edge cells: the knots, the outermost moved to the domain's ends.
+std::vector<int> cell_edges(const AnchorAxis& knots, int length);
+
+// The tiles' edges along one axis of a domain `length` long, tiles at most `tile` wide, kernels
+// of radius R: even tiles from the domain's start, or (`on_cells`) tiles of whole anchor cells
+// (as many as fit in `tile`; a wider cell split into equal tiles), so that a tile meets only
+// the knots of the cells it holds instead of the extra one of a cell it straddles. Even tiles
+// where that would give a tile narrower than 2 R (the overlap-add's passes need that width).
+std::vector<int> tile_edges(const AnchorAxis& knots, int length, int tile, int radius, bool on_cells);
+
 // Kernel spectra a plan keeps at most; beyond, each tile transforms the kernels it meets (a
 // frame with hundreds of anchors at a wide field: 4x the transforms, memory bounded).
 constexpr double kMaxKernelSpectraBytes = 1024.0 * (1 << 20);
@@ -47,28 +58,38 @@ class AnchoredConvolution {
 public:
     // Transforms every kernel of `table` once, for tiles of side `tile` (>= 2 x the radius) on
     // a source domain of width x height.
-    static Result<AnchoredConvolution> create(KernelTable table, int tile, int width, int height, int nthreads,
-                                              const ProgressFn& progress);
+    static Result<AnchoredConvolution> create(KernelTable table, int tile, bool tiles_on_cells, int width, int height,
+                                              int nthreads, const ProgressFn& progress);
 
     // Adds to `xyz` (interleaved, out.width x out.height) the image of `sources` on the output
     // window `out`.
     Result<bool> apply(const DomainSources& sources, const OutputWindow& out, float* xyz,
                        const ProgressFn& progress) const;
 
+    // A kernel's spectrum as kept: the rows read as N - r (flip_rows) and conjugated for a
+    // kernel that is its source's mirror image (kernel_table.h).
+    struct KernelView {
+        const std::complex<float>* data;
+        bool flip_rows, conjugate;
+    };
+
     const KernelTable& table() const { return table_; }
     int tile() const { return tile_; }
+    bool tiles_on_cells() const { return tiles_on_cells_; }
 
 private:
     KernelTable table_;
     int tile_ = 0, fft_size_ = 0, nthreads_ = 1;
+    bool tiles_on_cells_ = false;
+    std::vector<int> edges_x_, edges_y_;  // tile_edges across and down the domain
     size_t spectrum_size_ = 0;
-    std::vector<std::complex<float>> kernel_spectra_;  // [layer][anchor][m][spectrum]; empty: none kept
+    std::vector<int> slot_;  // per anchor: its place among the kept anchors, -1 for a mirror image
+    int kept_anchors_ = 0;
+    std::vector<std::complex<float>> kernel_spectra_;  // [layer][slot][m][spectrum]; empty: none kept
     // kernel k = (layer x anchors + anchor) x 9 + m's spectrum into `spectrum` (`image`: N x N
     // zeros, left so)
     void transform_kernel(long k, RealFft2D& fft, std::vector<float>& image, std::complex<float>* spectrum) const;
-    const std::complex<float>* spectrum(int layer, int anchor, int m) const {
-        return &kernel_spectra_[((size_t(layer) * table_.anchors() + anchor) * 9 + m) * spectrum_size_];
-    }
+    KernelView spectrum(int layer, int anchor, int m) const;
 };
 
 }  // namespace wavecam::detail

@@ -169,6 +169,45 @@ double Aperture::bounding_radius() const {
     }
 }
 
+namespace {
+
+// A regular N-gon with a vertex at angle R has mirror lines at R + k pi / N; a mirror line at
+// angle phi makes it even across the line at phi (x: phi = pi/2, y: phi = 0).
+bool polygon_mirrors_across(int sides, double rotation, double phi) {
+    const double k = (phi - rotation) * sides / M_PI;
+    return std::fabs(k - std::round(k)) < 1e-9;
+}
+
+// A mask's columns (or rows) read the same backwards.
+bool mask_even(const TransmissionMask& m, bool columns) {
+    for (int r = 0; r < m.height; ++r)
+        for (int c = 0; c < m.width; ++c) {
+            const int rr = columns ? r : m.height - 1 - r, cc = columns ? m.width - 1 - c : c;
+            if (m.amplitude[size_t(r) * m.width + c] != m.amplitude[size_t(rr) * m.width + cc]) return false;
+        }
+    return true;
+}
+
+}  // namespace
+
+bool Aperture::even_in_x() const {
+    switch (shape) {
+        case ApertureShape::Polygon: return polygon_mirrors_across(sides, rotation, M_PI / 2);
+        case ApertureShape::Mask: return mask && mask_even(*mask, true);
+        case ApertureShape::PhotonSieve: return false;
+        default: return true;  // circle, square, zone plate
+    }
+}
+
+bool Aperture::even_in_y() const {
+    switch (shape) {
+        case ApertureShape::Polygon: return polygon_mirrors_across(sides, rotation, 0.0);
+        case ApertureShape::Mask: return mask && mask_even(*mask, false);
+        case ApertureShape::PhotonSieve: return false;
+        default: return true;
+    }
+}
+
 double Aperture::finest_width() const {
     const double r = diameter / 2.0;
     switch (shape) {

@@ -47,22 +47,24 @@ int tile_side(int requested, int radius, int domain) {
 }
 
 // Transform work (points x log2 points) per depth layer of a plan tiled as `t` says: 9 kernel
-// spectra per anchor, and per tile 3 forward transforms for each anchor it meets and 3 inverse.
+// spectra per computed anchor, and per tile 3 forward transforms for each anchor it meets and 3
+// inverse; where all layers' spectra exceed what a plan keeps, 9 more per anchor a tile meets.
 double transform_work(const detail::KernelTableSpec& t) {
     const int n = detail::convolution_fft_size(t.tile, t.radius, t.domain_width, t.domain_height);
     const detail::AnchorAxis ax = detail::anchor_axis(t, false), ay = detail::anchor_axis(t, true);
-    auto met = [&](const detail::AnchorAxis& a, int length) {  // knots met, summed over a row of tiles
+    const std::vector<int> ex = detail::tile_edges(ax, t.domain_width, t.tile, t.radius, t.tiles_on_cells),
+                           ey = detail::tile_edges(ay, t.domain_height, t.tile, t.radius, t.tiles_on_cells);
+    auto met = [&](const detail::AnchorAxis& a, const std::vector<int>& e) {  // knots met, summed over a row of tiles
         double sum = 0;
-        for (int x0 = 0; x0 < length; x0 += t.tile)
-            sum += a.cell_of(std::min(length, x0 + t.tile) - 1) - a.cell_of(x0) + 2;
+        for (size_t k = 0; k + 1 < e.size(); ++k) sum += a.cell_of(e[k + 1] - 1) - a.cell_of(e[k]) + 2;
         return sum;
     };
-    const double tiles = double((t.domain_width + t.tile - 1) / t.tile) * ((t.domain_height + t.tile - 1) / t.tile);
-    const double anchors = double(ax.knots.size()) * ay.knots.size();
+    const double tiles = double(ex.size() - 1) * (ey.size() - 1);
+    const double anchors = detail::computed_anchors(t, ax, ay);  // the others' spectra are theirs mirrored
     const double points = double(n) * n;
     // kernels beyond the spectra a plan keeps are transformed by each tile that meets them
-    const bool kept = 9 * anchors * points / 2 * 8 <= detail::kMaxKernelSpectraBytes;
-    return (9 * anchors + (kept ? 3 : 12) * met(ax, t.domain_width) * met(ay, t.domain_height) + 3 * tiles) * points *
+    const bool kept = t.layers.count * 9 * anchors * points / 2 * 8 <= detail::kMaxKernelSpectraBytes;
+    return ((kept ? 9 * anchors : 0) + (kept ? 3 : 12) * met(ax, ex) * met(ay, ey) + 3 * tiles) * points *
            std::log2(points);
 }
 
@@ -112,21 +114,36 @@ Result<detail::KernelTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
     t.radius = radius;
     t.aperture = spec.aperture;
     t.basis = &spec.basis;
-    if (spec.settings.tile <= 0) {
-        // one whole-domain tile needs a transform only the domain's side (no 2 R of padding):
-        // cheaper than tiles where the kernels are large against the frame. Its ripple-rule
-        // anchors are the domain's corners (those knots lie on tile boundaries), so it is taken
-        // only where the tiles have no more anchors (cells of kMinCellRadii kernel radii already
-        // span the frame, or the field's split sets them all).
-        detail::KernelTableSpec whole = t;
-        whole.tile = std::max(t.domain_width, t.domain_height);
-        auto anchors = [](const detail::KernelTableSpec& s) {
-            return detail::anchor_axis(s, false).knots.size() * detail::anchor_axis(s, true).knots.size();
-        };
-        if (anchors(whole) == anchors(t) && transform_work(whole) < transform_work(t)) t.tile = whole.tile;
-    }
     t.layers = detail::DepthLayers::spanning(spec.max_inverse_depth, spec.aperture.bounding_radius(), lambda_min,
                                              c.film_distance, pitch);
+    if (spec.settings.tile <= 0) {
+        // The cheapest of: even tiles; tiles of one, two or three whole anchor cells, or of a
+        // half or a third of one (fewer knots met, a transform sized for them); one whole-domain
+        // tile, whose transform is only the domain's side (no 2 R of padding), cheaper than
+        // tiles where the kernels are large against the frame. The anchors are the same for any
+        // tiling.
+        std::vector<detail::KernelTableSpec> options{t};
+        detail::KernelTableSpec whole = t;
+        whole.tile = std::max(t.domain_width, t.domain_height);
+        options.push_back(whole);
+        const std::vector<int> ex = detail::cell_edges(detail::anchor_axis(t, false), t.domain_width),
+                               ey = detail::cell_edges(detail::anchor_axis(t, true), t.domain_height);
+        auto widest = [&](int cells) {  // the widest run of `cells` neighbouring cells
+            int w = 0;
+            for (const std::vector<int>* e : {&ex, &ey})
+                for (size_t k = 0; k + 1 < e->size(); ++k)
+                    w = std::max(w, (*e)[std::min(k + cells, e->size() - 1)] - (*e)[k]);
+            return w;
+        };
+        for (const int tile : {widest(1), widest(2), widest(3), (widest(1) + 1) / 2, (widest(1) + 2) / 3}) {
+            detail::KernelTableSpec cells = t;
+            cells.tiles_on_cells = true;
+            cells.tile = tile;
+            if (tile >= 2 * radius && tile < whole.tile) options.push_back(cells);
+        }
+        for (const detail::KernelTableSpec& o : options)
+            if (transform_work(o) < transform_work(t)) t = o;
+    }
     t.nthreads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
     return R::success(t);
 }
@@ -137,11 +154,11 @@ double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
     auto g = plan_geometry(spec);
     if (!g.ok()) return 0;
     const detail::KernelTableSpec& t = g.value;
-    const double anchors =
-        double(detail::anchor_axis(t, false).knots.size()) * detail::anchor_axis(t, true).knots.size();
+    const detail::AnchorAxis ax = detail::anchor_axis(t, false), ay = detail::anchor_axis(t, true);
+    const double anchors = double(ax.knots.size()) * ay.knots.size();
     const double side = 2.0 * t.radius + 1,
                  n = detail::convolution_fft_size(t.tile, t.radius, t.domain_width, t.domain_height);
-    const double spectra = t.layers.count * anchors * 9 * n * (n / 2 + 1) * 8;
+    const double spectra = t.layers.count * detail::computed_anchors(t, ax, ay) * 9 * n * (n / 2 + 1) * 8;
     const double kernels = t.layers.count * anchors * 9 * side * side * sizeof(float) +
                            (spectra > detail::kMaxKernelSpectraBytes ? t.nthreads * 9 * n * (n / 2 + 1) * 8 : spectra);
     const double domain = double(t.domain_width) * t.domain_height * 17;  // radiance, layer, share
@@ -185,8 +202,8 @@ Result<std::shared_ptr<const ConvolutionPlan>> ConvolutionPlan::create(const Con
     // progress: the kernel table is most of the work, the kernels' transforms the rest
     auto table = detail::build_kernel_table(t, progress_part(progress, 0.0, 0.8));
     if (!table.ok()) return R::failure(table.error);
-    auto conv = detail::AnchoredConvolution::create(std::move(table.value), t.tile, t.domain_width, t.domain_height,
-                                                    threads, progress_part(progress, 0.8, 1.0));
+    auto conv = detail::AnchoredConvolution::create(std::move(table.value), t.tile, t.tiles_on_cells, t.domain_width,
+                                                    t.domain_height, threads, progress_part(progress, 0.8, 1.0));
     if (!conv.ok()) return R::failure(conv.error);
     auto impl = std::make_unique<Impl>(Impl{spec, std::move(conv.value), t.origin});
     return R::success(std::shared_ptr<const ConvolutionPlan>(new ConvolutionPlan(std::move(impl))));
@@ -204,7 +221,8 @@ bool ConvolutionPlan::serves(const ConvolutionPlanSpec& s) const {
     auto g = plan_geometry(s);
     const detail::KernelTable& t = impl_->convolution.table();
     return g.ok() && g.value.radius == t.radius && g.value.layers.count == t.layers.count &&
-           g.value.layers.step == t.layers.step && g.value.tile == impl_->convolution.tile();
+           g.value.layers.step == t.layers.step && g.value.tile == impl_->convolution.tile() &&
+           g.value.tiles_on_cells == impl_->convolution.tiles_on_cells();
 }
 
 Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting, float* xyz, const ProgressFn& progress) const {

@@ -51,17 +51,13 @@ void DepthLayers::locate(double w, int& lower, float& upper_share) const {
     upper_share = lower + 1 < count ? float(std::min(1.0, x - lower)) : 0.0f;
 }
 
-AnchorAxis AnchorAxis::across(int length, int tile, int cells, int min_cell, int inset) {
-    const int tiles = (length + tile - 1) / tile;
-    const int per_cell = std::max({1, int(std::lround(double(tiles) / std::max(1, cells))), (min_cell + tile - 1) / tile});
-    const int end = length - inset;
+AnchorAxis AnchorAxis::across(int length, int cells, int min_cell) {
+    const int per_cell = std::max({1, int(std::lround(double(length) / std::max(1, cells))), min_cell});
     AnchorAxis a;
-    a.knots.push_back(inset);
-    for (int k = 1; k * per_cell * tile < end; ++k)
-        if (k * per_cell * tile > inset) a.knots.push_back(k * per_cell * tile);
+    for (int k = 0; k * per_cell < length; ++k) a.knots.push_back(k * per_cell);
     // a last cell under half the others joins its neighbour
-    if (a.knots.size() > 1 && end - a.knots.back() < per_cell * tile / 2) a.knots.pop_back();
-    a.knots.push_back(end);
+    if (a.knots.size() > 1 && length - a.knots.back() < per_cell / 2) a.knots.pop_back();
+    a.knots.push_back(length);
     return a;
 }
 
@@ -89,17 +85,73 @@ int AnchorAxis::cell_of(int pixel) const {
     return std::clamp(int(it - knots.begin()) - 1, 0, cells() - 1);
 }
 
+AnchorAxis AnchorAxis::even(int inset, int span, int cells) {
+    const int n = std::clamp(cells, 1, std::max(1, span));
+    AnchorAxis a;
+    a.knots.resize(n + 1);
+    // the lower half rounded, the upper half its mirror image: knots k and n - k sum to the span
+    for (int k = 0; 2 * k <= n; ++k) {
+        a.knots[k] = inset + int(std::floor(double(k) * span / n + 0.5));
+        a.knots[n - k] = 2 * inset + span - a.knots[k];
+    }
+    return a;
+}
+
 AnchorAxis anchor_axis(const KernelTableSpec& spec, bool vertical) {
-    const int length = vertical ? spec.domain_height : spec.domain_width;
-    const int cells = vertical ? std::max(1, int(std::lround(double(spec.anchor_cells) * length /
-                                                             std::max(spec.domain_width, spec.domain_height))))
-                               : spec.anchor_cells;
-    const AnchorAxis base = AnchorAxis::across(length, spec.tile, cells, kMinCellRadii * spec.radius, spec.radius);
+    const int length = vertical ? spec.domain_height : spec.domain_width, span = length - 2 * spec.radius;
+    const int ripple = vertical ? std::max(1, int(std::lround(double(spec.anchor_cells) * length /
+                                                              std::max(spec.domain_width, spec.domain_height))))
+                                : spec.anchor_cells;
     double longest = spec.basis->wavelength(0);
     for (int s = 0; s < spec.basis->size(); ++s) longest = std::max(longest, spec.basis->wavelength(s));
     const PinholeCamera& c = spec.camera;
-    return AnchorAxis::refined_for_field(base, c.tan_pitch(),
-                                         anchor_step(spec.aperture, longest, c.film_distance, c.pixel_pitch()));
+    const double step = anchor_step(spec.aperture, longest, c.film_distance, c.pixel_pitch());
+    // the ripple rule's cells (at most `ripple`, each at least kMinCellRadii kernel radii wide),
+    // or more where the field's stretch asks for them
+    const int cells = std::max(std::min(ripple, span / std::max(1, kMinCellRadii * spec.radius)),
+                               int(std::ceil(span * c.tan_pitch() / step - 1e-9)));
+    return AnchorAxis::even(spec.radius, span, cells);
+}
+
+namespace {
+
+// Knot k's mirror image across the optical axis (camera position `axis2` / 2, in the domain's
+// pixels), or k itself where the knots are not mirror-symmetric or the aperture is not even.
+std::vector<int> mirror_knots(const AnchorAxis& a, int axis2, bool even) {
+    const int n = int(a.knots.size());
+    std::vector<int> mirror(n);
+    bool symmetric = even;
+    for (int k = 0; k < n; ++k) symmetric &= a.knots[k] + a.knots[n - 1 - k] == axis2;
+    for (int k = 0; k < n; ++k) mirror[k] = symmetric ? n - 1 - k : k;
+    return mirror;
+}
+
+// Kernel `from` mirrored (columns reversed: x -> -x; rows: y -> -y) into `to`, both of side w.
+void mirror_kernel(const float* from, float* to, int w, bool columns, bool rows) {
+    for (int b = 0; b < w; ++b)
+        for (int e = 0; e < w; ++e)
+            to[size_t(b) * w + e] = from[size_t(rows ? w - 1 - b : b) * w + (columns ? w - 1 - e : e)];
+}
+
+}  // namespace
+
+std::vector<int> anchor_sources(const KernelTableSpec& spec, const AnchorAxis& ax, const AnchorAxis& ay) {
+    const PinholeCamera& c = spec.camera;
+    const std::vector<int> mx = mirror_knots(ax, c.width + 2 * spec.origin, spec.aperture.even_in_x());
+    const std::vector<int> my = mirror_knots(ay, c.height + 2 * spec.origin, spec.aperture.even_in_y());
+    const int nkx = int(ax.knots.size());
+    std::vector<int> source(ax.knots.size() * ay.knots.size());
+    // an anchor whose mirror image has the lower index takes its kernels mirrored
+    for (int a = 0; a < int(source.size()); ++a)
+        source[a] = std::min(a / nkx, my[a / nkx]) * nkx + std::min(a % nkx, mx[a % nkx]);
+    return source;
+}
+
+int computed_anchors(const KernelTableSpec& spec, const AnchorAxis& ax, const AnchorAxis& ay) {
+    const std::vector<int> source = anchor_sources(spec, ax, ay);
+    int n = 0;
+    for (int a = 0; a < int(source.size()); ++a) n += source[a] == a;
+    return n;
 }
 
 Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const ProgressFn& progress) {
@@ -108,18 +160,23 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
     t.layers = spec.layers;
     t.ax = anchor_axis(spec, false);
     t.ay = anchor_axis(spec, true);
-    const int anchors = t.anchors(), S = spec.basis->size();
+    const int anchors = t.anchors(), S = spec.basis->size(), nkx = int(t.ax.knots.size());
     const size_t ksize = t.kernel_size();
     t.weights.assign(size_t(t.layers.count) * anchors * 9 * ksize, 0.0f);
     t.deficit.assign(size_t(t.layers.count) * anchors * 9, 0.0f);
     const PinholeCamera& c = spec.camera;
-    const long grid = long(t.layers.count) * anchors;
+    t.source = anchor_sources(spec, t.ax, t.ay);
+    std::vector<long> computed;
+    for (long g = 0; g < long(t.layers.count) * anchors; ++g)
+        if (t.source[g % anchors] == g % anchors) computed.push_back(g);
+    const long grid = long(computed.size());
     ProgressTicker ticker(progress, double(grid) * S);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(spec.nthreads)
-    for (long g = 0; g < grid; ++g) {
+    for (long i = 0; i < grid; ++i) {
         if (ticker.cancelled()) continue;
+        const long g = computed[size_t(i)];
         const int l = int(g / anchors), a = int(g % anchors);
-        const int kx = a % int(t.ax.knots.size()), ky = a / int(t.ax.knots.size());
+        const int kx = a % nkx, ky = a / nkx;
         FieldPsfRequest q;
         q.aperture = spec.aperture;
         q.film_distance = c.film_distance;
@@ -160,6 +217,17 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
         }
     }
     if (ticker.cancelled()) return Result<KernelTable>::failure("cancelled", ErrorKind::Cancelled);
+    for (int l = 0; l < t.layers.count; ++l)
+        for (int a = 0; a < anchors; ++a) {
+            const int from = t.source[a];
+            if (from == a) continue;
+            const size_t to_k = (size_t(l) * anchors + a) * 9, from_k = (size_t(l) * anchors + from) * 9;
+            for (int m = 0; m < 9; ++m) {
+                mirror_kernel(&t.weights[(from_k + m) * ksize], &t.weights[(to_k + m) * ksize], 2 * t.radius + 1,
+                              from % nkx != a % nkx, from / nkx != a / nkx);
+                t.deficit[to_k + m] = t.deficit[from_k + m];
+            }
+        }
     return Result<KernelTable>::success(std::move(t));
 }
 

@@ -32,15 +32,16 @@ struct DepthLayers {
     void locate(double w, int& lower, float& upper_share) const;
 };
 
-// Knots of the field-anchor grid along one axis of the source domain, in pixels. The ripple
-// rule's knots lie on tile boundaries (a tile then meets two knots per axis; the field's split
-// below adds knots within tiles, and a tile meets every knot of the cells it spans);
-// the outermost two lie `inset` pixels inside the domain's ends, on the output frame's edges,
-// and sources beyond them (the margin, at most a kernel radius outside the frame) take the edge
-// anchors' kernels. Knots on the domain's ends instead would put the anchors of a frame not
-// much wider than 2 R at field angles far beyond the frame's, and the PSF changes with the
-// field angle (1/cos^3 radially): an 18 px frame at f = 2 mm with R = 26 blended four PSFs
-// 20deg off axis, 21% wider, for every source, 3% RMS off the exact sum.
+// Knots of the field-anchor grid along one axis of the source domain, in pixels. The outermost
+// two lie `inset` pixels inside the domain's ends, on the output frame's edges, and sources
+// beyond them (the margin, at most a kernel radius outside the frame) take the edge anchors'
+// kernels. Knots on the domain's ends instead would put the anchors of a frame not much wider
+// than 2 R at field angles far beyond the frame's, and the PSF changes with the field angle
+// (1/cos^3 radially): an 18 px frame at f = 2 mm with R = 26 blended four PSFs 20deg off axis,
+// 21% wider, for every source, 3% RMS off the exact sum.
+// The convolution method's knots are evenly spaced and mirror-symmetric about the frame's
+// centre (the optical axis), so that an aperture even in x or y gives mirror pairs of anchors
+// whose PSFs are each other's mirror images: one is computed, the other flipped.
 // Cells are at least kMinCellRadii kernel radii wide: the bilinear weights bend at the knots,
 // and a uniform scene then shows a ripple there of about (R / cell)^2 times the difference of
 // neighbouring kernels' widths (0.4% at cells of 3 R, 0.07% at 6 R, measured on a wall at
@@ -71,7 +72,12 @@ double anchor_step(const Aperture& aperture, double longest_wavelength, double f
 struct AnchorAxis {
     std::vector<int> knots;
 
-    static AnchorAxis across(int length, int tile, int cells, int min_cell, int inset);
+    // The psf summation's knots over [0, length]: about `cells` cells of whole multiples of one
+    // width, at least min_cell.
+    static AnchorAxis across(int length, int cells, int min_cell);
+    // `cells` equal cells (to the pixel) over [inset, inset + span], mirror-symmetric about its
+    // middle.
+    static AnchorAxis even(int inset, int span, int cells);
     // `base`'s cells split evenly into cells at most `max_step` wide in the tangent plane
     // (kMaxAnchorStep; a pixel is `tan_pitch` wide there).
     static AnchorAxis refined_for_field(const AnchorAxis& base, double tan_pitch, double max_step);
@@ -98,6 +104,7 @@ struct KernelTableSpec {
     int origin = 0;
     int domain_width = 0, domain_height = 0;
     int tile = 0, anchor_cells = 4, radius = 0;
+    bool tiles_on_cells = false;  // the convolution's tiles split the anchor cells (tile_edges)
     Aperture aperture;
     const SpectralBasis* basis = nullptr;
     DepthLayers layers;
@@ -111,6 +118,9 @@ struct KernelTable {
     AnchorAxis ax, ay;
     std::vector<float> weights;
     std::vector<float> deficit;  // (layer, anchor, m): the share of the PSFs' power beyond the kernel
+    // per anchor: the anchor whose kernels, mirrored across the axis where its knot differs, are
+    // this one's (itself where its own were computed)
+    std::vector<int> source;
 
     int anchors() const { return int(ax.knots.size() * ay.knots.size()); }
     size_t kernel_size() const { return size_t(2 * radius + 1) * (2 * radius + 1); }
@@ -120,8 +130,15 @@ struct KernelTable {
 };
 
 // The anchor axis build_kernel_table lays out across (vertical: down) the spec's domain:
-// anchor_cells cells across, fewer down in proportion when the domain is wider than tall.
+// anchor_cells cells across, fewer down in proportion when the domain is wider than tall, each
+// at least kMinCellRadii kernel radii wide; more where the field's stretch asks for them
+// (anchor_step).
 AnchorAxis anchor_axis(const KernelTableSpec& spec, bool vertical);
+
+// Per anchor of the grid ax x ay: the anchor whose kernels, mirrored, are its own (KernelTable::source).
+std::vector<int> anchor_sources(const KernelTableSpec& spec, const AnchorAxis& ax, const AnchorAxis& ay);
+// How many anchors of that grid are their own source: those whose kernels are computed.
+int computed_anchors(const KernelTableSpec& spec, const AnchorAxis& ax, const AnchorAxis& ay);
 
 // Fails only when cancelled through `progress`.
 Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const ProgressFn& progress);

@@ -65,10 +65,8 @@ PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s) {
     // edge's. Taking the edge anchors' kernels for the margin made a 32 px frame at 60 deg (R =
     // 24: the margin reaches 55 deg and more, the frame's corner 39) differ from the exact sums'
     // same runs by 2.2% RMS in its interior at 64 runs; anchors over the margin, 1.3%.
-    g.ax = AnchorAxis::across(g.width, 1, std::max(1, int(std::lround(double(cells) * g.width / longest))), min_cell,
-                              0);
-    g.ay = AnchorAxis::across(g.height, 1, std::max(1, int(std::lround(double(cells) * g.height / longest))),
-                              min_cell, 0);
+    g.ax = AnchorAxis::across(g.width, std::max(1, int(std::lround(double(cells) * g.width / longest))), min_cell);
+    g.ay = AnchorAxis::across(g.height, std::max(1, int(std::lround(double(cells) * g.height / longest))), min_cell);
     // and close enough that the field's stretch of the PSF changes little between them (kernel_table.h)
     const double step = anchor_step(s.aperture, s.wavelength, c.film_distance, c.pixel_pitch());
     g.ax = AnchorAxis::refined_for_field(g.ax, c.tan_pitch(), step);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <vector>
 
 #include "wavecam/aperture.h"
 
@@ -95,6 +96,47 @@ TEST(Aperture, RegularPolygonHasAVertexOnPlusXAtZeroRotation) {
             continue;
         ASSERT_EQ(turned.contains(x, y), square.contains(x, y)) << x << " " << y;
     }
+}
+
+// even_in_x / even_in_y (which let the convolution method mirror one anchor's kernels into its
+// mirror image's) say yes exactly where the transmission reads the same at (-x, y) / (x, -y).
+TEST(Aperture, EvenInXOrYExactlyWhereTheTransmissionIs) {
+    auto parsed = [](const char* text) { return parse_aperture(text, "aperture").value; };
+    struct Shape {
+        Aperture aperture;
+        const char* what;
+    };
+    std::vector<Shape> shapes;
+    for (const char* text : {"circle", "square", "polygon:6", "polygon:5", "polygon:5:90deg", "polygon:5:10deg",
+                             "polygon:4:45deg", "polygon:3:30deg", "zoneplate:8", "sieve:8"}) {
+        Aperture a = parsed(text);
+        a.diameter = 1e-3;
+        shapes.push_back({a, text});
+    }
+    // masks: one even in x only (a wedge pointing up), one in neither
+    for (bool skewed : {false, true}) {
+        Aperture a = parsed("mask:wedge.png");
+        std::vector<float> px(8 * 6, 0.0f);
+        for (int r = 0; r < 6; ++r)
+            for (int c = 0; c < 8; ++c) px[r * 8 + c] = std::abs(2 * c - 7) <= r + (skewed && c > 4 ? 2 : 0) ? 1 : 0;
+        ASSERT_TRUE(set_aperture_mask(a, 8, 6, px, "aperture").ok());
+        a.diameter = 1e-3;
+        shapes.push_back({a, skewed ? "skewed wedge mask" : "wedge mask"});
+    }
+    for (const auto& [a, what] : shapes) {
+        int odd_x = 0, odd_y = 0;
+        for (int k = 0; k < 20000; ++k) {
+            const double x = 0.5e-3 * std::sin(k * 1.7), y = 0.5e-3 * std::cos(k * 2.3 + 0.4);
+            odd_x += a.transmission(x, y) != a.transmission(-x, y);
+            odd_y += a.transmission(x, y) != a.transmission(x, -y);
+        }
+        EXPECT_EQ(a.even_in_x(), odd_x == 0) << what << ": " << odd_x << " points differ across x";
+        EXPECT_EQ(a.even_in_y(), odd_y == 0) << what << ": " << odd_y << " points differ across y";
+    }
+    // the cases the table relies on, named
+    EXPECT_TRUE(parsed("polygon:5:90deg").even_in_x());
+    EXPECT_FALSE(parsed("polygon:5:90deg").even_in_y());
+    EXPECT_FALSE(parsed("sieve:8").even_in_x());
 }
 
 TEST(Aperture, PolygonAndZonePlateWeightsAddUpToTheirAreas) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <thread>
 
@@ -191,6 +192,41 @@ TEST(FresnelPsf, BothEvaluationsAgree) {
         EXPECT_LT(worst, 0.03 * peak) << what;
         EXPECT_NEAR(total(tf), total(mft), total_tolerance) << what;
     }
+}
+
+// The camera is its own mirror image across x = 0 when the aperture is even in x, so the PSF at
+// field (-u, v) is the one at (u, v) with its columns reversed: the convolution method computes
+// one of each such pair of anchors and mirrors it. A pentagon with a vertex on +y is even in x
+// and not in y, and its PSFs show both where its shadow shows (8 Fresnel zones; a Fraunhofer
+// pattern is point-symmetric, so there the pentagon's would look even in y as well).
+TEST(FresnelPsf, MirrorImageFieldsGiveMirrorImagePsfsWhereTheApertureIsEven) {
+    FieldPsfRequest q;
+    q.aperture = parse_aperture("polygon:5:90deg", "aperture").value;
+    q.aperture.diameter = 0.6e-3;
+    q.film_distance = 20e-3;
+    q.depth = 1.5;
+    q.wavelength = 550e-9;
+    q.pixel_pitch = 40e-6;
+    q.radius = 12;
+    q.u = 0.5;
+    q.v = 0.35;
+    const auto psf = weights(field_psf_kernel(q));
+    q.u = -0.5;
+    const auto across_x = weights(field_psf_kernel(q));
+    q.u = 0.5;
+    q.v = -0.35;
+    const auto across_y = weights(field_psf_kernel(q));
+    const int w = 2 * q.radius + 1;
+    double peak = 0, odd_x = 0, odd_y = 0;
+    for (int b = 0; b < w; ++b)
+        for (int e = 0; e < w; ++e) {
+            peak = std::max(peak, psf[b * w + e]);
+            odd_x = std::max(odd_x, std::fabs(psf[b * w + e] - across_x[b * w + (w - 1 - e)]));
+            odd_y = std::max(odd_y, std::fabs(psf[b * w + e] - across_y[(w - 1 - b) * w + e]));
+        }
+    std::printf("mirrored across x: %.2e of the peak; across y: %.2e\n", odd_x / peak, odd_y / peak);
+    EXPECT_LT(odd_x, 1e-3 * peak);  // (the evaluations' own rounding: 2e-4 measured, the method's bound 2%)
+    EXPECT_GT(odd_y, 0.05 * peak);  // not even in y: the mirror image is another PSF
 }
 
 // A table's requests at one depth share the pupil's spectrum, on the grid of the first (the

@@ -59,6 +59,11 @@ struct Aperture {
     double area() const;
     // Radius of the smallest centred disc holding every open point.
     double bounding_radius() const;
+    // Whether the transmission is even in x, t(-x, y) = t(x, y) (or in y): the whole camera is
+    // then a mirror image of itself, and the PSF at field (-u, v) the mirror image of the one at
+    // (u, v). A photon sieve's random hole angles are neither.
+    bool even_in_x() const;
+    bool even_in_y() const;
     // Width of the narrowest opening the samples must resolve: a sieve's smallest hole, a zone
     // plate's narrowest open zone, else the diameter.
     double finest_width() const;
