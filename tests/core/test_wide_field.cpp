@@ -116,13 +116,15 @@ std::vector<float> convolution_image(const std::vector<test::RsStar>& stars) {
     return xyz;
 }
 
-std::vector<float> exact_image(const test::RsStar& s, Summation summation, int film_subsamples) {
+std::vector<float> exact_image(const test::RsStar& s, Summation summation, int film_subsamples,
+                               CoherenceMethod method = CoherenceMethod::Incoherent, int runs = 1) {
     const int w = s.camera.width, h = s.camera.height;
     std::vector<float> power(size_t(w) * h, 0.0f), depth(power.size(), float(s.depth)), out(power.size(), 0.0f);
     power[size_t(s.j) * w + s.i] = 1.0f;
     SceneSumSettings e;
     e.aperture = {ApertureShape::Circle, s.diameter};
-    e.method = CoherenceMethod::Incoherent;
+    e.method = method;
+    e.runs = runs;
     e.summation = summation;
     e.device = test_device();
     e.film_subsamples = film_subsamples;
@@ -177,7 +179,9 @@ TEST(WideField, ConvolutionMethodMatchesTheRayleighSommerfeldIntegral) {
 // The exact sums (direct or nufft: the test binary's --summation) and the psf summation, which
 // convolves with amplitude kernels that those sums compute at field anchors: small frames (the
 // exact sums' cost grows with the frame), stars on the anchors and between them, the psf
-// summation up to 60 deg.
+// summation up to 60 deg. Incoherent sums, and for the star between anchors at 60 deg and the
+// 10 deg star also the random-phase method's coded runs (one source: every run is its image,
+// whatever its phase).
 TEST(WideField, ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral) {
     // (a PSF of two pixels on a frame of 32 at 90 deg takes a 5 um pinhole: few samples, cheap sums)
     const Case cases[] = {
@@ -194,9 +198,15 @@ TEST(WideField, ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral) {
             // (the psf summation's kernels at 90 deg: 21 x 21 anchors, each summed to (2R + 1)^2 film
             // points from a pinhole lattice of 128 x 128: hours here, so the exact sums only)
             if (summation == Summation::Psf && c.fov_deg > 60) continue;
+            const std::string by = summation == Summation::Psf ? "psf" : "exact sums";
             const auto out = exact_image(s, summation, n);
-            expect_within(compare(window(out, s.camera.width, 1, 0, s, half), reference, s, half),
-                          std::string(summation == Summation::Psf ? "psf" : "exact sums") + ", " + c.name());
+            expect_within(compare(window(out, s.camera.width, 1, 0, s, half), reference, s, half), by + ", " + c.name());
+            // (the psf summation's own runs at 60 deg: PsfRunsMatchTheExactSumsWithTheSamePhases)
+            if ((c.fov_deg == 60 && c.along == 0.45 && summation != Summation::Psf) || c.fov_deg == 10) {
+                const auto runs = exact_image(s, summation, n, CoherenceMethod::RandomPhase, 2);
+                expect_within(compare(window(runs, s.camera.width, 1, 0, s, half), reference, s, half),
+                              "random-phase, 2 runs, " + by + ", " + c.name());
+            }
         }
     }
 }
