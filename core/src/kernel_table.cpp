@@ -86,7 +86,9 @@ int AnchorAxis::cell_of(int pixel) const {
 }
 
 AnchorAxis AnchorAxis::even(int inset, int span, int cells) {
-    const int n = std::clamp(cells, 1, std::max(1, span));
+    int n = std::clamp(cells, 1, std::max(1, span));
+    // an odd span has its middle between pixels, where no knot can lie: an odd count of cells
+    if (span % 2 == 1 && n % 2 == 0) ++n;
     AnchorAxis a;
     a.knots.resize(n + 1);
     // the lower half rounded, the upper half its mirror image: knots k and n - k sum to the span

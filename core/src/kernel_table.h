@@ -76,7 +76,7 @@ struct AnchorAxis {
     // width, at least min_cell.
     static AnchorAxis across(int length, int cells, int min_cell);
     // `cells` equal cells (to the pixel) over [inset, inset + span], mirror-symmetric about its
-    // middle.
+    // middle (one more where the span is odd and `cells` even: no knot can lie on a half pixel).
     static AnchorAxis even(int inset, int span, int cells);
     // `base`'s cells split evenly into cells at most `max_step` wide in the tangent plane
     // (kMaxAnchorStep; a pixel is `tan_pitch` wide there).
