@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rs_reference.h"
@@ -116,11 +117,13 @@ std::vector<float> convolution_image(const std::vector<test::RsStar>& stars) {
     return xyz;
 }
 
-std::vector<float> exact_image(const test::RsStar& s, Summation summation, int film_subsamples,
+// One image of the stars (all on one camera and pinhole), through the scene sums.
+std::vector<float> exact_image(const std::vector<test::RsStar>& stars, Summation summation, int film_subsamples,
                                CoherenceMethod method = CoherenceMethod::Incoherent, int runs = 1) {
+    const test::RsStar& s = stars.front();
     const int w = s.camera.width, h = s.camera.height;
     std::vector<float> power(size_t(w) * h, 0.0f), depth(power.size(), float(s.depth)), out(power.size(), 0.0f);
-    power[size_t(s.j) * w + s.i] = 1.0f;
+    for (const test::RsStar& star : stars) power[size_t(star.j) * w + star.i] = 1.0f;
     SceneSumSettings e;
     e.aperture = {ApertureShape::Circle, s.diameter};
     e.method = method;
@@ -132,6 +135,30 @@ std::vector<float> exact_image(const test::RsStar& s, Summation summation, int f
     auto r = diffract_monochrome(view, s.wavelength, e, out.data());
     EXPECT_TRUE(r.ok()) << r.error;
     return out;
+}
+
+// The runs [first, last) of neighbouring cases on one frame (the same camera, pinhole and depth)
+// whose stars one image can hold; with `apart`, only while each star lies beyond the others'
+// compared windows.
+std::vector<std::pair<size_t, size_t>> frames(const Case* cases, size_t n, bool apart) {
+    auto window_apart = [](const Case& a, const Case& b) {
+        const test::RsStar sa = a.star(), sb = b.star();
+        const int reach = half_window(a, sa) + half_window(b, sb);
+        return std::abs(sa.i - sb.i) > reach || std::abs(sa.j - sb.j) > reach;
+    };
+    std::vector<std::pair<size_t, size_t>> runs;
+    for (size_t first = 0, last; first < n; first = last) {
+        const Case& a = cases[first];
+        for (last = first + 1; last < n; ++last) {
+            const Case& c = cases[last];
+            bool joins = c.side == a.side && c.fov_deg == a.fov_deg && c.f_mm == a.f_mm && c.d_mm == a.d_mm &&
+                         c.depth == a.depth;
+            for (size_t k = first; joins && apart && k < last; ++k) joins = window_apart(cases[k], c);
+            if (!joins) break;
+        }
+        runs.push_back({first, last});
+    }
+    return runs;
 }
 
 void expect_within(const Comparison& m, const std::string& what) {
@@ -155,15 +182,7 @@ TEST(WideField, ConvolutionMethodMatchesTheRayleighSommerfeldIntegral) {
         {256, 60, 50, 0.315, 2.0, 0.3},      {256, 40, 50, 0.74, INFINITY, 0.7}, {128, 120, 10, 0.03, INFINITY, 0},
         {128, 120, 10, 0.03, INFINITY, -0.5}, {512, 20, 50, 0.05, INFINITY, 0.2},
     };
-    const size_t n_cases = sizeof cases / sizeof cases[0];
-    for (size_t first = 0, last; first < n_cases; first = last) {
-        // the run of cases on the frame of cases[first]
-        const auto same_frame = [&](const Case& c) {
-            const Case& a = cases[first];
-            return c.side == a.side && c.fov_deg == a.fov_deg && c.f_mm == a.f_mm && c.d_mm == a.d_mm &&
-                   c.depth == a.depth;
-        };
-        for (last = first + 1; last < n_cases && same_frame(cases[last]); ++last) {}
+    for (const auto& [first, last] : frames(cases, sizeof cases / sizeof cases[0], false)) {
         std::vector<test::RsStar> stars;
         for (size_t k = first; k < last; ++k) stars.push_back(cases[k].star());
         const auto out = convolution_image(stars);
@@ -189,23 +208,31 @@ TEST(WideField, ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral) {
         {32, 90, 1, 0.005, INFINITY, 0.2}, {32, 90, 1, 0.005, INFINITY, 0.6},  {48, 45, 2, 0.1, 1.0, 0.6},
         {64, 10, 20, 0.1, INFINITY, 0.5},
     };
-    for (const Case& c : cases) {
-        const test::RsStar s = c.star();
+    for (const auto& [first, last] : frames(cases, sizeof cases / sizeof cases[0], true)) {
+        std::vector<test::RsStar> stars;
+        for (size_t k = first; k < last; ++k) stars.push_back(cases[k].star());
+        const Case& c = cases[first];
         // (at most 4 x 4 film points: the psf summation's kernels sum to every one of them)
-        const int half = half_window(c, s), n = std::min(4, film_points(c));
-        const auto reference = test::rs_window(s, half, n);
+        const int n = std::min(4, film_points(c));
         for (const Summation summation : {test_summation(), Summation::Psf}) {
             // (the psf summation's kernels at 90 deg: 21 x 21 anchors, each summed to (2R + 1)^2 film
             // points from a pinhole lattice of 128 x 128: hours here, so the exact sums only)
             if (summation == Summation::Psf && c.fov_deg > 60) continue;
             const std::string by = summation == Summation::Psf ? "psf" : "exact sums";
-            const auto out = exact_image(s, summation, n);
-            expect_within(compare(window(out, s.camera.width, 1, 0, s, half), reference, s, half), by + ", " + c.name());
-            // (the psf summation's own runs at 60 deg: PsfRunsMatchTheExactSumsWithTheSamePhases)
-            if ((c.fov_deg == 60 && c.along == 0.45 && summation != Summation::Psf) || c.fov_deg == 10) {
-                const auto runs = exact_image(s, summation, n, CoherenceMethod::RandomPhase, 2);
-                expect_within(compare(window(runs, s.camera.width, 1, 0, s, half), reference, s, half),
-                              "random-phase, 2 runs, " + by + ", " + c.name());
+            const auto out = exact_image(stars, summation, n);
+            for (size_t k = first; k < last; ++k) {
+                const test::RsStar& s = stars[k - first];
+                const int half = half_window(cases[k], s);
+                const auto reference = test::rs_window(s, half, n);
+                expect_within(compare(window(out, s.camera.width, 1, 0, s, half), reference, s, half),
+                              by + ", " + cases[k].name());
+                // (the psf summation's own runs at 60 deg: PsfRunsMatchTheExactSumsWithTheSamePhases;
+                // a star alone: two stars' coded runs of one class would not cancel)
+                if ((c.fov_deg == 60 && cases[k].along == 0.45 && summation != Summation::Psf) || c.fov_deg == 10) {
+                    const auto runs = exact_image({s}, summation, n, CoherenceMethod::RandomPhase, 2);
+                    expect_within(compare(window(runs, s.camera.width, 1, 0, s, half), reference, s, half),
+                                  "random-phase, 2 runs, " + by + ", " + cases[k].name());
+                }
             }
         }
     }
