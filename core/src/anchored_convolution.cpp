@@ -117,10 +117,9 @@ Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int t
 
 AnchoredConvolution::KernelView AnchoredConvolution::spectrum(int layer, int anchor, int m) const {
     const KernelTable& t = table_;
-    const int from = t.source[anchor], nkx = int(t.ax.knots.size());
     // w(-x, y) has the spectrum X(-kx, ky) = conj X(kx, -ky) (real input); w(x, -y) has X(kx, -ky)
-    const bool columns = from % nkx != anchor % nkx, rows = from / nkx != anchor / nkx;
-    return {&kernel_spectra_[((size_t(layer) * kept_anchors_ + slot_[from]) * 9 + m) * spectrum_size_],
+    const bool columns = t.mirrored_x(anchor), rows = t.mirrored_y(anchor);
+    return {&kernel_spectra_[((size_t(layer) * kept_anchors_ + slot_[t.source[anchor]]) * 9 + m) * spectrum_size_],
             columns != rows, columns};
 }
 

@@ -141,8 +141,12 @@ Result<detail::KernelTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
             cells.tile = tile;
             if (tile >= 2 * radius && tile < whole.tile) options.push_back(cells);
         }
+        double least = transform_work(t);
         for (const detail::KernelTableSpec& o : options)
-            if (transform_work(o) < transform_work(t)) t = o;
+            if (const double work = transform_work(o); work < least) {
+                least = work;
+                t = o;
+            }
     }
     t.nthreads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
     return R::success(t);

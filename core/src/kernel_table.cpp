@@ -226,7 +226,7 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
             const size_t to_k = (size_t(l) * anchors + a) * 9, from_k = (size_t(l) * anchors + from) * 9;
             for (int m = 0; m < 9; ++m) {
                 mirror_kernel(&t.weights[(from_k + m) * ksize], &t.weights[(to_k + m) * ksize], 2 * t.radius + 1,
-                              from % nkx != a % nkx, from / nkx != a / nkx);
+                              t.mirrored_x(a), t.mirrored_y(a));
                 t.deficit[to_k + m] = t.deficit[from_k + m];
             }
         }

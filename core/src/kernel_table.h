@@ -121,6 +121,9 @@ struct KernelTable {
     // per anchor: the anchor whose kernels, mirrored across the axis where its knot differs, are
     // this one's (itself where its own were computed)
     std::vector<int> source;
+    // whether anchor a's kernels are its source's with the columns (x) or rows (y) reversed
+    bool mirrored_x(int a) const { return source[a] % ax.knots.size() != a % ax.knots.size(); }
+    bool mirrored_y(int a) const { return source[a] / ax.knots.size() != a / ax.knots.size(); }
 
     int anchors() const { return int(ax.knots.size() * ay.knots.size()); }
     size_t kernel_size() const { return size_t(2 * radius + 1) * (2 * radius + 1); }
