@@ -51,27 +51,6 @@ void DepthLayers::locate(double w, int& lower, float& upper_share) const {
     upper_share = lower + 1 < count ? float(std::min(1.0, x - lower)) : 0.0f;
 }
 
-AnchorAxis AnchorAxis::across(int length, int cells, int min_cell) {
-    const int per_cell = std::max({1, int(std::lround(double(length) / std::max(1, cells))), min_cell});
-    AnchorAxis a;
-    for (int k = 0; k * per_cell < length; ++k) a.knots.push_back(k * per_cell);
-    // a last cell under half the others joins its neighbour
-    if (a.knots.size() > 1 && length - a.knots.back() < per_cell / 2) a.knots.pop_back();
-    a.knots.push_back(length);
-    return a;
-}
-
-AnchorAxis AnchorAxis::refined_for_field(const AnchorAxis& base, double tan_pitch, double max_step) {
-    AnchorAxis a;
-    for (int k = 0; k + 1 < int(base.knots.size()); ++k) {
-        const int k0 = base.knots[k], k1 = base.knots[k + 1];
-        const int parts = std::clamp(int(std::ceil((k1 - k0) * tan_pitch / max_step)), 1, std::max(1, k1 - k0));
-        for (int m = 0; m < parts; ++m) a.knots.push_back(k0 + int(std::lround(double(m) * (k1 - k0) / parts)));
-    }
-    a.knots.push_back(base.knots.back());
-    return a;
-}
-
 double anchor_step(const Aperture& aperture, double longest_wavelength, double film_distance, double pixel_pitch) {
     const double span = 2 * aperture.bounding_radius();
     const double airy = 1.22 * longest_wavelength * film_distance / span, shadow = span / 2;
@@ -137,16 +116,22 @@ void mirror_kernel(const float* from, float* to, int w, bool columns, bool rows)
 
 }  // namespace
 
-std::vector<int> anchor_sources(const KernelTableSpec& spec, const AnchorAxis& ax, const AnchorAxis& ay) {
-    const PinholeCamera& c = spec.camera;
-    const std::vector<int> mx = mirror_knots(ax, c.width + 2 * spec.origin, spec.aperture.even_in_x());
-    const std::vector<int> my = mirror_knots(ay, c.height + 2 * spec.origin, spec.aperture.even_in_y());
+std::vector<int> mirror_sources(const AnchorAxis& ax, const AnchorAxis& ay, int axis2x, int axis2y, bool even_x,
+                                bool even_y) {
+    const std::vector<int> mx = mirror_knots(ax, axis2x, even_x), my = mirror_knots(ay, axis2y, even_y);
     const int nkx = int(ax.knots.size());
     std::vector<int> source(ax.knots.size() * ay.knots.size());
     // an anchor whose mirror image has the lower index takes its kernels mirrored
     for (int a = 0; a < int(source.size()); ++a)
         source[a] = std::min(a / nkx, my[a / nkx]) * nkx + std::min(a % nkx, mx[a % nkx]);
     return source;
+}
+
+std::vector<int> anchor_sources(const KernelTableSpec& spec, const AnchorAxis& ax, const AnchorAxis& ay) {
+    // (a knot is a point in the camera's pixel coordinates plus origin: the axis at width / 2)
+    const PinholeCamera& c = spec.camera;
+    return mirror_sources(ax, ay, c.width + 2 * spec.origin, c.height + 2 * spec.origin, spec.aperture.even_in_x(),
+                          spec.aperture.even_in_y());
 }
 
 int computed_anchors(const KernelTableSpec& spec, const AnchorAxis& ax, const AnchorAxis& ay) {

@@ -72,15 +72,9 @@ double anchor_step(const Aperture& aperture, double longest_wavelength, double f
 struct AnchorAxis {
     std::vector<int> knots;
 
-    // The psf summation's knots over [0, length]: about `cells` cells of whole multiples of one
-    // width, at least min_cell.
-    static AnchorAxis across(int length, int cells, int min_cell);
     // `cells` equal cells (to the pixel) over [inset, inset + span], mirror-symmetric about its
     // middle (one more where the span is odd and `cells` even: no knot can lie on a half pixel).
     static AnchorAxis even(int inset, int span, int cells);
-    // `base`'s cells split evenly into cells at most `max_step` wide in the tangent plane
-    // (kMaxAnchorStep; a pixel is `tan_pitch` wide there).
-    static AnchorAxis refined_for_field(const AnchorAxis& base, double tan_pitch, double max_step);
     int cells() const { return int(knots.size()) - 1; }
     int cell_of(int pixel) const;
     // The bilinear hat of knot k at pixel `pixel` (its centre): 1 on the knot, 0 at the
@@ -138,7 +132,13 @@ struct KernelTable {
 // (anchor_step).
 AnchorAxis anchor_axis(const KernelTableSpec& spec, bool vertical);
 
-// Per anchor of the grid ax x ay: the anchor whose kernels, mirrored, are its own (KernelTable::source).
+// Per anchor of the grid ax x ay: the anchor whose kernels, mirrored across the optical axis, are
+// its own (the lower index of each mirror pair; itself where it has no mirror image). The axis
+// lies at half of `axis2x` (`axis2y`) in the knots' coordinates; an axis is mirrored only where
+// the aperture is even along it and its knots are symmetric about the optical axis.
+std::vector<int> mirror_sources(const AnchorAxis& ax, const AnchorAxis& ay, int axis2x, int axis2y, bool even_x,
+                                bool even_y);
+// The convolution method's (KernelTable::source).
 std::vector<int> anchor_sources(const KernelTableSpec& spec, const AnchorAxis& ax, const AnchorAxis& ay);
 // How many anchors of that grid are their own source: those whose kernels are computed.
 int computed_anchors(const KernelTableSpec& spec, const AnchorAxis& ax, const AnchorAxis& ay);

@@ -195,16 +195,24 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
         }
         return Result<bool>::success(true);
     };
+    // Where the aperture is even along an axis, an anchor and its mirror image across the optical
+    // axis have mirror-image kernels (psf_summation_geometry.cpp): one of each pair is computed.
+    const std::vector<int> source = mirror_sources(g.ax, g.ay, g.width - 1, g.height - 1,
+                                                   spec.aperture.even_in_x(), spec.aperture.even_in_y());
+    std::vector<int> computed;
+    for (int a = 0; a < A; ++a)
+        if (source[a] == a) computed.push_back(a);
+    const int C = int(computed.size());
     // The anchor nearest the frame's centre fixes the film sums' evaluator (a corner's film
     // points at a wide field took the cost model minutes); the others follow, one anchor per
     // thread on the CPU (a device's plans are not for concurrent use), reporting from the
     // first thread.
     PlanScope film_scope;
     const auto cancelled = [] { return R::failure("cancelled", ErrorKind::Cancelled); };
-    const int first = int(g.ay.knots.size() / 2 * g.ax.knots.size() + g.ax.knots.size() / 2);
+    const int first = source[g.ay.knots.size() / 2 * g.ax.knots.size() + g.ax.knots.size() / 2];
     const SummationSettings& kernel_settings = sums.to_film;
     if (auto r = anchor_kernels(first, kernel_settings, film_scope); !r.ok()) return R::failure(r);
-    if (progress && !progress(1.0 / A)) return cancelled();
+    if (progress && !progress(1.0 / C)) return cancelled();
     const bool on_cpu = !spec.settings.device.gpu();
     SummationSettings one_thread = kernel_settings;
     one_thread.nthreads = on_cpu ? 1 : spec.settings.nthreads;
@@ -212,7 +220,8 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
     std::atomic<bool> stop{false};
     Result<bool> failed = Result<bool>::success(true);
 #pragma omp parallel for num_threads(on_cpu ? impl->threads : 1) schedule(dynamic)
-    for (int a = 0; a < A; ++a) {
+    for (int i = 0; i < C; ++i) {
+        const int a = computed[size_t(i)];
         if (stop || a == first) continue;
         PlanScope scope = film_scope;
         if (auto r = anchor_kernels(a, one_thread, scope); !r.ok()) {
@@ -221,9 +230,32 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
             continue;
         }
         const int finished = ++done;
-        if (progress && omp_get_thread_num() == 0 && !progress(double(finished) / A)) stop = true;
+        if (progress && omp_get_thread_num() == 0 && !progress(double(finished) / C)) stop = true;
     }
     if (stop) return failed.ok() ? cancelled() : R::failure(failed);
+    // the others, their sources' kernels mirrored: film point (dx, sub-point sa) of one is
+    // (-dx, n - 1 - sa) of the other along x, likewise along y
+    const int nkx = int(g.ax.knots.size());
+    for (int a = 0; a < A; ++a) {
+        if (source[a] == a) continue;
+        const bool flip_x = source[a] % nkx != a % nkx, flip_y = source[a] / nkx != a / nkx;
+        for (int l = 0; l < g.layers.count; ++l) {
+            const std::vector<std::complex<double>>& from = kernel[impl->kernel_index(l, source[a])];
+            std::vector<std::complex<double>>& to = kernel[impl->kernel_index(l, a)];
+            to.resize(from.size());
+            for (int sb = 0; sb < n; ++sb)
+                for (int sa = 0; sa < n; ++sa)
+                    for (int y = 0; y < side; ++y)
+                        for (int x = 0; x < side; ++x) {
+                            const int fsb = flip_y ? n - 1 - sb : sb, fsa = flip_x ? n - 1 - sa : sa;
+                            const int fy = flip_y ? side - 1 - y : y, fx = flip_x ? side - 1 - x : x;
+                            to[((size_t(sb) * n + sa) * side + y) * side + x] =
+                                from[((size_t(fsb) * n + fsa) * side + fy) * side + fx];
+                        }
+            for (int m = 0; m < 9; ++m)
+                tail.deficit[(size_t(l) * A + a) * 9 + m] = tail.deficit[(size_t(l) * A + source[a]) * 9 + m];
+        }
+    }
     // their Gram matrix, the pixel-mean over sub-points
     const int K = int(kernel.size()), nax = int(g.ax.knots.size());
     const bool whole = K <= kMaxBasisKernels;

@@ -27,7 +27,7 @@ const Matrix3 kXyzTo709{{{3.2406, -1.5372, -0.4986}, {-0.9689, 1.8758, 0.0415}, 
 // A square frame of `side` pixels across `fov_deg` at film distance f, a pinhole of diameter d,
 // and a star at planar depth `depth` (inf: sky) at the pixel a fraction `along` of the way from
 // the centre to the top-left corner (negative: to the bottom-right, where the convolution
-// method's anchors take the top-left ones' kernels mirrored); 550 nm.
+// method's and the psf summation's anchors take the top-left ones' kernels mirrored); 550 nm.
 struct Case {
     int side;
     double fov_deg, f_mm, d_mm, depth, along;
@@ -205,6 +205,7 @@ TEST(WideField, ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral) {
     // (a PSF of two pixels on a frame of 32 at 90 deg takes a 5 um pinhole: few samples, cheap sums)
     const Case cases[] = {
         {64, 60, 10, 0.04, INFINITY, 0},   {64, 60, 10, 0.04, INFINITY, 0.45}, {64, 60, 10, 0.04, INFINITY, 0.9},
+        {64, 60, 10, 0.04, INFINITY, -0.6},
         {32, 90, 1, 0.005, INFINITY, 0.2}, {32, 90, 1, 0.005, INFINITY, 0.6},  {48, 45, 2, 0.1, 1.0, 0.6},
         {64, 10, 20, 0.1, INFINITY, 0.5},
     };
@@ -242,9 +243,9 @@ TEST(WideField, ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral) {
 // depths, a PSF about two pixels wide, relative RMS over the frame within 1.5%. A run through psf
 // lacks the cross terms of its kernels' far tails (docs/summation.md), about 0.8 sqrt(t / K) of
 // the mean for a share t left out over K runs, so jobs of 64 runs or fewer take kernels holding
-// more (t = 1.5%): 64 runs at 10 deg, measured 1.39% (1.75% with t = 3%). At 60 deg such kernels
+// more (t = 1.5%): 64 runs at 10 deg, measured 1.32% (1.75% with t = 3%). At 60 deg such kernels
 // would take about nine times the kernels' work on this 32 px frame (nearly all of it margin),
-// where auto takes the exact sums; 128 runs there keep t = 3%: 1.13% (1.53% at 64 runs; 2.7% when
+// where auto takes the exact sums; 128 runs there keep t = 3%: 1.03% (1.53% at 64 runs; 2.7% when
 // the margin took the edge anchors' kernels, 8% when the anchors ignored the field).
 TEST(WideField, PsfRunsMatchTheExactSumsWithTheSamePhases) {
     for (const auto& [fov, runs] : {std::pair{10.0, 64}, std::pair{60.0, 128}}) {

@@ -5,6 +5,9 @@
 #include <cmath>
 #include <complex>
 #include <initializer_list>
+#include <map>
+#include <mutex>
+#include <utility>
 
 namespace wavecam::detail {
 namespace {
@@ -56,9 +59,7 @@ double BandLimitedStencil::error_of(double nu_max) const {
     return worst;
 }
 
-BandLimitedStencil::BandLimitedStencil(double nu_max, double tolerance) {
-    nu_max = std::fabs(nu_max);
-    if (!(nu_max < M_PI)) return;
+void BandLimitedStencil::design(double nu_max, double tolerance) {
     for (int W = 2; W <= kMaxHalfWidth; ++W) {
         half_width_ = W;
         // the window's smear against the room left above the band: a few ratios tried
@@ -73,6 +74,35 @@ BandLimitedStencil::BandLimitedStencil(double nu_max, double tolerance) {
         if (best <= tolerance) return;
     }
     half_width_ = 0;
+}
+
+BandLimitedStencil::BandLimitedStencil(double nu_max, double tolerance) {
+    nu_max = std::fabs(nu_max);
+    if (!(nu_max < M_PI) || !(tolerance > 0)) return;
+    // Every sum's plan asks for a stencil (the psf summation's kernels: two plans per anchor and
+    // layer), and each design checks its error over the band, milliseconds each. A stencil serves
+    // any band within its own at any tolerance above its own, so designs are kept for bands
+    // rounded up to pi / 256 and tolerances rounded down to powers of 2^(1/4), and shared.
+    const double band = std::ceil(nu_max * 256 / M_PI) * M_PI / 256;
+    const double tol = std::exp2(std::floor(4 * std::log2(tolerance)) / 4);
+    if (band < M_PI) {
+        static std::mutex guard;
+        static std::map<std::pair<double, double>, BandLimitedStencil> designed;
+        {
+            std::lock_guard<std::mutex> lock(guard);
+            if (auto it = designed.find({band, tol}); it != designed.end() && it->second.usable()) {
+                *this = it->second;
+                return;
+            }
+        }
+        design(band, tol);
+        {
+            std::lock_guard<std::mutex> lock(guard);
+            designed.emplace(std::pair{band, tol}, *this);
+        }
+        if (usable()) return;
+    }
+    design(nu_max, tolerance);  // (the rounded band reached no stencil; the band itself may)
 }
 
 }  // namespace wavecam::detail

@@ -14,13 +14,15 @@ namespace wavecam::detail {
 class BandLimitedStencil {
 public:
     BandLimitedStencil(double nu_max, double tolerance);
-    bool usable() const { return half_width_ > 0; }  // false: no W up to 12 reaches the tolerance
+    bool usable() const { return half_width_ > 0; }  // false: no W up to 24 reaches the tolerance
     int width() const { return 2 * half_width_; }
     double error() const { return error_; }
     // The width() weights for a point at lattice coordinate x; returns the first lattice index.
     long weights(double x, double* w) const;
 
 private:
+    BandLimitedStencil() = default;
+    void design(double nu_max, double tolerance);
     double kernel(double t) const;
     double error_of(double nu_max) const;
     int half_width_ = 0;
