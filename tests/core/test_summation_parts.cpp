@@ -111,6 +111,33 @@ TEST(BandLimitedStencil, InterpolatesEveryFrequencyInItsBand) {
     EXPECT_FALSE(BandLimitedStencil(M_PI, 1e-2).usable());
 }
 
+// Designs are shared between bands and tolerances close to each other (each served by the
+// design for a band rounded up and a tolerance rounded down): whatever was asked before, a
+// stencil meets its own band and tolerance, checked at random points and frequencies.
+TEST(BandLimitedStencil, SharedDesignsMeetEveryAskedBandAndTolerance) {
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<double> ub(0.2, 0.85), ut(-4.5, -2.0), ux(-10, 10), u01(0, 1);
+    double band = 0.5, exponent = -3;
+    for (int ask = 0; ask < 40; ++ask) {
+        // every other ask a neighbour of the last: the same rounded key
+        if (ask % 2 == 0) band = ub(rng), exponent = ut(rng);
+        else band += 0.001, exponent += 0.01;
+        const double nu_max = band * M_PI, tol = std::pow(10.0, exponent);
+        const BandLimitedStencil st(nu_max, tol);
+        ASSERT_TRUE(st.usable()) << band << " " << tol;
+        EXPECT_LE(st.error(), tol) << band;
+        double worst = 0, w[64];
+        for (int t = 0; t < 300; ++t) {
+            const double x = ux(rng), nu = nu_max * (2 * u01(rng) - 1);
+            const long first = st.weights(x, w);
+            cdouble s = 0;
+            for (int i = 0; i < st.width(); ++i) s += w[i] * std::polar(1.0, nu * double(first + i));
+            worst = std::max(worst, std::abs(s - std::polar(1.0, nu * x)));
+        }
+        EXPECT_LE(worst, tol) << "band " << band << " pi, tolerance " << tol;
+    }
+}
+
 // n points per pixel side against the pixel's area average, for fringes cos(2 pi f x + a) of
 // every phase: the largest difference over frequencies up to the cutoff, weighted by a circular
 // pupil's OTF, is what pixel_average_error states (to the grid's resolution); and it falls as
