@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <complex>
+#include <omp.h>
 #include <vector>
 
 #include "complex_fft2d.h"
@@ -13,152 +14,139 @@ namespace wavecam::detail {
 
 namespace {
 
-// Sum of the cos^4 fall-off 1 / (1 + u^2 + v^2)^2 over pixels of tangent width `pitch` spanning
-// u0..u1 at fixed v, by its integral (the midpoint sum differs by about pitch^2 / 24 of its
-// second derivative: 1e-7 here): int du / (a^2 + u^2)^2 = u / (2 a^2 (a^2 + u^2)) +
-// atan(u / a) / (2 a^3), a^2 = 1 + v^2.
-double cos4_sum(double u0, double u1, double v, double pitch) {
-    const double a2 = 1 + v * v, a = std::sqrt(a2);
-    auto G = [&](double u) { return u / (2 * a2 * (a2 + u * u)) + std::atan(u / a) / (2 * a2 * a); };
-    return (G(u1) - G(u0)) / pitch;
-}
-
-// The sources as the far tail sees them: the frame's pixels, and beyond its edges the edge
-// continued (each missing pixel takes the nearest edge pixel's radiance and depth, at its own
-// field position, so with its own cos^4 fall-off).
-class FrameSources {
-public:
-    FrameSources(const KernelTable& t, const SpectralScene& scene)
-        : scene_(scene), c_(scene.camera), pitch_(c_.tan_pitch()) {
-        const size_t n = size_t(c_.width) * c_.height;
-        lower_.resize(n);
-        upper_.resize(n);
-        for (int j = 0; j < c_.height; ++j)
-            for (int i = 0; i < c_.width; ++i) {
-                const size_t q = size_t(j) * c_.width + i;
-                const double d = scene.depth[q];
-                const double w = d >= kInfiniteDepth ? 0.0 : 1.0 / c_.planar_depth(i, j, d, scene.depth_meaning);
-                int lower = 0;
-                t.layers.locate(w, lower, upper_[q]);
-                lower_[q] = uint8_t(lower);
-            }
+// Direction cosines in units of the pitch on the axis ("axis pixels"): a = (u, v) / (pitch
+// sqrt(1 + u^2 + v^2)) for tangent-plane (u, v). In them a PSF is one function of a_film - a_source
+// for every source (Fraunhofer optics), and a film pixel covers cos^4 of an axis pixel, the share
+// of a source's light it gets of a uniform spread; the disc |a| < 1 / pitch holds every direction.
+struct DirectionCosines {
+    double pitch;
+    void of_tangent(double u, double v, double& ax, double& ay) const {
+        const double n = pitch * std::sqrt(1 + u * u + v * v);
+        ax = u / n;
+        ay = v / n;
     }
-
-    // Adds to light[layer][primary] the light of the cell x cell block of camera pixels from
-    // (x0, y0), which may reach beyond the frame: inside it pixel by pixel, beyond it the edge
-    // pixel's light times the fall-off summed along the run of pixels that repeat it.
-    void add_block(int x0, int y0, int cell, std::vector<double>& light) const {
-        const int W = c_.width, H = c_.height;
-        // runs along each axis: before the frame, inside it, after it
-        const int xa_[3] = {x0, std::max(x0, 0), std::max(x0, W)};
-        const int xb_[3] = {std::min(x0 + cell, 0), std::min(x0 + cell, W), x0 + cell};
-        const int ya_[3] = {y0, std::max(y0, 0), std::max(y0, H)};
-        const int yb_[3] = {std::min(y0 + cell, 0), std::min(y0 + cell, H), y0 + cell};
-        for (int ry = 0; ry < 3; ++ry) {
-            const int ya = ya_[ry], yb = yb_[ry];
-            for (int rx = 0; rx < 3; ++rx) {
-                const int xa = xa_[rx], xb = xb_[rx];
-                if (xa >= xb || ya >= yb) continue;
-                if (rx != 1) {  // columns beyond the frame: per row, the edge pixel times the run's fall-off
-                    const int ci = rx == 0 ? 0 : W - 1;
-                    for (int y = ya; y < yb; ++y)
-                        add(ci, std::clamp(y, 0, H - 1), cos4_sum(u(xa), u(xb), v(y + 0.5), pitch_), light);
-                } else if (ry != 1) {  // rows beyond the frame: per column, likewise
-                    const int cj = ry == 0 ? 0 : H - 1;
-                    for (int x = xa; x < xb; ++x) add(x, cj, cos4_sum(v(yb), v(ya), u(x + 0.5), pitch_), light);
-                } else {
-                    for (int y = ya; y < yb; ++y) {
-                        const double vy = v(y + 0.5);
-                        for (int x = xa; x < xb; ++x) {
-                            const double ux = u(x + 0.5), c2 = 1.0 / (1.0 + ux * ux + vy * vy);
-                            add(x, y, c2 * c2, light);
-                        }
-                    }
-                }
-            }
-        }
+    // false beyond the disc
+    bool to_tangent(double ax, double ay, double& u, double& v) const {
+        const double x = ax * pitch, y = ay * pitch, r2 = 1 - x * x - y * y;
+        if (r2 <= 0) return false;
+        u = x / std::sqrt(r2);
+        v = y / std::sqrt(r2);
+        return true;
     }
-
-private:
-    double u(double x) const { return (x - 0.5 * c_.width) * pitch_; }
-    double v(double y) const { return (0.5 * c_.height - y) * pitch_; }
-    void add(int ci, int cj, double falloff, std::vector<double>& light) const {
-        const size_t q = size_t(cj) * c_.width + ci;
-        const int lower = lower_[q];
-        const double upper = upper_[q];
-        for (int p = 0; p < 3; ++p) {
-            const double x = falloff * scene_.rgb[3 * q + p];
-            light[size_t(lower) * 3 + p] += (1.0 - upper) * x;
-            if (upper > 0) light[size_t(lower + 1) * 3 + p] += upper * x;
-        }
-    }
-
-    const SpectralScene& scene_;
-    const PinholeCamera& c_;
-    double pitch_;  // tangent-plane width of a pixel
-    std::vector<uint8_t> lower_;
-    std::vector<float> upper_;
 };
 
-// The annulus R <= r <= reach with intensity ~ 1/r^3, integrated over cells of `cell` pixels,
-// holding 1 - R / reach (the share of a 1/r tail beyond R that lies within reach); (2 half + 1)^2 cells.
+// The annulus R <= r <= reach with intensity ~ 1/r^3, integrated over cells of `cell` pixels and
+// holding 1 in all; its (2 half + 1)^2 cells round the centre (half may cut the annulus short
+// where the grid it spreads over is narrower than the reach).
 std::vector<double> tail_kernel(int radius, int reach, int cell, int half) {
-    const int w = 2 * half + 1, sub = 6;
+    const int w = 2 * half + 1, sub = 6, full = reach / cell + 1;
     std::vector<double> k(size_t(w) * w, 0.0);
     double total = 0;
-    for (int b = -half; b <= half; ++b)
-        for (int a = -half; a <= half; ++a) {
+    for (int b = -full; b <= full; ++b)
+        for (int a = -full; a <= full; ++a) {
             double s = 0;
             for (int sb = 0; sb < sub; ++sb)
                 for (int sa = 0; sa < sub; ++sa) {
                     const double r = std::hypot((a + (sa + 0.5) / sub - 0.5) * cell, (b + (sb + 0.5) / sub - 0.5) * cell);
                     if (r >= radius && r <= reach) s += 1.0 / (r * r * r);
                 }
-            k[size_t(b + half) * w + (a + half)] = s;
+            if (std::abs(a) <= half && std::abs(b) <= half) k[size_t(b + half) * w + (a + half)] = s;
             total += s;
         }
-    for (double& x : k) x *= (1.0 - double(radius) / reach) / total;
+    for (double& x : k) x /= total;
     return k;
 }
 
-// The coarse grid the tail is gathered and spread on: cells of `cell` x `cell` pixels, cell
-// (0, 0) at domain pixel (x0, y0), covering the output widened by the tail's reach.
+// The coarse grid the tail is gathered and spread on, in axis pixels: cells of `cell` x `cell`,
+// cell (0, 0) from (a0, b0), covering the output's directions widened by the tail's reach.
 struct CoarseGrid {
-    int cell, x0, y0, cw, ch;
+    int cell;
+    double a0, b0;
+    int cw, ch;
+    int column(double ax) const { return int(std::floor((ax - a0) / cell)); }
+    int row(double ay) const { return int(std::floor((ay - b0) / cell)); }
 };
 
-// Per coarse cell, the light its sources send beyond their kernels: each layer's light times the
-// kernels' missing shares at the cell's centre, interpolated as the kernels are.
+// Per coarse cell, the light its sources send beyond their kernels, each source's light (radiance
+// x its cos^4 fall-off, a pixel's light as the kernels carry it) times its kernels' missing share
+// at its own place, interpolated as the kernels are. The sources are the frame's pixels and, beyond its edges, the edge continued: each direction
+// beyond takes the nearest edge pixel's radiance and depth, a cell's part beyond the frame
+// sampled at 4 x 4 points (the light of an area in axis pixels is radiance x that area).
 std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scene, int origin, const CoarseGrid& g,
-                                 int nthreads) {
-    const int L = t.layers.count, nkx = int(t.ax.knots.size()), anchors = t.anchors();
-    std::vector<float> missing(3 * size_t(g.cw) * g.ch, 0.0f);
-    const FrameSources frame(t, scene);
-#pragma omp parallel num_threads(nthreads)
-    {
-        std::vector<double> light(size_t(L) * 3);  // a cell's light per layer and primary
-#pragma omp for
-        for (int J = 0; J < g.ch; ++J)
-            for (int I = 0; I < g.cw; ++I) {
-                std::fill(light.begin(), light.end(), 0.0);
-                frame.add_block(g.x0 + I * g.cell - origin, g.y0 + J * g.cell - origin, g.cell, light);
-                const int kx = std::clamp(g.x0 + I * g.cell + g.cell / 2, 0, t.ax.knots.back() - 1);
-                const int ky = std::clamp(g.y0 + J * g.cell + g.cell / 2, 0, t.ay.knots.back() - 1);
-                const int cx = t.ax.cell_of(kx), cy = t.ay.cell_of(ky);
-                const double bx = t.ax.upper_weight(cx, kx), by = t.ay.upper_weight(cy, ky);
-                float* m = &missing[3 * (size_t(J) * g.cw + I)];
-                for (int corner = 0; corner < 4; ++corner) {
-                    const int dx = corner & 1, dy = corner >> 1;
-                    const double phi = (dx ? bx : 1 - bx) * (dy ? by : 1 - by);
-                    if (phi == 0) continue;
-                    const int a = (cy + dy) * nkx + (cx + dx);
-                    for (int l = 0; l < L; ++l) {
-                        const float* def = &t.deficit[(size_t(l) * anchors + a) * 9];
-                        for (int p = 0; p < 3; ++p)
-                            for (int k = 0; k < 3; ++k) m[k] += float(phi * light[size_t(l) * 3 + p] * def[3 * p + k]);
-                    }
-                }
+                                 const DirectionCosines& dc, int nthreads) {
+    const PinholeCamera& c = scene.camera;
+    const int W = c.width, H = c.height, L = t.layers.count, nkx = int(t.ax.knots.size()), anchors = t.anchors();
+    const size_t cells = size_t(g.cw) * g.ch;
+    // the missing share of source light (per primary p, into XYZ k) at camera position (x, y),
+    // at inverse depth w: the anchors' and layers' deficits interpolated
+    auto add_missing = [&](double x, double y, double w, const float* rgb, double light, double ax, double ay,
+                           double* into) {
+        const int I = g.column(ax), J = g.row(ay);
+        if (I < 0 || J < 0 || I >= g.cw || J >= g.ch) return;
+        int lower = 0;
+        float upper = 0;
+        t.layers.locate(w, lower, upper);
+        const int kx = std::clamp(int(std::floor(x)) + origin, 0, t.ax.knots.back() - 1);
+        const int ky = std::clamp(int(std::floor(y)) + origin, 0, t.ay.knots.back() - 1);
+        const int cx = t.ax.cell_of(kx), cy = t.ay.cell_of(ky);
+        const double bx = t.ax.upper_weight(cx, kx), by = t.ay.upper_weight(cy, ky);
+        double* m = into + 3 * (size_t(J) * g.cw + I);
+        for (int corner = 0; corner < 4; ++corner) {
+            const int dx = corner & 1, dy = corner >> 1;
+            const double phi = (dx ? bx : 1 - bx) * (dy ? by : 1 - by);
+            if (phi == 0) continue;
+            const int a = (cy + dy) * nkx + (cx + dx);
+            for (int layer = lower; layer <= std::min(lower + 1, L - 1); ++layer) {
+                const double share = layer == lower ? 1.0 - upper : upper;
+                if (share == 0) continue;
+                const float* def = &t.deficit[(size_t(layer) * anchors + a) * 9];
+                for (int p = 0; p < 3; ++p)
+                    for (int k = 0; k < 3; ++k) m[k] += phi * share * light * rgb[p] * def[3 * p + k];
             }
+        }
+    };
+    auto inverse_depth = [&](int i, int j) {
+        const double d = scene.depth[size_t(j) * W + i];
+        return d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(i, j, d, scene.depth_meaning);
+    };
+    // a grid per thread, summed in order (the same image at any schedule), as many as 64 MiB holds
+    const int threads = int(std::clamp<size_t>((size_t(64) << 20) / (3 * cells * sizeof(double)), 1, std::max(1, nthreads)));
+    std::vector<std::vector<double>> part(threads, std::vector<double>(3 * cells, 0.0));
+#pragma omp parallel num_threads(threads)
+    {
+        std::vector<double>& mine = part[size_t(omp_get_thread_num())];
+        // the frame's pixels, each at its centre
+#pragma omp for schedule(static)
+        for (int j = 0; j < H; ++j)
+            for (int i = 0; i < W; ++i) {
+                double u, v, ax, ay;
+                c.tangent(i + 0.5, j + 0.5, u, v);
+                dc.of_tangent(u, v, ax, ay);
+                const double c2 = 1.0 / (1 + u * u + v * v);
+                add_missing(i + 0.5, j + 0.5, inverse_depth(i, j), &scene.rgb[3 * (size_t(j) * W + i)], c2 * c2, ax, ay,
+                            mine.data());
+            }
+        // beyond them, the edge continued
+        const double sub = g.cell / 4.0;
+#pragma omp for schedule(static)
+        for (int J = 0; J < g.ch; ++J)
+            for (int I = 0; I < g.cw; ++I)
+                for (int q = 0; q < 16; ++q) {
+                    const double ax = g.a0 + I * g.cell + (q % 4 + 0.5) * sub, ay = g.b0 + J * g.cell + (q / 4 + 0.5) * sub;
+                    double u, v;
+                    if (!dc.to_tangent(ax, ay, u, v)) continue;
+                    const double x = u / dc.pitch + 0.5 * W, y = 0.5 * H - v / dc.pitch;
+                    if (x >= 0 && x < W && y >= 0 && y < H) continue;
+                    const int ci = std::clamp(int(std::floor(x)), 0, W - 1), cj = std::clamp(int(std::floor(y)), 0, H - 1);
+                    add_missing(x, y, inverse_depth(ci, cj), &scene.rgb[3 * (size_t(cj) * W + ci)], sub * sub, ax, ay,
+                                mine.data());
+                }
+    }
+    std::vector<float> missing(3 * cells, 0.0f);
+    for (size_t q = 0; q < missing.size(); ++q) {
+        double sum = 0;
+        for (const auto& p : part) sum += p[q];
+        missing[q] = float(sum);
     }
     return missing;
 }
@@ -181,7 +169,8 @@ std::vector<float> spread_over_annulus(const std::vector<float>& missing, const 
                                        const CellWindow& read, int nthreads) {
     const int R = annulus.R, reach = annulus.reach;
     const int I0 = read.I0, I1 = read.I1, J0 = read.J0, J1 = read.J1;
-    const int half = reach / g.cell + 1, kw = 2 * half + 1;
+    // (cells farther apart than the grid is wide join no two of its cells)
+    const int half = std::min(reach / g.cell + 1, std::max(g.cw, g.ch)), kw = 2 * half + 1;
     const std::vector<double> k = tail_kernel(R, reach, g.cell, half);
     std::vector<float> spread(3 * size_t(g.cw) * g.ch, 0.0f);
     std::vector<int> lit;
@@ -226,36 +215,54 @@ std::vector<float> spread_over_annulus(const std::vector<float>& missing, const 
 
 void add_far_tail(const KernelTable& t, const SpectralScene& scene, int origin, const OutputWindow& out, float* xyz,
                   int nthreads) {
-    const int out_x0 = out.x0, out_y0 = out.y0, out_w = out.width, out_h = out.height;
-    const int R = t.radius, reach = kTailReach * R;
+    const int out_w = out.width, out_h = out.height;
     if (t.deficit.empty()) return;
+    const PinholeCamera& c = scene.camera;
+    const DirectionCosines dc{c.tan_pitch()};
+    const double rho = 1.0 / dc.pitch;  // the disc of directions, in axis pixels
+    // The annulus starts where the kernel ends: R pixels from the axis are R / sqrt(1 + (R
+    // pitch)^2) axis pixels of direction (fewer off the axis, where pixels span less; always
+    // inside the disc)
+    const double kernel_edge = t.radius / std::sqrt(1 + std::pow(t.radius * dc.pitch, 2));
+    const int R = std::max(1, int(std::lround(kernel_edge))), reach = kTailReach * R;
+    // the output's directions (the extremes lie on its border), widened by the reach
+    double lo_a = INFINITY, hi_a = -INFINITY, lo_b = INFINITY, hi_b = -INFINITY;
+    auto border = [&](int i, int j) {
+        double u, v, ax, ay;
+        c.tangent(out.x0 - origin + i + 0.5, out.y0 - origin + j + 0.5, u, v);
+        dc.of_tangent(u, v, ax, ay);
+        lo_a = std::min(lo_a, ax), hi_a = std::max(hi_a, ax), lo_b = std::min(lo_b, ay), hi_b = std::max(hi_b, ay);
+    };
+    for (int i = 0; i < out_w; ++i) border(i, 0), border(i, out_h - 1);
+    for (int j = 0; j < out_h; ++j) border(0, j), border(out_w - 1, j);
     const int cell = std::max(1, R / 3);
-    const CoarseGrid g{cell, out_x0 - reach, out_y0 - reach, (out_w + 2 * reach + cell - 1) / cell,
-                       (out_h + 2 * reach + cell - 1) / cell};
-    const int cw = g.cw, ch = g.ch;
-    const int I0 = std::max(0, reach / cell - 1), I1 = std::min(cw, (reach + out_w) / cell + 2);
-    const int J0 = std::max(0, reach / cell - 1), J1 = std::min(ch, (reach + out_h) / cell + 2);
+    const double a0 = std::max(-rho, lo_a - reach), a1 = std::min(rho, hi_a + reach);
+    const double b0 = std::max(-rho, lo_b - reach), b1 = std::min(rho, hi_b + reach);
+    const CoarseGrid g{cell, a0, b0, int(std::ceil((a1 - a0) / cell)) + 1, int(std::ceil((b1 - b0) / cell)) + 1};
+    const CellWindow read{std::max(0, g.column(lo_a) - 1), std::min(g.cw, g.column(hi_a) + 2),
+                          std::max(0, g.row(lo_b) - 1), std::min(g.ch, g.row(hi_b) + 2)};
     const std::vector<float> spread =
-        spread_over_annulus(missing_light(t, scene, origin, g, nthreads), g, {R, reach}, {I0, I1, J0, J1}, nthreads);
-    // back to pixels: each coarse cell's light over its cell x cell pixels, bilinearly
-    const float per_pixel = 1.0f / float(cell * cell);
+        spread_over_annulus(missing_light(t, scene, origin, g, dc, nthreads), g, {R, reach}, read, nthreads);
+    // back to pixels: each pixel takes the cells' light at its direction (bilinearly) over its
+    // share of a cell, cos^4 of an axis pixel over the cell's cell^2
+    const double per_area = 1.0 / (double(cell) * cell);
 #pragma omp parallel for num_threads(nthreads)
-    for (int j = 0; j < out_h; ++j) {
-        const double fy = (j + reach + 0.5) / cell - 0.5;
-        const int J = std::clamp(int(std::floor(fy)), 0, ch - 2);
-        const double ty = std::clamp(fy - J, 0.0, 1.0);
+    for (int j = 0; j < out_h; ++j)
         for (int i = 0; i < out_w; ++i) {
-            const double fx = (i + reach + 0.5) / cell - 0.5;
-            const int I = std::clamp(int(std::floor(fx)), 0, cw - 2);
-            const double tx = std::clamp(fx - I, 0.0, 1.0);
+            double u, v, ax, ay;
+            c.tangent(out.x0 - origin + i + 0.5, out.y0 - origin + j + 0.5, u, v);
+            dc.of_tangent(u, v, ax, ay);
+            const double fx = (ax - g.a0) / cell - 0.5, fy = (ay - g.b0) / cell - 0.5;
+            const int I = std::clamp(int(std::floor(fx)), 0, g.cw - 2), J = std::clamp(int(std::floor(fy)), 0, g.ch - 2);
+            const double tx = std::clamp(fx - I, 0.0, 1.0), ty = std::clamp(fy - J, 0.0, 1.0);
+            const double c2 = 1.0 / (1 + u * u + v * v), share = c2 * c2 * per_area;
             for (int q = 0; q < 3; ++q) {
-                auto s = [&](int ii, int jj) { return double(spread[3 * (size_t(jj) * cw + ii) + q]); };
-                const double v = (1 - ty) * ((1 - tx) * s(I, J) + tx * s(I + 1, J)) +
-                                 ty * ((1 - tx) * s(I, J + 1) + tx * s(I + 1, J + 1));
-                xyz[3 * (size_t(j) * out_w + i) + q] += float(v * per_pixel);
+                auto at = [&](int ii, int jj) { return double(spread[3 * (size_t(jj) * g.cw + ii) + q]); };
+                const double value = (1 - ty) * ((1 - tx) * at(I, J) + tx * at(I + 1, J)) +
+                                     ty * ((1 - tx) * at(I, J + 1) + tx * at(I + 1, J + 1));
+                xyz[3 * (size_t(j) * out_w + i) + q] += float(value * share);
             }
         }
-    }
 }
 
 }  // namespace wavecam::detail
