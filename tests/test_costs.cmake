@@ -4,9 +4,9 @@
 # once it has one; a name not in the directory is ignored.
 foreach(cost_and_test
     440 WideField.PsfRunsMatchTheExactSumsWithTheSamePhases
-    250 WideField.ConvolutionMethodMatchesTheRayleighSommerfeldIntegral
-    95 GpuSums.PsfSummationRunsMatchTheCpu
-    96 OneSourceModel.AllThreeMethodsConvergeToOneImage
+    225 OneSourceModel.AllThreeMethodsConvergeToOneImage
+    224 WideField.ConvolutionMethodMatchesTheRayleighSommerfeldIntegral
+    82 GpuSums.PsfSummationRunsMatchTheCpu
     87 ApplyCommand.TheEnvironmentChangesNoImageAndNoWordMeansTwoThings
     72 PhaseCode.RunsFromThePsfKeepEveryChannelWithinTwoPercentWhereThePsfIsWide
     64 PsfSummation.IncoherentMatchesTheExactIncoherentSum

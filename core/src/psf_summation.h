@@ -38,7 +38,7 @@
 // t = 3%: 3.3%, 1.75%, 0.96% at K = 16, 64, 256 at 10 deg, 1.53% at 64 at 60 deg; the incoherent
 // sums, the runs' limit, 0.25%). So coherent runs of a job of few runs take kernels that hold
 // more (kernel_energy): t = kFewRunsDeficit up to 64 runs, rising to kPsfKernelEnergy's 3% at
-// 128; 1.32% then at 64 runs at 10 deg. Not where the Airy radius is under a pixel: on a uniform
+// 128; 1.37% then at 64 runs at 10 deg. Not where the Airy radius is under a pixel: on a uniform
 // wall at 50 deg with a PSF of half a pixel the runs differed from the exact sums' by 1.03% with
 // t = 3% and 1.10% with 1.5%, at five times the kernels' work.
 //

@@ -243,9 +243,9 @@ TEST(WideField, ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral) {
 // depths, a PSF about two pixels wide, relative RMS over the frame within 1.5%. A run through psf
 // lacks the cross terms of its kernels' far tails (docs/summation.md), about 0.8 sqrt(t / K) of
 // the mean for a share t left out over K runs, so jobs of 64 runs or fewer take kernels holding
-// more (t = 1.5%): 64 runs at 10 deg, measured 1.32% (1.75% with t = 3%). At 60 deg such kernels
+// more (t = 1.5%): 64 runs at 10 deg, measured 1.37% (1.75% with t = 3%). At 60 deg such kernels
 // would take about nine times the kernels' work on this 32 px frame (nearly all of it margin),
-// where auto takes the exact sums; 128 runs there keep t = 3%: 1.03% (1.53% at 64 runs; 2.7% when
+// where auto takes the exact sums; 128 runs there keep t = 3%: 1.15% (1.53% at 64 runs; 2.7% when
 // the margin took the edge anchors' kernels, 8% when the anchors ignored the field).
 TEST(WideField, PsfRunsMatchTheExactSumsWithTheSamePhases) {
     for (const auto& [fov, runs] : {std::pair{10.0, 64}, std::pair{60.0, 128}}) {
