@@ -47,7 +47,8 @@ std::vector<double> tail_kernel(int radius, int reach, int cell, int half) {
             double s = 0;
             for (int sb = 0; sb < sub; ++sb)
                 for (int sa = 0; sa < sub; ++sa) {
-                    const double r = std::hypot((a + (sa + 0.5) / sub - 0.5) * cell, (b + (sb + 0.5) / sub - 0.5) * cell);
+                    const double x = (a + (sa + 0.5) / sub - 0.5) * cell, y = (b + (sb + 0.5) / sub - 0.5) * cell;
+                    const double r = std::hypot(x, y);
                     if (r >= radius && r <= reach) s += 1.0 / (r * r * r);
                 }
             if (std::abs(a) <= half && std::abs(b) <= half) k[size_t(b + half) * w + (a + half)] = s;
@@ -111,7 +112,8 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
         return d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(i, j, d, scene.depth_meaning);
     };
     // a grid per thread, summed in order (the same image at any schedule), as many as 64 MiB holds
-    const int threads = int(std::clamp<size_t>((size_t(64) << 20) / (3 * cells * sizeof(double)), 1, std::max(1, nthreads)));
+    const size_t fit = (size_t(64) << 20) / (3 * cells * sizeof(double));
+    const int threads = int(std::clamp<size_t>(fit, 1, size_t(std::max(1, nthreads))));
     std::vector<std::vector<double>> part(threads, std::vector<double>(3 * cells, 0.0));
 #pragma omp parallel num_threads(threads)
     {
@@ -133,12 +135,14 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
         for (int J = 0; J < g.ch; ++J)
             for (int I = 0; I < g.cw; ++I)
                 for (int q = 0; q < 16; ++q) {
-                    const double ax = g.a0 + I * g.cell + (q % 4 + 0.5) * sub, ay = g.b0 + J * g.cell + (q / 4 + 0.5) * sub;
+                    const double ax = g.a0 + I * g.cell + (q % 4 + 0.5) * sub;
+                    const double ay = g.b0 + J * g.cell + (q / 4 + 0.5) * sub;
                     double u, v;
                     if (!dc.to_tangent(ax, ay, u, v)) continue;
                     const double x = u / dc.pitch + 0.5 * W, y = 0.5 * H - v / dc.pitch;
                     if (x >= 0 && x < W && y >= 0 && y < H) continue;
-                    const int ci = std::clamp(int(std::floor(x)), 0, W - 1), cj = std::clamp(int(std::floor(y)), 0, H - 1);
+                    const int ci = std::clamp(int(std::floor(x)), 0, W - 1);
+                    const int cj = std::clamp(int(std::floor(y)), 0, H - 1);
                     add_missing(x, y, inverse_depth(ci, cj), &scene.rgb[3 * (size_t(cj) * W + ci)], sub * sub, ax, ay,
                                 mine.data());
                 }
@@ -254,7 +258,8 @@ void add_far_tail(const KernelTable& t, const SpectralScene& scene, int origin, 
             c.tangent(out.x0 - origin + i + 0.5, out.y0 - origin + j + 0.5, u, v);
             dc.of_tangent(u, v, ax, ay);
             const double fx = (ax - g.a0) / cell - 0.5, fy = (ay - g.b0) / cell - 0.5;
-            const int I = std::clamp(int(std::floor(fx)), 0, g.cw - 2), J = std::clamp(int(std::floor(fy)), 0, g.ch - 2);
+            const int I = std::clamp(int(std::floor(fx)), 0, g.cw - 2);
+            const int J = std::clamp(int(std::floor(fy)), 0, g.ch - 2);
             const double tx = std::clamp(fx - I, 0.0, 1.0), ty = std::clamp(fy - J, 0.0, 1.0);
             const double c2 = 1.0 / (1 + u * u + v * v), share = c2 * c2 * per_area;
             for (int q = 0; q < 3; ++q) {
