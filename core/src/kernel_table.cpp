@@ -64,6 +64,10 @@ int AnchorAxis::cell_of(int pixel) const {
     return std::clamp(int(it - knots.begin()) - 1, 0, cells() - 1);
 }
 
+int AnchorAxis::cell_count(int span, int ripple, int min_cell, double tan_pitch, double max_step) {
+    return std::max(std::min(ripple, span / std::max(1, min_cell)), int(std::ceil(span * tan_pitch / max_step - 1e-9)));
+}
+
 AnchorAxis AnchorAxis::even(int inset, int span, int cells) {
     int n = std::clamp(cells, 1, std::max(1, span));
     // an odd span has its middle between pixels, where no knot can lie: an odd count of cells
@@ -87,10 +91,7 @@ AnchorAxis anchor_axis(const KernelTableSpec& spec, bool vertical) {
     for (int s = 0; s < spec.basis->size(); ++s) longest = std::max(longest, spec.basis->wavelength(s));
     const PinholeCamera& c = spec.camera;
     const double step = anchor_step(spec.aperture, longest, c.film_distance, c.pixel_pitch());
-    // the ripple rule's cells (at most `ripple`, each at least kMinCellRadii kernel radii wide),
-    // or more where the field's stretch asks for them
-    const int cells = std::max(std::min(ripple, span / std::max(1, kMinCellRadii * spec.radius)),
-                               int(std::ceil(span * c.tan_pitch() / step - 1e-9)));
+    const int cells = AnchorAxis::cell_count(span, ripple, kMinCellRadii * spec.radius, c.tan_pitch(), step);
     return AnchorAxis::even(spec.radius, span, cells);
 }
 

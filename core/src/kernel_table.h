@@ -75,6 +75,10 @@ struct AnchorAxis {
     // `cells` equal cells (to the pixel) over [inset, inset + span], mirror-symmetric about its
     // middle (one more where the span is odd and `cells` even: no knot can lie on a half pixel).
     static AnchorAxis even(int inset, int span, int cells);
+    // How many cells a span of `span` pixels takes: the ripple rule's (at most `ripple`, each at
+    // least `min_cell` pixels wide), or more where the field's stretch asks for them (cells at
+    // most `max_step` wide in the tangent plane, where a pixel is `tan_pitch` wide).
+    static int cell_count(int span, int ripple, int min_cell, double tan_pitch, double max_step);
     int cells() const { return int(knots.size()) - 1; }
     int cell_of(int pixel) const;
     // The bilinear hat of knot k at pixel `pixel` (its centre): 1 on the knot, 0 at the

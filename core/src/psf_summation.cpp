@@ -197,8 +197,9 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
     };
     // Where the aperture is even along an axis, an anchor and its mirror image across the optical
     // axis have mirror-image kernels (psf_summation_geometry.cpp): one of each pair is computed.
-    const std::vector<int> source = mirror_sources(g.ax, g.ay, g.width - 1, g.height - 1,
-                                                   spec.aperture.even_in_x(), spec.aperture.even_in_y());
+    tail.source =
+        mirror_sources(g.ax, g.ay, g.width - 1, g.height - 1, spec.aperture.even_in_x(), spec.aperture.even_in_y());
+    const std::vector<int>& source = tail.source;
     std::vector<int> computed;
     for (int a = 0; a < A; ++a)
         if (source[a] == a) computed.push_back(a);
@@ -235,10 +236,9 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
     if (stop) return failed.ok() ? cancelled() : R::failure(failed);
     // the others, their sources' kernels mirrored: film point (dx, sub-point sa) of one is
     // (-dx, n - 1 - sa) of the other along x, likewise along y
-    const int nkx = int(g.ax.knots.size());
     for (int a = 0; a < A; ++a) {
         if (source[a] == a) continue;
-        const bool flip_x = source[a] % nkx != a % nkx, flip_y = source[a] / nkx != a / nkx;
+        const bool flip_x = tail.mirrored_x(a), flip_y = tail.mirrored_y(a);
         for (int l = 0; l < g.layers.count; ++l) {
             const std::vector<std::complex<double>>& from = kernel[impl->kernel_index(l, source[a])];
             std::vector<std::complex<double>>& to = kernel[impl->kernel_index(l, a)];

@@ -77,8 +77,7 @@ PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s) {
     const double step = anchor_step(s.aperture, s.wavelength, c.film_distance, c.pixel_pitch()) / std::sqrt(2.0);
     auto axis = [&](int length) {
         const int span = length - 1, ripple = std::max(1, int(std::lround(double(cells) * length / longest)));
-        const int field = int(std::ceil(span * c.tan_pitch() / step - 1e-9));
-        int n = std::max({1, std::min(ripple, span / std::max(1, min_cell)), field});
+        int n = std::max(1, AnchorAxis::cell_count(span, ripple, min_cell, c.tan_pitch(), step));
         if (span % 2 == 0 && n % 2 == 1) ++n;  // (an odd frame: a knot on the axis pixel, the frame's centre)
         return AnchorAxis::even(0, span, n);
     };

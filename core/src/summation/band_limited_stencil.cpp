@@ -88,15 +88,13 @@ BandLimitedStencil::BandLimitedStencil(double nu_max, double tolerance) {
     if (band < M_PI) {
         static std::mutex guard;
         static std::map<std::pair<double, double>, BandLimitedStencil> designed;
+        bool known = false;
         {
             std::lock_guard<std::mutex> lock(guard);
-            if (auto it = designed.find({band, tol}); it != designed.end() && it->second.usable()) {
-                *this = it->second;
-                return;
-            }
+            if (auto it = designed.find({band, tol}); it != designed.end()) *this = it->second, known = true;
         }
-        design(band, tol);
-        {
+        if (!known) {
+            design(band, tol);
             std::lock_guard<std::mutex> lock(guard);
             designed.emplace(std::pair{band, tol}, *this);
         }
