@@ -9,6 +9,7 @@
 #include <mutex>
 
 #include "psf_summation_geometry.h"
+#include "basis_spectra.h"
 #include "complex_fft2d.h"
 #include "far_tail.h"
 #include "gpu/compute_device_impl.h"
@@ -32,22 +33,6 @@ double hat(const AnchorAxis& axis, int k, int i) {
     return k == cell ? 1 - t : k == cell + 1 ? t : 0.0;
 }
 
-// t[q] += a[q] b[q] for n complex values, written out so that it vectorises (std::complex's
-// product checks for infinities); built for AVX2 too, chosen when the processor has it (the
-// same multiplies and adds, wider: the same bits).
-__attribute__((target_clones("avx2", "default"))) void multiply_add(const std::complex<float>* a,
-                                                                    const std::complex<float>* b,
-                                                                    std::complex<float>* t, size_t n) {
-    const float* x = reinterpret_cast<const float*>(a);
-    const float* y = reinterpret_cast<const float*>(b);
-    float* z = reinterpret_cast<float*>(t);
-    for (size_t q = 0; q < 2 * n; q += 2) {
-        const float xr = x[q], xi = x[q + 1], yr = y[q], yi = y[q + 1];
-        z[q] += xr * yr - xi * yi;
-        z[q + 1] += xr * yi + xi * yr;
-    }
-}
-
 // A transform side the GPU's FFTs take (gpu_psf_summation.h): the next power of two.
 int gpu_side(int n) {
     int p = 2;
@@ -63,7 +48,7 @@ struct PsfSummation::Impl {
     int threads = 1;
     std::unique_ptr<ComplexFft2D> fft;
     KernelBasis basis;  // the kernels (layer x anchors + anchor) as combinations of a few
-    std::vector<std::complex<float>> spectra;  // [basis kernel][sub-point][ny x nx] (none on a GPU)
+    BasisSpectra spectra;  // the basis kernels' spectra per mode (none on a GPU)
     // the runs on a Vulkan device (the spectra kept there), or none: on the CPU
     std::unique_ptr<GpuPsfSummation> gpu;
     // a run's images (one per basis kernel), sums (one per sub-point) and film values, kept from
@@ -82,10 +67,6 @@ struct PsfSummation::Impl {
     // The film's sub-point fields U_sub, as the runs sum them: modes U_m = sum_sub mode[m][sub] U_sub
     // (sub_point_modes)
     SubPointModes modes;
-    std::complex<float>* spectrum(int r, int m) { return &spectra[(size_t(r) * modes.count + m) * fft->size()]; }
-    const std::complex<float>* spectrum(int r, int m) const {
-        return &spectra[(size_t(r) * modes.count + m) * fft->size()];
-    }
     // The kernels that domain pixel (i, j)'s source blends, and their weights (at most 8): bilinear
     // over the anchors round it, linear between its two layers.
     int blend_of(const PsfSummationSources& s, int i, int j, size_t* index, double* weight) const {
@@ -296,7 +277,7 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
     detail::note_run(device, impl->gpu ? kRanOnGpu : kRanOnCpu);
     impl->fft = std::make_unique<ComplexFft2D>(g.nx, g.ny, impl->threads);
     const size_t N = impl->fft->size();
-    if (!impl->gpu) impl->spectra.assign(size_t(basis.rank) * M * N, {});
+    if (!impl->gpu) impl->spectra = BasisSpectra(basis.rank, M, N);
     // the basis kernels, sub-point by sub-point (as the kernels)
     const size_t length = size_t(S) * side * side;
     std::vector<std::complex<double>> based(size_t(basis.rank) * length, 0.0);
@@ -330,8 +311,16 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
             }
     } else {
         // small transforms one per thread (complex_fft2d.h), large ones spread over the threads
-#pragma omp parallel for num_threads(impl->threads) schedule(dynamic) if (N < ComplexFft2D::kParallelPoints)
-        for (int rm = 0; rm < basis.rank * M; ++rm) spectrum_of(rm / M, rm % M, impl->spectrum(rm / M, rm % M));
+#pragma omp parallel num_threads(impl->threads) if (N < ComplexFft2D::kParallelPoints)
+        {
+            std::vector<std::complex<float>> spectrum(N);
+#pragma omp for schedule(dynamic)
+            for (int rm = 0; rm < basis.rank * M; ++rm) {
+                std::fill(spectrum.begin(), spectrum.end(), std::complex<float>(0));
+                spectrum_of(rm / M, rm % M, spectrum.data());
+                impl->spectra.set(rm / M, rm % M, spectrum.data());
+            }
+        }
     }
     PsfSummation conv;
     conv.impl_ = std::move(impl);
@@ -350,16 +339,19 @@ Result<bool> PsfSummation::run(const PsfSummationSources& sources, double scale,
     std::lock_guard<std::mutex> lock(m.busy);
     // per run and basis kernel r, the sources' weights times the share of r in their blended
     // kernel, sum over the blend of weight x coefficient[k][r], on the transform's grid (every
-    // point written, the padding's zeros too: hundreds of MiB at 1080p, not cleared first)
+    // point written, the padding's zeros too: hundreds of MiB at 1080p, not cleared first), in
+    // planes P apart (the spectra's whole chunks; the GPU's transforms take N)
+    const size_t P = m.gpu ? N : m.spectra.plane();
     std::vector<std::complex<float>>& image = m.image;
-    image.resize(size_t(runs) * B * N);
+    image.resize(size_t(runs) * B * P);
     const std::complex<float> zero(0);
 #pragma omp parallel for num_threads(m.threads)
     for (int j = 0; j < g.ny; ++j) {
         std::vector<std::complex<double>> share(B);
         for (int kr = 0; kr < runs * B; ++kr) {
-            std::complex<float>* row = image.data() + size_t(kr) * N + size_t(j) * g.nx;
+            std::complex<float>* row = image.data() + size_t(kr) * P + size_t(j) * g.nx;
             std::fill(row + (j < g.height ? g.width : 0), row + g.nx, zero);
+            if (j == g.ny - 1) std::fill(row + g.nx, image.data() + size_t(kr + 1) * P, zero);
         }
         if (j >= g.height) continue;
         for (int i = 0; i < g.width; ++i) {
@@ -372,7 +364,7 @@ Result<bool> PsfSummation::run(const PsfSummationSources& sources, double scale,
             for (int k = 0; k < runs; ++k) {
                 const std::complex<float> w = sources.weight[size_t(k) * n + size_t(j) * g.width + i];
                 for (int r = 0; r < B; ++r)
-                    image[(size_t(k) * B + r) * N + size_t(j) * g.nx + i] =
+                    image[(size_t(k) * B + r) * P + size_t(j) * g.nx + i] =
                         w == zero ? zero : std::complex<float>(share[r]) * w;
             }
         }
@@ -398,33 +390,29 @@ Result<bool> PsfSummation::run(const PsfSummationSources& sources, double scale,
         // (complex_fft2d.h: one thread each) go to the threads whole.
         const bool whole = N < ComplexFft2D::kParallelPoints;
 #pragma omp parallel for num_threads(m.threads) schedule(dynamic) if (whole)
-        for (int kr = 0; kr < runs * B; ++kr) m.fft->forward(image.data() + size_t(kr) * N, g.height);
+        for (int kr = 0; kr < runs * B; ++kr) m.fft->forward(image.data() + size_t(kr) * P, g.height);
         if (progress && !progress(0.4)) return cancelled();
-        // the products, summed over the basis per run and mode: a block of points at a
-        // time, so that the runs' images stay in cache while each spectrum streams past once
+        // the products, summed over the basis per run and mode (basis_spectra.h): a chunk of
+        // points at a time, its spectra read once for all the runs at once
         std::vector<std::complex<float>>& total = m.total;
-        total.assign(size_t(runs) * M * N, std::complex<float>(0));
-        const size_t block = std::max<size_t>(256, 8192 / runs);
-        const long blocks = long((N + block - 1) / block);
+        total.resize(size_t(runs) * M * P);
+        const long chunks = long(m.spectra.chunks());
 #pragma omp parallel for num_threads(m.threads) schedule(static)
-        for (long b = 0; b < blocks; ++b) {
-            const size_t q0 = size_t(b) * block, count = std::min(N, q0 + block) - q0;
-            for (int mode = 0; mode < M; ++mode)
-                for (int r = 0; r < B; ++r)
-                    for (int k = 0; k < runs; ++k)
-                        multiply_add(image.data() + (size_t(k) * B + r) * N + q0, m.spectrum(r, mode) + q0,
-                                     total.data() + (size_t(k) * M + mode) * N + q0, count);
-        }
+        for (long c = 0; c < chunks; ++c)
+            for (int k = 0; k < runs; ++k)
+                m.spectra.mix(size_t(c), image.data() + size_t(k) * B * P, total.data() + size_t(k) * M * P);
         if (progress && !progress(0.7)) return cancelled();
 #pragma omp parallel for num_threads(m.threads) schedule(dynamic) if (whole)
-        for (int km = 0; km < runs * M; ++km) m.fft->inverse(total.data() + size_t(km) * N);
+        for (int km = 0; km < runs * M; ++km) m.fft->inverse(total.data() + size_t(km) * P);
         const bool incoherent = m.spec.incoherent;
+        const size_t block = 4096;
+        const long blocks = long((N + block - 1) / block);
 #pragma omp parallel for num_threads(m.threads) schedule(static)
         for (long b = 0; b < blocks; ++b) {
             const size_t q0 = size_t(b) * block, q1 = std::min(N, q0 + block);
             for (int k = 0; k < runs; ++k)
                 for (int mode = 0; mode < M; ++mode) {
-                    const std::complex<float>* u = total.data() + (size_t(k) * M + mode) * N;
+                    const std::complex<float>* u = total.data() + (size_t(k) * M + mode) * P;
                     double* f = film.data() + size_t(k) * N;
                     for (size_t q = q0; q < q1; ++q) f[q] += incoherent ? u[q].real() : std::norm(u[q]);
                 }

@@ -10,6 +10,8 @@
 #include <complex>
 #include <vector>
 
+#include "column_fft.h"  // fft_friendly_size
+
 namespace wavecam::detail {
 
 class RealFft2D {
@@ -68,19 +70,5 @@ private:
     kiss_fft_cfg column_forward_, column_inverse_;
     std::vector<std::complex<float>> column_, column_out_;
 };
-
-// Smallest size >= n with no prime factor above 5 (fast for kissfft), and even.
-inline int fft_friendly_size(int n) {
-    // (at least 2: a size of 0 never leaves the loop below; beyond 2^28 no search, a size that
-    // large is only ever a cost to compare, never allocated)
-    if (n < 2) return 2;
-    if (n > (1 << 28)) return n;
-    for (int m = n + (n & 1);; m += 2) {
-        int r = m;
-        for (int p : {2, 3, 5})
-            while (r % p == 0) r /= p;
-        if (r == 1) return m;
-    }
-}
 
 }  // namespace wavecam::detail
