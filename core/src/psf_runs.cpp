@@ -48,6 +48,8 @@ public:
         const MonochromeScene& scene = *setup_.scene;
         tail_.assign(size_t(c.width) * c.height, 0.0f);
         conv_->add_far_tail(scene.power, scene.depth, scene.depth_meaning, 1.0, rows(), tail_.data());
+        // and what the runs' mean lacks of the kernels' intensity blend (psf_summation.h)
+        conv_->add_blend_mean(sources_, power_, balance_, rows(), tail_.data());
         return Result<bool>::success(true);
     }
 
@@ -97,6 +99,7 @@ private:
         sources_.lower.resize(n);
         sources_.upper_share.resize(n);
         amplitude_.resize(n);
+        power_.resize(n);
         key_.resize(n);  // independent: the pixel's random numbers
         const uint64_t pixels = uint64_t(c.width) * c.height;
         for (int j = 0; j < H; ++j)
@@ -111,10 +114,11 @@ private:
                 conv.layers().locate(w, lower, sources_.upper_share[p]);
                 sources_.lower[p] = uint8_t(lower);
                 amplitude_[p] = float(spec_.incoherent ? power : std::sqrt(power));
+                power_[p] = float(power);
                 key_[p] = ci == qi && cj == qj ? uint64_t(q) : pixels + p;
             }
-        const std::vector<float> balance = conv.power_balance(sources_);
-        for (size_t p = 0; p < n; ++p) amplitude_[p] *= balance[p];
+        balance_ = conv.power_balance(sources_);
+        for (size_t p = 0; p < n; ++p) amplitude_[p] *= balance_[p];
     }
 
     EvaluatorSetup setup_;
@@ -124,6 +128,7 @@ private:
     std::shared_ptr<const PsfSummation> conv_;
     PsfSummationSources sources_;
     std::vector<float> amplitude_, tail_;
+    std::vector<float> power_, balance_;  // each domain pixel's power, and its weight's balance
     std::vector<uint64_t> key_;
 };
 

@@ -62,6 +62,16 @@ struct PsfSummation::Impl {
     // both anchor axes (0 elsewhere)
     std::vector<double> gram;
     size_t kernel_index(int layer, int anchor) const { return size_t(layer) * g.anchors() + anchor; }
+    // Coherent runs: per kernel its pixel image I (each pixel's mean of |K|^2 over its film
+    // points), and per kernel and neighbour (kNeighbours: layer and both anchor axes within one)
+    // the pixel image J of |K - K'|^2, (2R + 1)^2 values each (add_blend_mean)
+    static constexpr int kNeighbours = 27;
+    std::vector<float> pixel_image, difference_image;
+    int neighbour(size_t k, size_t other) const {
+        const int A = g.anchors(), nax = int(g.ax.knots.size());
+        const int l = int(k) / A, a = int(k) % A, l2 = int(other) / A, a2 = int(other) % A;
+        return (l2 - l + 1) * 9 + (a2 / nax - a / nax + 1) * 3 + (a2 % nax - a % nax + 1);
+    }
 
     int points() const { return spec.subsamples * spec.subsamples; }
     // The film's sub-point fields U_sub, as the runs sum them: modes U_m = sum_sub mode[m][sub] U_sub
@@ -256,6 +266,26 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
     if (!spec.incoherent) {
         impl->gram.resize(gram.size());
         for (size_t q = 0; q < gram.size(); ++q) impl->gram[q] = gram[q].real();
+        // the pixel images the runs' mean is brought to the intensity blend with
+        const size_t P = size_t(side) * side, N9 = Impl::kNeighbours;
+        impl->pixel_image.assign(size_t(K) * P, 0.0f);
+        impl->difference_image.assign(size_t(K) * N9 * P, 0.0f);
+        const int nay = int(g.ay.knots.size());
+#pragma omp parallel for num_threads(impl->threads) schedule(dynamic)
+        for (int k = 0; k < K; ++k) {
+            const int l = k / A, ax = (k % A) % nax, ay = (k % A) / nax;
+            for (int sub = 0; sub < S; ++sub)
+                for (size_t t = 0; t < P; ++t)
+                    impl->pixel_image[size_t(k) * P + t] += float(std::norm(kernel[k][sub * P + t]) / S);
+            for (int slot = 0; slot < int(N9); ++slot) {
+                const int l2 = l + slot / 9 - 1, ay2 = ay + (slot / 3) % 3 - 1, ax2 = ax + slot % 3 - 1;
+                if (l2 < 0 || l2 >= g.layers.count || ay2 < 0 || ay2 >= nay || ax2 < 0 || ax2 >= nax) continue;
+                const std::vector<std::complex<double>>& other = kernel[impl->kernel_index(l2, ay2 * nax + ax2)];
+                float* j = impl->difference_image.data() + (size_t(k) * N9 + slot) * P;
+                for (int sub = 0; sub < S; ++sub)
+                    for (size_t t = 0; t < P; ++t) j[t] += float(std::norm(kernel[k][sub * P + t] - other[sub * P + t]) / S);
+            }
+        }
     }
     // the few kernels the runs transform, and their spectra: on the device where one is asked
     // for (its transforms take powers of two), else here
@@ -468,6 +498,76 @@ std::vector<float> PsfSummation::power_balance(const PsfSummationSources& source
             if (blended > 0 && target > 0) factor[size_t(j) * g.width + i] = float(std::sqrt(target / blended));
         }
     return factor;
+}
+
+void PsfSummation::add_blend_mean(const PsfSummationSources& sources, const std::vector<float>& power,
+                                  const std::vector<float>& balance, const RowRange& rows, float* each) const {
+    const Impl& m = *impl_;
+    if (m.spec.incoherent) return;  // (its powers are blended as they are)
+    const PsfSummationGeometry& g = m.g;
+    const PinholeCamera& c = m.spec.camera;
+    const int R = g.radius, side = 2 * R + 1, o = m.spec.overscan;
+    const size_t P = size_t(side) * side, N9 = Impl::kNeighbours, pixels = size_t(c.width) * c.height;
+    const size_t A = size_t(g.anchors()), K = size_t(g.layers.count) * A;
+    const int threads = m.threads;
+    std::vector<float> part(size_t(threads) * pixels, 0.0f);
+#pragma omp parallel num_threads(threads)
+    {
+        float* mine = part.data() + size_t(omp_get_thread_num()) * pixels;
+        std::vector<float> add(P);
+#pragma omp for schedule(dynamic)
+        for (int j = 0; j < g.height; ++j)
+            for (int i = 0; i < g.width; ++i) {
+                const size_t p = size_t(j) * g.width + i;
+                if (power[p] == 0) continue;
+                size_t index[8];
+                double weight[8];
+                const int used = m.blend_of(sources, i, j, index, weight);
+                const double b2 = double(balance[p]) * balance[p];
+                // per kernel u its anchor's weight phi_a (the sum of its layers' weights) and that
+                // anchor's layer balance beta_a: the power its layers' blend L_a lacks
+                double phi[8], beta[8];
+                for (int u = 0; u < used; ++u) {
+                    double target = 0, blended = 0;
+                    phi[u] = 0;
+                    for (int v = 0; v < used; ++v) {
+                        if (index[v] % A != index[u] % A) continue;
+                        phi[u] += weight[v];
+                        target += weight[v] * m.gram[index[v] * K + index[v]];
+                        for (int x = 0; x < used; ++x)
+                            if (index[x] % A == index[u] % A)
+                                blended += weight[v] * weight[x] * m.gram[index[v] * K + index[x]];
+                    }
+                    // (weights of one anchor sum to phi: target / blended is phi times the balance)
+                    beta[u] = blended > 0 ? phi[u] * target / blended : 1.0;
+                }
+                std::fill(add.begin(), add.end(), 0.0f);
+                for (int u = 0; u < used; ++u) {
+                    const float* image = m.pixel_image.data() + index[u] * P;
+                    const float w = float((beta[u] - b2) * weight[u]);
+                    for (size_t t = 0; t < P; ++t) add[t] += w * image[t];
+                    for (int v = u + 1; v < used; ++v) {
+                        const bool one_anchor = index[u] % A == index[v] % A;
+                        const double c = b2 * weight[u] * weight[v] - (one_anchor ? beta[u] * weight[u] * weight[v] / phi[u] : 0);
+                        const float* d = m.difference_image.data() + (index[u] * N9 + m.neighbour(index[u], index[v])) * P;
+                        for (size_t t = 0; t < P; ++t) add[t] += float(c) * d[t];
+                    }
+                }
+                // onto the camera pixels round the source's own, the share's rows within the overscan
+                const int ci0 = i - g.origin, cj0 = j - g.origin;
+                for (int dy = -R; dy <= R; ++dy) {
+                    const int cj = cj0 + dy;
+                    if (cj < std::max(rows.begin, o) || cj >= std::min(rows.end, c.height - o)) continue;
+                    for (int dx = -R; dx <= R; ++dx) {
+                        const int ci = ci0 + dx;
+                        if (ci < o || ci >= c.width - o) continue;
+                        mine[size_t(cj) * c.width + ci] += power[p] * add[size_t(dy + R) * side + dx + R];
+                    }
+                }
+            }
+    }
+    for (int t = 0; t < threads; ++t)
+        for (size_t q = 0; q < pixels; ++q) each[q] += part[size_t(t) * pixels + q];
 }
 
 void PsfSummation::add_far_tail(const float* radiance, const float* depth, DepthMeaning meaning, double scale,
