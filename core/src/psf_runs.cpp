@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "psf_kernel.h"
 #include "scene_runs.h"
 #include "summation_evaluator.h"
 
@@ -35,10 +36,7 @@ public:
     Result<bool> set_points(const ProgressFn& progress) override {
         const PinholeCamera& c = setup_.scene->camera;
         if (too_deep_) return too_many_layers();
-        auto unit = [&c](double x, double y, double w) {
-            return source_at(c, {x, y, w > 0 ? 1.0 / w : INFINITY, DepthMeaning::Planar}, 1.0, 0.0);
-        };
-        auto make = [&] { return PsfSummation::create(spec_, pitch_, unit, progress); };
+        auto make = [&] { return PsfSummation::create(spec_, pitch_, unit_sources(c), progress); };
         PsfSummationMemo none;
         auto made = (setup_.memo ? setup_.memo : &none)->get(spec_, pitch_, make);
         if (!made.ok()) return Result<bool>::failure(made);

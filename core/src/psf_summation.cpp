@@ -9,6 +9,7 @@
 #include <mutex>
 
 #include "psf_summation_geometry.h"
+#include "psf_kernel.h"
 #include "basis_spectra.h"
 #include "complex_fft2d.h"
 #include "far_tail.h"
@@ -131,37 +132,16 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
     // how the kernels' sums are evaluated (choose.h: one source's directly)
     const KernelSums sums = kernel_sums(spec, g);
     const ApertureSamples samples = sample_aperture(spec.aperture, lattice_pitch);
-    // The kernels of anchor a, every layer: its pixel (camera coordinates), its kernel's film
-    // points as the direct sums place them (n x n per pixel, sub-point by sub-point), the sums.
+    // The kernels of anchor a, every layer (psf_kernel.h), and the light beyond each.
+    const KernelSetup setup{&spec, &g, &samples, sums.to_pinhole, unit_source};
+    std::vector<double> depths(size_t(g.layers.count));
+    for (int l = 0; l < g.layers.count; ++l) depths[size_t(l)] = g.layers.inverse_depth(l);
     auto anchor_kernels = [&](int a, const SummationSettings& settings, PlanScope& film_scope) -> Result<bool> {
         const int px = g.ax.knots[a % g.ax.knots.size()] - g.origin, py = g.ay.knots[a / g.ax.knots.size()] - g.origin;
-        FilmPoints film;
-        film.film_distance = c.film_distance;
-        for (int sb = 0; sb < n; ++sb)
-            for (int sa = 0; sa < n; ++sa)
-                for (int dy = -g.radius; dy <= g.radius; ++dy)
-                    for (int dx = -g.radius; dx <= g.radius; ++dx) {
-                        double u, v;
-                        c.tangent(px + dx + (sa + 0.5) / n, py + dy + (sb + 0.5) / n, u, v);
-                        film.x.push_back(float(-c.film_distance * u));
-                        film.y.push_back(float(-c.film_distance * v));
-                    }
-        SummationPlan to_film =
-            SummationPlan::create(SumKind::PinholeToFilm, samples, spec.wavelength, settings, film_scope);
-        if (auto r = to_film.set_points(film); !r.ok()) return r;
-        film_scope.fixed_choice = true;  // every anchor's film points count alike: one decision
-        film_scope.choice = to_film.choice();
-        SummationSettings to_source = sums.to_pinhole;
-        to_source.nthreads = settings.nthreads;
-        PinholeField field;
+        std::vector<std::vector<std::complex<double>>> fields;
+        if (auto r = source_kernels(setup, px, py, depths, settings, film_scope, fields); !r.ok()) return r;
         for (int l = 0; l < g.layers.count; ++l) {
-            const std::vector<PointSource> one{unit_source(px + 0.5, py + 0.5, g.layers.inverse_depth(l))};
-            SummationPlan to_pinhole =
-                SummationPlan::create(SumKind::SourcesToPinhole, samples, spec.wavelength, to_source);
-            if (auto r = to_pinhole.set_points(one); !r.ok()) return r;
-            if (auto r = to_pinhole.execute(source_weights(one), field); !r.ok()) return r;
-            std::vector<std::complex<double>> film_field(film.size(), 0.0);
-            if (auto r = to_film.execute(field, film_field.data()); !r.ok()) return r;
+            std::vector<std::complex<double>>& film_field = fields[size_t(l)];
             // the light beyond the kernel: its share of the Fresnel PSF's power, times the light
             // within it, per unit of the far tail's source light (radiance x cos^4, far_tail.cpp;
             // a source here is radiance x its solid angle t^2 cos^3)
@@ -507,16 +487,38 @@ void PsfSummation::add_blend_mean(const PsfSummationSources& sources, const std:
     const PsfSummationGeometry& g = m.g;
     const PinholeCamera& c = m.spec.camera;
     const int R = g.radius, side = 2 * R + 1, o = m.spec.overscan;
-    const size_t P = size_t(side) * side, N9 = Impl::kNeighbours, pixels = size_t(c.width) * c.height;
+    const size_t P = size_t(side) * side, N9 = Impl::kNeighbours, n = size_t(g.width) * g.height;
     const size_t A = size_t(g.anchors()), K = size_t(g.layers.count) * A;
-    const int threads = m.threads;
-    std::vector<float> part(size_t(threads) * pixels, 0.0f);
-#pragma omp parallel num_threads(threads)
-    {
-        float* mine = part.data() + size_t(omp_get_thread_num()) * pixels;
-        std::vector<float> add(P);
-#pragma omp for schedule(dynamic)
-        for (int j = 0; j < g.height; ++j)
+    // Per source and blended kernel u, its anchor's layer balance beta_a (the power the layers'
+    // blend L_a lacks, phi_a times it: the anchor's weights sum to phi_a).
+    std::vector<float> beta(n * 8, 1.0f);
+#pragma omp parallel for num_threads(m.threads) schedule(static)
+    for (int j = 0; j < g.height; ++j)
+        for (int i = 0; i < g.width; ++i) {
+            const size_t p = size_t(j) * g.width + i;
+            if (power[p] == 0) continue;
+            size_t index[8];
+            double weight[8];
+            const int used = m.blend_of(sources, i, j, index, weight);
+            for (int u = 0; u < used; ++u) {
+                double target = 0, blended = 0;
+                for (int v = 0; v < used; ++v) {
+                    if (index[v] % A != index[u] % A) continue;
+                    target += weight[v] * m.gram[index[v] * K + index[v]];
+                    for (int x = 0; x < used; ++x)
+                        if (index[x] % A == index[u] % A) blended += weight[v] * weight[x] * m.gram[index[v] * K + index[x]];
+                }
+                if (blended > 0) beta[p * 8 + u] = float(target / blended);
+            }
+        }
+    // Each camera row of the share, within the overscan, from every source whose kernel reaches
+    // it, in one order whatever the threads and the share (a job is the sum of its shares to the
+    // bit): only that row of each source's image is formed.
+#pragma omp parallel for num_threads(m.threads) schedule(dynamic)
+    for (int cj = std::max(rows.begin, o); cj < std::min(rows.end, c.height - o); ++cj) {
+        std::vector<float> line(size_t(c.width), 0.0f), add(static_cast<size_t>(side));
+        for (int j = std::max(0, cj + g.origin - R); j <= std::min(g.height - 1, cj + g.origin + R); ++j) {
+            const size_t row = size_t(cj + g.origin - j + R) * side;  // the row of the kernels: dy + R
             for (int i = 0; i < g.width; ++i) {
                 const size_t p = size_t(j) * g.width + i;
                 if (power[p] == 0) continue;
@@ -524,50 +526,35 @@ void PsfSummation::add_blend_mean(const PsfSummationSources& sources, const std:
                 double weight[8];
                 const int used = m.blend_of(sources, i, j, index, weight);
                 const double b2 = double(balance[p]) * balance[p];
-                // per kernel u its anchor's weight phi_a (the sum of its layers' weights) and that
-                // anchor's layer balance beta_a: the power its layers' blend L_a lacks
-                double phi[8], beta[8];
+                double phi[8];
                 for (int u = 0; u < used; ++u) {
-                    double target = 0, blended = 0;
                     phi[u] = 0;
-                    for (int v = 0; v < used; ++v) {
-                        if (index[v] % A != index[u] % A) continue;
-                        phi[u] += weight[v];
-                        target += weight[v] * m.gram[index[v] * K + index[v]];
-                        for (int x = 0; x < used; ++x)
-                            if (index[x] % A == index[u] % A)
-                                blended += weight[v] * weight[x] * m.gram[index[v] * K + index[x]];
-                    }
-                    // (weights of one anchor sum to phi: target / blended is phi times the balance)
-                    beta[u] = blended > 0 ? phi[u] * target / blended : 1.0;
+                    for (int v = 0; v < used; ++v)
+                        if (index[v] % A == index[u] % A) phi[u] += weight[v];
                 }
                 std::fill(add.begin(), add.end(), 0.0f);
                 for (int u = 0; u < used; ++u) {
-                    const float* image = m.pixel_image.data() + index[u] * P;
-                    const float w = float((beta[u] - b2) * weight[u]);
-                    for (size_t t = 0; t < P; ++t) add[t] += w * image[t];
+                    const double bu = phi[u] * beta[p * 8 + u];  // the anchor's balance
+                    const float* image = m.pixel_image.data() + index[u] * P + row;
+                    const float w = float((bu - b2) * weight[u]);
+                    for (int t = 0; t < side; ++t) add[t] += w * image[t];
                     for (int v = u + 1; v < used; ++v) {
                         const bool one_anchor = index[u] % A == index[v] % A;
-                        const double c = b2 * weight[u] * weight[v] - (one_anchor ? beta[u] * weight[u] * weight[v] / phi[u] : 0);
-                        const float* d = m.difference_image.data() + (index[u] * N9 + m.neighbour(index[u], index[v])) * P;
-                        for (size_t t = 0; t < P; ++t) add[t] += float(c) * d[t];
+                        const double k = b2 * weight[u] * weight[v] - (one_anchor ? bu * weight[u] * weight[v] / phi[u] : 0);
+                        const float* d =
+                            m.difference_image.data() + (index[u] * N9 + m.neighbour(index[u], index[v])) * P + row;
+                        for (int t = 0; t < side; ++t) add[t] += float(k) * d[t];
                     }
                 }
-                // onto the camera pixels round the source's own, the share's rows within the overscan
-                const int ci0 = i - g.origin, cj0 = j - g.origin;
-                for (int dy = -R; dy <= R; ++dy) {
-                    const int cj = cj0 + dy;
-                    if (cj < std::max(rows.begin, o) || cj >= std::min(rows.end, c.height - o)) continue;
-                    for (int dx = -R; dx <= R; ++dx) {
-                        const int ci = ci0 + dx;
-                        if (ci < o || ci >= c.width - o) continue;
-                        mine[size_t(cj) * c.width + ci] += power[p] * add[size_t(dy + R) * side + dx + R];
-                    }
+                const int ci0 = i - g.origin;
+                for (int dx = -R; dx <= R; ++dx) {
+                    const int ci = ci0 + dx;
+                    if (ci >= o && ci < c.width - o) line[size_t(ci)] += power[p] * add[size_t(dx + R)];
                 }
             }
+        }
+        for (int ci = 0; ci < c.width; ++ci) each[size_t(cj) * c.width + ci] += line[size_t(ci)];
     }
-    for (int t = 0; t < threads; ++t)
-        for (size_t q = 0; q < pixels; ++q) each[q] += part[size_t(t) * pixels + q];
 }
 
 void PsfSummation::add_far_tail(const float* radiance, const float* depth, DepthMeaning meaning, double scale,

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "psf_error_check.h"
+#include "psf_kernel.h"
 #include "scene_sum.h"
 #include "summation/choose.h"
 
@@ -106,6 +108,14 @@ detail::PsfSummationWork psf_work(const SceneSumSettings& s, const SceneSum& sum
     return detail::psf_summation_work(spec, n.in, n.out);
 }
 
+// The psf summation's plan-time check (psf_error_check.h) for the settings' frame at `wavelength`.
+Result<PsfErrorCheck> psf_error_check(const SceneSumSettings& s, const PinholeCamera& c, double wavelength) {
+    const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
+    const SceneSum sum = scene_sum({c, nullptr, nullptr}, wavelength, s, nearest, work_range(s, c.height), false);
+    const PsfSummationSpec spec = psf_summation_spec(s, c, wavelength, nearest, sum.subsamples);
+    return check_psf_error(spec, kernel_lattice_pitch(spec, sum.samples.pitch), unit_sources(c));
+}
+
 namespace {
 
 // Where the psf summation applies: sources at their pixels' centres (no jitter), an opening of one
@@ -169,7 +179,10 @@ Summation chosen_summation(const SceneSumSettings& asked, const PinholeCamera& c
     s.row_begin = s.run_begin = 0;
     s.row_end = s.run_end = -1;
     const SummationChoice chosen = scene_choice(s, c, wavelength, {Summation::Auto, true, &s.device, 0});
-    return chosen.summation == Summation::Psf ? Summation::Psf : Summation::Auto;
+    if (chosen.summation != Summation::Psf) return Summation::Auto;
+    // cheaper: psf where its plan-time check finds it within its stated error (psf_error_check.h)
+    const auto check = detail::psf_error_check(s, c, wavelength);
+    return check.ok() && check.value.within() ? Summation::Psf : Summation::Auto;
 }
 
 SummationEstimate estimate_summation(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength,
