@@ -3,10 +3,10 @@
 # does not end on one of them alone. ctest prefers its own record (Testing/Temporary/CTestCostData.txt)
 # once it has one; a name not in the directory is ignored.
 foreach(cost_and_test
-    440 WideField.PsfRunsMatchTheExactSumsWithTheSamePhases
-    225 OneSourceModel.AllThreeMethodsConvergeToOneImage
-    224 WideField.ConvolutionMethodMatchesTheRayleighSommerfeldIntegral
-    82 GpuSums.PsfSummationRunsMatchTheCpu
+    410 OneSourceModel.AllThreeMethodsConvergeToOneImage
+    370 WideField.PsfRunsMatchTheExactSumsWithTheSamePhases
+    113 WideField.ConvolutionMethodMatchesTheRayleighSommerfeldIntegral
+    30 GpuSums.PsfSummationRunsMatchTheCpu
     87 ApplyCommand.TheEnvironmentChangesNoImageAndNoWordMeansTwoThings
     72 PhaseCode.RunsFromThePsfKeepEveryChannelWithinTwoPercentWhereThePsfIsWide
     64 PsfSummation.IncoherentMatchesTheExactIncoherentSum
