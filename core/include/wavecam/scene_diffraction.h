@@ -94,8 +94,10 @@ double scene_sample_pitch(const SceneSumSettings& s, const PinholeCamera& camera
 
 // What a job runs for `auto` summation (diffract_image decides it once per job): `psf` where it
 // applies — sources at their pixels' centres (no jitter), an opening of one piece (circle, square,
-// polygon), the scene's depths within kMaxPsfLayers amplitude layers — and its work at this
-// wavelength (kernels, then every run) is below the exact sums'; else `auto`, each of the two sums
+// polygon), the scene's depths within kMaxPsfLayers amplitude layers — its work at this
+// wavelength (kernels, then every run) is below the exact sums', and a check at plan time finds it
+// within 1.5% of the exact sums' same runs (probe stars against the exact sums' kernels, and the
+// far tail's cross terms; docs/summation.md); else `auto`, each of the two sums
 // the cheaper of direct and nufft (estimate_summation's chooser), as diffract_monochrome reads `auto`. Counted for
 // the whole job (every run and row, the frame as lit), so every share decides as its job; for
 // s.nearest_depth (NaN counts as all sky). A summation asked by name is returned as it is.

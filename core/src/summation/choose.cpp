@@ -197,7 +197,10 @@ double psf_summation_bytes(const PsfSummationSpec& spec) {
     // (upper bounds: the basis holds at most every kernel) spectra, and the runs at once' images,
     // sums and film (runs_at_once: within the spectra's size, one run at least)
     const double spectra = complex_float * N * kernels * S, run = N * (complex_float * (kernels + S) + sizeof(double));
-    return spectra + std::max(run, std::min(spectra, kMaxRunsAtOnce * run));
+    // coherent runs: each kernel's pixel image and those of its differences with its 27
+    // neighbours, floats (the blend's mean, psf_summation.h)
+    const double side = 2.0 * g.radius + 1, images = spec.incoherent ? 0 : sizeof(float) * kernels * 28 * side * side;
+    return spectra + images + std::max(run, std::min(spectra, kMaxRunsAtOnce * run));
 }
 
 namespace {
