@@ -67,8 +67,7 @@ Result<PsfErrorCheck> check_psf_error(const PsfSummationSpec& spec, double latti
     const PsfSummationGeometry g = psf_summation_geometry(spec);
     PsfErrorCheck check;
     const PinholeCamera& c = spec.camera;
-    const double airy = 1.22 * spec.wavelength * c.film_distance / (2 * spec.aperture.bounding_radius());
-    if (!spec.incoherent && airy >= c.pixel_pitch())
+    if (!spec.incoherent && airy_spans_a_pixel(spec))
         check.tail = 0.8 * std::sqrt((1 - kernel_energy(spec)) / std::max(1, spec.runs));
     const KernelSums sums = kernel_sums(spec, g);
     const ApertureSamples samples = sample_aperture(spec.aperture, lattice_pitch);

@@ -28,11 +28,14 @@ Result<bool> too_many_layers() {
     return Result<bool>::failure(m, ErrorKind::Invalid, "summation");
 }
 
+bool airy_spans_a_pixel(const PsfSummationSpec& s) {
+    return 1.22 * s.wavelength * s.camera.film_distance / (2 * s.aperture.bounding_radius()) >= s.camera.pixel_pitch();
+}
+
 double kernel_energy(const PsfSummationSpec& s) {
     // (a PSF narrower than a pixel on the axis: the film pixels average its tail's cross terms,
     // and kernels holding more changed nothing there, psf_summation.h)
-    const double airy = 1.22 * s.wavelength * s.camera.film_distance / (2 * s.aperture.bounding_radius());
-    if (s.incoherent || airy < s.camera.pixel_pitch()) return kPsfKernelEnergy;
+    if (s.incoherent || !airy_spans_a_pixel(s)) return kPsfKernelEnergy;
     const double deficit = std::clamp(kFewRunsDeficit * s.runs / 64.0, kFewRunsDeficit, 1 - kPsfKernelEnergy);
     return 1 - deficit;
 }

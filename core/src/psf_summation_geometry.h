@@ -16,6 +16,10 @@ struct PsfSummationGeometry {
 
 PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s);
 
+// Whether the Airy radius 1.22 lambda f / D spans a pixel or more: below it the film pixels
+// average the far tail's cross terms (psf_summation.h, the far tail).
+bool airy_spans_a_pixel(const PsfSummationSpec& s);
+
 // The share of its PSF's power a kernel holds: kPsfKernelEnergy, or more for coherent runs of a
 // job of few runs (psf_summation.h, the far tail).
 double kernel_energy(const PsfSummationSpec& s);
