@@ -276,3 +276,34 @@ TEST(SummationPlan, TheDeviceRecordsTheEvaluatorsThatRan) {
     ASSERT_TRUE(unrecorded.set_points(film).ok());
     EXPECT_EQ(evaluators_run(ComputeDevice{}).words(), "");
 }
+
+// auto weighs the NUFFTs by planning their chirp's boxes, which runs on one thread: over a wide
+// field the plan alone can outweigh the direct terms many times (a 32 px frame at 120 deg planned
+// for more than ten minutes against four of direct terms). Planning stops once it would cost a
+// quarter of the direct terms, and auto takes those (an asked nufft is planned to the end).
+TEST(SummationPlan, AutoStopsPlanningWhereThePlanOutweighsTheDirectTerms) {
+    const double lambda = 550e-9, f = 10e-3, tan_half = std::tan(60 * M_PI / 180);
+    const ApertureSamples samples = sample_aperture({ApertureShape::Circle, 0.041e-3}, sample_pitch(lambda, 1.0));
+    auto film_of = [&](int side) {
+        FilmPoints film;
+        film.film_distance = f;
+        for (int j = 0; j < side; ++j)
+            for (int i = 0; i < side; ++i) {
+                film.x.push_back(float(f * tan_half * (2.0 * (i + 0.5) / side - 1)));
+                film.y.push_back(float(f * tan_half * (2.0 * (j + 0.5) / side - 1)));
+            }
+        return film;
+    };
+    SummationPlan few = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, {Summation::Auto});
+    ASSERT_TRUE(few.set_points(film_of(8)).ok());
+    EXPECT_EQ(few.choice().evaluator, Evaluator::Direct);
+    EXPECT_TRUE(std::isinf(few.choice().nufft_work)) << few.choice().nufft_work;
+    EXPECT_EQ(few.choice().work, few.choice().direct_work);
+    // a narrow field's many points: the plan costs little beside their direct terms, and is weighed
+    SummationPlan narrow = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, {Summation::Auto});
+    FilmPoints film = film_of(64);
+    for (float& x : film.x) x *= 0.1f;
+    for (float& y : film.y) y *= 0.1f;
+    ASSERT_TRUE(narrow.set_points(film).ok());
+    EXPECT_TRUE(std::isfinite(narrow.choice().nufft_work)) << narrow.choice().nufft_work;
+}

@@ -109,6 +109,8 @@ std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel
     const double tolerance = splitting.tolerance;
     const int max_rank = splitting.max_rank, max_nodes = std::min(splitting.max_nodes, 16);
     const bool economise = splitting.economise;
+    auto spent = [&] { return splitting.evaluations && *splitting.evaluations > splitting.max_evaluations; };
+    if (spent()) return {};
     const double per_axis = tolerance / box.dims;
     int widest = 0;
     bool split = false;
@@ -119,6 +121,7 @@ std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel
         if (n > max_nodes) split = true;
         if (box.nodes[d] > box.nodes[widest]) widest = d;
     }
+    if (spent()) return {};
     // Halving an axis pays where the halves need fewer nodes in all than the whole (each node
     // costs one transform): every axis tried, a few levels deep; forced where an axis needs too many.
     const bool must = split || box.rank() > max_rank;
@@ -133,6 +136,7 @@ std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel
         b.lo[d] = mid;
         std::vector<ChebyshevBox> out = plan_boxes(a, kernel, probes, splitting, depth + 1);
         for (ChebyshevBox& c : plan_boxes(b, kernel, probes, splitting, depth + 1)) out.push_back(c);
+        if (spent()) return {};
         int total = 0;
         for (const ChebyshevBox& c : out) total += c.rank();
         if (total < best_rank) best = out, best_rank = total;

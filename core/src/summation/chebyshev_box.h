@@ -6,6 +6,7 @@
 // Trefethen, "Barycentric Lagrange interpolation", SIAM Review 46 (2004)). Internal to core.
 #pragma once
 #include <array>
+#include <cmath>
 #include <complex>
 #include <functional>
 #include <vector>
@@ -36,12 +37,17 @@ struct BoxSplitting {
     int max_rank;
     int max_nodes = 10;
     bool economise = true;
+    // Where given, the kernel's evaluations so far: planning gives up, returning no boxes, once
+    // they pass max_evaluations (a chooser's budget, choose.cpp).
+    const double* evaluations = nullptr;
+    double max_evaluations = INFINITY;
 };
 
 // Splits `box` into boxes each interpolating `kernel` to within `tolerance` (max error over the
 // probes along every axis, the other axes at their ends and centre) with at most `max_rank` nodes,
 // at most `max_nodes` per axis: halves the axis needing the most nodes until both bounds hold, and,
-// if `economise`, further where the halves need fewer nodes in all than the whole.
+// if `economise`, further where the halves need fewer nodes in all than the whole. No boxes where
+// the evaluations' budget ran out.
 std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel, int probes,
                                      const BoxSplitting& splitting, int depth = 0);
 

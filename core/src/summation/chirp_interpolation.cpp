@@ -19,7 +19,7 @@ ChebyshevBox ChirpGeometry::box(const DirectionRange& r) const {
 }
 
 std::vector<ChebyshevBox> ChirpGeometry::plan(const DirectionRange& r, const std::vector<ProbeDisc>& discs,
-                                              double* probed) const {
+                                              double* probed, double max_evaluations) const {
     std::vector<std::array<double, 4>> pr;  // centre, probe point: 8 directions at each disc's reach
     for (const ProbeDisc& d : probe_discs(discs))
         for (int a = 0; a < 8; ++a)
@@ -31,7 +31,7 @@ std::vector<ChebyshevBox> ChirpGeometry::plan(const DirectionRange& r, const std
             ++evaluations;
             return cdouble(at(p, pr[i][0], pr[i][1]).remainder(pr[i][2], pr[i][3], k / (2 * M_PI), power()));
         },
-        int(pr.size()), {tolerance, kMaxRank, kMaxNodes, false});
+        int(pr.size()), {tolerance, kMaxRank, kMaxNodes, false, &evaluations, max_evaluations});
     if (probed) *probed = evaluations;
     return boxes;
 }

@@ -20,7 +20,7 @@ SumChoice choose_sum(const SumCounts& counts, Summation asked, bool on_gpu) {
     if (asked == Summation::Direct) {
         c.direct_work = c.nufft_work = (counts.lattice_samples + counts.off_lattice) * counts.points;
     } else {
-        c = detail::sum_work(counts);
+        c = detail::sum_work(counts, asked == Summation::Auto);
     }
     const bool nufft = asked == Summation::Nufft || (asked == Summation::Auto && c.nufft_work < c.direct_work);
     c.evaluator = nufft ? Evaluator::Nufft : Evaluator::Direct;
@@ -45,13 +45,19 @@ struct DiscLattice {
 // The nufft evaluator's work for one division into sub-apertures (`discs`, each of bnx x bny
 // cells): per sub-aperture and skeleton node an FFT and a lattice of chirps; per point and
 // sub-aperture its frequency and phase, its skeleton coefficients and each skeleton node's kernel
-// taps; the off-lattice samples direct. Skeleton ranks from the probed sub-apertures.
+// taps; the off-lattice samples direct. Skeleton ranks from the probed sub-apertures. The planning
+// spends `budget` (the chirp's evaluations); where it runs out, the work is infinite.
 SumChoice division_work(const ChirpGeometry& geo, const DirectionRange& range, const std::vector<ProbeDisc>& discs,
-                        int bnx, int bny, const SumTerms& terms) {
+                        int bnx, int bny, const SumTerms& terms, double& budget) {
     const double lattice_samples = terms.lattice_samples, off_lattice = terms.off_lattice, points = terms.points;
     SumChoice w;
     double planning = 0;
-    const std::vector<ChebyshevBox> boxes = geo.plan(range, discs, &planning);
+    const std::vector<ChebyshevBox> boxes = geo.plan(range, discs, &planning, budget);
+    budget -= planning;
+    if (boxes.empty()) {
+        w.nufft_work = INFINITY;
+        return w;
+    }
     const std::vector<ProbeDisc> probed = probe_discs(discs);
     const LatticeNufft nufft(bnx, bny, geo.tolerance, 1);
     const double parts = double(discs.size()), dims = geo.dims();
@@ -99,14 +105,14 @@ std::vector<ProbeDisc> disc_division(int n, double a, double h, int blocks) {
 
 // The cheapest division (blocks per side): 1, 2, 4, ... while the work falls.
 SumChoice cheapest_division(const ChirpGeometry& geo, const DirectionRange& range, const DiscLattice& disc,
-                            const SumTerms& terms) {
+                            const SumTerms& terms, double& budget) {
     const int n = disc.n;
     const double a = disc.a, h = disc.h;
     SumChoice best;
     for (int blocks = 1; blocks <= kMaxBlocks; blocks *= 2) {
         const int bn = (n + blocks - 1) / blocks;
         if (blocks > 1 && bn < kMinCellsAcross) break;
-        SumChoice w = division_work(geo, range, disc_division(n, a, h, blocks), bn, bn, terms);
+        SumChoice w = division_work(geo, range, disc_division(n, a, h, blocks), bn, bn, terms, budget);
         w.blocks = blocks;
         if (blocks > 1 && w.nufft_work >= best.nufft_work) break;
         best = w;
@@ -116,8 +122,12 @@ SumChoice cheapest_division(const ChirpGeometry& geo, const DirectionRange& rang
 
 }  // namespace
 
-SumChoice sum_work(const SumCounts& c) {
+SumChoice sum_work(const SumCounts& c, bool bounded) {
     const double direct = (c.lattice_samples + c.off_lattice) * c.points;
+    // the chirp's planning runs on one thread, the direct terms on every core: where it would
+    // cost a quarter of the direct terms' work, planning stops and the direct terms are taken
+    // (at 120 deg a 32 px frame's plan took more than ten minutes, its direct terms four)
+    double budget = bounded ? direct / (4 * kPlanProbeCost) : INFINITY;
     if (c.lattice_samples <= 0 || c.samples_across < 1) {
         SumChoice w;
         w.direct_work = w.nufft_work = direct;
@@ -142,15 +152,15 @@ SumChoice sum_work(const SumCounts& c) {
     // the rim direct for every point, or the stencil (with the split) where it is cheaper
     const ChirpGeometry geo = chirp_geometry(c.film, c.wavelength, c.tolerance, range);
     const DiscLattice disc{n, a, h};
-    SumChoice f = cheapest_division(geo, range, disc, {c.lattice_samples, c.off_lattice, c.points});
+    SumChoice f = cheapest_division(geo, range, disc, {c.lattice_samples, c.off_lattice, c.points}, budget);
     f.stencil = false;
     if (sc.inner > 0) {
         SumChoice s = cheapest_division(geo, range, disc,
-                                        {c.lattice_samples + c.off_lattice * width, 0.0, (1 - outside) * c.points});
+                                        {c.lattice_samples + c.off_lattice * width, 0.0, (1 - outside) * c.points}, budget);
         s.nufft_work += c.off_lattice * width * width * kMacCost;
         if (outside > 0) {
             const SumChoice o =
-                cheapest_division(geo, range, disc, {c.lattice_samples, c.off_lattice, outside * c.points});
+                cheapest_division(geo, range, disc, {c.lattice_samples, c.off_lattice, outside * c.points}, budget);
             s.nufft_work += o.nufft_work;
             s.nufft_count += o.nufft_count;
         }

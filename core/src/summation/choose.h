@@ -38,8 +38,10 @@ constexpr int kMinCellsAcross = 24;
 constexpr int kMaxBlocks = 16;
 
 // Both evaluators' work for one sum's `counts` (SumChoice's direct_work, nufft_work, blocks,
-// stencil, nufft_count; `evaluator` and `work` left for choose_sum, summation_plan.h).
-SumChoice sum_work(const SumCounts& counts);
+// stencil, nufft_count; `evaluator` and `work` left for choose_sum, summation_plan.h). `bounded`
+// (auto's estimate): the chirp's planning stops at a quarter of the direct terms' work, the nufft
+// work then infinite; an asked nufft is planned to the end.
+SumChoice sum_work(const SumCounts& counts, bool bounded);
 
 // ---- the psf summation's cost and memory ----
 
