@@ -41,6 +41,7 @@ PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
     PsfKernel k;
     k.radius = q.radius;
     k.weight = use_transfer ? detail::kernel_by_transfer(q, g, transfer) : detail::kernel_by_mft(q, g, mft);
+    if (!use_transfer && mft.half * mft.step < (q.radius + 0.5) * q.pixel_pitch) k.reach = mft.half * mft.step;
     return k;
 }
 

@@ -48,6 +48,11 @@ struct FieldPsfRequest {
 struct PsfKernel {
     int radius = 0;
     std::vector<float> weight;
+    // The half-width (m) of the film square about the image beyond which the weights hold none of
+    // the PSF: the matrix transform covers only the PSF's own kPsfKernelEnergy radius where that is
+    // less than the kernel (pixels far wider than the PSF), so the weights then sum to the share
+    // within `reach`, not within the kernel. Infinite where they cover the kernel.
+    double reach = INFINITY;
     float at(int a, int b) const { return weight[size_t(b + radius) * (2 * radius + 1) + (a + radius)]; }
 };
 
