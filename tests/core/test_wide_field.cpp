@@ -198,7 +198,7 @@ TEST(WideField, ConvolutionMethodMatchesTheRayleighSommerfeldIntegral) {
 // The exact sums (direct or nufft: the test binary's --summation) and the psf summation, which
 // convolves with amplitude kernels that those sums compute at field anchors: small frames (the
 // exact sums' cost grows with the frame), stars on the anchors and between them, the psf
-// summation up to 60 deg. Incoherent sums, and for the star between anchors at 60 deg and the
+// summation up to 60 deg (90 and 120 deg: the next test). Incoherent sums, and for the star between anchors at 60 deg and the
 // 10 deg star also the random-phase method's coded runs (one source: every run is its image,
 // whatever its phase).
 TEST(WideField, ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral) {
@@ -216,8 +216,9 @@ TEST(WideField, ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral) {
         // (at most 4 x 4 film points: the psf summation's kernels sum to every one of them)
         const int n = std::min(4, film_points(c));
         for (const Summation summation : {test_summation(), Summation::Psf}) {
-            // (the psf summation's kernels at 90 deg: 21 x 21 anchors, each summed to (2R + 1)^2 film
-            // points from a pinhole lattice of 128 x 128: hours here, so the exact sums only)
+            // (the psf summation's kernels for this 2 px PSF at 90 deg: 138 x 138 anchors over a
+            // margin that reaches 78 deg, each summed to (2R + 1)^2 film points, R = 62: hours here;
+            // the next test takes a PSF of half a pixel there)
             if (summation == Summation::Psf && c.fov_deg > 60) continue;
             const std::string by = summation == Summation::Psf ? "psf" : "exact sums";
             const auto out = exact_image(stars, summation, n);
@@ -234,6 +235,42 @@ TEST(WideField, ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral) {
                     expect_within(compare(window(runs, s.camera.width, 1, 0, s, half), reference, s, half),
                                   "random-phase, 2 runs, " + by + ", " + cases[k].name());
                 }
+            }
+        }
+    }
+}
+
+// The psf summation at the widest fields, 90 and 120 deg (the exact sums at 90 deg: above).
+// There a kernel's radius is set by the PSF at the frame's corner, stretched 1/cos^3 (5.2 times
+// the axis' at 90 deg, 18.5 times at 120), and the anchors follow the field's change over the
+// frame and its margin, which reaches 60 to 75 deg: the kernels' sums, about anchors / 4 x
+// (2R + 1)^2 film points x the pinhole lattice, are the job. PSFs of half a pixel on the axis
+// (90 deg; 2.6 px at the corner) and of a sixth (120 deg; 2.9 px at the corner) keep each frame
+// to about a minute here, with 2 x 2 film points per pixel at 90 deg and the pixel's centre at
+// 120, in the image and the reference alike. At 90 deg also the random-phase method's coded runs
+// for the mid-field star (one source: every run is its image).
+TEST(WideField, PsfSummationAtTheWidestFieldsMatchesTheRayleighSommerfeldIntegral) {
+    const Case cases[] = {
+        {128, 90, 10, 0.086, INFINITY, 0},  {128, 90, 10, 0.086, INFINITY, 0.5}, {128, 90, 10, 0.086, INFINITY, 0.93},
+        {128, 90, 10, 0.086, INFINITY, -0.37},
+        {32, 120, 10, 0.041, INFINITY, 0},  {32, 120, 10, 0.041, INFINITY, -0.5}, {32, 120, 10, 0.041, INFINITY, 0.9},
+    };
+    for (const auto& [first, last] : frames(cases, sizeof cases / sizeof cases[0], true)) {
+        std::vector<test::RsStar> stars;
+        for (size_t k = first; k < last; ++k) stars.push_back(cases[k].star());
+        const Case& c = cases[first];
+        const int n = c.fov_deg > 100 ? 1 : 2;
+        const auto out = exact_image(stars, Summation::Psf, n);
+        for (size_t k = first; k < last; ++k) {
+            const test::RsStar& s = stars[k - first];
+            const int half = half_window(cases[k], s);
+            const auto reference = test::rs_window(s, half, n);
+            expect_within(compare(window(out, s.camera.width, 1, 0, s, half), reference, s, half),
+                          "psf, " + cases[k].name());
+            if (c.fov_deg == 90 && cases[k].along == 0.5) {
+                const auto runs = exact_image({s}, Summation::Psf, n, CoherenceMethod::RandomPhase, 2);
+                expect_within(compare(window(runs, s.camera.width, 1, 0, s, half), reference, s, half),
+                              "random-phase, 2 runs, psf, " + cases[k].name());
             }
         }
     }
