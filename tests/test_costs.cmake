@@ -6,7 +6,7 @@ foreach(cost_and_test
     410 OneSourceModel.AllThreeMethodsConvergeToOneImage
     370 WideField.PsfRunsMatchTheExactSumsWithTheSamePhases
     113 WideField.ConvolutionMethodMatchesTheRayleighSommerfeldIntegral
-    160 WideField.PsfSummationAtTheWidestFieldsMatchesTheRayleighSommerfeldIntegral
+    160 WideField.PsfSummationAndExactSumsAtTheWidestFieldsMatchTheRayleighSommerfeldIntegral
     30 GpuSums.PsfSummationRunsMatchTheCpu
     87 ApplyCommand.TheEnvironmentChangesNoImageAndNoWordMeansTwoThings
     72 PhaseCode.RunsFromThePsfKeepEveryChannelWithinTwoPercentWhereThePsfIsWide
