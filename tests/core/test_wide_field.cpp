@@ -167,6 +167,31 @@ void expect_within(const Comparison& m, const std::string& what) {
     EXPECT_LT(m.rms, 0.01) << what;
 }
 
+// The stars of cases [first, last) (one image) through `summation` with n x n film points per
+// pixel, each against the Rayleigh-Sommerfeld integral; where coded_runs(k), star k alone also
+// through the random-phase method's 2 coded runs (one source: every run is its image, whatever
+// its phase; two stars' coded runs of one class would not cancel).
+template <class CodedRuns>
+void expect_stars_within(const Case* cases, size_t first, size_t last, Summation summation, int n,
+                         CodedRuns coded_runs) {
+    std::vector<test::RsStar> stars;
+    for (size_t k = first; k < last; ++k) stars.push_back(cases[k].star());
+    const std::string by = summation == Summation::Psf ? "psf" : "exact sums";
+    const auto out = exact_image(stars, summation, n);
+    for (size_t k = first; k < last; ++k) {
+        const test::RsStar& s = stars[k - first];
+        const int half = half_window(cases[k], s);
+        const auto reference = test::rs_window(s, half, n);
+        expect_within(compare(window(out, s.camera.width, 1, 0, s, half), reference, s, half),
+                      by + ", " + cases[k].name());
+        if (coded_runs(k)) {
+            const auto runs = exact_image({s}, summation, n, CoherenceMethod::RandomPhase, 2);
+            expect_within(compare(window(runs, s.camera.width, 1, 0, s, half), reference, s, half),
+                          "random-phase, 2 runs, " + by + ", " + cases[k].name());
+        }
+    }
+}
+
 }  // namespace
 
 // The convolution method (the default): frames of hundreds of pixels, where an anchor cell of
@@ -210,8 +235,6 @@ TEST(WideField, ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral) {
         {64, 10, 20, 0.1, INFINITY, 0.5},
     };
     for (const auto& [first, last] : frames(cases, sizeof cases / sizeof cases[0], true)) {
-        std::vector<test::RsStar> stars;
-        for (size_t k = first; k < last; ++k) stars.push_back(cases[k].star());
         const Case& c = cases[first];
         // (at most 4 x 4 film points: the psf summation's kernels sum to every one of them)
         const int n = std::min(4, film_points(c));
@@ -220,22 +243,10 @@ TEST(WideField, ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral) {
             // margin that reaches 78 deg, each summed to (2R + 1)^2 film points, R = 62: hours here;
             // the next test takes a PSF of half a pixel there)
             if (summation == Summation::Psf && c.fov_deg > 60) continue;
-            const std::string by = summation == Summation::Psf ? "psf" : "exact sums";
-            const auto out = exact_image(stars, summation, n);
-            for (size_t k = first; k < last; ++k) {
-                const test::RsStar& s = stars[k - first];
-                const int half = half_window(cases[k], s);
-                const auto reference = test::rs_window(s, half, n);
-                expect_within(compare(window(out, s.camera.width, 1, 0, s, half), reference, s, half),
-                              by + ", " + cases[k].name());
-                // (the psf summation's own runs at 60 deg: PsfRunsMatchTheExactSumsWithTheSamePhases;
-                // a star alone: two stars' coded runs of one class would not cancel)
-                if ((c.fov_deg == 60 && cases[k].along == 0.45 && summation != Summation::Psf) || c.fov_deg == 10) {
-                    const auto runs = exact_image({s}, summation, n, CoherenceMethod::RandomPhase, 2);
-                    expect_within(compare(window(runs, s.camera.width, 1, 0, s, half), reference, s, half),
-                                  "random-phase, 2 runs, " + by + ", " + cases[k].name());
-                }
-            }
+            // (the psf summation's own runs at 60 deg: PsfRunsMatchTheExactSumsWithTheSamePhases)
+            expect_stars_within(cases, first, last, summation, n, [&](size_t k) {
+                return (c.fov_deg == 60 && cases[k].along == 0.45 && summation != Summation::Psf) || c.fov_deg == 10;
+            });
         }
     }
 }
@@ -257,29 +268,15 @@ TEST(WideField, PsfSummationAndExactSumsAtTheWidestFieldsMatchTheRayleighSommerf
         {32, 120, 10, 0.041, INFINITY, 0},  {32, 120, 10, 0.041, INFINITY, -0.5}, {32, 120, 10, 0.041, INFINITY, 0.9},
     };
     for (const auto& [first, last] : frames(cases, sizeof cases / sizeof cases[0], true)) {
-        std::vector<test::RsStar> stars;
-        for (size_t k = first; k < last; ++k) stars.push_back(cases[k].star());
         const Case& c = cases[first];
         const int n = c.fov_deg > 100 ? 1 : 2;
         // (the exact sums at 120 deg too: a second; at 90 deg they are above, on 32 px)
         std::vector<Summation> summations{Summation::Psf};
         if (c.fov_deg > 100) summations.push_back(test_summation());
-        for (const Summation summation : summations) {
-            const std::string by = summation == Summation::Psf ? "psf" : "exact sums";
-            const auto out = exact_image(stars, summation, n);
-            for (size_t k = first; k < last; ++k) {
-                const test::RsStar& s = stars[k - first];
-                const int half = half_window(cases[k], s);
-                const auto reference = test::rs_window(s, half, n);
-                expect_within(compare(window(out, s.camera.width, 1, 0, s, half), reference, s, half),
-                              by + ", " + cases[k].name());
-                if (summation == Summation::Psf && c.fov_deg == 90 && cases[k].along == 0.5) {
-                    const auto runs = exact_image({s}, summation, n, CoherenceMethod::RandomPhase, 2);
-                    expect_within(compare(window(runs, s.camera.width, 1, 0, s, half), reference, s, half),
-                                  "random-phase, 2 runs, psf, " + cases[k].name());
-                }
-            }
-        }
+        for (const Summation summation : summations)
+            expect_stars_within(cases, first, last, summation, n, [&](size_t k) {
+                return summation == Summation::Psf && c.fov_deg == 90 && cases[k].along == 0.5;
+            });
     }
 }
 
