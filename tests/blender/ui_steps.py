@@ -27,8 +27,8 @@ from wavecam_blender import diffraction_queue, panel, progress_display, wrapped_
 # thread too, up to about 2 s under load with nothing running; so a pause while wavecam runs
 # may be as long as MAX_GAP_S or 1.5 times the longest seen with nothing running, whichever
 # is longer (the idle gaps outside setup and panel can be short while a pause under load is
-# not: 1.3 s while wavecam ran in CI, against a limit of 1.18 s from 0.79 s idle, when
-# MAX_GAP_S was 1 s). A diffraction on the main thread pauses it for the whole run: the
+# not: 1.3 s measured while wavecam ran under a full test run's load, the longest idle gap
+# 0.79 s). A diffraction on the main thread pauses it for the whole run: the
 # progress phase's run lasts 3.5 times that limit before Esc, or the test cannot tell.
 MAX_GAP_S = 2.0
 LIMIT_S = 200
