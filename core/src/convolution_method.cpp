@@ -9,6 +9,7 @@
 #include "anchored_convolution.h"
 #include "far_tail.h"
 #include "real_fft2d.h"
+#include "wavecam/edge_continuation.h"
 #include "wavecam/fresnel_psf.h"
 
 namespace wavecam {
@@ -154,6 +155,11 @@ Result<detail::KernelTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
 
 }  // namespace
 
+int ConvolutionPlan::kernel_radius(const ConvolutionPlanSpec& spec) {
+    auto g = plan_geometry(spec);
+    return g.ok() ? g.value.radius : 0;
+}
+
 double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
     auto g = plan_geometry(spec);
     if (!g.ok()) return 0;
@@ -246,12 +252,15 @@ Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting,
     src.lower.resize(n);
     src.upper_share.resize(n);
     const int threads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
+    const EdgeContinuation edge(scene.rgb, 3, c.width, c.height);
 #pragma omp parallel for num_threads(threads)
     for (int j = 0; j < src.height; ++j) {
         const int cj = std::clamp(j - origin, 0, c.height - 1);
         for (int i = 0; i < src.width; ++i) {
             const int ci = std::clamp(i - origin, 0, c.width - 1);
             const size_t p = size_t(j) * src.width + i, q = size_t(cj) * c.width + ci;
+            const bool inside = ci == i - origin && cj == j - origin;
+            const float* rgb = inside ? &scene.rgb[3 * q] : edge.at(ci, cj);
             const double d = scene.depth[q];
             const double w = d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(ci, cj, d, scene.depth_meaning);
             int lower = 0;
@@ -261,7 +270,7 @@ Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting,
             double u, v;
             c.tangent(i - origin + 0.5, j - origin + 0.5, u, v);
             const double c2 = 1.0 / (1.0 + u * u + v * v);
-            for (int k = 0; k < 3; ++k) src.rgb[3 * p + k] = float(scene.rgb[3 * q + k] * c2 * c2);
+            for (int k = 0; k < 3; ++k) src.rgb[3 * p + k] = float(rgb[k] * c2 * c2);
         }
     }
     std::fill(xyz, xyz + 3 * size_t(out_w) * out_h, 0.0f);

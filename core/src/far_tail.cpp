@@ -1,3 +1,4 @@
+#include "wavecam/edge_continuation.h"
 #include "far_tail.h"
 
 #include <algorithm>
@@ -72,7 +73,7 @@ struct CoarseGrid {
 // x its cos^4 fall-off, a pixel's light as the kernels carry it) times its kernels' missing share
 // at its own place, interpolated as the kernels are. The sources are the frame's pixels and,
 // beyond its edges, the edge continued: each direction beyond takes the nearest edge pixel's
-// radiance and depth, a cell's part beyond the frame sampled at 4 x 4 points (the light of an
+// radiance (bounded by its neighbours', edge_continuation.h) and depth, a cell's part beyond the frame sampled at 4 x 4 points (the light of an
 // area in axis pixels is radiance x that area, as a pixel's is radiance x its cos^4).
 std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scene, int origin, const CoarseGrid& g,
                                  const DirectionCosines& dc, int nthreads) {
@@ -115,6 +116,7 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
     const size_t fit = (size_t(64) << 20) / (3 * cells * sizeof(double));
     const int threads = int(std::clamp<size_t>(fit, 1, size_t(std::max(1, nthreads))));
     std::vector<std::vector<double>> part(threads, std::vector<double>(3 * cells, 0.0));
+    const EdgeContinuation edge(scene.rgb, 3, W, H);  // a lone bright edge pixel is not copied beyond
 #pragma omp parallel num_threads(threads)
     {
         std::vector<double>& mine = part[size_t(omp_get_thread_num())];
@@ -143,8 +145,7 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
                     if (x >= 0 && x < W && y >= 0 && y < H) continue;
                     const int ci = std::clamp(int(std::floor(x)), 0, W - 1);
                     const int cj = std::clamp(int(std::floor(y)), 0, H - 1);
-                    add_missing(x, y, inverse_depth(ci, cj), &scene.rgb[3 * (size_t(cj) * W + ci)], sub * sub, ax, ay,
-                                mine.data());
+                    add_missing(x, y, inverse_depth(ci, cj), edge.at(ci, cj), sub * sub, ax, ay, mine.data());
                 }
     }
     std::vector<float> missing(3 * cells, 0.0f);

@@ -2,8 +2,8 @@
 //
 // Film pixels near the border receive light from scene points outside the frame. As the fast
 // path does (convolution_method.h), the scene beyond the input is its edge continued: a point
-// outside takes the radiance and planar depth of the nearest edge pixel, at its own field
-// position. The margin reaches kTailReach R beyond the output frame (R: psf_kernel_radius, the
+// outside takes the radiance (bounded by its neighbours' along the edge, edge_continuation.h)
+// and planar depth of the nearest edge pixel, at its own field position. The margin reaches kTailReach R beyond the output frame (R: psf_kernel_radius, the
 // kPsfKernelEnergy radius): the light the convolution method's kernels and far tail hold, all but about
 // (1 - kPsfKernelEnergy) / kTailReach of each PSF. Never farther than one frame side, though (a
 // PSF wider than the frame would make the scene mostly invented edge), and no farther than the

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "wavecam/edge_continuation.h"
 #include "psf_kernel.h"
 #include "scene_runs.h"
 #include "summation_evaluator.h"
@@ -100,13 +101,16 @@ private:
         power_.resize(n);
         key_.resize(n);  // independent: the pixel's random numbers
         const uint64_t pixels = uint64_t(c.width) * c.height;
+        const EdgeContinuation edge(scene.power, 1, c.width, c.height);  // a lone bright edge pixel is not copied beyond
         for (int j = 0; j < H; ++j)
             for (int i = 0; i < W; ++i) {
                 const size_t p = size_t(j) * W + i;
                 const int ci = i - origin, cj = j - origin;
                 const int qi = std::clamp(ci, 0, c.width - 1), qj = std::clamp(cj, 0, c.height - 1);
                 const size_t q = size_t(qj) * c.width + qi;
-                const double power = scene.power[q] * c.solid_angle(ci, cj), d = scene.depth[q];
+                const bool inside = ci == qi && cj == qj;
+                const double power = (inside ? scene.power[q] : *edge.at(qi, qj)) * c.solid_angle(ci, cj),
+                             d = scene.depth[q];
                 const double w = d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(qi, qj, d, scene.depth_meaning);
                 int lower = 0;
                 conv.layers().locate(w, lower, sources_.upper_share[p]);

@@ -1,3 +1,4 @@
+#include "wavecam/edge_continuation.h"
 #include "scene_sum.h"
 
 #include <algorithm>
@@ -64,13 +65,15 @@ std::vector<Emitter> scene_emitters(const MonochromeScene& scene, const std::vec
             e.push_back({double(i), double(j), 1.0, 1.0, scene.power[p] * c.solid_angle(i, j), scene.depth[p],
                          scene.depth_meaning, p});
         }
+    const EdgeContinuation edge(scene.power, 1, c.width, c.height);  // a lone bright edge pixel is not copied beyond
     for (size_t k = 0; k < cells.size(); ++k) {
         const detail::MarginCell& m = cells[k];
         const size_t q = size_t(m.edge_y) * c.width + m.edge_x;
-        if (scene.power[q] <= 0) continue;
+        const float power = *edge.at(m.edge_x, m.edge_y);
+        if (power <= 0) continue;
         const double d = scene.depth[q];
         e.push_back({double(m.x0), double(m.y0), double(m.x1 - m.x0), double(m.y1 - m.y0),
-                     scene.power[q] * detail::block_solid_angle(c, m.x0, m.x1, m.y0, m.y1),
+                     power * detail::block_solid_angle(c, m.x0, m.x1, m.y0, m.y1),
                      d >= kInfiniteDepth ? d : c.planar_depth(m.edge_x, m.edge_y, d, scene.depth_meaning),
                      DepthMeaning::Planar, pixels + k});
     }

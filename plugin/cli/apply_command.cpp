@@ -214,13 +214,19 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
         dst.specmod().attribute("wavecam.job",
                                 job_fingerprint(fingerprint.value, recorded_settings(flags.given)));
     // OpenEXR: scene-linear float, every channel; .png/.jpg/.tif: RGB through the display view
-    auto written = is_exr(output) ? write_plate(dst, src, output, opt.pixel_type, opt.max_memory)
-                                  : write_display_image(dst, opt, output);
-    if (!written.ok()) return fail(written.error);
+    if (is_exr(output)) {
+        auto written = write_plate(dst, src, output, opt.pixel_type, opt.half_overflow, opt.max_memory);
+        if (!written.ok()) return fail(written.error);
+        if (!written.value.empty()) std::fprintf(stderr, "wavecam apply: %s: %s\n", output.c_str(), written.value.c_str());
+    } else if (auto written = write_display_image(dst, opt, output); !written.ok()) {
+        return fail(written.error);
+    }
     if (!compare.empty())
         if (auto w = write_compare_sheet(src, dst, opt, compare); !w.ok()) return fail(w.error);
     if (!png.empty())
         if (auto w = write_display_image(dst, opt, png); !w.ok()) return fail(w.error);
+    if (const std::string edge = dst.spec().get_string_attribute("wavecam.edge"); !edge.empty())
+        std::fprintf(stderr, "wavecam apply: %s: %s\n", input.c_str(), edge.c_str());
     std::printf("pinhole %s, %s\n", dst.spec().get_string_attribute("wavecam.pinhole").c_str(),
                 dst.spec().get_string_attribute("wavecam.summary").c_str());
     std::printf("wrote %s\n", output.c_str());

@@ -101,7 +101,9 @@ int run(const MergeFlags& flags) {
     if (auto r = DiffractPlan(opt).diffract(dst, src, first.input); !r.ok())
         return refuse({front::word_failure(r, front::Front::Command)});
     dst.specmod().attribute("wavecam.job", first.job);  // the job the shares belong to (farm status)
-    if (auto w = write_plate(dst, src, flags.output, opt.pixel_type, opt.max_memory); !w.ok()) return refuse({w.error});
+    auto written = write_plate(dst, src, flags.output, opt.pixel_type, opt.half_overflow, opt.max_memory);
+    if (!written.ok()) return refuse({written.error});
+    if (!written.value.empty()) std::fprintf(stderr, "wavecam merge: %s: %s\n", flags.output.c_str(), written.value.c_str());
     if (!flags.compare.empty())
         if (auto w = write_compare_sheet(src, dst, opt, flags.compare); !w.ok()) return refuse({w.error});
     if (!flags.png.empty())

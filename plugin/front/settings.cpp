@@ -1,5 +1,7 @@
 #include "settings.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <mutex>
@@ -213,8 +215,8 @@ const std::vector<SettingKey> kKeys = {
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          return parse_choice(n, v, {{"keep", true}, {"drop", false}}, o.other_channels);
      }},
-    {"negative", "clamp", "negative radiance: refuse (default; the message names the pixel) or clamp (set to 0; the "
-     "output says how many values)", true,
+    {"negative", "clamp", "negative radiance or alpha: refuse (default; the message names the pixel) or clamp (set to "
+     "0; the output says how many values)", true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          return parse_choice(n, v, {{"refuse", false}, {"clamp", true}}, o.read.clamp_negative);
      }},
@@ -224,6 +226,14 @@ const std::vector<SettingKey> kKeys = {
          return parse_choice(n, v, {{"keep", OIIO::TypeDesc(OIIO::TypeUnknown)}, {"half", OIIO::TypeDesc(OIIO::TypeHalf)},
                                     {"float", OIIO::TypeDesc(OIIO::TypeFloat)}},
                              o.pixel_type);
+     }},
+    {"half-overflow", "clamp", "an OpenEXR output's diffracted channels written as half that hold values beyond "
+     "half's range (65504), which half would write as inf: float (default: those channels written as float), clamp "
+     "(set to 65504) or refuse (nothing written); the command says how many values and the largest", true,
+     [](const std::string& v, const std::string& n, DiffractOptions& o) {
+         return parse_choice(n, v, {{"float", HalfOverflow::Float}, {"clamp", HalfOverflow::Clamp},
+                                    {"refuse", HalfOverflow::Refuse}},
+                             o.half_overflow);
      }},
     {"compression", "zip", "the OpenEXR output's compression: keep (default: the input's), none, rle, zips, zip, piz, "
      "pxr24, b44, b44a, dwaa or dwab (pxr24, b44 and dwa are lossy)", true,
@@ -287,6 +297,64 @@ const SettingKey* find_key(const std::string& key) {
     return nullptr;
 }
 
+// What wavecam and its tools write into headers beside the settings: records of a run (the
+// output's, a share's `wavecam.part.*`, `wavecam psf`'s, the compare sheet's) and of the scene
+// (the tracer's, the POV-Ray harness's). Read back from a source they are known, and set nothing.
+constexpr const char* kRecordedAttributes[] = {
+    "fov", "fov-from", "film-width", "cropped-overscan", "light", "summation-chosen", "alpha", "negative-clamped",
+    "out-of-gamut-mapped", "fresnel-number", "summary", "job", "diffracted-channels", "edge", "half-overflow-written",
+    "views", "scene", "scene-unit", "ray-pinhole", "ray-film-distance", "pov-frame", "pov-clock", "display", "view",
+    "quantity", "zoneplate-focus", "source-angle", "source-distance", "wavelength", "film-size", "pixel-pitch",
+    "film-centre", "sample-pitch", "sample-count", "orientation"};
+
+bool is_recorded_attribute(const std::string& key) {
+    if (key.rfind("part.", 0) == 0) return true;  // a share's records (share_files.h)
+    for (const char* r : kRecordedAttributes)
+        if (key == r) return true;
+    return false;
+}
+
+// Levenshtein distance: the edits that make a into b.
+size_t edit_distance(const std::string& a, const std::string& b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        size_t diagonal = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j) {
+            const size_t up = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+            diagonal = up;
+        }
+    }
+    return row[b.size()];
+}
+
+}  // namespace
+
+std::string nearest_key(const std::string& unknown) {
+    std::string spelled = unknown;  // film_distance, FILM-DISTANCE: the same key
+    for (char& c : spelled) c = c == '_' ? '-' : char(std::tolower(static_cast<unsigned char>(c)));
+    std::string best;
+    size_t least = std::max<size_t>(3, spelled.size() / 3) + 1;  // beyond a third of the word: no guess
+    for (const SettingKey& k : kKeys)
+        if (const size_t d = edit_distance(spelled, k.key); d < least) {
+            least = d;
+            best = k.key;
+        }
+    return best;
+}
+
+std::string unknown_key_message(const std::string& name, const std::string& key) {
+    std::string known;
+    for (const SettingKey& s : kKeys) known += (known.empty() ? "" : ", ") + s.key;
+    const std::string nearest = nearest_key(key);
+    return name + ": unknown key" + (nearest.empty() ? "" : "; did you mean '" + nearest + "'?") + " (known: " + known +
+           ")";
+}
+
+namespace {
+
 // A metadata value as the text a person would type: strings as they are, numbers printed.
 Result<std::string> attribute_text(const OIIO::ParamValue& p) {
     const OIIO::TypeDesc t = p.type();
@@ -312,6 +380,9 @@ Result<ResolvedSettings> resolve_settings(const OIIO::ImageSpec& source, const S
         const std::string attribute = p.name().string();
         if (attribute.rfind("wavecam.", 0) != 0) continue;
         const SettingKey* k = find_key(attribute.substr(8));
+        // a typo never falls back to a default: a name that is neither a setting nor a record is refused
+        if (!k && !is_recorded_attribute(attribute.substr(8)))
+            return R::failure(unknown_key_message(attribute + " (the file's header)", attribute.substr(8)));
         if (!k || !k->from_source) continue;
         auto text = attribute_text(p);
         if (!text.ok()) return R::failure(text);
@@ -329,11 +400,7 @@ Result<ResolvedSettings> resolve_settings(const OIIO::ImageSpec& source, const S
     r.options.runs_from_psf = true;  // the fronts' default: runs=auto
     for (const auto& [key, given] : layers) {
         const SettingKey* k = find_key(key);
-        if (!k) {
-            std::string known;
-            for (const SettingKey& s : kKeys) known += (known.empty() ? "" : ", ") + s.key;
-            return R::failure(given.name + ": unknown key (known: " + known + ")");
-        }
+        if (!k) return R::failure(unknown_key_message(given.name, key));
         const std::string text = present_word(key, given.text, given.name, r.notes);
         if (auto a = k->apply(text, given.name, r.options); !a.ok()) return R::failure(a);
         r.text[key] = text;

@@ -56,6 +56,12 @@ struct ResolvedSettings {
 // key lists the known ones.
 Result<ResolvedSettings> resolve_settings(const OIIO::ImageSpec& source, const SettingSources& sources);
 
+// The setting key nearest to a mistyped one ("pinhol", "film_distance"), "" when none is near.
+std::string nearest_key(const std::string& unknown);
+// "NAME: unknown key; did you mean 'pinhole'? (known: ...)": every route's refusal of a key it
+// does not know (a typo never falls back to a default).
+std::string unknown_key_message(const std::string& name, const std::string& key);
+
 // Prints each note to standard error once per process ("wavecam: --method: 'fast' is now called
 // 'convolution'"): a sequence or a host that opens many files hears it once.
 void show_notes(const std::vector<std::string>& notes);

@@ -138,7 +138,16 @@ private:
         sources.given = query;  // ?KEY=VALUE wins over --iconfig wavecam:KEY VALUE
         for (const ParamValue& p : config.extra_attribs) {
             const std::string n = p.name().string();
-            if (n.rfind("wavecam:", 0) == 0) sources.given.emplace(n.substr(8), p.get_string());
+            if (n.rfind("wavecam:", 0) == 0) {
+                sources.given.emplace(n.substr(8), p.get_string());
+            } else if (Strutil::istarts_with(n, "wavecam") && n.size() > 7) {
+                // wavecam.pinhole, wavecam_pinhole, Wavecam:pinhole: a hint meant for wavecam, misspelt,
+                // never ignored (it would leave the default in force)
+                const std::string key = n.substr(8);
+                const std::string nearest = wavecam::front::nearest_key(key);
+                return fail("--iconfig " + n + ": not a wavecam hint; expected wavecam:KEY (a colon, lower case)" +
+                            (nearest.empty() ? "" : ", e.g. --iconfig wavecam:" + nearest + " " + p.get_string()));
+            }
         }
         sources.given_name = [query](const std::string& key) {
             return query.count(key) ? "?" + key + "= in the name" : "--iconfig wavecam:" + key;
@@ -221,6 +230,8 @@ private:
         auto dst = std::make_shared<ImageBuf>();
         if (auto r = plan->diffract(*dst, src, source); !r.ok())
             return Computed::failure(wavecam::front::word_failure(r, wavecam::front::Front::Plugin));
+        if (const std::string edge = dst->spec().get_string_attribute("wavecam.edge"); !edge.empty())
+            wavecam::front::show_notes({source + ": " + edge});
         return Computed::success(dst);
     }
 

@@ -62,6 +62,8 @@ public:
     Result<bool> apply(const SpectralScene& scene, bool vignetting, float* xyz, const ProgressFn& progress = {}) const;
 
     int kernel_radius() const;
+    // The kernel radius (pixels) a plan for `spec` takes, without building it; 0 when none can be made.
+    static int kernel_radius(const ConvolutionPlanSpec& spec);
     // Bytes a plan for `spec` and one frame's work need at their peak, without building it.
     static double estimate_bytes(const ConvolutionPlanSpec& spec);
 

@@ -8,8 +8,10 @@
 #include <sstream>
 
 #include "colour_metadata.h"
+#include "multi_view.h"
 #include "pixel_aspect.h"
 #include "resolved_frame.h"
+#include "wavecam/edge_continuation.h"
 #include "wavecam/output_layout.h"
 #include "wavecam/pinhole_design.h"
 #include "wavecam/term_rate.h"
@@ -98,6 +100,19 @@ Result<bool> run_scene_sum(const DiffractOptions& opt, const ResolvedFrame& f, s
     return r;
 }
 
+// What the frame's edge continuation left out (edge_continuation.h): "" where every edge pixel
+// is continued as it is, or the overscan reaches the kernels' radius.
+std::string edge_note(const ResolvedFrame& f) {
+    const EdgeContinuation edge(f.in.rgb.data(), 3, f.in.width, f.in.height);
+    if (edge.bright() == 0) return {};
+    const int radius = ConvolutionPlan::kernel_radius(f.convolution);
+    if (f.overscan >= radius) return {};
+    return std::to_string(edge.bright()) + " edge pixels far brighter than their neighbours along the edge (a sun, "
+           "a glint) were continued beyond the frame only as bright as those neighbours: the light beyond the edge "
+           "is unknown. For the exact image render " + std::to_string(radius) + " more pixels on every side and give "
+           "--overscan " + std::to_string(radius);
+}
+
 // The output's header: the input's less what described the ideal camera (output_layout.h), the
 // frame without its overscan, and every parameter of this run.
 OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& channels, const DiffractOptions& opt,
@@ -123,6 +138,8 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
     if (f.overscan > 0) spec.attribute("wavecam.cropped-overscan", f.overscan);  // not wavecam.overscan: none here
     spec.attribute("wavecam.fov-from", in.fov_from);
     spec.attribute("wavecam.depth", opt.depth_meaning == DepthMeaning::Planar ? "planar" : "ray");
+    // the channel read as depth, by its full name: a later run of this file reads the same one
+    spec.attribute("wavecam.depth-channel", in.depth_channel);
     // the depth channel is copied as the input had it: the scale read back gives the same metres
     spec.attribute("wavecam.depth-scale", with_unit(opt.read.depth_scale, 1.0, "m"));
     std::string wl;
@@ -153,6 +170,7 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
     if (in.premultiplied_on_reading)  // the output's colour is premultiplied, whatever the input's format said
         for (const char* flag : {"oiio:UnassociatedAlpha", "tiff:UnassociatedAlpha"}) spec.erase_attribute(flag);
     if (opt.read.clamp_negative) spec.attribute("wavecam.negative-clamped", std::to_string(in.clamped) + " values");
+    if (const std::string edge = edge_note(f); !edge.empty()) spec.attribute("wavecam.edge", edge);
     if (!opt.compression.empty()) spec.attribute("compression", opt.compression);
     spec.attribute("wavecam.input-colorspace", f.colour.in_space);
     spec.attribute("wavecam.output-colorspace", f.colour.out_space);
@@ -220,9 +238,12 @@ Result<bool> DiffractPlan::diffract_alpha(const DiffractOptions& opt, const Reso
         if (auto r = run_convolution(coverage, grey, xyz[pass]); !r.ok()) return r;
         keep_data_window(xyz[pass], f.out_w, f.kept);
     }
+    // each pixel's coverage is a weighted mean of the input's: within [0, its largest] but for
+    // rounding. An input's alpha above 1 (additive elements) stays above 1, as the input had it.
+    const float most = *std::max_element(f.in.alpha.begin(), f.in.alpha.end());
     alpha.resize(xyz[0].size() / 3);
     for (size_t p = 0; p < alpha.size(); ++p)
-        alpha[p] = std::clamp(xyz[0][3 * p + 1] / xyz[1][3 * p + 1], 0.0f, 1.0f);
+        alpha[p] = std::clamp(xyz[0][3 * p + 1] / xyz[1][3 * p + 1], 0.0f, most);
     return Result<bool>::success(true);
 }
 
@@ -236,6 +257,11 @@ bool diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string&
 
 Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name,
                                     int nthreads) {
+    if (!detail::view_names(src.spec()).empty())  // stereo: each view with its own depth (multi_view.h)
+        return detail::diffract_each_view(dst, src, name,
+                                          [this, nthreads](OIIO::ImageBuf& d, const OIIO::ImageBuf& s, const std::string& n) {
+                                              return diffract(d, s, n, nthreads);
+                                          });
     if (const double aspect = detail::pixel_aspect(src.spec()); aspect != 1.0) {
         // anamorphic: diffracted on square pixels, then back on the file's (pixel_aspect.h)
         using Fail = Result<bool>;

@@ -5,6 +5,7 @@
 #include "wavecam/atomic_write.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace wavecam {
 namespace Strutil = OIIO::Strutil;
@@ -106,19 +107,81 @@ Result<bool> fill_output(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const R
     return Result<bool>::success(true);
 }
 
-Result<bool> write_plate(const OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& path,
-                         OIIO::TypeDesc diffracted_type, double max_bytes) {
+namespace {
+
+// The values of `image`'s half channels beyond half's range: how many, the largest, and where.
+struct HalfExcess {
+    size_t count = 0;
+    float largest = 0;
+    int x = 0, y = 0, channel = -1;
+};
+
+HalfExcess half_excess(const OIIO::ImageBuf& image, const std::vector<OIIO::TypeDesc>& formats) {
+    HalfExcess e;
+    const OIIO::ImageSpec& spec = image.spec();
+    for (int c = 0; c < spec.nchannels; ++c) {
+        if (formats[c] != OIIO::TypeDesc::HALF) continue;
+        for (int y = spec.y; y < spec.y + spec.height; ++y)
+            for (int x = spec.x; x < spec.x + spec.width; ++x) {
+                const float v = *static_cast<const float*>(image.pixeladdr(x, y, 0, c));
+                if (!(std::fabs(v) > kHalfMax) || !std::isfinite(v)) continue;
+                ++e.count;
+                if (std::fabs(v) > std::fabs(e.largest)) e = {e.count, v, x, y, c};
+            }
+    }
+    return e;
+}
+
+}  // namespace
+
+Result<std::string> write_plate(const OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& path,
+                                OIIO::TypeDesc diffracted_type, HalfOverflow overflow, double max_bytes) {
+    using R = Result<std::string>;
     std::vector<OIIO::ImageBuf> others;  // the other parts, as the file has them
     std::vector<PartToWrite> parts;
     const int chosen = src.subimage(), count = std::max(1, src.nsubimages());
-    others.reserve(count);
+    others.reserve(count + 1);
+    std::string done;
     for (int s = 0; s < count; ++s) {
         if (s == chosen) {
-            parts.push_back({&dst, file_channel_formats(src.nativespec(), dst.spec(), diffracted_type)});
+            std::vector<OIIO::TypeDesc> formats = file_channel_formats(src.nativespec(), dst.spec(), diffracted_type);
+            const HalfExcess e = half_excess(dst, formats);
+            if (e.count == 0) {
+                parts.push_back({&dst, formats});
+                continue;
+            }
+            const std::string what = std::to_string(e.count) + " values beyond half's range of 65504 (the largest " +
+                                     Strutil::fmt::format("{:g}", e.largest) + " in channel '" +
+                                     dst.spec().channelnames[e.channel] + "' at pixel (" + std::to_string(e.x) + ", " +
+                                     std::to_string(e.y) + "))";
+            if (overflow == HalfOverflow::Refuse)
+                return R::failure(path + ": " + what + ", which half would write as inf; nothing written. Expected "
+                                  "values within half's range: write float (--pixel-type float, or the half-overflow "
+                                  "setting float) or clamp them (half-overflow clamp)",
+                                  ErrorKind::Invalid, "half-overflow");
+            OIIO::ImageBuf fitted;
+            fitted.copy(dst);
+            if (overflow == HalfOverflow::Float) {
+                done = what + ": the diffracted channels written as float (half-overflow float)";
+                const std::vector<std::string> diffracted =
+                    Strutil::splits(dst.spec().get_string_attribute(kDiffractedChannelsAttribute), ",");
+                for (int c = 0; c < dst.nchannels(); ++c)
+                    if (std::find(diffracted.begin(), diffracted.end(), dst.spec().channelnames[c]) != diffracted.end())
+                        formats[c] = OIIO::TypeDesc::FLOAT;
+            } else {
+                done = what + ": clamped to +-65504 (half-overflow clamp)";
+                for (int c = 0; c < fitted.nchannels(); ++c)
+                    if (formats[c] == OIIO::TypeDesc::HALF)
+                        for (OIIO::ImageBuf::Iterator<float> it(fitted); !it.done(); ++it)
+                            if (std::isfinite(it[c])) it[c] = std::clamp(float(it[c]), -kHalfMax, kHalfMax);
+            }
+            fitted.specmod().attribute("wavecam.half-overflow-written", done);
+            others.push_back(std::move(fitted));
+            parts.push_back({&others.back(), formats});
             continue;
         }
         auto part = read_image(src.name(), max_bytes, s);
-        if (!part.ok()) return Result<bool>::failure(part);
+        if (!part.ok()) return R::failure(part);
         others.push_back(std::move(part.value));
         // OpenEXR holds one chromaticities per file (a shared attribute): the diffracted part's
         OIIO::ImageSpec& spec = others.back().specmod();
@@ -129,7 +192,8 @@ Result<bool> write_plate(const OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, c
         for (int c = 0; c < native.nchannels; ++c) formats.push_back(native.channelformat(c));
         parts.push_back({&others.back(), formats});
     }
-    return write_parts_atomically(parts, path);
+    if (auto w = write_parts_atomically(parts, path); !w.ok()) return R::failure(w);
+    return R::success(done);
 }
 
 }  // namespace wavecam

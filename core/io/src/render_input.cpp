@@ -1,5 +1,6 @@
 #include "wavecam/render_input.h"
 
+#include "multi_view.h"
 #include "render_parts.h"
 #include "render_windows.h"
 #include "wavecam/scene_diffraction.h"
@@ -51,6 +52,29 @@ Result<double> header_fov(const OIIO::ImageSpec& spec) {
     return fov;
 }
 
+// OpenEXR's screen window: the projection that made the frame. Its centre off (0, 0) is a
+// lens-shifted render, the optical axis off the frame's centre, which wavecam's camera (axis at
+// the display window's centre: the PSF's field stretch and the vignetting follow it) cannot
+// hold; a width other than 1 is a zoomed projection that the fov read from the file does not
+// describe. Both are refused, naming the attribute ("" when the frame is centred).
+std::string off_axis_projection(const OIIO::ImageSpec& spec, bool fov_given) {
+    float centre[2] = {0, 0}, width = 1;
+    const bool has_centre = spec.getattribute("screenWindowCenter", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, OIIO::TypeDesc::VEC2), centre);
+    spec.getattribute("screenWindowWidth", OIIO::TypeDesc::FLOAT, &width);
+    if (has_centre && (std::fabs(centre[0]) > 1e-6f || std::fabs(centre[1]) > 1e-6f))
+        return OIIO::Strutil::fmt::format(
+            "screenWindowCenter is ({:g}, {:g}): a lens-shifted frame, its optical axis off the frame's centre; "
+            "expected (0, 0): wavecam's pinhole sits on the axis through the frame's centre (the PSF's stretch and "
+            "the vignetting follow it). Render without shift, on a frame wide enough to hold the shifted one, and "
+            "crop the diffracted image",
+            centre[0], centre[1]);
+    if (!fov_given && std::fabs(width - 1.0f) > 1e-6f)
+        return OIIO::Strutil::fmt::format(
+            "screenWindowWidth is {:g}: a projection zoomed against the frame, which the file's field of view does "
+            "not describe; expected 1, or the fov setting giving the frame's own horizontal field of view", width);
+    return {};
+}
+
 // What to do when the file carries no field of view; a Blender render is told how to get one.
 // The front says how its users give the fov (ErrorKind::Missing, field "fov").
 std::string missing_fov_message(const OIIO::ImageSpec& spec) {
@@ -85,22 +109,27 @@ bool read_channels(const OIIO::ImageBuf& image, const RenderChannels& ch, Render
 }
 
 // Light is never negative: a negative value (a denoiser's overshoot, a -65504 half) would be
-// spread over every pixel its PSF reaches. The first is refused, naming its channel and pixel;
-// with `clamp`, every one is set to 0 and counted.
+// spread over every pixel its PSF reaches. Nor is coverage: a negative alpha would take light
+// away where the element is laid over a plate. The first is refused, naming its channel and
+// pixel; with `clamp`, every one is set to 0 and counted.
 std::string clamp_or_refuse_negative(RenderInput& in, const OIIO::ImageSpec& spec, const RenderChannels& ch, bool clamp) {
+    auto refuse = [&](int channel, size_t p, float v, const char* what) {
+        return "channel '" + spec.channelnames[channel] + "' at pixel (" + std::to_string(spec.x + int(p % in.width)) +
+               ", " + std::to_string(spec.y + int(p / in.width)) + ") is " + OIIO::Strutil::fmt::format("{:g}", v) +
+               ", expected " + what + " >= 0 (the negative setting 'clamp' sets such values to 0)";
+    };
     const int rgb[3] = {ch.r, ch.g, ch.b};
     for (size_t k = 0; k < in.rgb.size(); ++k) {
         if (!(in.rgb[k] < 0)) continue;
-        if (clamp) {
-            in.rgb[k] = 0;
-            ++in.clamped;
-            continue;
-        }
-        const size_t p = k / 3;
-        return "channel '" + spec.channelnames[rgb[k % 3]] + "' at pixel (" + std::to_string(spec.x + int(p % in.width)) +
-               ", " + std::to_string(spec.y + int(p / in.width)) + ") is " +
-               OIIO::Strutil::fmt::format("{:g}", in.rgb[k]) +
-               ", expected radiance >= 0 (light is never negative; the negative setting 'clamp' sets such values to 0)";
+        if (!clamp) return refuse(rgb[k % 3], k / 3, in.rgb[k], "radiance (light is never negative)");
+        in.rgb[k] = 0;
+        ++in.clamped;
+    }
+    for (size_t p = 0; p < in.alpha.size(); ++p) {
+        if (!(in.alpha[p] < 0)) continue;
+        if (!clamp) return refuse(ch.alpha, p, in.alpha[p], "coverage (alpha is never negative)");
+        in.alpha[p] = 0;
+        ++in.clamped;
     }
     return {};
 }
@@ -173,6 +202,11 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
         return fail("pixel aspect ratio " + OIIO::Strutil::fmt::format("{:g}", aspect) +
                     ": a share of a job (apply --part, farm) is computed on square pixels; expected square pixels, "
                     "or the whole frame diffracted in one run (wavecam apply, the plugin)");
+    // (DiffractPlan::diffract takes each view of a multi-view file alone, multi_view.h)
+    if (const std::vector<std::string> views = detail::view_names(spec); !views.empty())
+        return fail("a multi-view (stereo) file, views " + OIIO::Strutil::join(views, ", ") +
+                    ": a share of a job (apply --part, farm) reads one view; expected a single-view file, or the whole "
+                    "file diffracted in one run (wavecam apply, the plugin), each view with its own depth");
     if (spec.find_attribute("wavecam.summary") && !opt.diffract_again)
         return fail(already_diffracted(spec), ErrorKind::Invalid, "diffract-again");
     auto found = find_render_channels(spec, opt);
@@ -221,6 +255,8 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
         for (float& d : in.depth)
             if (d < kInfiniteDepth) d = static_cast<float>(d * opt.depth_scale);
 
+    if (const std::string shifted = off_axis_projection(spec, opt.fov_h > 0); !shifted.empty())
+        return fail(shifted);
     if (opt.fov_h > 0) {
         in.fov_h = opt.fov_h;
         in.fov_from = opt.fov_from;

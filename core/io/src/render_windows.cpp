@@ -1,5 +1,7 @@
 #include "render_windows.h"
 
+#include "wavecam/edge_continuation.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -52,11 +54,14 @@ Result<bool> place_on_frame(const OIIO::ImageSpec& spec, RenderInput& in) {
 
     const int dw = spec.width, dh = spec.height, ox = spec.x - fx, oy = spec.y - fy;
     std::vector<float> rgb(3 * size_t(fw) * fh), depth(size_t(fw) * fh), alpha(in.alpha.empty() ? 0 : depth.size());
+    const EdgeContinuation edge(in.rgb.data(), 3, dw, dh);  // a lone bright edge pixel is not copied beyond
     for (int j = 0; j < fh; ++j)
         for (int i = 0; i < fw; ++i) {
-            const size_t from = size_t(std::clamp(j - oy, 0, dh - 1)) * dw + std::clamp(i - ox, 0, dw - 1);
+            const int ei = std::clamp(i - ox, 0, dw - 1), ej = std::clamp(j - oy, 0, dh - 1);
+            const size_t from = size_t(ej) * dw + ei;
             const size_t to = size_t(j) * fw + i;
-            std::copy(&in.rgb[3 * from], &in.rgb[3 * from] + 3, &rgb[3 * to]);
+            const float* light = ei == i - ox && ej == j - oy ? &in.rgb[3 * from] : edge.at(ei, ej);
+            std::copy(light, light + 3, &rgb[3 * to]);
             depth[to] = in.depth[from];
             if (!alpha.empty()) alpha[to] = in.alpha[from];
         }

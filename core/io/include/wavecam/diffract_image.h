@@ -7,6 +7,7 @@
 #include <mutex>
 #include <string>
 #include <vector>
+#include "wavecam/output_layout.h"
 #include "wavecam/render_input.h"
 #include "wavecam/convolution_method.h"
 #include "wavecam/scene_diffraction.h"
@@ -50,6 +51,7 @@ struct DiffractOptions {
     bool other_channels = true;                    // every channel but the diffracted ones passes through
                                                    // (AOVs, Cryptomatte, IDs); false keeps RGB(A) and depth
     OIIO::TypeDesc pixel_type = OIIO::TypeUnknown;  // the diffracted channels' type in the file; unknown = the input's
+    HalfOverflow half_overflow = HalfOverflow::Float;  // half channels with values beyond half's range (output_layout.h)
     std::string compression;                       // the file's compression; "" = the input's
     double max_terms = 4e12;                       // refuse larger scene-sum jobs (see term_rate.h for the time)
     double max_memory = 16.0 * (1ull << 30);       // bytes; refuse jobs estimated to need more

@@ -40,10 +40,21 @@ std::vector<OIIO::TypeDesc> file_channel_formats(const OIIO::ImageSpec& input, c
 Result<bool> fill_output(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const RenderChannels& channels, int margin,
                          const float* rgb, const float* alpha);
 
+// Where a diffracted channel is written as half and holds values beyond half's range (65504,
+// a sun after diffraction, a bright patch after a colour conversion), which half would write as
+// inf: the half-overflow setting. Float writes the diffracted channels as float instead; Clamp
+// sets such values to +-65504; Refuse writes nothing. Each says how many values and the largest.
+enum class HalfOverflow { Float, Clamp, Refuse };
+
+// The largest finite value a half holds.
+constexpr float kHalfMax = 65504.0f;
+
 // Writes the diffracted `dst` as `path` (atomic_write.h) with the rest of `src`'s file: each
 // channel in its file type (file_channel_formats), and every other part of a multi-part input
-// read again and written as it was, in its place.
-Result<bool> write_plate(const OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& path,
-                         OIIO::TypeDesc diffracted_type, double max_bytes);
+// read again and written as it was, in its place. Never writes inf for a finite value: half
+// channels beyond half's range go as `overflow` says, and the value is what was done ("" when
+// every value fits; the file's header records it as wavecam.half-overflow-written).
+Result<std::string> write_plate(const OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& path,
+                                OIIO::TypeDesc diffracted_type, HalfOverflow overflow, double max_bytes);
 
 }  // namespace wavecam

@@ -18,7 +18,7 @@ struct RenderReadOptions {
     std::string subimage;             // the part (OIIO subimage) read, by name; "" = the file's only one
     std::string layer;                // the radiance layer ("ViewLayer.Combined", "beauty"); "" = the one
                                       // the file's names make plain (render_layers.cpp)
-    bool clamp_negative = false;      // negative radiance set to 0 (and counted) instead of refused
+    bool clamp_negative = false;      // negative radiance and alpha set to 0 (and counted) instead of refused
     bool diffract_again = false;      // a file wavecam wrote (wavecam.method in its header) taken as a render
 };
 
@@ -60,7 +60,7 @@ struct RenderInput {
     std::vector<float> rgb;    // interleaved R, G, B
     std::vector<float> depth;  // metres (the file's values times RenderReadOptions::depth_scale)
     std::vector<float> alpha;  // the radiance layer's coverage A (premultiplied RGB); empty without one
-    size_t clamped = 0;        // negative radiance values set to 0 (RenderReadOptions::clamp_negative)
+    size_t clamped = 0;        // negative radiance and alpha values set to 0 (RenderReadOptions::clamp_negative)
     bool premultiplied_on_reading = false;  // the file's alpha was unassociated: RGB multiplied by A on reading
     double fov_h = 0;          // radians, across `width` (the display window's as given, widened with the frame)
     double display_fov_h = 0;  // radians, across the display window (= fov_h for a file without windows)
