@@ -51,7 +51,7 @@ def plugin_keys():
         env = dict(os.environ, OIIO_LIBRARY_PATH=PLUGIN_DIR)
         r = subprocess.run(["oiiotool", "--iconfig", "wavecam:no-such-key", "1", src + ".wavecam", "-o",
                             os.path.join(d, "x.exr")], capture_output=True, text=True, env=env)
-    m = re.search(r"unknown key \(known: ([^)]*)\)", r.stdout + r.stderr)
+    m = re.search(r"unknown key[^(]*\(known: ([^)]*)\)", r.stdout + r.stderr)
     if not m:
         sys.exit("the plugin did not list its keys for an unknown one:\n" + r.stdout + r.stderr)
     return {k.strip() for k in m.group(1).split(",")}

@@ -12,8 +12,8 @@
 
 namespace wavecam::detail {
 
-int convolution_fft_size(int tile, int radius, int width, int height) {
-    return fft_friendly_size(tile >= std::max(width, height) ? std::max(width, height) : tile + 2 * radius);
+int convolution_fft_length(int tile, int radius, int length) {
+    return fft_friendly_size(tile >= length ? length : tile + 2 * radius);
 }
 
 std::vector<int> cell_edges(const AnchorAxis& a, int length) {
@@ -52,14 +52,14 @@ std::vector<int> tile_edges(const AnchorAxis& a, int length, int tile, int radiu
 void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, std::vector<float>& image,
                                            std::complex<float>* spectrum) const {
     const KernelTable& t = table_;
-    const int R = t.radius, kw = 2 * R + 1, N = fft_size_;
+    const int R = t.radius, kw = 2 * R + 1, Nx = fft_width_, Ny = fft_height_;
     const float* w = &t.weights[size_t(k) * t.kernel_size()];
     // the kernel centred on the origin, wrapped
     for (int b = -R; b <= R; ++b)
-        for (int a = -R; a <= R; ++a) image[size_t((b + N) % N) * N + (a + N) % N] = w[size_t(b + R) * kw + (a + R)];
-    fft.forward(image.data(), spectrum, R + 1, N - R);
+        for (int a = -R; a <= R; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = w[size_t(b + R) * kw + (a + R)];
+    fft.forward(image.data(), spectrum, R + 1, Ny - R);
     for (int b = -R; b <= R; ++b)
-        for (int a = -R; a <= R; ++a) image[size_t((b + N) % N) * N + (a + N) % N] = 0.0f;
+        for (int a = -R; a <= R; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = 0.0f;
 }
 
 Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int tile, bool tiles_on_cells, int width,
@@ -67,13 +67,14 @@ Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int t
     AnchoredConvolution c;
     c.tile_ = tile;
     c.tiles_on_cells_ = tiles_on_cells;
-    c.fft_size_ = convolution_fft_size(tile, table.radius, width, height);
+    c.fft_width_ = convolution_fft_length(tile, table.radius, width);
+    c.fft_height_ = convolution_fft_length(tile, table.radius, height);
     c.nthreads_ = nthreads;
     c.edges_x_ = tile_edges(table.ax, width, tile, table.radius, tiles_on_cells);
     c.edges_y_ = tile_edges(table.ay, height, tile, table.radius, tiles_on_cells);
     c.table_ = std::move(table);
     const KernelTable& t = c.table_;
-    const int N = c.fft_size_;
+    const int Nx = c.fft_width_, Ny = c.fft_height_;
     // only the computed anchors' spectra are kept: a mirror image's is its source's, reflected
     // as it is read (KernelView)
     c.slot_.assign(t.anchors(), -1);
@@ -83,9 +84,10 @@ Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int t
     c.kept_anchors_ = kept;
     const long count = long(t.layers.count) * kept * 9;
     {
-        RealFft2D probe(N);
+        RealFft2D probe(Nx, Ny);
         if (!probe.ok())
-            return Result<AnchoredConvolution>::failure("fft: cannot set up a " + std::to_string(N) + "-point transform");
+            return Result<AnchoredConvolution>::failure("fft: cannot set up a " + std::to_string(Nx) + " x " +
+                                                        std::to_string(Ny) + "-point transform");
         c.spectrum_size_ = probe.spectrum_size();
     }
     // spectra beyond kMaxKernelSpectraBytes are transformed by each tile that needs them instead
@@ -102,8 +104,8 @@ Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int t
     ProgressTicker ticker(progress, double(count));
 #pragma omp parallel num_threads(nthreads)
     {
-        RealFft2D fft(N);
-        std::vector<float> image(size_t(N) * N, 0.0f);
+        RealFft2D fft(Nx, Ny);
+        std::vector<float> image(size_t(Nx) * Ny, 0.0f);
 #pragma omp for schedule(dynamic, 4)
         for (long k = 0; k < count; ++k) {
             if (ticker.cancelled()) continue;
@@ -169,7 +171,8 @@ bool anchor_weights(const KernelTable& t, const DomainSources& src, const TileBo
 }
 
 // acc_q += sum_p in_p K_{3p+q}, written on floats so that it vectorises (std::complex's
-// operator* keeps a NaN-recovery branch); spectra of N rows of `half`.
+// operator* keeps a NaN-recovery branch); spectra of N rows of `half` (a kernel's rows read
+// as N - r where it is its source's mirror image).
 void multiply_accumulate(const std::complex<float>* in, const AnchoredConvolution::KernelView kernels[9],
                          std::complex<float>* acc, int N, int half) {
     const size_t spec = size_t(N) * half;
@@ -191,17 +194,17 @@ void multiply_accumulate(const std::complex<float>* in, const AnchoredConvolutio
         }
 }
 
-// A tile's FFT frame: N x N, holding the tile's sources `bounds` and the R pixels its kernels
-// spread beyond them (wrapped).
+// A tile's FFT frame: width x height, holding the tile's sources `bounds` and the R pixels its
+// kernels spread beyond them (wrapped).
 struct TileFrame {
-    int fft_size, radius;
+    int width, height, radius;
     TileBounds bounds;
 };
 
 // Adds channel q of a tile's convolved image (its FFT frame, wrapped) to the output window.
 void add_to_output(const std::vector<float>& image, const TileFrame& frame, const OutputWindow& out, float norm, int q,
                    float* xyz) {
-    const int N = frame.fft_size, R = frame.radius;
+    const int Nx = frame.width, Ny = frame.height, R = frame.radius;
     const TileBounds& b = frame.bounds;
     const int out_x0 = out.x0, out_y0 = out.y0, out_width = out.width, out_height = out.height;
     for (int r = -R; r < (b.y1 - b.y0) + R; ++r) {
@@ -210,7 +213,7 @@ void add_to_output(const std::vector<float>& image, const TileFrame& frame, cons
         for (int s = -R; s < (b.x1 - b.x0) + R; ++s) {
             const int i = b.x0 + s - out_x0;
             if (i < 0 || i >= out_width) continue;
-            xyz[3 * (size_t(j) * out_width + i) + q] += norm * image[size_t((r + N) % N) * N + (s + N) % N];
+            xyz[3 * (size_t(j) * out_width + i) + q] += norm * image[size_t((r + Ny) % Ny) * Nx + (s + Nx) % Nx];
         }
     }
 }
@@ -220,10 +223,10 @@ void add_to_output(const std::vector<float>& image, const TileFrame& frame, cons
 Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWindow& out, float* xyz,
                                         const ProgressFn& progress) const {
     const KernelTable& t = table_;
-    const int T = tile_, N = fft_size_, R = t.radius, W = src.width;
+    const int T = tile_, Nx = fft_width_, Ny = fft_height_, R = t.radius, W = src.width;
     const int ntx = int(edges_x_.size()) - 1, nty = int(edges_y_.size()) - 1, nkx = int(t.ax.knots.size());
     const size_t spec = spectrum_size_;
-    const float norm = 1.0f / (float(N) * N);  // kissfft leaves the inverse unnormalised
+    const float norm = 1.0f / (float(Nx) * Ny);  // kissfft leaves the inverse unnormalised
     ProgressTicker ticker(progress, double(ntx) * nty);
     // Four passes: tiles of one parity are at least one tile apart, a tile is at least 2 R wide
     // (tile_edges), and a tile writes at most R pixels beyond itself, so concurrent tiles never
@@ -231,13 +234,13 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
     for (int phase = 0; phase < 4; ++phase) {
 #pragma omp parallel num_threads(nthreads_)
         {
-            RealFft2D fft(N);
+            RealFft2D fft(Nx, Ny);
             // image: the tile in its top-left corner, zero elsewhere (the FFT's padding)
-            std::vector<float> image(size_t(N) * N), weight(size_t(T) * T);
+            std::vector<float> image(size_t(Nx) * Ny), weight(size_t(T) * T);
             std::vector<std::complex<float>> in(3 * spec), acc(3 * spec);
             // a tile's own transforms of its kernels, where the plan keeps none
             std::vector<std::complex<float>> own(kernel_spectra_.empty() ? 9 * spec : 0);
-            std::vector<float> scratch(kernel_spectra_.empty() ? size_t(N) * N : 0, 0.0f);
+            std::vector<float> scratch(kernel_spectra_.empty() ? size_t(Nx) * Ny : 0, 0.0f);
 #pragma omp for schedule(dynamic, 1)
             for (long k = 0; k < long(ntx) * nty; ++k) {
                 const int tx = int(k % ntx), ty = int(k / ntx);
@@ -264,9 +267,9 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
                             for (int p = 0; p < 3; ++p) {
                                 for (int j = b.y0; j < b.y1; ++j)
                                     for (int i = b.x0; i < b.x1; ++i)
-                                        image[size_t(j - b.y0) * N + (i - b.x0)] =
+                                        image[size_t(j - b.y0) * Nx + (i - b.x0)] =
                                             weight[size_t(j - b.y0) * T + (i - b.x0)] * src.rgb[3 * (size_t(j) * W + i) + p];
-                                fft.forward(image.data(), &in[p * spec], b.y1 - b.y0, N);
+                                fft.forward(image.data(), &in[p * spec], b.y1 - b.y0, Ny);
                             }
                             KernelView kernels[9];
                             for (int m = 0; m < 9; ++m) {
@@ -276,12 +279,12 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
                                 kernels[m] = kernel_spectra_.empty() ? KernelView{&own[m * spec], false, false}
                                                                      : spectrum(l, anchor, m);
                             }
-                            multiply_accumulate(in.data(), kernels, acc.data(), N, N / 2 + 1);
+                            multiply_accumulate(in.data(), kernels, acc.data(), Ny, Nx / 2 + 1);
                         }
                 if (hi >= lo)
                     for (int q = 0; q < 3; ++q) {
                         fft.inverse(&acc[q * spec], image.data());
-                        add_to_output(image, {N, R, b}, out, norm, q, xyz);
+                        add_to_output(image, {Nx, Ny, R, b}, out, norm, q, xyz);
                     }
                 ticker.advance(1, omp_get_thread_num() == 0);
             }

@@ -31,11 +31,12 @@ struct DomainSources {
     std::vector<float> upper_share;   // share of its light in the layer above
 };
 
-// FFT length for tiles of side `tile` on a width x height domain, kernels of radius R. Overlap-add
-// needs tile + 2R: a tile's light reaches R beyond it. One tile covering the whole domain needs
-// only the domain's side: the domain is the output widened by R on every side, so what wraps
-// round the period (at most R beyond the domain) lands in that margin, which is never read.
-int convolution_fft_size(int tile, int radius, int width, int height);
+// FFT length along one axis of a domain `length` long, for tiles of side `tile` and kernels of
+// radius R. Overlap-add needs tile + 2R: a tile's light reaches R beyond it. Where one tile
+// covers the axis it needs only the domain's length: the domain is the output widened by R on
+// every side, so what wraps round the period (at most R beyond the domain) lands in that margin,
+// which is never read. Each axis on its own: a strip's short side is one tile of its own length.
+int convolution_fft_length(int tile, int radius, int length);
 
 // The anchor cells' edges along one axis of a domain `length` long, the margins joined to the
 // edge cells: the knots, the outermost moved to the domain's ends.
@@ -79,15 +80,15 @@ public:
 
 private:
     KernelTable table_;
-    int tile_ = 0, fft_size_ = 0, nthreads_ = 1;
+    int tile_ = 0, fft_width_ = 0, fft_height_ = 0, nthreads_ = 1;
     bool tiles_on_cells_ = false;
     std::vector<int> edges_x_, edges_y_;  // tile_edges across and down the domain
     size_t spectrum_size_ = 0;
     std::vector<int> slot_;  // per anchor: its place among the kept anchors, -1 for a mirror image
     int kept_anchors_ = 0;
     std::vector<std::complex<float>> kernel_spectra_;  // [layer][slot][m][spectrum]; empty: none kept
-    // kernel k = (layer x anchors + anchor) x 9 + m's spectrum into `spectrum` (`image`: N x N
-    // zeros, left so)
+    // kernel k = (layer x anchors + anchor) x 9 + m's spectrum into `spectrum` (`image`: the
+    // transform's height x width of zeros, left so)
     void transform_kernel(long k, RealFft2D& fft, std::vector<float>& image, std::complex<float>* spectrum) const;
     KernelView spectrum(int layer, int anchor, int m) const;
 };

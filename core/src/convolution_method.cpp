@@ -51,7 +51,8 @@ int tile_side(int requested, int radius, int domain) {
 // spectra per computed anchor, and per tile 3 forward transforms for each anchor it meets and 3
 // inverse; where all layers' spectra exceed what a plan keeps, 9 more per anchor a tile meets.
 double transform_work(const detail::KernelTableSpec& t) {
-    const int n = detail::convolution_fft_size(t.tile, t.radius, t.domain_width, t.domain_height);
+    const double nx = detail::convolution_fft_length(t.tile, t.radius, t.domain_width),
+                 ny = detail::convolution_fft_length(t.tile, t.radius, t.domain_height);
     const detail::AnchorAxis ax = detail::anchor_axis(t, false), ay = detail::anchor_axis(t, true);
     const std::vector<int> ex = detail::tile_edges(ax, t.domain_width, t.tile, t.radius, t.tiles_on_cells),
                            ey = detail::tile_edges(ay, t.domain_height, t.tile, t.radius, t.tiles_on_cells);
@@ -62,7 +63,7 @@ double transform_work(const detail::KernelTableSpec& t) {
     };
     const double tiles = double(ex.size() - 1) * (ey.size() - 1);
     const double anchors = detail::computed_anchors(t, ax, ay);  // the others' spectra are theirs mirrored
-    const double points = double(n) * n;
+    const double points = nx * ny;
     // kernels beyond the spectra a plan keeps are transformed by each tile that meets them
     const bool kept = t.layers.count * 9 * anchors * points / 2 * 8 <= detail::kMaxKernelSpectraBytes;
     return ((kept ? 9 * anchors : 0) + (kept ? 3 : 12) * met(ax, ex) * met(ay, ey) + 3 * tiles) * points *
@@ -166,13 +167,14 @@ double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
     const detail::KernelTableSpec& t = g.value;
     const detail::AnchorAxis ax = detail::anchor_axis(t, false), ay = detail::anchor_axis(t, true);
     const double anchors = double(ax.knots.size()) * ay.knots.size();
-    const double side = 2.0 * t.radius + 1,
-                 n = detail::convolution_fft_size(t.tile, t.radius, t.domain_width, t.domain_height);
-    const double spectra = t.layers.count * detail::computed_anchors(t, ax, ay) * 9 * n * (n / 2 + 1) * 8;
+    const double side = 2.0 * t.radius + 1, nx = detail::convolution_fft_length(t.tile, t.radius, t.domain_width),
+                 ny = detail::convolution_fft_length(t.tile, t.radius, t.domain_height);
+    const double spectrum = ny * std::floor(nx / 2 + 1) * 8;  // bytes of one
+    const double spectra = t.layers.count * detail::computed_anchors(t, ax, ay) * 9 * spectrum;
     const double kernels = t.layers.count * anchors * 9 * side * side * sizeof(float) +
-                           (spectra > detail::kMaxKernelSpectraBytes ? t.nthreads * 9 * n * (n / 2 + 1) * 8 : spectra);
+                           (spectra > detail::kMaxKernelSpectraBytes ? t.nthreads * 9 * spectrum : spectra);
     const double domain = double(t.domain_width) * t.domain_height * 17;  // radiance, layer, share
-    const double tiles = t.nthreads * (n * n + 7 * n * (n / 2 + 1) * 2) * sizeof(float);
+    const double tiles = t.nthreads * (nx * ny * sizeof(float) + 7 * spectrum);
     // each thread's working memory for one PSF of the table, at its largest: the nearest layer
     // or the sky, on the axis or at the corner anchor, the shortest or the longest wavelength
     double lambda_min = spec.basis.wavelength(0), lambda_max = lambda_min;

@@ -4,14 +4,16 @@
 #   2. 1920x1080, default pinhole: time against `oiiotool --convolve` with one 65x65 kernel
 #      on the same RGB (goal <= 0.12x);
 #   3. 12 frames of 960x540 through `--frames` against 12 single runs (goal <= 0.6x);
-#   4. 3840x2160: peak resident memory (goal <= 4 GiB).
+#   4. 3840x2160: peak resident memory (goal <= 4 GiB);
+#   5. a 4096x64 strip at 40deg against a 512x512 frame of as many pixels at the same pixel pitch
+#      (5.2deg: the same PSF in pixels): time and peak memory (goal <= 2x each).
 # Frames: uniform noise x a checker (radiance), depth from 0.3 m to 20 m, fov 40deg (100deg
 # for the 1080p frame: the widest PSFs). Usage: tests/bench/run_fast_bench.sh [build-dir] [part...]
 set -euo pipefail
 bench_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 build=$(cd "${1:-build}" && pwd)
 shift || true
-parts=${*:-1 2 3 4}
+parts=${*:-1 2 3 4 5}
 wavecam="$build/plugin/wavecam"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -66,5 +68,13 @@ case $part in
   frame 3840 2160 40.0 f4k.exr
   read -r t_4k m_4k < <(measure "$wavecam" apply f4k.exr -o o4k.exr --wavelengths 16)
   echo "4. 3840x2160: ${t_4k} s, peak ${m_4k} MiB (goal <= 4096 MiB)" ;;
+5)
+  frame 4096 64 40.0 strip.exr
+  # the same pitch across 512 pixels: 2 atan(tan(20deg) x 512 / 4096)
+  frame 512 512 "$(python3 -c 'import math; print(f"{2 * math.degrees(math.atan(math.tan(math.radians(20)) * 512 / 4096)):.4f}")')" square.exr
+  measure "$wavecam" apply square.exr -o o.exr --wavelengths 16 >/dev/null
+  read -r t_sq m_sq < <(measure "$wavecam" apply square.exr -o o.exr --wavelengths 16)
+  read -r t_st m_st < <(measure "$wavecam" apply strip.exr -o o.exr --wavelengths 16)
+  echo "5. 4096x64 strip: ${t_st} s, peak ${m_st} MiB; 512x512 at the same pitch: ${t_sq} s, peak ${m_sq} MiB; ratios $(ratio "$t_st" "$t_sq") time, $(ratio "$m_st" "$m_sq") memory (goal <= 2)" ;;
 esac
 done

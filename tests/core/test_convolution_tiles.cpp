@@ -8,9 +8,11 @@
 #include <vector>
 
 #include "anchored_convolution.h"
+#include "column_fft.h"
 #include "kernel_table.h"
 
 using wavecam::detail::AnchorAxis;
+using wavecam::detail::convolution_fft_length;
 using wavecam::detail::tile_edges;
 
 TEST(AnchorAxis, EvenKnotsAreMirrorSymmetricAndWithinAPixelOfEven) {
@@ -67,4 +69,17 @@ TEST(TileEdges, TilesOfCellsHoldWholeCellsOrFallBackToEvenTiles) {
                                 << e[k + 1] << ", tile " << tile;
                         }
                 }
+}
+
+// Each axis's transform as long as that axis needs: tile + 2 R where tiles cut it, the domain's
+// own length where one tile covers it (a strip's short side), never the other axis's length.
+TEST(TileEdges, EachAxisTransformsItsOwnLength) {
+    const int radius = 122, tile = 314;
+    EXPECT_EQ(convolution_fft_length(tile, radius, 4340), wavecam::detail::fft_friendly_size(tile + 2 * radius));
+    EXPECT_EQ(convolution_fft_length(tile, radius, 308), wavecam::detail::fft_friendly_size(308));
+    EXPECT_LT(convolution_fft_length(tile, radius, 308), tile + 2 * radius);
+    for (int length : {2 * radius + 2, 300, 1000, 4340}) {
+        const int n = convolution_fft_length(tile, radius, length);
+        EXPECT_GE(n, std::min(length, tile + 2 * radius)) << length;  // the tile and its kernels' reach, or the axis
+    }
 }

@@ -110,7 +110,7 @@ std::string edge_note(const ResolvedFrame& f) {
     return std::to_string(edge.bright()) + " edge pixels far brighter than their neighbours along the edge (a sun, "
            "a glint) were continued beyond the frame only as bright as those neighbours: the light beyond the edge "
            "is unknown. For the exact image render " + std::to_string(radius) + " more pixels on every side and give "
-           "--overscan " + std::to_string(radius);
+           "--overscan " + std::to_string(radius) + " (the plugin: wavecam:overscan " + std::to_string(radius) + ")";
 }
 
 // The output's header: the input's less what described the ideal camera (output_layout.h), the

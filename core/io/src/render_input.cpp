@@ -113,21 +113,21 @@ bool read_channels(const OIIO::ImageBuf& image, const RenderChannels& ch, Render
 // away where the element is laid over a plate. The first is refused, naming its channel and
 // pixel; with `clamp`, every one is set to 0 and counted.
 std::string clamp_or_refuse_negative(RenderInput& in, const OIIO::ImageSpec& spec, const RenderChannels& ch, bool clamp) {
-    auto refuse = [&](int channel, size_t p, float v, const char* what) {
+    auto refuse = [&](int channel, size_t p, float v, const char* what, const char* why) {
         return "channel '" + spec.channelnames[channel] + "' at pixel (" + std::to_string(spec.x + int(p % in.width)) +
                ", " + std::to_string(spec.y + int(p / in.width)) + ") is " + OIIO::Strutil::fmt::format("{:g}", v) +
-               ", expected " + what + " >= 0 (the negative setting 'clamp' sets such values to 0)";
+               ", expected " + what + " >= 0 (" + why + "; the negative setting 'clamp' sets such values to 0)";
     };
     const int rgb[3] = {ch.r, ch.g, ch.b};
     for (size_t k = 0; k < in.rgb.size(); ++k) {
         if (!(in.rgb[k] < 0)) continue;
-        if (!clamp) return refuse(rgb[k % 3], k / 3, in.rgb[k], "radiance (light is never negative)");
+        if (!clamp) return refuse(rgb[k % 3], k / 3, in.rgb[k], "radiance", "light is never negative");
         in.rgb[k] = 0;
         ++in.clamped;
     }
     for (size_t p = 0; p < in.alpha.size(); ++p) {
         if (!(in.alpha[p] < 0)) continue;
-        if (!clamp) return refuse(ch.alpha, p, in.alpha[p], "coverage (alpha is never negative)");
+        if (!clamp) return refuse(ch.alpha, p, in.alpha[p], "coverage", "alpha is never negative");
         in.alpha[p] = 0;
         ++in.clamped;
     }
