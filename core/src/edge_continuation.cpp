@@ -45,9 +45,8 @@ EdgeContinuation::EdgeContinuation(const float* values, int channels, int width,
         std::nth_element(window.begin(), window.begin() + upper, window.end());
         const float q3 = window[upper];
         const float fence = q3 + 3 * (q3 - q1);
-        if (!(light[r] > fence)) continue;
+        if (!(light[r] > 2 * fence)) continue;  // a texture's brightest pixels are continued as they are
         ++bounded_;
-        if (light[r] > 2 * fence) ++bright_;
         const float scale = fence > 0 ? fence / light[r] : 0.0f;
         for (int c = 0; c < channels; ++c) ring_[size_t(channels) * r + c] *= scale;
     }

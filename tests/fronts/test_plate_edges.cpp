@@ -109,6 +109,13 @@ TEST(PlateEdges, LightBeyondTheFrameIsNeverInvented) {
         // the note names the overscan that would make it exact
         EXPECT_NE(said.find("--overscan"), std::string::npos) << where << said;
         EXPECT_NE(alone.spec().get_string_attribute("wavecam.edge"), "") << where;
+        // oiiotool through the plugin: the same image, the same note on standard error
+        const auto via = run_command(kPlugin + "oiiotool --iconfig wavecam:film-distance 50mm --iconfig wavecam:pinhole "
+                                               "0.05mm --iconfig wavecam:wavelengths 3 --iconfig wavecam:vignetting false " +
+                                     (dir / "sun.exr").string() + ".wavecam -o " + (dir / "sun_oiio.exr").string());
+        ASSERT_EQ(via.status, 0) << via.output;
+        EXPECT_NE(via.output.find("wavecam:overscan"), std::string::npos) << where << via.output;
+        EXPECT_NEAR(light(read(dir / "sun_oiio.exr")) / light(alone), 1.0, 1e-5) << where;
     }
     EXPECT_EQ(wall_said.find("--overscan"), std::string::npos) << wall_said;
 
@@ -369,6 +376,12 @@ TEST(PlateEdges, TheDepthChannelUsedIsRecorded) {
     r = apply(dir / "once.exr", dir / "twice.exr", "--diffract-again");
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_EQ(read(dir / "twice.exr").spec().get_string_attribute("wavecam.depth-channel"), "depth.Z");
+    // the plugin records it the same way
+    r = run_command(kPlugin + "oiiotool --iconfig wavecam:film-distance 20mm --iconfig wavecam:pinhole 0.2mm "
+                              "--iconfig wavecam:wavelengths 3 --iconfig wavecam:depth-channel depth.Z " +
+                    (dir / "in.exr").string() + ".wavecam -o " + (dir / "plugin.exr").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(read(dir / "plugin.exr").spec().get_string_attribute("wavecam.depth-channel"), "depth.Z");
     fs::remove_all(dir);
 }
 
@@ -385,6 +398,11 @@ TEST(PlateEdges, AlphaOutOfRangeIsRefusedOrKept) {
     };
     write(dir / "negative.exr", p);
     auto r = apply(dir / "negative.exr", dir / "out.exr");
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("channel 'A' at pixel (3, 4) is -0.5"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out.exr"));
+    r = run_command(kPlugin + "oiiotool --iconfig wavecam:film-distance 20mm " + (dir / "negative.exr").string() +
+                    ".wavecam -o " + (dir / "out.exr").string());
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.output.find("channel 'A' at pixel (3, 4) is -0.5"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(dir / "out.exr"));

@@ -104,10 +104,10 @@ Result<bool> run_scene_sum(const DiffractOptions& opt, const ResolvedFrame& f, s
 // is continued as it is, or the overscan reaches the kernels' radius.
 std::string edge_note(const ResolvedFrame& f) {
     const EdgeContinuation edge(f.in.rgb.data(), 3, f.in.width, f.in.height);
-    if (edge.bright() == 0) return {};
+    if (edge.bounded() == 0) return {};
     const int radius = ConvolutionPlan::kernel_radius(f.convolution);
     if (f.overscan >= radius) return {};
-    return std::to_string(edge.bright()) + " edge pixels far brighter than their neighbours along the edge (a sun, "
+    return std::to_string(edge.bounded()) + " edge pixels far brighter than their neighbours along the edge (a sun, "
            "a glint) were continued beyond the frame only as bright as those neighbours: the light beyond the edge "
            "is unknown. For the exact image render " + std::to_string(radius) + " more pixels on every side and give "
            "--overscan " + std::to_string(radius) + " (the plugin: wavecam:overscan " + std::to_string(radius) + ")";
