@@ -237,19 +237,39 @@ def settings():
                f"{name}: the refusal came before the frame was rendered ({rendered})")
         print(f"{name}: {said[0] if said else errors}", flush=True)
 
-    # a pinhole between the longest wavelength and the film's width (36 mm at a 35 mm lens);
-    # 0 is held at the hard minimum 0.0001 mm, which is refused by name
+    # a pinhole between the longest wavelength and the film's width (36 mm at a 35 mm lens), each
+    # value kept as typed and refused quoting it
     w.auto_pinhole = False
     w.pinhole = 0
-    expect(w.pinhole > 0, f"pinhole 0 held above 0, at {w.pinhole}")
-    refused("pinhole0", "Pinhole 0.0001 mm is smaller than the longest wavelength (700 nm)")
+    expect(w.pinhole == 0, f"pinhole 0 kept as typed, not {w.pinhole}")
+    refused("pinhole0", "Pinhole 0 mm is smaller than the longest wavelength (700 nm)")
     w.pinhole = 40
     refused("pinhole40", "Pinhole 40 mm is wider than the film (36 mm across at 35 mm")
     w.auto_pinhole = True
-    w.film_distance = -5  # held at the hard minimum 0.1 mm
-    expect(abs(w.film_distance - 0.1) < 1e-6, f"film distance -5 held at 0.1 mm, not {w.film_distance}")
-    print(f"film: -5 mm held at {w.film_distance:g} mm", flush=True)
+    w.auto_film_distance = False
+    w.film_distance = -5
+    expect(w.film_distance == -5, f"film distance -5 kept as typed, not {w.film_distance}")
+    refused("film_negative", "Film distance -5 mm: the film must lie behind the pinhole; expected 0.1 mm or more")
+    w.film_distance = 0.05
+    refused("film_short", "Film distance 0.05 mm")
     w.film_distance = 50
+    w.auto_film_distance = True
+    # every field and menu has a tooltip
+    bare = [p.identifier for p in w.bl_rna.properties if p.identifier not in {"rna_type", "name"} and not p.description]
+    expect(not bare, f"tooltips: fields without one: {bare}")
+    print(f"tooltips: {len(w.bl_rna.properties) - 2} fields, none without one", flush=True)
+    # the diffracted image: one datablock for every frame, shown as the Render Result is
+    from wavecam_blender import reports as shown
+    first = os.path.join(folder, "first.wavecam.exr")
+    second = os.path.join(folder, "second.wavecam.exr")
+    for path in (first, second):
+        oiio.ImageBuf(oiio.ImageSpec(4, 4, 3, "float")).write(path)
+    a, b = shown._load(first), shown._load(second)
+    images = [i for i in bpy.data.images if i.filepath.endswith(".wavecam.exr")]
+    expect(a == b and len(images) == 1, f"images: one datablock for two frames, got {[i.name for i in images]}")
+    expect(b.use_view_as_render, "images: shown through the scene's view (View as Render)")
+    print(f"images: {len(images)} datablock for two frames, '{b.name}', view as render {b.use_view_as_render}",
+          flush=True)
     # Blender's own names for the camera's type
     cam.type = 'ORTHO'
     refused("orthographic", "camera 'Camera' is Orthographic; wavecam needs a Perspective camera")
@@ -324,9 +344,19 @@ def settings():
     spec = oiio.ImageInput.open(out).spec() if os.path.exists(out) else None
     expect(spec is not None and spec.getattribute("wavecam.runs") == 2, "random-phase: wavecam.runs 2")
     expect(spec is not None and spec.getattribute("wavecam.summation") == "auto", "random-phase: summation auto")
+    # Max terms as a count: shown as one, a typed text that is none refused by name
+    expect(w.max_terms_text == "4e12", f"max terms shown as {w.max_terms_text!r}, expected '4e12'")
+    w.max_terms_text = "lots"
+    refused("max_terms_text", "Max terms 'lots' is not a count of terms")
+    w.max_terms_text = "1e13"
+    expect(w.max_terms_text == "1e13" and abs(w.max_terms - 1e13) < 1e7, f"max terms 1e13: {w.max_terms_text}")
+    # Device GPU with Summation NUFFT: refused before the render, in the panel's words
+    w.device, w.summation = 'gpu', 'nufft'
+    refused("gpu_nufft", "Device GPU with Summation NUFFT: the NUFFTs have no GPU evaluator")
+    w.device, w.summation = 'cpu', 'auto'
     # beyond Max terms: refused before any work, pointing at the panel's settings and at
     # `wavecam farm` with the command to run
-    w.max_terms = 1000
+    w.max_terms_text = "1000"
     refused("max_terms", before=False, expected="beyond Max terms (1000): lower Runs, Wavelengths or the "
             "resolution, or raise Max terms; too large for one machine")
     farm = [e for e in errors if "wavecam farm submit " in e and " --tasks 2" in e]
@@ -341,7 +371,7 @@ def settings():
     print(f"software vulkan: {warned[0] if warned else 'no software Vulkan device here: ' + str(errors)}",
           flush=True)
     w.device = 'cpu'
-    w.max_terms = 4e12
+    w.max_terms_text = "4e12"
     # the psf summation, and the device
     w.summation = 'psf'
     w.device = 'cpu'

@@ -1,11 +1,14 @@
 # The wavecam settings a camera carries (camera.data.wavecam). The pinhole and film distance
 # follow the camera's lens unless set by hand.
 #
-# Hard limits are what has a meaning at all (a length > 0, a count >= 1); soft limits are the
-# useful range the sliders drag over. Whether a value can be imaged (a pinhole between the
-# longest wavelength and the film's width, a film distance > 0, a wavelength list of light)
-# depends on other settings and the camera, so it is checked before each render
-# (settings_check.py) and refused with a message naming the setting, never clamped.
+# Lengths have no hard limits: a typed value is kept as typed, and whether it can be imaged (a
+# pinhole between the longest wavelength and the film's width, a film distance of 0.1 mm or more,
+# the command's own ranges) is checked before each render (settings_check.py) and refused with a
+# message naming the setting and the value typed, never clamped. Counts keep the hard limits
+# Blender's fields show (Wavelengths 1-1000, Runs 1-100000); soft limits are the useful range the
+# sliders drag over.
+import math
+
 import bpy
 
 from . import pinhole_design, reports
@@ -41,8 +44,26 @@ def _turn_on_depth_output(settings, context):
         reports.info("on: " + "; ".join(changed) + " (wavecam reads depth from OpenEXR)")
 
 
-MIN_FILM_DISTANCE_MM = 0.1
-MIN_PINHOLE_MM = 1e-4  # 0.1 um: > 0, below every wavelength (a smaller one is refused by name)
+MIN_FILM_DISTANCE_MM = 0.1  # the command's own limit (wavecam apply --film-distance)
+DEFAULT_MAX_TERMS = 4e12
+
+
+def _max_terms_text(self):
+    """Max terms as a person writes a count: 4e12, not 3999999983616.000 (Blender shows floats in
+    full); what was typed, where it was no count."""
+    return self.get("max_terms_typed") or f"{self.max_terms:.4g}".replace("e+", "e")
+
+
+def _set_max_terms_text(self, text):
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if math.isfinite(value) and value >= 1:
+        self.max_terms = value
+        self["max_terms_typed"] = ""
+    else:  # kept as typed: the render refuses it by name (settings_check.py)
+        self["max_terms_typed"] = text
 
 # The numbers are what a .blend file stores for an enum (not the identifiers): files saved when
 # these were called 'fast' (0) and 'exact' (1) load as convolution and random-phase.
@@ -76,14 +97,14 @@ class WavecamCameraSettings(bpy.types.PropertyGroup):
         name="Film at the lens", default=True,
         description="Film distance = the camera's focal length")
     film_distance: bpy.props.FloatProperty(
-        name="Film distance", default=50.0, min=MIN_FILM_DISTANCE_MM, soft_min=1.0, soft_max=500.0, precision=2,
+        name="Film distance", default=50.0, soft_min=1.0, soft_max=500.0, precision=2,
         unit='CAMERA', subtype='DISTANCE_CAMERA',
-        description="Pinhole to film (mm)")
+        description="Pinhole to film (mm), 0.1 mm or more")
     auto_pinhole: bpy.props.BoolProperty(
         name="Optimal pinhole", default=True,
         description="Rayleigh's optimum 1.9 sqrt(f lambda) at 550 nm for the film distance")
     pinhole: bpy.props.FloatProperty(
-        name="Pinhole", default=0.3, min=MIN_PINHOLE_MM, soft_min=0.002, soft_max=5.0, precision=4, step=1,
+        name="Pinhole", default=0.3, soft_min=0.002, soft_max=5.0, precision=4, step=1,
         unit='CAMERA', subtype='DISTANCE_CAMERA',
         description="Pinhole diameter (mm): from the longest wavelength (0.0007 mm at 700 nm; a few wavelengths "
                     "to be useful) up to the film's width")
@@ -96,7 +117,10 @@ class WavecamCameraSettings(bpy.types.PropertyGroup):
     wavelength_list: bpy.props.StringProperty(
         name="Wavelength list", default="450nm,550nm,650nm",
         description="Increasing wavelengths from 100nm to 10um, e.g. 450nm,550nm,650nm")
-    method: bpy.props.EnumProperty(name="Method", default='convolution', items=METHODS)
+    method: bpy.props.EnumProperty(
+        name="Method", default='convolution', items=METHODS,
+        description="How the diffracted image is formed: Convolution in seconds; Random phase and Incoherent "
+                    "through the exact sums, minutes to hours")
     auto_runs: bpy.props.BoolProperty(
         name="Runs from the PSF", default=True,
         description="As many random-phase runs as the PSF's size in pixels needs for every colour channel's "
@@ -111,9 +135,13 @@ class WavecamCameraSettings(bpy.types.PropertyGroup):
         name="Device", default='cpu', items=DEVICES,
         description="Where the exact sums' direct terms and the psf summation's runs run")
     max_terms: bpy.props.FloatProperty(
-        name="Max terms", default=4e12, min=1.0, soft_min=1e9, soft_max=1e14, precision=3,
-        description="Random-phase and incoherent: refuse a frame whose sums need more terms (about an hour at "
-                    "1e9 terms/s for 4e12); beyond one machine, `wavecam farm` shares a job out on a cluster")
+        name="Max terms", default=DEFAULT_MAX_TERMS, min=1.0, soft_min=1e9, soft_max=1e14,
+        description="Random-phase and incoherent: refuse a frame whose sums need more terms")
+    max_terms_text: bpy.props.StringProperty(
+        name="Max terms", get=_max_terms_text, set=_set_max_terms_text,
+        description="Random-phase and incoherent: refuse a frame whose sums need more terms, a count such as 4e12 "
+                    "(about an hour at 1e9 terms/s); beyond one machine, `wavecam farm` shares a job out on a "
+                    "cluster")
     vignetting: bpy.props.BoolProperty(
         name="Vignetting", default=True,
         description="Keep the pinhole's natural cos^4 fall-off toward the corners (physical); off divides it out, "

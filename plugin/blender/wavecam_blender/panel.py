@@ -68,7 +68,7 @@ class DATA_PT_wavecam(bpy.types.Panel):
         if w.method != 'convolution':
             _menu(layout, w, "summation")
             _menu(layout, w, "device")
-            layout.prop(w, "max_terms")
+            layout.prop(w, "max_terms_text")
         layout.prop(w, "vignetting")
         scale = context.scene.unit_settings.scale_length
         wrapped_label.draw(layout, context, f"Depth: 1 Blender unit = {scale:g} m (Scene > Units > Unit Scale)")

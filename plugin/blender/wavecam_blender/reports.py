@@ -89,11 +89,17 @@ def _report(level, message):
 
 
 def _load(path):
-    for image in bpy.data.images:
-        if image.filepath and os.path.abspath(bpy.path.abspath(image.filepath)) == os.path.abspath(path):
-            image.reload()
-            return image
-    return bpy.data.images.load(path)
+    """One image datablock for wavecam's results, whatever the frame: an animation's frames
+    replace each other in it rather than fill the .blend with one image each. Shown as Blender
+    shows its Render Result: through the scene's view transform, look, exposure and gamma."""
+    shown = [image for image in bpy.data.images if image.filepath.endswith(".wavecam.exr")]
+    image = shown[0] if shown else bpy.data.images.load(path)
+    if os.path.abspath(bpy.path.abspath(image.filepath)) != os.path.abspath(path):
+        image.filepath = path
+    image.reload()
+    image.name = os.path.basename(path)
+    image.use_view_as_render = True
+    return image
 
 
 def _show(path):
@@ -108,9 +114,18 @@ def _show(path):
         info(f"{os.path.basename(path)} loaded as image '{image.name}'; open it in an Image Editor")
 
 
+def _rendering():
+    """Blender is rendering: its data may not be written (an image's path, name or view)."""
+    return bpy.app.is_job_running('RENDER')
+
+
 def _drain():
+    held = []  # images to show once Blender has finished rendering
     while not _pending.empty():
         item = _pending.get()
+        if item[0] == 'show' and _rendering():
+            held.append(item)
+            continue
         try:
             if item[0] == 'report':
                 _report(item[1], item[2])
@@ -120,6 +135,8 @@ def _drain():
                 _show(item[1])
         except Exception as e:  # one failure must not stop later messages
             print(f"wavecam: error: {item[0]} {item[1]}: {e}", file=sys.stderr)
+    for item in held:
+        _pending.put(item)
     return 0.5
 
 

@@ -8,6 +8,7 @@
 import math
 import re
 
+from .camera_settings import MIN_FILM_DISTANCE_MM
 from .preferences import wavecam_command
 
 VISIBLE_NM = (400.0, 700.0)  # the range a wavelength count samples
@@ -40,12 +41,21 @@ def wavelengths_nm(settings):
 
 
 def check_settings(camera, fov_degrees):
-    """The panel's values for `camera` (bpy Camera data) at a horizontal field of view."""
+    """The panel's values for `camera` (bpy Camera data) at a horizontal field of view, each as
+    typed: a value beyond its range is refused, never clamped."""
     w = camera.wavecam
     film_mm = w.film_distance_mm(camera)
-    if not film_mm > 0:
-        raise SettingError(f"Film distance {film_mm:g} mm: the film must lie behind the pinhole; expected a "
-                           "distance > 0 mm")
+    if not film_mm >= MIN_FILM_DISTANCE_MM:
+        raise SettingError(f"Film distance {film_mm:g} mm: the film must lie behind the pinhole; expected "
+                           f"{MIN_FILM_DISTANCE_MM:g} mm or more")
+    if w.method != 'convolution':
+        typed = w.get("max_terms_typed")
+        if typed:
+            raise SettingError(f"Max terms '{typed}' is not a count of terms; expected a number of 1 or more, "
+                               "e.g. 4e12")
+        if w.device == 'gpu' and w.summation == 'nufft':
+            raise SettingError("Device GPU with Summation NUFFT: the NUFFTs have no GPU evaluator; expected "
+                               "Summation Auto, Direct or PSF on the GPU, or Device CPU")
     longest_nm = max(wavelengths_nm(w))
     pinhole_mm = w.pinhole_mm(camera)
     film_width_mm = 2 * film_mm * math.tan(math.radians(fov_degrees) / 2)
