@@ -167,9 +167,9 @@ def errors():
     os.environ["PATH"] = os.path.dirname(good) + os.pathsep + os.environ.get("PATH", "")
     render("onpath", diffracted=True)
     prefs.wavecam_path = good
-    # a still Blender does not write (F12): saved from the Render Result into Blender's temp folder
+    # a still Blender does not write (F12): saved from the Render Result beside the output path
     bpy.ops.render.render()
-    unsaved = os.path.join(bpy.app.tempdir, f"{scene.name}_{scene.frame_current:04d}.wavecam.exr")
+    unsaved = os.path.join(os.path.dirname(scene.render.filepath), f"{scene.name}_still_{scene.frame_current:04d}.wavecam.exr")
     expect(os.path.isfile(unsaved), f"unsaved still: {unsaved} written")
     if os.path.isfile(unsaved):
         import OpenImageIO as oiio

@@ -9,7 +9,8 @@
 #              ("wrote ..." read back from the Info editor's log) and shown, its fov the camera's.
 #   progress:  F12 with random-phase (64 runs): the command's estimate in the Info log, its
 #              progress ("42% after ...") in the status bar; then Esc: the command ends, no
-#              file (nor the command's temporary) is left, the cancel is reported.
+#              file (nor the command's temporary) is left, the still phase's result is kept as
+#              it was (beside the output path, not in a temporary folder), the cancel reported.
 #   refused:   F12 with an Orthographic camera: refused in the Info log, the frame named as left
 #              undiffracted, and no diffraction started nor file written.
 #   animation: Ctrl+F12, two frames (lens 35 -> 60 mm): both diffracted, each with its fov.
@@ -142,8 +143,10 @@ def scroll_properties_down():
 
 
 def still_path():
+    """Where an F12 still's diffracted image is kept: beside the scene's output path."""
     scene = bpy.context.scene
-    return os.path.join(bpy.app.tempdir, f"{bpy.path.clean_name(scene.name)}_{scene.frame_current:04d}.wavecam.exr")
+    folder = os.path.dirname(bpy.path.abspath(scene.render.frame_path(frame=scene.frame_current)))
+    return os.path.join(folder, f"{bpy.path.clean_name(scene.name)}_still_{scene.frame_current:04d}.wavecam.exr")
 
 
 def next_phase(name):
@@ -217,6 +220,9 @@ def tick():
                 fail(f"no 'wavecam: frame 1: wrote' in the Info log: {info_log()}")
             return 0.5
         print(f"Info log: {logged('wavecam: frame 1: wrote ')[0]}", flush=True)
+        if shown_wavecam_image() != still_path():
+            fail(f"the F12 still was kept at {shown_wavecam_image()}, expected {still_path()}")
+        state["still_kept"] = os.path.getmtime(still_path())
         w.method, w.auto_runs, w.runs = 'random-phase', False, 64
         next_phase("progress")
         render(animation=False)
@@ -303,13 +309,18 @@ def cancelled(w):
         if time.time() - state["since"] > 10:
             fail(f"no cancel in the Info log: {info_log()}")
         return 0.2
-    left = [f for f in os.listdir(bpy.app.tempdir) if ".wavecam" in f or ".tmp" in f]
-    if left or os.path.exists(still_path()):
-        fail(f"files left in {bpy.app.tempdir} after Esc: {left}")
+    folder = os.path.dirname(still_path())
+    left = [f for f in os.listdir(folder) if ".tmp" in f]
+    if left:
+        fail(f"temporaries left in {folder} after Esc: {left}")
+    if not os.path.isfile(still_path()) or os.path.getmtime(still_path()) != state["still_kept"]:
+        fail(f"the earlier still's result {still_path()} was not kept as it was after Esc")
+    if shown_wavecam_image() and not os.path.isfile(shown_wavecam_image()):
+        fail(f"the Image Editor shows a missing file after Esc: {shown_wavecam_image()}")
     if diffraction_queue.busy() or progress_display.shown():
         fail(f"still busy after Esc: {progress_display.shown()}")
     print(f"Info log: {said[0]}; wavecam (pid {pid}) ended {time.time() - state['since']:.1f} s after Esc, "
-          f"no file left", flush=True)
+          f"no file left, the earlier still kept", flush=True)
     w.method = 'convolution'
     bpy.context.scene.camera.data.type = 'ORTHO'
     next_phase("refused")
@@ -318,7 +329,7 @@ def cancelled(w):
 
 
 def refused(scene):
-    if running() or os.path.exists(still_path()):
+    if running() or os.path.getmtime(still_path()) != state["still_kept"]:
         fail("a refused camera's frame is diffracted")
     said = logged("this render is not diffracted: camera 'Camera' is Orthographic")
     named = logged("frame 1 left as Blender rendered it, not diffracted")

@@ -2,7 +2,8 @@
 # subprocess, one frame at a time, looked at by a main-thread timer ten times a second. Blender
 # stays responsive; the command's estimate and progress go to the status bar, the Image
 # Editors' headers and the panel; Esc (escape_watch.py) or the panel's Cancel ends the command,
-# which removes the file it was writing, and the frames still waiting are dropped.
+# which removes the file it was writing and leaves an earlier result as it was, and the frames
+# still waiting are dropped.
 # In background mode (blender -b) there is no event loop: frames are diffracted in the render
 # handler itself (frame_handler.py).
 import atexit
@@ -24,7 +25,7 @@ class Job:
         self.scene_name, self.frame = scene_name, frame
         self.frame_path, self.out_path = frame_path, out_path
         self.camera, self.fov_in_file = camera, fov_in_file
-        self.started = self.wall_started = None
+        self.started = None
         self.estimate = None
         self.progress = None  # (percent, 'about 40s left')
 
@@ -77,17 +78,19 @@ def cancel(why="cancelled"):
     dropped = []
     while not _waiting.empty():
         dropped.append(_waiting.get().frame)
+    kept = None  # an earlier render's result: the command leaves it as it was, and so does the add-on
     if process is not None:
         process.interrupt()
         _stopping.append((process, time.monotonic()))
-        _remove_stale(job)
+        kept = job.out_path if os.path.isfile(job.out_path) else None
         dropped.insert(0, job.frame)
     _running["job"] = _running["process"] = None
     _dropping["render"] = bpy.app.is_job_running('RENDER')
     progress_display.clear()
     if dropped:
         names = ", ".join(str(f) for f in dropped)
-        reports.info(f"{why}: frame{'s' if len(dropped) > 1 else ''} {names} not diffracted; no file written")
+        earlier = f" (the earlier {os.path.basename(kept)} kept)" if kept else ""
+        reports.info(f"{why}: frame{'s' if len(dropped) > 1 else ''} {names} not diffracted; no file written{earlier}")
 
 
 _stopping = []  # (process, when it was asked to stop)
@@ -108,14 +111,8 @@ def stopping_pids():
     return [process.pid for process, _ in _stopping]
 
 
-def _remove_stale(job):
-    """An output older than this job is an earlier render's: it would pass for this one."""
-    if os.path.isfile(job.out_path) and os.path.getmtime(job.out_path) < job.wall_started:
-        os.remove(job.out_path)
-
-
 def _start(job):
-    job.started, job.wall_started = time.monotonic(), time.time()
+    job.started = time.monotonic()
     try:
         _running["process"] = WavecamProcess(job.camera, job.frame_path, job.out_path, job.fov_in_file,
                                              nice=COMMAND_NICENESS)

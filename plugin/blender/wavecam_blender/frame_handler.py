@@ -2,7 +2,8 @@
 # frame's exact field of view goes into its EXR and `wavecam apply` writes NAME.wavecam.exr
 # beside it: at once in background mode, else queued and run off the main thread
 # (diffraction_queue.py). A still Blender does not write (F12) is saved from the Render Result
-# into Blender's temporary folder first (render_complete with no render_write before it).
+# beside the scene's output path first (render_complete with no render_write before it), where
+# it stays with its diffracted image after Blender quits.
 # Nothing here may raise into Blender: every failure becomes a report.
 #
 # Every refusal that can be judged before the render (settings_check.py) is made in
@@ -124,9 +125,20 @@ def _diffract_reported(scene, frame_path_of, camera=None):
         reports.error(f"frame {scene.frame_current}: unexpected failure: {type(e).__name__}: {e}")
 
 
+def still_folder(scene):
+    """Where an F12 still is kept: the folder of the scene's output path (Output > Output); for a
+    relative output path in a .blend never saved, ~/wavecam. Never only a temporary folder."""
+    if scene.render.filepath.startswith("//") and not bpy.data.filepath:
+        return os.path.join(os.path.expanduser("~"), "wavecam")
+    return os.path.dirname(bpy.path.abspath(scene.render.frame_path(frame=scene.frame_current)))
+
+
 def unsaved_still_path(scene):
-    """Saves the Render Result (Blender wrote no file) into Blender's temporary folder."""
-    path = os.path.join(bpy.app.tempdir, f"{bpy.path.clean_name(scene.name)}_{scene.frame_current:04d}.exr")
+    """Saves the Render Result (Blender wrote no file) as SCENE_still_FRAME.exr in still_folder;
+    its diffracted image is written beside it."""
+    folder = still_folder(scene)
+    os.makedirs(folder, exist_ok=True)
+    path = os.path.join(folder, f"{bpy.path.clean_name(scene.name)}_still_{scene.frame_current:04d}.exr")
     bpy.data.images['Render Result'].save_render(path, scene=scene)
     return path
 
