@@ -288,6 +288,13 @@ def progress(w):
         return 0.2
     print(f"Info log: {estimate[0]}", flush=True)
     print(f"ui: status bar: {state['progress']}", flush=True)
+    # a bar with a cancel cross drawn into Blender's status bar, its width fixed; the headers Blender's
+    wm = bpy.context.window_manager
+    drawn = [f for f in bpy.types.STATUSBAR_HT_header._dyn_ui_initialize() if f.__module__.endswith("progress_display")]
+    if not drawn or not 0 <= wm.wavecam_progress <= 100 or not progress_display.bar_text().startswith("wavecam: frame 1"):
+        fail(f"no progress bar in the status bar: {drawn}, {wm.wavecam_progress}, '{progress_display.bar_text()}'")
+    print(f"ui: progress bar: '{progress_display.bar_text()}' at {wm.wavecam_progress:.0f}%, "
+          f"{progress_display.BAR_UNITS} units wide, a cancel cross beside it", flush=True)
     screenshot("progress_main.png")
     screenshot("progress_render_window.png", front_window())
     state["pid"] = diffraction_queue.running_pid()

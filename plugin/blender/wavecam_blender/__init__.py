@@ -16,9 +16,10 @@ bl_info = {
 }
 
 from . import (camera_settings, diffraction_queue, escape_watch, frame_handler, old_files, panel, preferences,
-               reports)
+               progress_display, reports)
 
-_modules = (preferences, camera_settings, old_files, panel, reports, escape_watch, diffraction_queue, frame_handler)
+_modules = (preferences, camera_settings, old_files, panel, reports, escape_watch, progress_display, diffraction_queue,
+            frame_handler)
 
 
 def register():

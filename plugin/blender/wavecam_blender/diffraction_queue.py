@@ -1,7 +1,7 @@
 # Diffraction with Blender's window open: frames wait here and `wavecam apply` runs as a
 # subprocess, one frame at a time, looked at by a main-thread timer ten times a second. Blender
-# stays responsive; the command's estimate and progress go to the status bar, the Image
-# Editors' headers and the panel; Esc (escape_watch.py) or the panel's Cancel ends the command,
+# stays responsive; the command's estimate goes to the Info log, its progress to a bar in the
+# status bar and the panel (progress_display.py); Esc (escape_watch.py) or the panel's Cancel ends the command,
 # which removes the file it was writing and leaves an earlier result as it was, and the frames
 # still waiting are dropped.
 # In background mode (blender -b) there is no event loop: frames are diffracted in the render
@@ -54,6 +54,15 @@ def busy():
 def running_pid():
     """The process id of the command now running, or None (for tests)."""
     return _running["process"].pid if _running["process"] else None
+
+
+def bar_status():
+    """(percent, what the progress bar says): the running frame, and its time left once known."""
+    job = _running["job"]
+    if job is None:
+        return 0.0, "wavecam"
+    left = job.progress[1] if job.progress else "starting"
+    return (float(job.progress[0]) if job.progress else 0.0), f"wavecam: frame {job.frame}, {left}"
 
 
 def status_text():
@@ -155,7 +164,10 @@ def _poll():
             if done:
                 _finish(job, process)
         text = status_text()
-        progress_display.show(text) if text else progress_display.clear()
+        if text:
+            progress_display.show(text, *bar_status())
+        else:
+            progress_display.clear()
     except Exception as e:  # the timer must go on
         reports.error(f"unexpected failure: {type(e).__name__}: {e}")
     return 0.1 if busy() or _stopping else 0.25

@@ -1,9 +1,9 @@
 # Properties > Camera data > wavecam Pinhole. Every message is drawn as wrapped rows
 # (wrapped_label.py); what the render would refuse is shown while it stands, and a running
-# diffraction's progress with a Cancel button.
+# diffraction's progress bar with its cancel cross.
 import bpy
 
-from . import camera_fov, diffraction_queue, settings_check, wrapped_label
+from . import camera_fov, diffraction_queue, progress_display, settings_check, wrapped_label
 
 
 def problem(scene, camera_object):
@@ -43,9 +43,9 @@ class DATA_PT_wavecam(bpy.types.Panel):
         w = cam.wavecam
         layout = self.layout
         status = diffraction_queue.status_text()
-        if status:
+        if status:  # the bar and its cancel cross first: they stay put as the text below rewraps
+            progress_display.draw_bar(layout, context)
             wrapped_label.draw(layout, context, status.removeprefix("wavecam: "), icon='RENDER_RESULT', box=True)
-            layout.operator("wavecam.cancel", icon='CANCEL')
         layout.active = w.enabled
         layout.prop(w, "auto_film_distance")
         if w.auto_film_distance:
