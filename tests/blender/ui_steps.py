@@ -6,7 +6,9 @@
 #   panel:     a refusal too long for a row is drawn as wrapped rows that fit the Properties
 #              editor at its default width.
 #   still:     F12 (convolution), no file written: the diffracted frame saved, made, reported
-#              ("wrote ..." read back from the Info editor's log) and shown, its fov the camera's.
+#              ("wrote ..." read back from the Info editor's log) and shown, its fov the camera's;
+#              on screen it looks as the Render Result does (the same view transform): the
+#              centre's displayed colour of each, read from screenshots of the render window.
 #   progress:  F12 with random-phase (64 runs): the command's estimate in the Info log, its
 #              progress ("42% after ...") in the status bar; then Esc: the command ends, no
 #              file (nor the command's temporary) is left, the still phase's result is kept as
@@ -75,6 +77,53 @@ def screenshot(name, window=None):
     os.makedirs(screens, exist_ok=True)
     with bpy.context.temp_override(window=window, screen=window.screen):
         bpy.ops.screen.screenshot(filepath=os.path.join(screens, name))
+
+
+def displayed_centre(window, area, name):
+    """The colour drawn at the centre of the image `area` shows (8-bit RGB, the mean of 3 x 3
+    screen pixels), from a screenshot of its window."""
+    path = os.path.join(screens or bpy.app.tempdir, name)
+    with bpy.context.temp_override(window=window, screen=window.screen):
+        bpy.ops.screen.screenshot(filepath=path)
+    pixels = oiio.ImageBuf(path).get_pixels(oiio.FLOAT)
+    region = next(r for r in area.regions if r.type == 'WINDOW')
+    x, y = region.view2d.view_to_region(0.5, 0.5, clip=False)  # the image's centre
+    row, column = pixels.shape[0] - 1 - (region.y + y), region.x + x
+    block = pixels[row - 1:row + 2, column - 1:column + 2, :3]
+    return [round(float(block[..., c].mean()) * 255) for c in range(3)]
+
+
+def compare_display():
+    """The diffracted image and the Render Result through the same view, one step a tick (each
+    screenshot after a redraw): their centres' displayed colours within 3 levels of 255 (the
+    data agree to about 0.5%); the Standard view's, as the image was shown before, for the record
+    (112 against the Render Result's 118 here: outside that bound)."""
+    window = front_window()
+    area = next(a for a in window.screen.areas if a.type == 'IMAGE_EDITOR')
+    space = area.spaces.active
+    step = state.setdefault("display", [])
+    if "drawn" not in state:  # the image just shown: drawn, and a first screenshot (black under xvfb) taken
+        state["drawn"] = True
+        displayed_centre(window, area, "display_first.png")
+    elif len(step) == 0:
+        state["shown_image"] = space.image
+        step.append(displayed_centre(window, area, "display_diffracted.png"))
+        space.image = bpy.data.images['Render Result']
+    elif len(step) == 1:
+        step.append(displayed_centre(window, area, "display_render_result.png"))
+        space.image = state["shown_image"]
+        space.image.use_view_as_render = False
+    elif len(step) == 2:
+        step.append(displayed_centre(window, area, "display_standard_view.png"))
+        space.image.use_view_as_render = True
+        diffracted, render, standard = step
+        print(f"ui: displayed at the centre: diffracted {tuple(diffracted)}, Render Result {tuple(render)}, "
+              f"the diffracted through the Standard view {tuple(standard)}", flush=True)
+        if max(abs(a - b) for a, b in zip(diffracted, render)) > 3:
+            fail(f"the diffracted image is displayed as {diffracted}, the Render Result as {render}")
+        return None
+    area.tag_redraw()
+    return 1.0
 
 
 def front_window():
@@ -211,7 +260,7 @@ def tick():
         # cancelling when the Info log was read and the next render started crashed Blender
         # under load)
         return 0.5
-    elif phase == "still" and shown_wavecam_image():
+    elif phase == "still" and (shown_wavecam_image() or "display" in state):  # (the Render Result shown a while)
         if "wrote" not in state:
             check_fov(shown_wavecam_image(), 35, "F12 still shown in an Image Editor")
             state["wrote"] = time.time()
@@ -219,6 +268,8 @@ def tick():
             if time.time() - state["wrote"] > 10:
                 fail(f"no 'wavecam: frame 1: wrote' in the Info log: {info_log()}")
             return 0.5
+        if compare_display():
+            return 1.0
         print(f"Info log: {logged('wavecam: frame 1: wrote ')[0]}", flush=True)
         if shown_wavecam_image() != still_path():
             fail(f"the F12 still was kept at {shown_wavecam_image()}, expected {still_path()}")
