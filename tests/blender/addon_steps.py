@@ -294,8 +294,15 @@ def settings():
     refused("decreasing", "Wavelength list: 400nm follows 450nm; expected an increasing list")
     w.wavelength_list = "50nm"
     refused("xray", "Wavelength list: 50nm is not light")
-    w.runs = 0
-    expect(w.runs == 1, f"runs held at its hard minimum 1, not {w.runs}")
+    w.use_wavelength_list = False
+    w.wavelength_count = 0
+    expect(w.wavelength_count == 0, f"wavelengths 0 kept as typed, not {w.wavelength_count}")
+    refused("wavelengths0", "Wavelengths 0: expected a count from 1 to 1000")
+    w.wavelength_count = 3
+    w.method, w.auto_runs, w.runs = 'random-phase', False, 0
+    refused("runs0", "Runs 0: expected a count from 1 to 100000")
+    w.method, w.auto_runs, w.runs = 'convolution', True, 64
+    w.use_wavelength_list = True
 
     # the listed wavelengths reach wavecam
     w.wavelength_list = "500nm, 600nm"

@@ -1,12 +1,11 @@
 # The wavecam settings a camera carries (camera.data.wavecam). The pinhole and film distance
 # follow the camera's lens unless set by hand.
 #
-# Lengths have no hard limits: a typed value is kept as typed, and whether it can be imaged (a
+# No field has a hard limit: a typed value is kept as typed, and whether it can be imaged (a
 # pinhole between the longest wavelength and the film's width, a film distance of 0.1 mm or more,
-# the command's own ranges) is checked before each render (settings_check.py) and refused with a
-# message naming the setting and the value typed, never clamped. Counts keep the hard limits
-# Blender's fields show (Wavelengths 1-1000, Runs 1-100000); soft limits are the useful range the
-# sliders drag over.
+# 1-1000 wavelengths, 1-100000 runs: the command's own ranges) is checked before each render
+# (settings_check.py) and refused with a message naming the setting and the value typed, never
+# clamped. Soft limits are the useful range the sliders drag over.
 import math
 
 import bpy
@@ -109,7 +108,7 @@ class WavecamCameraSettings(bpy.types.PropertyGroup):
         description="Pinhole diameter (mm): from the longest wavelength (0.0007 mm at 700 nm; a few wavelengths "
                     "to be useful) up to the film's width")
     wavelength_count: bpy.props.IntProperty(
-        name="Wavelengths", default=8, min=1, max=1000, soft_min=1, soft_max=64,
+        name="Wavelengths", default=8, soft_min=1, soft_max=64,
         description="Wavelengths sampled evenly over 400-700 nm; fewer than 3 give a grey (monochrome) image")
     use_wavelength_list: bpy.props.BoolProperty(
         name="List of wavelengths", default=False,
@@ -126,7 +125,7 @@ class WavecamCameraSettings(bpy.types.PropertyGroup):
         description="As many random-phase runs as the PSF's size in pixels needs for every colour channel's "
                     "noise within 2% (64 to 1024; the job line says how many)")
     runs: bpy.props.IntProperty(
-        name="Runs", default=64, min=1, max=100000, soft_max=1024,
+        name="Runs", default=64, soft_min=1, soft_max=1024,
         description="Random-phase runs averaged; noise falls as 1/sqrt(runs) once the PSF spans more pixels than runs")
     summation: bpy.props.EnumProperty(
         name="Summation", default='auto', items=SUMMATIONS,

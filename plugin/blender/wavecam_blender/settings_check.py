@@ -44,6 +44,10 @@ def check_settings(camera, fov_degrees):
     """The panel's values for `camera` (bpy Camera data) at a horizontal field of view, each as
     typed: a value beyond its range is refused, never clamped."""
     w = camera.wavecam
+    if not w.use_wavelength_list and not 1 <= w.wavelength_count <= 1000:
+        raise SettingError(f"Wavelengths {w.wavelength_count}: expected a count from 1 to 1000")
+    if w.method == 'random-phase' and not w.auto_runs and not 1 <= w.runs <= 100000:
+        raise SettingError(f"Runs {w.runs}: expected a count from 1 to 100000")
     film_mm = w.film_distance_mm(camera)
     if not film_mm >= MIN_FILM_DISTANCE_MM:
         raise SettingError(f"Film distance {film_mm:g} mm: the film must lie behind the pinhole; expected "
