@@ -336,6 +336,10 @@ TEST(PlateEdges, ALensShiftedFrameIsRefusedByName) {
         EXPECT_NE(r.status, 0) << file;
         EXPECT_NE(r.output.find(word), std::string::npos) << r.output;
         EXPECT_FALSE(fs::exists(dir / "out.exr"));
+        r = run_command(kPlugin + "/usr/bin/python3 -c \"import OpenImageIO as oiio; b = oiio.ImageBuf('" +
+                        (dir / (file + ".exr")).string() + ".wavecam'); print(b.read(), b.geterror())\"");
+        EXPECT_NE(r.output.find("False"), std::string::npos) << file << ": " << r.output;
+        EXPECT_NE(r.output.find(word), std::string::npos) << r.output;
     }
     // the fov given describes the zoomed frame: taken
     EXPECT_EQ(apply(dir / "zoomed.exr", dir / "out.exr", "--fov 40deg").status, 0);
