@@ -31,7 +31,7 @@ void set_channel(OIIO::ImageBuf& b, int i, int j, int, int c, float v) {
 // Channel c of pixel (i, j) of a plate with these names: every channel its own pattern, depth 3 m
 // ("*.Z" and "Z"), a checker in the radiance so that diffraction changes it.
 float plate_value(const std::string& name, int c, int i, int j) {
-    if (name == "Z" || name.size() > 2 && name.substr(name.size() - 2) == ".Z") return 3.0f;
+    if (name == "Z" || (name.size() > 2 && name.substr(name.size() - 2) == ".Z")) return 3.0f;
     if (name == "id") return float((i * 7 + j) % 5);
     return ((i / 2 + j / 2) % 2 ? 0.9f : 0.1f) * (1.0f + 0.1f * c) + 0.01f * float(i + j);
 }
