@@ -261,8 +261,7 @@ Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting,
         for (int i = 0; i < src.width; ++i) {
             const int ci = std::clamp(i - origin, 0, c.width - 1);
             const size_t p = size_t(j) * src.width + i, q = size_t(cj) * c.width + ci;
-            const bool inside = ci == i - origin && cj == j - origin;
-            const float* rgb = inside ? &scene.rgb[3 * q] : edge.at(ci, cj);
+            const float* rgb = edge.light(i - origin, j - origin);
             const double d = scene.depth[q];
             const double w = d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(ci, cj, d, scene.depth_meaning);
             int lower = 0;

@@ -15,7 +15,7 @@ int EdgeContinuation::ring_index(int i, int j) const {
 }
 
 EdgeContinuation::EdgeContinuation(const float* values, int channels, int width, int height)
-    : channels_(channels), width_(width), height_(height), length_(2 * (width - 1) + 2 * (height - 1)) {
+    : values_(values), channels_(channels), width_(width), height_(height), length_(2 * (width - 1) + 2 * (height - 1)) {
     ring_.resize(size_t(channels) * length_);
     std::vector<float> light(length_);
     auto place = [&](int i, int j) {

@@ -73,8 +73,9 @@ struct CoarseGrid {
 // x its cos^4 fall-off, a pixel's light as the kernels carry it) times its kernels' missing share
 // at its own place, interpolated as the kernels are. The sources are the frame's pixels and,
 // beyond its edges, the edge continued: each direction beyond takes the nearest edge pixel's
-// radiance (bounded by its neighbours', edge_continuation.h) and depth, a cell's part beyond the frame sampled at 4 x 4 points (the light of an
-// area in axis pixels is radiance x that area, as a pixel's is radiance x its cos^4).
+// radiance (bounded by its neighbours', edge_continuation.h) and depth, a cell's part beyond the
+// frame sampled at 4 x 4 points (the light of an area in axis pixels is radiance x that area, as
+// a pixel's is radiance x its cos^4).
 std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scene, int origin, const CoarseGrid& g,
                                  const DirectionCosines& dc, int nthreads) {
     const PinholeCamera& c = scene.camera;

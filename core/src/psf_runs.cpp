@@ -108,9 +108,7 @@ private:
                 const int ci = i - origin, cj = j - origin;
                 const int qi = std::clamp(ci, 0, c.width - 1), qj = std::clamp(cj, 0, c.height - 1);
                 const size_t q = size_t(qj) * c.width + qi;
-                const bool inside = ci == qi && cj == qj;
-                const double power = (inside ? scene.power[q] : *edge.at(qi, qj)) * c.solid_angle(ci, cj),
-                             d = scene.depth[q];
+                const double power = *edge.light(ci, cj) * c.solid_angle(ci, cj), d = scene.depth[q];
                 const double w = d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(qi, qj, d, scene.depth_meaning);
                 int lower = 0;
                 conv.layers().locate(w, lower, sources_.upper_share[p]);

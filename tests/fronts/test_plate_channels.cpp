@@ -61,12 +61,6 @@ OIIO::ImageSpec file_spec(const fs::path& path) {
     return in ? in->spec() : OIIO::ImageSpec();
 }
 
-OIIO::ImageBuf read(const fs::path& path) {
-    OIIO::ImageBuf b(path.string());
-    EXPECT_TRUE(b.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << path << b.geterror();
-    return b;
-}
-
 CommandRun apply(const fs::path& in, const fs::path& out, const std::string& extra = "") {
     return run_command(kWavecam + " apply " + in.string() + " -o " + out.string() + kQuick + extra);
 }
@@ -103,7 +97,7 @@ TEST(PlateChannels, AovsCryptomatteAndIdsPassThroughInTheirOwnNamesAndTypes) {
     }
     EXPECT_EQ(out.get_string_attribute("cryptomatte/0a1b2c3/name"), "crypto00");
     EXPECT_EQ(out.get_string_attribute("wavecam.diffracted-channels"), "R,G,B,A");
-    const OIIO::ImageBuf in_px = read(dir / "in.exr"), out_px = read(dir / "out.exr");
+    const OIIO::ImageBuf in_px = read_float(dir / "in.exr"), out_px = read_float(dir / "out.exr");
     for (const std::string& n : names) {
         const bool diffracted = n == "R" || n == "G" || n == "B" || n == "A";
         EXPECT_EQ(same_channel(in_px, out_px, n), !diffracted) << n;
@@ -127,7 +121,7 @@ TEST(PlateChannels, TheRadianceLayerIsChosenAsAWholeAndDepthFromItsViewLayer) {
     write_plate(dir / "aovs.exr", aovs, std::vector<OIIO::TypeDesc>(aovs.size(), f));
     auto r = apply(dir / "aovs.exr", dir / "aovs_out.exr");
     ASSERT_EQ(r.status, 0) << r.output;
-    const OIIO::ImageBuf in = read(dir / "aovs.exr"), out = read(dir / "aovs_out.exr");
+    const OIIO::ImageBuf in = read_float(dir / "aovs.exr"), out = read_float(dir / "aovs_out.exr");
     EXPECT_TRUE(same_channel(in, out, "albedo.R"));
     EXPECT_FALSE(same_channel(in, out, "beauty.R"));
     EXPECT_EQ(out.spec().get_string_attribute("wavecam.layer"), "beauty");
@@ -137,7 +131,7 @@ TEST(PlateChannels, TheRadianceLayerIsChosenAsAWholeAndDepthFromItsViewLayer) {
                                             "VL2.Combined.R", "VL2.Combined.G", "VL2.Combined.B", "VL2.Depth.Z"};
     write_plate(dir / "views.exr", views, std::vector<OIIO::TypeDesc>(views.size(), f));
     {  // VL1's depth at 2 cm: nearer than the 0.2 mm pinhole can image, so a run that read it fails saying so
-        OIIO::ImageBuf b = read(dir / "views.exr");
+        OIIO::ImageBuf b = read_float(dir / "views.exr");
         for (int j = 0; j < kH; ++j)
             for (int i = 0; i < kW; ++i) set_channel(b, i, j, 0, 3, 0.0002f);
         ASSERT_TRUE(b.write((dir / "views.exr").string()));
@@ -149,7 +143,7 @@ TEST(PlateChannels, TheRadianceLayerIsChosenAsAWholeAndDepthFromItsViewLayer) {
     EXPECT_FALSE(fs::exists(dir / "views_out.exr"));
     r = apply(dir / "views.exr", dir / "views_out.exr", "--layer VL2.Combined");
     ASSERT_EQ(r.status, 0) << r.output;
-    const OIIO::ImageBuf vin = read(dir / "views.exr"), vout = read(dir / "views_out.exr");
+    const OIIO::ImageBuf vin = read_float(dir / "views.exr"), vout = read_float(dir / "views_out.exr");
     EXPECT_TRUE(same_channel(vin, vout, "VL1.Combined.R"));
     EXPECT_FALSE(same_channel(vin, vout, "VL2.Combined.R"));
     r = apply(dir / "views.exr", dir / "vl1_out.exr", "--layer VL1.Combined");
@@ -165,7 +159,7 @@ TEST(PlateChannels, NegativeLightIsRefusedNamingThePixelOrClampedAndCounted) {
     const fs::path dir = scratch("plate_negative");
     const std::vector<std::string> names = {"R", "G", "B", "Z"};
     write_plate(dir / "in.exr", names, std::vector<OIIO::TypeDesc>(4, OIIO::TypeDesc::HALF));
-    OIIO::ImageBuf b = read(dir / "in.exr");
+    OIIO::ImageBuf b = read_float(dir / "in.exr");
     set_channel(b, 5, 4, 0, 1, 0.0f);
     ASSERT_TRUE(b.write((dir / "zero.exr").string(), OIIO::TypeDesc::HALF));
     set_channel(b, 5, 4, 0, 1, -65504.0f);  // a denoiser's half overshoot
@@ -180,7 +174,7 @@ TEST(PlateChannels, NegativeLightIsRefusedNamingThePixelOrClampedAndCounted) {
     EXPECT_NE(r.output.find("1 negative values clamped to 0"), std::string::npos) << r.output;
     r = apply(dir / "zero.exr", dir / "zero_out.exr");
     ASSERT_EQ(r.status, 0) << r.output;
-    const OIIO::ImageBuf clamped = read(dir / "out.exr"), zero = read(dir / "zero_out.exr");
+    const OIIO::ImageBuf clamped = read_float(dir / "out.exr"), zero = read_float(dir / "zero_out.exr");
     EXPECT_EQ(clamped.spec().get_string_attribute("wavecam.negative-clamped"), "1 values");
     for (const char* c : {"R", "G", "B"}) EXPECT_TRUE(same_channel(clamped, zero, c)) << c;
     fs::remove_all(dir);
@@ -192,7 +186,7 @@ TEST(PlateChannels, UnassociatedColourIsPremultipliedOnReading) {
     const fs::path dir = scratch("plate_unassociated");
     const std::vector<std::string> names = {"R", "G", "B", "A", "Z"};
     write_plate(dir / "plate.exr", names, std::vector<OIIO::TypeDesc>(5, OIIO::TypeDesc::FLOAT));
-    OIIO::ImageBuf straight = read(dir / "plate.exr");
+    OIIO::ImageBuf straight = read_float(dir / "plate.exr");
     for (int j = 0; j < kH; ++j)
         for (int i = 0; i < kW; ++i) set_channel(straight, i, j, 0, 3, i < kW / 2 ? 1.0f : 0.25f);
     OIIO::ImageBuf pre = straight;
@@ -208,7 +202,7 @@ TEST(PlateChannels, UnassociatedColourIsPremultipliedOnReading) {
     ASSERT_EQ(r.status, 0) << r.output;
     r = apply(dir / "pre.exr", dir / "pre_out.exr");
     ASSERT_EQ(r.status, 0) << r.output;
-    const OIIO::ImageBuf a = read(dir / "straight_out.exr"), p = read(dir / "pre_out.exr");
+    const OIIO::ImageBuf a = read_float(dir / "straight_out.exr"), p = read_float(dir / "pre_out.exr");
     for (const char* c : {"R", "G", "B", "A"})
         for (int j = 0; j < kH; ++j)
             for (int i = 0; i < kW; ++i) {
@@ -233,7 +227,7 @@ TEST(PlateChannels, ChromaticitiesAndTheAcesFlagSetTheColourSpacesBothWays) {
     const float ap1[8] = {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f};
     const float rec2020[8] = {0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, 0.3127f, 0.3290f};
     auto tagged = [&](const std::string& name, const float* xy, bool aces) {
-        OIIO::ImageBuf b = read(dir / "plain.exr");
+        OIIO::ImageBuf b = read_float(dir / "plain.exr");
         b.specmod().attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), xy);
         if (aces) b.specmod().attribute("acesImageContainerFlag", 1);
         if (aces) b.specmod().attribute("compression", "dwaa");  // (lossy: only where nothing is compared bit for bit)
@@ -267,7 +261,7 @@ TEST(PlateChannels, ChromaticitiesAndTheAcesFlagSetTheColourSpacesBothWays) {
     r = apply(dir / "plain.exr", dir / "named_out.exr", "--input-colorspace ACEScg");
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_EQ(file_spec(dir / "ap1_out.exr").get_string_attribute("wavecam.input-colorspace"), "ACEScg");
-    const OIIO::ImageBuf ap1_out = read(dir / "ap1_out.exr"), named = read(dir / "named_out.exr");
+    const OIIO::ImageBuf ap1_out = read_float(dir / "ap1_out.exr"), named = read_float(dir / "named_out.exr");
     for (const char* ch : {"R", "G", "B"}) EXPECT_TRUE(same_channel(ap1_out, named, ch)) << ch;
 
     // primaries wavecam cannot place are refused, naming them, unless the space is named
@@ -313,7 +307,7 @@ TEST(PlateChannels, AnAnamorphicStarComesBackRoundAfterDesqueeze) {
     ASSERT_EQ(r.status, 0) << r.output;
     // second moments in the film's units: a pixel is `aspect` wide and 1 tall
     auto moments = [&](const fs::path& path, double aspect, double& across, double& along) {
-        const OIIO::ImageBuf b = read(path);
+        const OIIO::ImageBuf b = read_float(path);
         EXPECT_EQ(b.spec().width, w);
         double sum = 0, sx = 0, sy = 0, sxx = 0, syy = 0;
         for (int j = 0; j < h; ++j)

@@ -349,13 +349,6 @@ render('shot.exr', 4.0, width=10); print('resized', *centre(q))
 namespace {
 // Read afresh: these files are rewritten under the same name within a second, and the shared
 // ImageCache would hand back the first one's pixels and header.
-OIIO::ImageBuf read_float(const fs::path& p) {
-    OIIO::ImageCache::create(true)->invalidate(OIIO::ustring(p.string()), true);
-    OIIO::ImageBuf b(p.string());
-    EXPECT_TRUE(b.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << p << ": " << b.geterror();
-    return b;
-}
-
 void write_tagged(const fs::path& path, const std::string& method) {
     write_render(path.string(), 10, 8, 3.0f, 35.0f);
     OIIO::ImageBuf b = read_float(path);

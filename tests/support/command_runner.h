@@ -1,6 +1,8 @@
 // Running the built programs from tests, as a user would, and making small input renders.
 #pragma once
+#include <gtest/gtest.h>
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagecache.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -21,6 +23,15 @@ inline CommandRun run_command(const std::string& cmd) {
     while (fgets(buf, sizeof buf, p)) r.output += buf;
     r.status = pclose(p);
     return r;
+}
+
+// An image file read whole as float, as it is on disk now (not as OIIO's shared cache last saw
+// it: a test writes the same name again); a failure to read it fails the test, naming the file.
+inline OIIO::ImageBuf read_float(const std::filesystem::path& path) {
+    OIIO::ImageCache::create(true)->invalidate(OIIO::ustring(path.string()), true);
+    OIIO::ImageBuf b(path.string());
+    EXPECT_TRUE(b.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << path << ": " << b.geterror();
+    return b;
 }
 
 // A fresh scratch folder per test binary.

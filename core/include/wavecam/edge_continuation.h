@@ -31,11 +31,18 @@ public:
     // floats. (i, j) must lie on the frame's border.
     const float* at(int i, int j) const { return &ring_[size_t(channels_) * ring_index(i, j)]; }
 
+    // The light at pixel (i, j) anywhere: the frame's own inside it, the edge continued beyond.
+    const float* light(int i, int j) const {
+        const int ci = i < 0 ? 0 : i >= width_ ? width_ - 1 : i, cj = j < 0 ? 0 : j >= height_ ? height_ - 1 : j;
+        return ci == i && cj == j ? &values_[size_t(channels_) * (size_t(j) * width_ + i)] : at(ci, cj);
+    }
+
     // Edge pixels whose continuation was bounded (what a front tells the user).
     size_t bounded() const { return bounded_; }
 
 private:
     int ring_index(int i, int j) const;
+    const float* values_;
     int channels_, width_, height_, length_;
     std::vector<float> ring_;
     size_t bounded_ = 0;

@@ -73,6 +73,9 @@ Result<bool> diffract_each_view(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, 
     };
     std::vector<From> from;
     std::vector<std::string> diffracted;
+    std::vector<std::vector<std::string>> done;  // each view's diffracted channels, by their plain names
+    for (const OIIO::ImageBuf& r : results)
+        done.push_back(Strutil::splits(r.spec().get_string_attribute(kDiffractedChannelsAttribute), ","));
     for (int c = 0; c < in.nchannels; ++c) {
         const size_t v = placed[c].view.empty() ? 0 : size_t(std::find(views.begin(), views.end(), placed[c].view) - views.begin());
         const OIIO::ImageSpec& r = results[v].spec();
@@ -80,8 +83,8 @@ Result<bool> diffract_each_view(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, 
         if (k < 0) continue;  // dropped (the other-channels setting)
         if (v == 0 && k == r.alpha_channel) spec.alpha_channel = int(spec.channelnames.size());
         if (v == 0 && k == r.z_channel) spec.z_channel = int(spec.channelnames.size());
-        const std::vector<std::string> done = Strutil::splits(r.get_string_attribute(kDiffractedChannelsAttribute), ",");
-        if (std::find(done.begin(), done.end(), placed[c].plain) != done.end()) diffracted.push_back(in.channelnames[c]);
+        if (std::find(done[v].begin(), done[v].end(), placed[c].plain) != done[v].end())
+            diffracted.push_back(in.channelnames[c]);
         spec.channelnames.push_back(in.channelnames[c]);
         from.push_back({v, k});
     }

@@ -57,10 +57,9 @@ Result<bool> place_on_frame(const OIIO::ImageSpec& spec, RenderInput& in) {
     const EdgeContinuation edge(in.rgb.data(), 3, dw, dh);  // a lone bright edge pixel is not copied beyond
     for (int j = 0; j < fh; ++j)
         for (int i = 0; i < fw; ++i) {
-            const int ei = std::clamp(i - ox, 0, dw - 1), ej = std::clamp(j - oy, 0, dh - 1);
-            const size_t from = size_t(ej) * dw + ei;
+            const size_t from = size_t(std::clamp(j - oy, 0, dh - 1)) * dw + std::clamp(i - ox, 0, dw - 1);
             const size_t to = size_t(j) * fw + i;
-            const float* light = ei == i - ox && ej == j - oy ? &in.rgb[3 * from] : edge.at(ei, ej);
+            const float* light = edge.light(i - ox, j - oy);
             std::copy(light, light + 3, &rgb[3 * to]);
             depth[to] = in.depth[from];
             if (!alpha.empty()) alpha[to] = in.alpha[from];
