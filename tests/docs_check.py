@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The README and the manual as a reader meets them: the README at most 250 lines; every relative
 link and image in README.md and docs/ resolves (the file, and a #heading where one is named), and
-every repository path they name (core/src/far_tail.cpp) exists; no
+every repository path they name (core/src/convolution/far_tail.cpp) exists; no
 file of the repository speaks of the work's history (issue numbers, "stop"s, "session"s) or cites
 a file outside the repository. Usage: docs_check.py SOURCE_DIR"""
 import os
@@ -23,7 +23,7 @@ EXTERNAL = re.compile(r"\bNOTES\.md\b|\bPHYSICS\.md\b|\bshared/|/work/")
 PROCESS_EXEMPT = {"LICENSE"}
 
 LINK = re.compile(r"!?\[[^\]]*\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
-# A path into the repository named in the text ("core/src/far_tail.cpp", `tests/bench/run_bench.sh`):
+# A path into the repository named in the text ("core/src/convolution/far_tail.cpp", `tests/bench/run_bench.sh`):
 # it must exist, so that a reader following the docs finds the file.
 SOURCE_PATH = re.compile(r"(?<![\w./-])((?:core|plugin|tests|test_scenes|packaging|ocio_configs|docs|\.ci)/"
                          r"[\w./-]*\.(?:h|hpp|cpp|py|sh|cmake|md|ocio|toml|pov|inc|comp|glsl|json|txt))\b")

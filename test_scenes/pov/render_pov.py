@@ -86,7 +86,7 @@ def parse_args(argv):
 
 
 def parse_length(text, p):
-    """A length with its unit, as wavecam reads one (core/src/units.cpp): metres, > 0, finite."""
+    """A length with its unit, as wavecam reads one (core/src/base/units.cpp): metres, > 0, finite."""
     m = re.fullmatch(r"([0-9.eE+-]+)(nm|um|\u00b5m|mm|cm|m)", text.strip())
     try:
         value = float(m.group(1)) * LENGTH_UNITS[m.group(2)] if m else float("nan")

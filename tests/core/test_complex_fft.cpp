@@ -9,8 +9,8 @@
 #include <random>
 #include <vector>
 
-#include "complex_fft2d.h"
-#include "column_fft.h"
+#include "fft/complex_fft2d.h"
+#include "fft/column_fft.h"
 
 using wavecam::detail::ColumnFft;
 using wavecam::detail::ComplexFft2D;

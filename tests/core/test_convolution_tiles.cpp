@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <vector>
 
-#include "anchored_convolution.h"
-#include "column_fft.h"
-#include "kernel_table.h"
+#include "convolution/anchored_convolution.h"
+#include "fft/column_fft.h"
+#include "convolution/kernel_table.h"
 
 using wavecam::detail::AnchorAxis;
 using wavecam::detail::convolution_fft_length;

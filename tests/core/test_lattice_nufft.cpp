@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "lattice_nufft.h"
+#include "summation/nufft/lattice_nufft.h"
 
 namespace {
 using wavecam::detail::cfloat;

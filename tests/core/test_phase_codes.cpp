@@ -10,7 +10,7 @@
 #include <set>
 #include <vector>
 
-#include "phase_codes.h"
+#include "summation/phase_codes.h"
 
 using namespace wavecam;
 

@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "psf_error_check.h"
+#include "summation/psf/psf_error_check.h"
 #include "wavecam/scene_diffraction.h"
 
 using namespace wavecam;

@@ -18,12 +18,12 @@
 #include <string>
 #include <vector>
 
-#include "band_limited_stencil.h"
-#include "psf_summation.h"
-#include "kernel_basis.h"
-#include "node_skeleton.h"
-#include "pixel_average.h"
-#include "summation_evaluator.h"
+#include "summation/nufft/band_limited_stencil.h"
+#include "summation/psf/psf_summation.h"
+#include "summation/psf/kernel_basis.h"
+#include "summation/nufft/node_skeleton.h"
+#include "summation/pixel_average.h"
+#include "summation/summation_evaluator.h"
 
 using wavecam::detail::BandLimitedStencil;
 using wavecam::detail::node_skeleton;

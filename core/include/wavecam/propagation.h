@@ -1,7 +1,7 @@
-// The exact wave propagator (src/propagation.cpp): the seed paper's two sums, scene -> pinhole
-// samples -> film. Both are one vectorised phasor sum (src/phasor_sum.h) and take path
-// lengths as differences from a reference path in a cancellation-free form (docs/physics.md), so
-// single-precision arithmetic keeps phases right for paths of 10^6 wavelengths and more.
+// The exact wave propagator (src/optics/propagation.cpp): the seed paper's two sums, scene ->
+// pinhole samples -> film. Both are one vectorised phasor sum (src/optics/phasor_sum.h) and take
+// path lengths as differences from a reference path in a cancellation-free form (docs/physics.md),
+// so single-precision arithmetic keeps phases right for paths of 10^6 wavelengths and more.
 #pragma once
 #include <complex>
 #include <vector>

@@ -1,15 +1,15 @@
 // The psf summation's runs on a Vulkan device (gpu_psf_summation.h).
-#include "gpu_psf_summation.h"
+#include "gpu/gpu_psf_summation.h"
 
 #include <cmath>
 #include <cstring>
 #include <string>
 
-#include "compute_device_impl.h"
+#include "gpu/compute_device_impl.h"
 #include "fft_lines.h"
 #include "film_power.h"
 #include "spectrum_product.h"
-#include "vulkan_context.h"
+#include "gpu/vulkan_context.h"
 
 namespace wavecam::detail {
 

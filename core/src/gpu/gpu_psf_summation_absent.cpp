@@ -1,6 +1,6 @@
 // gpu_psf_summation.h in a build without Vulkan: no GpuPsfSummation can be made, and asking for one
 // says why (as gpu_sums_absent.cpp).
-#include "gpu_psf_summation.h"
+#include "gpu/gpu_psf_summation.h"
 
 #include "wavecam/gpu_sums.h"
 

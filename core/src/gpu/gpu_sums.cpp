@@ -8,12 +8,12 @@
 #include <cstring>
 #include <mutex>
 
-#include "compute_device_impl.h"
+#include "gpu/compute_device_impl.h"
 #include "film_f32.h"
 #include "film_f64.h"
 #include "illuminate_f32.h"
 #include "illuminate_f64.h"
-#include "vulkan_context.h"
+#include "gpu/vulkan_context.h"
 
 namespace wavecam {
 

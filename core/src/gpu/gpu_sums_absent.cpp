@@ -2,7 +2,7 @@
 // found): no Vulkan context and no GpuSums can be made, and asking for one says why.
 #include "wavecam/gpu_sums.h"
 
-#include "compute_device_impl.h"
+#include "gpu/compute_device_impl.h"
 
 namespace wavecam {
 

@@ -1,10 +1,10 @@
 // Vulkan compute wrapper (vulkan_context.h).
-#include "vulkan_context.h"
+#include "gpu/vulkan_context.h"
 
 #include <algorithm>
 #include <cstring>
 
-#include "compute_device_impl.h"
+#include "gpu/compute_device_impl.h"
 
 namespace wavecam::gpu {
 namespace {

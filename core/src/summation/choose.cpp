@@ -1,16 +1,16 @@
 // The one chooser (choose.h): the exact sums' cost model, the psf summation's cost and memory,
 // the devices, and the frame's choice between them.
-#include "choose.h"
+#include "summation/choose.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "chirp_interpolation.h"
-#include "psf_summation_geometry.h"
-#include "lattice_nufft.h"
-#include "stencil_choice.h"
-#include "summation_evaluator.h"
+#include "summation/nufft/chirp_interpolation.h"
+#include "summation/psf/psf_summation_geometry.h"
+#include "summation/nufft/lattice_nufft.h"
+#include "summation/nufft/stencil_choice.h"
+#include "summation/summation_evaluator.h"
 
 namespace wavecam {
 

@@ -11,8 +11,8 @@
 #include <cmath>
 #include <string>
 
-#include "psf_summation.h"
-#include "psf_summation_geometry.h"
+#include "summation/psf/psf_summation.h"
+#include "summation/psf/psf_summation_geometry.h"
 #include "wavecam/summation_plan.h"
 
 namespace wavecam::detail {

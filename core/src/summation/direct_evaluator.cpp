@@ -1,7 +1,7 @@
 // The direct evaluator: the two sums term by term (propagation.h), the reference.
 #include <cmath>
 
-#include "sum_evaluator.h"
+#include "summation/sum_evaluator.h"
 
 namespace wavecam::detail {
 namespace {

@@ -1,6 +1,6 @@
 // The creation table of the frame's evaluators (summation_evaluator.h): one row per evaluator,
 // its word, devices, create functions and cost. Add an evaluator here, and its file.
-#include "summation_evaluator.h"
+#include "summation/summation_evaluator.h"
 
 namespace wavecam {
 namespace detail {

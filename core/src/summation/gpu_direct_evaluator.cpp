@@ -1,6 +1,6 @@
 // The direct terms on a GPU (gpu_sums.h): the direct evaluator's sums through Vulkan compute.
 #include "gpu/compute_device_impl.h"
-#include "sum_evaluator.h"
+#include "summation/sum_evaluator.h"
 #include "wavecam/gpu_sums.h"
 
 namespace wavecam::detail {

@@ -19,9 +19,9 @@
 #include <cmath>
 #include <memory>
 
-#include "choose.h"
-#include "scene_sum.h"
-#include "sum_evaluator.h"
+#include "summation/choose.h"
+#include "summation/scene_sum.h"
+#include "summation/sum_evaluator.h"
 
 namespace wavecam::detail {
 

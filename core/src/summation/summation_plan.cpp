@@ -4,9 +4,9 @@
 #include <cmath>
 
 #include "gpu/compute_device_impl.h"
-#include "lattice_layout.h"
-#include "summation_evaluator.h"
-#include "choose.h"
+#include "summation/nufft/lattice_layout.h"
+#include "summation/summation_evaluator.h"
+#include "summation/choose.h"
 
 namespace wavecam {
 

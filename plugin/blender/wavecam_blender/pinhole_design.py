@@ -1,4 +1,4 @@
-# Rayleigh's optimal pinhole, as wavecam computes its default (core/src/pinhole_design.cpp):
+# Rayleigh's optimal pinhole, as wavecam computes its default (core/src/optics/pinhole_design.cpp):
 # d = 1.9 sqrt(f lambda) at the design wavelength 550 nm (Rayleigh, Phil. Mag. 31, 1891).
 import math
 

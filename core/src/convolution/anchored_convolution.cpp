@@ -1,0 +1,297 @@
+#include "convolution/anchored_convolution.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <memory>
+
+#include "convolution/output_window.h"
+#include "base/progress_ticker.h"
+#include "fft/real_fft2d.h"
+
+namespace wavecam::detail {
+
+int convolution_fft_length(int tile, int radius, int length) {
+    return fft_friendly_size(tile >= length ? length : tile + 2 * radius);
+}
+
+std::vector<int> cell_edges(const AnchorAxis& a, int length) {
+    std::vector<int> e(a.knots.begin(), a.knots.end());
+    e.front() = 0;
+    e.back() = length;
+    return e;
+}
+
+std::vector<int> tile_edges(const AnchorAxis& a, int length, int tile, int radius, bool on_cells) {
+    if (tile >= length) return {0, length};  // one tile: its transform wraps into the margin
+    std::vector<int> even;
+    for (int x = 0; x < length; x += tile) even.push_back(x);
+    even.push_back(length);
+    if (!on_cells) return even;
+    // whole cells joined while they fit in a tile; a cell wider than a tile split evenly
+    std::vector<int> edges{0};
+    int end = 0;  // the end of the cells joined so far
+    for (const int b : cell_edges(a, length)) {
+        if (b - edges.back() <= tile) {
+            end = b;
+            continue;
+        }
+        if (end > edges.back()) edges.push_back(end);
+        end = b;
+        if (b - edges.back() <= tile) continue;
+        const int from = edges.back(), parts = (b - from + tile - 1) / tile;
+        for (int m = 1; m <= parts; ++m) edges.push_back(from + int(std::lround(double(m) * (b - from) / parts)));
+    }
+    if (end > edges.back()) edges.push_back(end);
+    for (size_t k = 0; k + 1 < edges.size(); ++k)
+        if (edges[k + 1] - edges[k] < 2 * radius) return even;
+    return edges;
+}
+
+void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, std::vector<float>& image,
+                                           std::complex<float>* spectrum) const {
+    const KernelTable& t = table_;
+    const int R = t.radius, kw = 2 * R + 1, Nx = fft_width_, Ny = fft_height_;
+    const float* w = &t.weights[size_t(k) * t.kernel_size()];
+    // the kernel centred on the origin, wrapped
+    for (int b = -R; b <= R; ++b)
+        for (int a = -R; a <= R; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = w[size_t(b + R) * kw + (a + R)];
+    fft.forward(image.data(), spectrum, R + 1, Ny - R);
+    for (int b = -R; b <= R; ++b)
+        for (int a = -R; a <= R; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = 0.0f;
+}
+
+Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int tile, bool tiles_on_cells, int width,
+                                                        int height, int nthreads, const ProgressFn& progress) {
+    AnchoredConvolution c;
+    c.tile_ = tile;
+    c.tiles_on_cells_ = tiles_on_cells;
+    c.fft_width_ = convolution_fft_length(tile, table.radius, width);
+    c.fft_height_ = convolution_fft_length(tile, table.radius, height);
+    c.nthreads_ = nthreads;
+    c.edges_x_ = tile_edges(table.ax, width, tile, table.radius, tiles_on_cells);
+    c.edges_y_ = tile_edges(table.ay, height, tile, table.radius, tiles_on_cells);
+    c.table_ = std::move(table);
+    const KernelTable& t = c.table_;
+    const int Nx = c.fft_width_, Ny = c.fft_height_;
+    // only the computed anchors' spectra are kept: a mirror image's is its source's, reflected
+    // as it is read (KernelView)
+    c.slot_.assign(t.anchors(), -1);
+    int kept = 0;
+    for (int a = 0; a < t.anchors(); ++a)
+        if (t.source[a] == a) c.slot_[a] = kept++;
+    c.kept_anchors_ = kept;
+    const long count = long(t.layers.count) * kept * 9;
+    {
+        RealFft2D probe(Nx, Ny);
+        if (!probe.ok())
+            return Result<AnchoredConvolution>::failure("fft: cannot set up a " + std::to_string(Nx) + " x " +
+                                                        std::to_string(Ny) + "-point transform");
+        c.spectrum_size_ = probe.spectrum_size();
+    }
+    // spectra beyond kMaxKernelSpectraBytes are transformed by each tile that needs them instead
+    if (double(count) * c.spectrum_size_ * sizeof(std::complex<float>) > kMaxKernelSpectraBytes) {
+        if (progress) progress(1.0);
+        return Result<AnchoredConvolution>::success(std::move(c));
+    }
+    c.kernel_spectra_.resize(size_t(count) * c.spectrum_size_);
+    std::vector<long> table_kernel(count);  // the table's kernel index of each kept spectrum
+    for (int l = 0; l < t.layers.count; ++l)
+        for (int a = 0; a < t.anchors(); ++a)
+            for (int m = 0; c.slot_[a] >= 0 && m < 9; ++m)
+                table_kernel[(size_t(l) * kept + c.slot_[a]) * 9 + m] = (long(l) * t.anchors() + a) * 9 + m;
+    ProgressTicker ticker(progress, double(count));
+#pragma omp parallel num_threads(nthreads)
+    {
+        RealFft2D fft(Nx, Ny);
+        std::vector<float> image(size_t(Nx) * Ny, 0.0f);
+#pragma omp for schedule(dynamic, 4)
+        for (long k = 0; k < count; ++k) {
+            if (ticker.cancelled()) continue;
+            c.transform_kernel(table_kernel[k], fft, image, &c.kernel_spectra_[size_t(k) * c.spectrum_size_]);
+            ticker.advance(1, omp_get_thread_num() == 0);
+        }
+    }
+    if (ticker.cancelled()) return Result<AnchoredConvolution>::failure("cancelled", ErrorKind::Cancelled);
+    return Result<AnchoredConvolution>::success(std::move(c));
+}
+
+AnchoredConvolution::KernelView AnchoredConvolution::spectrum(int layer, int anchor, int m) const {
+    const KernelTable& t = table_;
+    // w(-x, y) has the spectrum X(-kx, ky) = conj X(kx, -ky) (real input); w(x, -y) has X(kx, -ky)
+    const bool columns = t.mirrored_x(anchor), rows = t.mirrored_y(anchor);
+    return {&kernel_spectra_[((size_t(layer) * kept_anchors_ + slot_[t.source[anchor]]) * 9 + m) * spectrum_size_],
+            columns != rows, columns};
+}
+
+namespace {
+
+// A tile's source pixels [x0, x1) x [y0, y1) of the domain.
+struct TileBounds {
+    int x0, y0, x1, y1;
+};
+
+// The depth layers the tile's sources touch, [lo, hi] (hi < lo: none).
+void layer_span(const DomainSources& src, const TileBounds& b, int layers, int& lo, int& hi) {
+    lo = layers;
+    hi = -1;
+    for (int j = b.y0; j < b.y1; ++j)
+        for (int i = b.x0; i < b.x1; ++i) {
+            const size_t p = size_t(j) * src.width + i;
+            lo = std::min<int>(lo, src.lower[p]);
+            hi = std::max<int>(hi, src.lower[p] + (src.upper_share[p] > 0 ? 1 : 0));
+        }
+}
+
+// One kernel of the table: depth layer `layer` at anchor (kx, ky).
+struct LayerAnchor {
+    int layer, kx, ky;
+};
+
+// Layer l's and anchor (kx, ky)'s share of each source of the tile into `weight` (row stride
+// T); whether any is lit.
+bool anchor_weights(const KernelTable& t, const DomainSources& src, const TileBounds& b, const LayerAnchor& la, int T,
+                    std::vector<float>& weight) {
+    const int l = la.layer, kx = la.kx, ky = la.ky;
+    bool any = false;
+    for (int j = b.y0; j < b.y1; ++j) {
+        const float wy = float(t.ay.hat(ky, j));
+        for (int i = b.x0; i < b.x1; ++i) {
+            const size_t q = size_t(j) * src.width + i;
+            const float share = src.lower[q] == l         ? 1.0f - src.upper_share[q]
+                                : src.lower[q] + 1 == l ? src.upper_share[q]
+                                                        : 0.0f;
+            const float w = share * wy * float(t.ax.hat(kx, i));
+            weight[size_t(j - b.y0) * T + (i - b.x0)] = w;
+            any |= w > 0;
+        }
+    }
+    return any;
+}
+
+// acc_q += sum_p in_p K_{3p+q}, written on floats so that it vectorises (std::complex's
+// operator* keeps a NaN-recovery branch); spectra of N rows of `half` (a kernel's rows read
+// as N - r where it is its source's mirror image).
+void multiply_accumulate(const std::complex<float>* in, const AnchoredConvolution::KernelView kernels[9],
+                         std::complex<float>* acc, int N, int half) {
+    const size_t spec = size_t(N) * half;
+    for (int q = 0; q < 3; ++q)
+        for (int p = 0; p < 3; ++p) {
+            const AnchoredConvolution::KernelView& kv = kernels[3 * p + q];
+            const float sign = kv.conjugate ? -1.0f : 1.0f;
+            for (int r = 0; r < N; ++r) {
+                float* a = reinterpret_cast<float*>(&acc[q * spec + size_t(r) * half]);
+                const float* x = reinterpret_cast<const float*>(&in[p * spec + size_t(r) * half]);
+                const float* k = reinterpret_cast<const float*>(kv.data + size_t(kv.flip_rows ? (N - r) % N : r) * half);
+#pragma omp simd
+                for (int e = 0; e < half; ++e) {
+                    const float kr = k[2 * e], ki = sign * k[2 * e + 1];
+                    a[2 * e] += x[2 * e] * kr - x[2 * e + 1] * ki;
+                    a[2 * e + 1] += x[2 * e] * ki + x[2 * e + 1] * kr;
+                }
+            }
+        }
+}
+
+// A tile's FFT frame: width x height, holding the tile's sources `bounds` and the R pixels its
+// kernels spread beyond them (wrapped).
+struct TileFrame {
+    int width, height, radius;
+    TileBounds bounds;
+};
+
+// Adds channel q of a tile's convolved image (its FFT frame, wrapped) to the output window.
+void add_to_output(const std::vector<float>& image, const TileFrame& frame, const OutputWindow& out, float norm, int q,
+                   float* xyz) {
+    const int Nx = frame.width, Ny = frame.height, R = frame.radius;
+    const TileBounds& b = frame.bounds;
+    const int out_x0 = out.x0, out_y0 = out.y0, out_width = out.width, out_height = out.height;
+    for (int r = -R; r < (b.y1 - b.y0) + R; ++r) {
+        const int j = b.y0 + r - out_y0;
+        if (j < 0 || j >= out_height) continue;
+        for (int s = -R; s < (b.x1 - b.x0) + R; ++s) {
+            const int i = b.x0 + s - out_x0;
+            if (i < 0 || i >= out_width) continue;
+            xyz[3 * (size_t(j) * out_width + i) + q] += norm * image[size_t((r + Ny) % Ny) * Nx + (s + Nx) % Nx];
+        }
+    }
+}
+
+}  // namespace
+
+Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWindow& out, float* xyz,
+                                        const ProgressFn& progress) const {
+    const KernelTable& t = table_;
+    const int T = tile_, Nx = fft_width_, Ny = fft_height_, R = t.radius, W = src.width;
+    const int ntx = int(edges_x_.size()) - 1, nty = int(edges_y_.size()) - 1, nkx = int(t.ax.knots.size());
+    const size_t spec = spectrum_size_;
+    const float norm = 1.0f / (float(Nx) * Ny);  // kissfft leaves the inverse unnormalised
+    ProgressTicker ticker(progress, double(ntx) * nty);
+    // Four passes: tiles of one parity are at least one tile apart, a tile is at least 2 R wide
+    // (tile_edges), and a tile writes at most R pixels beyond itself, so concurrent tiles never
+    // write the same pixel.
+    for (int phase = 0; phase < 4; ++phase) {
+#pragma omp parallel num_threads(nthreads_)
+        {
+            RealFft2D fft(Nx, Ny);
+            // image: the tile in its top-left corner, zero elsewhere (the FFT's padding)
+            std::vector<float> image(size_t(Nx) * Ny), weight(size_t(T) * T);
+            std::vector<std::complex<float>> in(3 * spec), acc(3 * spec);
+            // a tile's own transforms of its kernels, where the plan keeps none
+            std::vector<std::complex<float>> own(kernel_spectra_.empty() ? 9 * spec : 0);
+            std::vector<float> scratch(kernel_spectra_.empty() ? size_t(Nx) * Ny : 0, 0.0f);
+#pragma omp for schedule(dynamic, 1)
+            for (long k = 0; k < long(ntx) * nty; ++k) {
+                const int tx = int(k % ntx), ty = int(k / ntx);
+                if ((tx % 2) + 2 * (ty % 2) != phase || ticker.cancelled()) continue;
+                const TileBounds b{edges_x_[tx], edges_y_[ty], edges_x_[tx + 1], edges_y_[ty + 1]};
+                // skip tiles whose light cannot reach the output window
+                if (b.x1 + R <= out.x0 || b.x0 - R >= out.x0 + out.width || b.y1 + R <= out.y0 ||
+                    b.y0 - R >= out.y0 + out.height) {
+                    ticker.advance(1, omp_get_thread_num() == 0);
+                    continue;
+                }
+                // the anchors whose hats reach into the tile: the knots of the cells it spans
+                const int kx0 = t.ax.cell_of(b.x0), kx1 = t.ax.cell_of(b.x1 - 1) + 1;
+                const int ky0 = t.ay.cell_of(b.y0), ky1 = t.ay.cell_of(b.y1 - 1) + 1;
+                int lo, hi;
+                layer_span(src, b, t.layers.count, lo, hi);
+                std::fill(acc.begin(), acc.end(), std::complex<float>(0));
+                std::fill(image.begin(), image.end(), 0.0f);
+                for (int l = lo; l <= hi; ++l)
+                    for (int ky = ky0; ky <= ky1; ++ky)
+                        for (int kx = kx0; kx <= kx1; ++kx) {
+                            const int anchor = ky * nkx + kx;
+                            if (!anchor_weights(t, src, b, {l, kx, ky}, T, weight)) continue;
+                            for (int p = 0; p < 3; ++p) {
+                                for (int j = b.y0; j < b.y1; ++j)
+                                    for (int i = b.x0; i < b.x1; ++i)
+                                        image[size_t(j - b.y0) * Nx + (i - b.x0)] =
+                                            weight[size_t(j - b.y0) * T + (i - b.x0)] * src.rgb[3 * (size_t(j) * W + i) + p];
+                                fft.forward(image.data(), &in[p * spec], b.y1 - b.y0, Ny);
+                            }
+                            KernelView kernels[9];
+                            for (int m = 0; m < 9; ++m) {
+                                if (kernel_spectra_.empty())
+                                    transform_kernel((long(l) * t.anchors() + anchor) * 9 + m, fft, scratch,
+                                                     &own[m * spec]);
+                                kernels[m] = kernel_spectra_.empty() ? KernelView{&own[m * spec], false, false}
+                                                                     : spectrum(l, anchor, m);
+                            }
+                            multiply_accumulate(in.data(), kernels, acc.data(), Ny, Nx / 2 + 1);
+                        }
+                if (hi >= lo)
+                    for (int q = 0; q < 3; ++q) {
+                        fft.inverse(&acc[q * spec], image.data());
+                        add_to_output(image, {Nx, Ny, R, b}, out, norm, q, xyz);
+                    }
+                ticker.advance(1, omp_get_thread_num() == 0);
+            }
+        }
+    }
+    if (ticker.cancelled()) return Result<bool>::failure("cancelled", ErrorKind::Cancelled);
+    return Result<bool>::success(true);
+}
+
+}  // namespace wavecam::detail

@@ -1,0 +1,96 @@
+// A spatially varying convolution that is continuous over the field: each source is spread by
+// the kernel interpolated at its own position (bilinearly over the kernel table's anchors,
+// linearly in 1/z over its two depth layers). Internal to core.
+//
+// Why interpolate per source. Cutting the image into tiles that each take one kernel makes a
+// source's image jump when it crosses a tile boundary: a grid of seams. Here the weight of a
+// source for anchor a is the bilinear hat function phi_a at its position (the hats sum to 1),
+// the weighted image phi_a s is convolved with anchor a's kernel, and the results add:
+//   out = sum_a K_a * (phi_a s),   so source s is spread by sum_a phi_a(s) K_a,
+// which varies smoothly with the source's position, keeps its energy and centroid, and does
+// not depend on the tiling (tiles only bound the FFT size; overlap-add makes them exact).
+// A tile meets the anchors of every cell it spans (four where it lies within one cell).
+// Interpolating the kernel at the output pixel instead (out = sum_a phi_a (K_a * s)) would
+// cost fewer transforms but spreads one source's light by a blend that changes across its
+// own image; the per-source form is the physical one (each source has one PSF).
+#pragma once
+#include <complex>
+#include <cstdint>
+#include <vector>
+#include "convolution/kernel_table.h"
+#include "convolution/output_window.h"
+
+namespace wavecam::detail {
+
+// The sources on the convolution's domain: radiance per primary (already carrying each
+// source's cos^4 fall-off) and each pixel's depth layers.
+struct DomainSources {
+    int width = 0, height = 0;
+    std::vector<float> rgb;           // 3 per pixel
+    std::vector<uint8_t> lower;       // layer at or below the pixel's 1/z
+    std::vector<float> upper_share;   // share of its light in the layer above
+};
+
+// FFT length along one axis of a domain `length` long, for tiles of side `tile` and kernels of
+// radius R. Overlap-add needs tile + 2R: a tile's light reaches R beyond it. Where one tile
+// covers the axis it needs only the domain's length: the domain is the output widened by R on
+// every side, so what wraps round the period (at most R beyond the domain) lands in that margin,
+// which is never read. Each axis on its own: a strip's short side is one tile of its own length.
+int convolution_fft_length(int tile, int radius, int length);
+
+// The anchor cells' edges along one axis of a domain `length` long, the margins joined to the
+// edge cells: the knots, the outermost moved to the domain's ends.
+std::vector<int> cell_edges(const AnchorAxis& knots, int length);
+
+// The tiles' edges along one axis of a domain `length` long, tiles at most `tile` wide, kernels
+// of radius R: even tiles from the domain's start, or (`on_cells`) tiles of whole anchor cells
+// (as many as fit in `tile`; a wider cell split into equal tiles), so that a tile meets only
+// the knots of the cells it holds instead of the extra one of a cell it straddles. Even tiles
+// where that would give a tile narrower than 2 R (the overlap-add's passes need that width).
+std::vector<int> tile_edges(const AnchorAxis& knots, int length, int tile, int radius, bool on_cells);
+
+// Kernel spectra a plan keeps at most; beyond, each tile transforms the kernels it meets (a
+// frame with hundreds of anchors at a wide field: 4x the transforms, memory bounded).
+constexpr double kMaxKernelSpectraBytes = 1024.0 * (1 << 20);
+
+class RealFft2D;
+
+class AnchoredConvolution {
+public:
+    // Transforms every kernel of `table` once, for tiles of side `tile` (>= 2 x the radius) on
+    // a source domain of width x height.
+    static Result<AnchoredConvolution> create(KernelTable table, int tile, bool tiles_on_cells, int width, int height,
+                                              int nthreads, const ProgressFn& progress);
+
+    // Adds to `xyz` (interleaved, out.width x out.height) the image of `sources` on the output
+    // window `out`.
+    Result<bool> apply(const DomainSources& sources, const OutputWindow& out, float* xyz,
+                       const ProgressFn& progress) const;
+
+    // A kernel's spectrum as kept: the rows read as N - r (flip_rows) and conjugated for a
+    // kernel that is its source's mirror image (kernel_table.h).
+    struct KernelView {
+        const std::complex<float>* data;
+        bool flip_rows, conjugate;
+    };
+
+    const KernelTable& table() const { return table_; }
+    int tile() const { return tile_; }
+    bool tiles_on_cells() const { return tiles_on_cells_; }
+
+private:
+    KernelTable table_;
+    int tile_ = 0, fft_width_ = 0, fft_height_ = 0, nthreads_ = 1;
+    bool tiles_on_cells_ = false;
+    std::vector<int> edges_x_, edges_y_;  // tile_edges across and down the domain
+    size_t spectrum_size_ = 0;
+    std::vector<int> slot_;  // per anchor: its place among the kept anchors, -1 for a mirror image
+    int kept_anchors_ = 0;
+    std::vector<std::complex<float>> kernel_spectra_;  // [layer][slot][m][spectrum]; empty: none kept
+    // kernel k = (layer x anchors + anchor) x 9 + m's spectrum into `spectrum` (`image`: the
+    // transform's height x width of zeros, left so)
+    void transform_kernel(long k, RealFft2D& fft, std::vector<float>& image, std::complex<float>* spectrum) const;
+    KernelView spectrum(int layer, int anchor, int m) const;
+};
+
+}  // namespace wavecam::detail

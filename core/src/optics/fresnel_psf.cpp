@@ -1,0 +1,56 @@
+// The field PSF's entry points: the two evaluations of the Fresnel integral
+// (wavecam/fresnel_psf.h), the matrix Fourier transform (fresnel_mft.cpp) and the transfer
+// function (fresnel_transfer.cpp), the cheaper one chosen per request.
+#include "wavecam/fresnel_psf.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "optics/fresnel_field.h"
+#include "optics/fresnel_mft.h"
+#include "optics/fresnel_transfer.h"
+
+namespace wavecam {
+namespace {
+bool chooses_transfer(const FieldPsfRequest& q, const detail::MftPlan& mft, const detail::TransferPlan& transfer) {
+    return q.method == FieldPsfMethod::TransferFunction ||
+           (q.method == FieldPsfMethod::Auto && q.pupil_samples <= 0 && transfer.cost() < mft.cost());
+}
+}  // namespace
+
+double field_psf_scratch_bytes(const FieldPsfRequest& q) {
+    const detail::FieldGeometry g = detail::geometry_of(q);
+    const detail::MftPlan mft = detail::plan_mft(q, g);
+    const detail::TransferPlan transfer = detail::plan_transfer(q, g);
+    const double w = 2.0 * q.radius + 1;
+    if (chooses_transfer(q, mft, transfer)) {
+        const double n = transfer.n;  // pupil, rows, field, columns, and the spectra kept per thread
+        return 8.0 * n * n * (4 + detail::kSpectraKept) + 8.0 * w * w;
+    }
+    const double pr = mft.kept(mft.nr), pt = mft.kept(mft.nt), m = mft.grid();
+    // pupil cells, the two axis matrices and the intermediate (complex), the power grid, the
+    // pixel averages' offsets and weights
+    return 4.0 * (pr * pt + 2 * m * (pr + pt) + 2 * pr * m + m * m + 2 * m) + 8.0 * w * mft.points + 4.0 * w * w;
+}
+
+PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
+    const detail::FieldGeometry g = detail::geometry_of(q);
+    const detail::MftPlan mft = detail::plan_mft(q, g);
+    const detail::TransferPlan transfer = detail::plan_transfer(q, g);
+    const bool use_transfer = chooses_transfer(q, mft, transfer);
+    PsfKernel k;
+    k.radius = q.radius;
+    k.weight = use_transfer ? detail::kernel_by_transfer(q, g, transfer) : detail::kernel_by_mft(q, g, mft);
+    if (!use_transfer && mft.half * mft.step < (q.radius + 0.5) * q.pixel_pitch) k.reach = mft.half * mft.step;
+    return k;
+}
+
+int psf_kernel_radius(const WidestPsf& psf, double pixel_pitch, int max_radius) {
+    const double r =
+        detail::psf_radius(psf.aperture, psf.film_distance, psf.nearest_depth, psf.wavelength, psf.cos_theta_max,
+                           psf.energy) /
+        pixel_pitch;
+    return int(std::clamp(std::ceil(r), 1.0, double(max_radius)));  // (clamped as a double: no overflow)
+}
+
+}  // namespace wavecam

@@ -1,0 +1,261 @@
+#include "optics/fresnel_transfer.h"
+
+#include <kiss_fft.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "fft/real_fft2d.h"
+
+namespace wavecam::detail {
+
+// ---- Many zones: Fresnel transfer function on a grid at a fraction of a film pixel ----------
+//
+// Completing the square in wavecam/fresnel_psf.h's phase, |PSF(d)| = |(P * K)(s)| with
+// s = d / (f alpha) (the shadow is the pupil magnified by f alpha = 1 + f/z, in every
+// direction) and the chirp
+// K(xi) = exp(i pi/lambda (ar xi_r^2 + at xi_t^2)): Fresnel propagation of the pupil over the
+// distances z_r = 1/ar, z_t = 1/at, done here as FFT(P) x H, H(nu) = exp(-i pi lambda (z_r nu_r^2
+// + z_t nu_t^2)) (Goodman, Introduction to Fourier Optics, 3rd ed., sec. 5.1). |H| = 1, so the
+// grid's power equals the sampled pupil's (Parseval) and nothing is renormalised.
+// Sampling, on a grid of pitch h (pupil plane) = film pitch / (f alpha), in image axes:
+//  - film: h f alpha = pixel / sub, so each kernel pixel sums sub x sub grid points (its area
+//    average) and the cost is set by the kernel's extent in film pixels, not by the zone count.
+//  - pupil: each cell holds its open fraction (the pupil box-filtered over the cell), and the
+//    box's sinc(nu h) is divided out of the spectrum, so the spectrum is the true one up to
+//    frequency 1/(2h); beyond that it aliases. Frequency nu leaves the pupil at a lateral
+//    shift lambda z nu, so what is misplaced is light diffracted farther than lambda z_r / (2h)
+//    (~ 8 film pixels at 3 cells per pixel with the optimum's lambda f / pixel^2 = 5.4): the far
+//    tail of the pupil's spectrum, at most ~ 4 h / (pi^2 D) of the power for a sharp edge (the
+//    Airy tail 2 / (pi x) at nu = 1/(2h)); kMinCellsAcross cells across the pupil keep that
+//    below 0.7%. It includes the rim's edge wave where it crosses farther than that, e.g. its
+//    focus on the axis of a round pinhole whose shadow is wider than ~16 px: at 2.5 mm, f = 50
+//    mm (a 35 px shadow) the central 9 pixels get 1.8% less than the exact sum with 9 x 9 film
+//    points per pixel, the central 6 px radius 0.7% less; the total is within 0.3%.
+//  - H: its phase step between frequency samples, 2 pi shift / L, stays below pi while the
+//    largest shift (lambda z_r |nu|max = lambda z_r / (sqrt 2 h)) is below half the period L.
+//  - wrap-around: light from the pupil (half-width a) shifted up to that much must not come
+//    back round the period into the kernel (half-width E): L >= E + a + shift.
+// This is the many-zone regime's tool: its grid is never coarser than the chirp needs there;
+// with few zones (small pinholes) the grid those conditions demand is large and the matrix
+// Fourier transform is cheaper; field_psf_kernel picks the cheaper of the two.
+constexpr int kMinCellsAcross = 64;
+
+namespace {
+
+// Cells holding their open fraction (the pupil box-filtered over a cell of width h) multiply
+// the pupil's spectrum by sinc(nu h) per axis; the transfer function divides it out, which
+// restores the near tail (light diffracted a few pixels past the rim, ~0.5% of the power at
+// 4x the optimum). sinc(x) = sin(pi x) / (pi x).
+double box_response(double nu_h) { return std::fabs(nu_h) < 1e-9 ? 1.0 : std::sin(M_PI * nu_h) / (M_PI * nu_h); }
+
+}  // namespace
+
+TransferPlan plan_transfer(const FieldPsfRequest& q, const FieldGeometry& g) {
+    TransferPlan p;
+    const double fa = q.film_distance * g.alpha;
+    p.sub = std::max(q.subsamples, int(std::min(std::ceil(kMinCellsAcross * q.pixel_pitch / (g.span * fa)), 1e6)));
+    // a point-symmetric pupil on a grid with a point at the centre (odd sub) gives a
+    // point-symmetric field: half of the inverse transform is the other half mirrored
+    p.symmetric = point_symmetric(q.aperture);
+    if (p.symmetric && p.sub % 2 == 0) ++p.sub;
+    p.h = q.pixel_pitch / (p.sub * fa);
+    const double shift = q.wavelength / g.ar / (std::sqrt(2.0) * p.h);
+    const double kernel_half = (q.radius + 0.5) * q.pixel_pitch / fa, pupil_half = 0.5 * g.span;
+    const double period = std::max(kernel_half + pupil_half + shift, 2 * shift);
+    // (a grid beyond 2^28 points across is never cheaper than the matrix transform: kept
+    // finite, it only loses the cost comparison)
+    p.n = detail::fft_friendly_size(int(std::min(std::ceil(period / p.h) + 2, double(1 << 29))));
+    return p;
+}
+
+namespace {
+
+// Unnormalised 1D complex FFTs (kissfft) of `count` consecutive lines of length n, out of
+// place (kissfft in place allocates per call). The 2D transforms below keep their arrays with
+// the transformed axis contiguous: the spectrum transposed (one line per kx), the image rows.
+class LineFft {
+public:
+    LineFft(int n, bool inverse) : n_(n), cfg_(kiss_fft_alloc(n, inverse ? 1 : 0, nullptr, nullptr)) {}
+    ~LineFft() { kiss_fft_free(cfg_); }
+    LineFft(const LineFft&) = delete;
+    LineFft& operator=(const LineFft&) = delete;
+    void operator()(const std::complex<float>* in, std::complex<float>* out, int count) const {
+        for (int k = 0; k < count; ++k)
+            kiss_fft(cfg_, reinterpret_cast<const kiss_fft_cpx*>(in + size_t(k) * n_),
+                     reinterpret_cast<kiss_fft_cpx*>(out + size_t(k) * n_));
+    }
+
+private:
+    int n_;
+    kiss_fft_cfg cfg_;
+};
+
+// The pupil's spectrum on an n x n grid of pitch h: it depends on neither the wavelength nor
+// the field angle (the chirp is all in the transfer function), so a table's requests at one
+// depth share it. Each thread keeps the last kSpectraKept; a request whose grid must be at
+// least n reuses the narrowest kept spectrum up to kWiderGrid n^2 in area (a wider period only
+// moves the wrap-around farther away): its inverse transform then costs at most that much
+// more, where a new forward transform would cost about twice the inverse one.
+constexpr double kWiderGrid = 1.25;
+
+struct PupilSpectrum {
+    std::string aperture;
+    const void* mask = nullptr;
+    double diameter = 0, h = 0, o = 0;
+    int n = 0;
+    long used = 0;  // when last used, for replacing the least recently used
+    std::vector<std::complex<float>> value;
+    bool serves(const Aperture& a, double hh, double oo, int n_min) const {
+        return a.name() == aperture && a.mask.get() == mask && a.diameter == diameter && hh == h && oo == o &&
+               n >= n_min && double(n) * n <= kWiderGrid * n_min * n_min;
+    }
+};
+
+const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometry& g, const TransferPlan& plan,
+                                    double o) {
+    thread_local PupilSpectrum kept_spectra[kSpectraKept];
+    thread_local long clock = 0;
+    PupilSpectrum* best = nullptr;
+    for (PupilSpectrum& s : kept_spectra)
+        if (s.serves(q.aperture, plan.h, o, plan.n) && (!best || s.n < best->n)) best = &s;
+    if (best) {
+        best->used = ++clock;
+        return *best;
+    }
+    PupilSpectrum& kept = *std::min_element(std::begin(kept_spectra), std::end(kept_spectra),
+                                            [](const PupilSpectrum& x, const PupilSpectrum& y) { return x.used < y.used; });
+    // the pupil's open fractions, cell (ix, iy) centred at ((ix - n/2 + o) h, (iy - n/2 + o) h)
+    // in image axes; (x, y): image (column, row), pupil +x lands at column -x (as in the matrix
+    // transform)
+    const int n = plan.n;
+    const double h = plan.h;
+    const int reach = std::min(n / 2 - 1, int(std::ceil(0.5 * g.span / h)) + 1), row0 = n / 2 - reach;
+    std::vector<std::complex<float>> pupil(size_t(n) * n, 0.0f), rows(size_t(n) * n, 0.0f);
+    for (int iy = row0; iy <= n / 2 + reach; ++iy)
+        for (int ix = n / 2 - reach; ix <= n / 2 + reach; ++ix) {
+            const double x = (ix - n / 2 + o) * h, y = (iy - n / 2 + o) * h;
+            double cx, cy;
+            pupil[size_t(iy) * n + ix] = float(q.aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy));
+        }
+    const LineFft forward(n, false);
+    forward(&pupil[size_t(row0) * n], &rows[size_t(row0) * n], 2 * reach + 1);
+    for (int y = 0; y < n; ++y)  // transposed: the columns' transforms run along lines
+        for (int x = 0; x < n; ++x) pupil[size_t(x) * n + y] = rows[size_t(y) * n + x];
+    kept.value.resize(size_t(n) * n);
+    forward(pupil.data(), kept.value.data(), n);
+    kept.aperture = q.aperture.name();
+    kept.mask = q.aperture.mask.get();
+    kept.diameter = q.aperture.diameter;
+    kept.h = h;
+    kept.o = o;
+    kept.n = n;
+    kept.used = ++clock;
+    return kept;
+}
+
+// The spectrum times the transfer function with the pupil cells' box response divided out,
+// for the first `lines` lines kx of the transposed grid (frequency nu = k / L, k taken in
+// [-n/2, n/2)). In image axes the exponent is a quadratic form, -pi lambda (A nx^2 + B ny^2 +
+// 2 C nx ny) with A = zr ex^2 + zt ey^2, B = zr ey^2 + zt ex^2, C = ex ey (zr - zt) (e the
+// radial unit vector): a factor per axis times exp(-2 pi i lambda C nx ny), which along a line
+// is a geometric sequence in ky (one complex multiplication per point instead of a sine and
+// cosine).
+void transfer(const PupilSpectrum& spectrum, int lines, double wavelength, const FieldGeometry& g,
+              std::vector<std::complex<float>>& field) {
+    const int n = spectrum.n;
+    const double h = spectrum.h;
+    const double L = n * h, zr = 1.0 / g.ar, zt = 1.0 / g.at;
+    const double A = zr * g.er_x * g.er_x + zt * g.er_y * g.er_y, B = zr * g.er_y * g.er_y + zt * g.er_x * g.er_x;
+    const double C = g.er_x * g.er_y * (zr - zt);
+    auto signed_index = [n](int k) { return k < n / 2 ? k : k - n; };
+    auto axis = [&](double rate) {
+        std::vector<std::complex<double>> f(n);
+        for (int k = 0; k < n; ++k) {
+            const double nu = signed_index(k) / L;
+            f[k] = std::polar(1.0 / box_response(nu * h), -M_PI * wavelength * rate * nu * nu);
+        }
+        return f;
+    };
+    const std::vector<std::complex<double>> fx = axis(A), fy = axis(B);
+    field.resize(size_t(lines) * n);
+    std::vector<std::complex<float>> line(n);
+    for (int kx = 0; kx < lines; ++kx) {
+        // fx exp(i beta ky') fy for ky' = -n/2 ... n/2 - 1, the exponential by repeated
+        // multiplication (in double: n steps)
+        const double beta = -2 * M_PI * wavelength * C * signed_index(kx) / (L * L);
+        const std::complex<double> w = std::polar(1.0, beta);
+        std::complex<double> z = fx[kx] * std::polar(1.0, -beta * (n / 2));
+        for (int k = -n / 2; k < n - n / 2; ++k, z *= w) line[(k + n) % n] = std::complex<float>(z * fy[(k + n) % n]);
+        const std::complex<float>* in = &spectrum.value[size_t(kx) * n];
+        std::complex<float>* out = &field[size_t(kx) * n];
+        for (int ky = 0; ky < n; ++ky) out[ky] = in[ky] * line[ky];
+    }
+}
+
+}  // namespace
+
+std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeometry& g, const TransferPlan& plan) {
+    const int sub = plan.sub, R = q.radius;
+    const double h = plan.h;
+    // Grid index i sits at (i - n/2 + o) h, o = 1/2 for even sub, so that kernel pixel a's
+    // sub points are indices n/2 + a sub - sub/2 + [0, sub).
+    const double o = sub % 2 == 0 ? 0.5 : 0.0;
+    const PupilSpectrum& spectrum = pupil_spectrum(q, g, plan, o);
+    const int n = spectrum.n;
+    // A point-symmetric pupil centred on index (0, 0) modulo n (odd sub) has a spectrum even in
+    // (kx, ky); so has the transfer function, so the field is even too: u(-x, -y) = u(x, y).
+    // Then column -kx is column kx upside down, only columns [0, n/2] are transformed, and only
+    // the kernel's lower half (rows b >= 0) is computed, its upper half being it turned 180deg.
+    const bool even = plan.symmetric && o == 0.0;
+    const int lines = even ? n / 2 + 1 : n;
+    thread_local std::vector<std::complex<float>> field, columns;  // scratch, reused
+    transfer(spectrum, lines, q.wavelength, g, field);
+    const LineFft inverse(n, true);
+    columns.resize(size_t(lines) * n);
+    inverse(field.data(), columns.data(), lines);  // columns[kx][y]: image row y at frequency kx
+    // the image rows the kernel reads, frequency kx along each (kx >= lines: the mirror's)
+    const int b0 = even ? 0 : -R;
+    const int row0 = n / 2 + b0 * sub - sub / 2, rows = (R - b0 + 1) * sub;
+    auto wrap = [n](int i) { return ((i % n) + n) % n; };
+    std::vector<int> y(rows), mirror_y(rows);
+    for (int k = 0; k < rows; ++k) {
+        y[k] = wrap(row0 + k);
+        mirror_y[k] = wrap(-y[k]);
+    }
+    field.resize(size_t(rows) * n);
+    for (int kx = 0; kx < n; ++kx) {
+        const bool own = kx < lines;
+        const std::complex<float>* column = &columns[size_t(own ? kx : n - kx) * n];
+        const int* from = own ? y.data() : mirror_y.data();
+        for (int k = 0; k < rows; ++k) field[size_t(k) * n + kx] = column[from[k]];
+    }
+    // Each pixel: sum of |U|^2 h^2 over its points / transmitted power (the aperture's area);
+    // kissfft's forward-inverse pair scales by n^2.
+    const int w = 2 * R + 1;
+    std::vector<int> column_of(size_t(w) * sub);  // kernel column a's grid columns
+    for (int a = -R; a <= R; ++a)
+        for (int t = 0; t < sub; ++t) column_of[size_t(a + R) * sub + t] = wrap(n / 2 + a * sub - sub / 2 + t);
+    std::vector<double> sum(size_t(w) * w, 0.0);
+    std::vector<std::complex<float>> row(n);
+    for (int k = 0; k < rows; ++k) {
+        inverse(&field[size_t(k) * n], row.data(), 1);
+        double* dst = &sum[size_t(b0 + R + k / sub) * w];
+        for (int a = 0; a < w; ++a)
+            for (int t = 0; t < sub; ++t) dst[a] += std::norm(row[column_of[size_t(a) * sub + t]]);
+    }
+    const double scale = h * h / (double(n) * n * double(n) * n) / g.area;
+    std::vector<float> weight(size_t(w) * w);
+    for (int b = b0; b <= R; ++b)
+        for (int a = -R; a <= R; ++a) {
+            const float v = float(sum[size_t(b + R) * w + (a + R)] * scale);
+            weight[size_t(b + R) * w + (a + R)] = v;
+            if (even) weight[size_t(R - b) * w + (R - a)] = v;
+        }
+    return weight;
+}
+
+}  // namespace wavecam::detail

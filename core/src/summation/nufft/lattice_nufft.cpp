@@ -1,0 +1,279 @@
+// Gridding NUFFT on the pinhole lattice (lattice_nufft.h; docs/summation.md).
+//
+// Type 1: spread a_s onto a periodic grid of M points, spacing 2 pi / M, with the kernel
+// phi(x) = es(x / alpha), alpha = w pi / M; by Poisson summation
+//   sum_l phi(2 pi l / M - x) exp(-i k 2 pi l / M) = (M / 2 pi) phihat(k) exp(-i k x) + aliases,
+// so one FFT of the grid divided by (M / 2 pi) phihat(k) gives the sum at mode k. Type 2 is the
+// transpose: divide the modes by (M / 2 pi) phihat(k), FFT, interpolate with the same kernel.
+// Modes are centred (k = m - nx/2), the offset is a phase per point.
+#include "summation/nufft/lattice_nufft.h"
+
+#include <kiss_fft.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "fft/real_fft2d.h"
+
+namespace wavecam::detail {
+namespace {
+
+int threads(int n) { return n > 0 ? n : omp_get_max_threads(); }
+
+// (M / 2 pi) phihat(k) = (w / 2) int_-1^1 es(z) cos(pi k w z / M) dz (midpoint rule; es is smooth
+// inside and e^-beta at the ends).
+std::vector<double> deconvolution(int n, int m, int w, double beta) {
+    constexpr int kNodes = 512;
+    std::vector<double> es(kNodes), z(kNodes);
+    for (int i = 0; i < kNodes; ++i) {
+        z[i] = -1.0 + (i + 0.5) * 2.0 / kNodes;
+        es[i] = std::exp(beta * (std::sqrt(1.0 - z[i] * z[i]) - 1.0));
+    }
+    std::vector<double> d(n);
+    for (int mode = 0; mode < n; ++mode) {
+        const double k = mode - n / 2;
+        double s = 0;
+        for (int i = 0; i < kNodes; ++i) s += es[i] * std::cos(M_PI * k * w * z[i] / m);
+        d[mode] = 1.0 / (0.5 * w * s * 2.0 / kNodes);
+    }
+    return d;
+}
+
+// The kernel tabulated at kTable points per unit of z on [-1, 1], read with linear interpolation
+// (error about (1 / kTable)^2 beta / 8 ~ 1e-7, far below the tolerances used).
+constexpr int kTable = 4096;
+std::vector<float> kernel_table(double beta) {
+    std::vector<float> t(2 * kTable + 2);
+    for (int i = 0; i <= 2 * kTable + 1; ++i) {
+        const double z = std::min(1.0, -1.0 + double(i) / kTable), r = 1.0 - z * z;
+        t[i] = r > 0 ? float(std::exp(beta * (std::sqrt(r) - 1.0))) : 0.0f;
+    }
+    return t;
+}
+
+// The w kernel weights along one axis for a point at grid position g (grid units, any real),
+// and the first grid index they apply to (not yet wrapped).
+inline long kernel_weights(double g, int w, const float* table, float* weights) {
+    const long first = long(std::ceil(g - 0.5 * w));
+    const double scale = 2.0 / w * kTable;
+    for (int i = 0; i < w; ++i) {
+        const double t = ((double(first + i) - g) * scale) + kTable;  // z = (first + i - g) 2 / w
+        const int k = std::clamp(int(t), 0, 2 * kTable);
+        const float frac = float(t - k);
+        weights[i] = table[k] + frac * (table[k + 1] - table[k]);
+    }
+    return first;
+}
+
+inline long wrap(long i, long m) {
+    i %= m;
+    return i < 0 ? i + m : i;
+}
+
+constexpr int kMaxWidth = 16;
+
+}  // namespace
+
+LatticeNufft::LatticeNufft(int nx, int ny, double tolerance, int nthreads)
+    : nx_(nx), ny_(ny), nthreads_(nthreads) {
+    tolerance = std::clamp(tolerance, 1e-7, 1e-2);
+    w_ = std::min(kMaxWidth, int(std::ceil(-std::log10(tolerance))) + 1);
+    beta_ = 2.30 * w_;
+    mx_ = fft_friendly_size(std::max(2 * nx_, 2 * w_));
+    my_ = fft_friendly_size(std::max(2 * ny_, 2 * w_));
+    table_ = kernel_table(beta_);
+    deconvolve_x_ = deconvolution(nx_, mx_, w_, beta_);
+    deconvolve_y_ = deconvolution(ny_, my_, w_, beta_);
+}
+
+double LatticeNufft::fft_work() const {
+    const double n = double(mx_) * my_;
+    return 0.75 * n * std::log2(n);  // pruned: a quarter of the line transforms are skipped
+}
+
+// In place on a grid of my_ rows of stride mx_ + w_: the rows listed (the others are zero and
+// stay so, or are not needed), then the columns listed (likewise), or columns first as
+// `rows_first` says: the transform is the same, the pruning differs.
+void LatticeNufft::fft2d(std::vector<cfloat>& grid, bool rows_first, const std::vector<int>& rows,
+                         const std::vector<int>& columns) const {
+    const size_t stride = size_t(mx_) + w_;
+    kiss_fft_cfg row_cfg = kiss_fft_alloc(mx_, 0, nullptr, nullptr);
+    kiss_fft_cfg col_cfg = kiss_fft_alloc(my_, 0, nullptr, nullptr);
+    auto cpx = [](cfloat* p) { return reinterpret_cast<kiss_fft_cpx*>(p); };
+#pragma omp parallel num_threads(threads(nthreads_))
+    {
+        std::vector<cfloat> in(std::max(mx_, my_)), out(std::max(mx_, my_));
+        auto do_rows = [&] {
+#pragma omp for schedule(static)
+            for (long k = 0; k < long(rows.size()); ++k) {
+                cfloat* row = grid.data() + size_t(rows[k]) * stride;
+                kiss_fft(row_cfg, cpx(row), cpx(out.data()));
+                std::copy(out.begin(), out.begin() + mx_, row);
+            }
+        };
+        auto do_columns = [&] {
+#pragma omp for schedule(static)
+            for (long k = 0; k < long(columns.size()); ++k) {
+                const int c = columns[k];
+                for (int r = 0; r < my_; ++r) in[r] = grid[size_t(r) * stride + c];
+                kiss_fft(col_cfg, cpx(in.data()), cpx(out.data()));
+                for (int r = 0; r < my_; ++r) grid[size_t(r) * stride + c] = out[r];
+            }
+        };
+        if (rows_first) {
+            do_rows();
+            do_columns();
+        } else {
+            do_columns();
+            do_rows();
+        }
+    }
+    kiss_fft_free(row_cfg);
+    kiss_fft_free(col_cfg);
+}
+
+std::vector<int> LatticeNufft::mode_lines(int n, int m) {
+    // centred modes -n/2 .. n/2 - 1, wrapped
+    std::vector<int> lines(n);
+    for (int i = 0; i < n; ++i) lines[i] = i < (n + 1) / 2 ? i : m - (n - i);
+    return lines;
+}
+
+std::vector<int> LatticeNufft::touched(const double* x, size_t count, int m) const {
+    std::vector<char> hit(m, 0);
+    const double to_g = m / (2 * M_PI);
+    for (size_t s = 0; s < count; ++s) {
+        const long first = long(std::ceil(x[s] * to_g - 0.5 * w_));
+        for (int i = 0; i < w_; ++i) hit[wrap(first + i, m)] = 1;
+    }
+    std::vector<int> lines;
+    for (int i = 0; i < m; ++i)
+        if (hit[i]) lines.push_back(i);
+    return lines;
+}
+
+// `batch` zeroed grids of `plane` values, kept between calls (no page faults per transform).
+std::vector<std::vector<cfloat>>& LatticeNufft::workspace(int batch, size_t plane) const {
+    if (int(grids_.size()) < batch) grids_.resize(batch);
+    for (int q = 0; q < batch; ++q) {
+        grids_[q].resize(plane);
+        cfloat* g = grids_[q].data();
+#pragma omp parallel for schedule(static) num_threads(threads(nthreads_))
+        for (long i = 0; i < long(plane); ++i) g[i] = cfloat(0);
+    }
+    return grids_;
+}
+
+std::complex<double> LatticeNufft::centring(double x, double y) const { return std::polar(1.0, centring_phase(x, y)); }
+
+void LatticeNufft::to_lattice(const LatticePoints& points, const cfloat* a, int batch, cfloat* const* lattices) const {
+    const double *x = points.x, *y = points.y;
+    const size_t count = points.count;
+    const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_);
+    std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);
+    const double to_gx = mx_ / (2 * M_PI), to_gy = my_ / (2 * M_PI);
+    // Rows of the grid in stripes at least w high, sources bucketed by stripe: the even stripes
+    // spread in parallel, then the odd ones, so no two threads write one grid row at once. The
+    // grid has w rows and columns of padding beyond the period, folded back afterwards.
+    const int stripes = std::max(2, (my_ / (w_ + 1)) & ~1);
+    const double stripe_height = double(my_) / stripes;
+    std::vector<std::vector<size_t>> bucket(stripes);
+    for (size_t s = 0; s < count; ++s) {
+        const double gy = y[s] * to_gy;
+        const double wrapped = gy - my_ * std::floor(gy / my_);
+        bucket[std::min(stripes - 1, int(wrapped / stripe_height))].push_back(s);
+    }
+    for (int parity = 0; parity < 2; ++parity) {
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads(nthreads_))
+        for (int b = parity; b < stripes; b += 2) {
+            float wx[kMaxWidth], wy[kMaxWidth];
+            for (size_t s : bucket[b]) {
+                // a point's kernel weights once for the whole batch
+                const long fx = wrap(kernel_weights(x[s] * to_gx, w_, table_.data(), wx), mx_);
+                const long fy = wrap(kernel_weights(y[s] * to_gy, w_, table_.data(), wy), my_);
+                for (int q = 0; q < batch; ++q) {
+                    const cfloat v = a[s * batch + q];
+                    for (int j = 0; j < w_; ++j) {
+                        cfloat* row = grid[q].data() + size_t(fy + j) * stride + fx;
+                        const cfloat vj = v * wy[j];
+                        for (int i = 0; i < w_; ++i) row[i] += vj * wx[i];
+                    }
+                }
+            }
+        }
+    }
+    const int cx = nx_ / 2, cy = ny_ / 2;
+    // transformed: the rows the points' kernels touch, then the columns of the modes wanted
+    const std::vector<int> rows = touched(y, count, my_), columns = mode_lines(nx_, mx_);
+    for (int q = 0; q < batch; ++q) {
+        std::vector<cfloat>& one = grid[q];
+        // fold the padding back onto the period: the w columns beyond each row, then the w rows
+        // beyond the last (their own padding folded first)
+        for (int r = 0; r < my_ + w_; ++r)
+            for (int c = mx_; c < mx_ + w_; ++c) one[size_t(r) * stride + c - mx_] += one[size_t(r) * stride + c];
+        for (int r = my_; r < my_ + w_; ++r)
+            for (int c = 0; c < mx_; ++c) one[size_t(r - my_) * stride + c] += one[size_t(r) * stride + c];
+        fft2d(one, true, rows, columns);
+        cfloat* lattice = lattices[q];
+#pragma omp parallel for schedule(static) num_threads(threads(nthreads_))
+        for (int n = 0; n < ny_; ++n)
+            for (int m = 0; m < nx_; ++m) {
+                const size_t bin = size_t(wrap(n - cy, my_)) * stride + wrap(m - cx, mx_);
+                lattice[size_t(n) * nx_ + m] = one[bin] * float(deconvolve_x_[m] * deconvolve_y_[n]);
+            }
+    }
+}
+
+void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const LatticePoints& points, const cfloat* c,
+                                cfloat* out) const {
+    const double *x = points.x, *y = points.y;
+    const size_t count = points.count;
+    const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_);
+    const int cx = nx_ / 2, cy = ny_ / 2;
+    std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);
+    // transformed: the rows of the modes given, then the columns the points' kernels read
+    const std::vector<int> rows = mode_lines(ny_, my_), columns = touched(x, count, mx_);
+    for (int q = 0; q < batch; ++q) {
+        std::vector<cfloat>& one = grid[q];
+        const cfloat* lattice = lattices[q];
+#pragma omp parallel for schedule(static) num_threads(threads(nthreads_))
+        for (int n = 0; n < ny_; ++n)
+            for (int m = 0; m < nx_; ++m) {
+                const size_t bin = size_t(wrap(n - cy, my_)) * stride + wrap(m - cx, mx_);
+                one[bin] = lattice[size_t(n) * nx_ + m] * float(deconvolve_x_[m] * deconvolve_y_[n]);
+            }
+        fft2d(one, true, rows, columns);
+        // periodic padding: w columns beyond each row, then w rows beyond the last, repeat the start
+        for (int r = 0; r < my_; ++r)
+            for (int col = mx_; col < mx_ + w_; ++col) one[size_t(r) * stride + col] = one[size_t(r) * stride + col - mx_];
+        for (int r = my_; r < my_ + w_; ++r)
+            std::copy(one.begin() + size_t(r - my_) * stride, one.begin() + size_t(r - my_ + 1) * stride,
+                      one.begin() + size_t(r) * stride);
+    }
+    const double to_gx = mx_ / (2 * M_PI), to_gy = my_ / (2 * M_PI);
+#pragma omp parallel for schedule(static, 256) num_threads(threads(nthreads_))
+    for (long s = 0; s < long(count); ++s) {
+        float wx[kMaxWidth], wy[kMaxWidth];
+        const long fx = wrap(kernel_weights(x[s] * to_gx, w_, table_.data(), wx), mx_);
+        const long fy = wrap(kernel_weights(y[s] * to_gy, w_, table_.data(), wy), my_);
+        cfloat total = 0;
+        for (int q = 0; q < batch; ++q) {
+            float re = 0, im = 0;
+            for (int j = 0; j < w_; ++j) {
+                const cfloat* row = grid[q].data() + size_t(fy + j) * stride + fx;
+                float sr = 0, si = 0;
+                for (int i = 0; i < w_; ++i) {
+                    sr += wx[i] * row[i].real();
+                    si += wx[i] * row[i].imag();
+                }
+                re += wy[j] * sr;
+                im += wy[j] * si;
+            }
+            total += c[size_t(s) * batch + q] * cfloat(re, im);
+        }
+        out[s] = total;
+    }
+}
+
+}  // namespace wavecam::detail

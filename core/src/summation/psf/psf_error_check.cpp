@@ -1,0 +1,150 @@
+#include "summation/psf/psf_error_check.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <array>
+
+#include "summation/psf/psf_kernel.h"
+
+namespace wavecam::detail {
+namespace {
+
+using Field = std::vector<std::complex<double>>;
+
+// A kernel's pixel image: per pixel, the mean of |K|^2 over its `points` film points.
+std::vector<double> pixel_image(const Field& k, int points) {
+    const size_t pixels = k.size() / size_t(points);
+    std::vector<double> image(pixels, 0.0);
+    for (int sub = 0; sub < points; ++sub)
+        for (size_t t = 0; t < pixels; ++t) image[t] += std::norm(k[size_t(sub) * pixels + t]) / points;
+    return image;
+}
+
+double power(const Field& k) {
+    double p = 0;
+    for (const auto& v : k) p += std::norm(v);
+    return p;
+}
+
+// The blend of `parts` with `share`s as the runs' mean takes it (psf_summation.h, the blend's
+// mean): their pixel images blended (anchors; a layer pair of the incoherent sums), or their
+// amplitudes blended with the power balanced (a layer pair of coherent runs); against `exact`:
+// relative L2 of the pixel images.
+double blend_error(const std::vector<const Field*>& parts, const std::vector<double>& share, const Field& exact,
+                   int points, bool amplitudes) {
+    std::vector<double> blended;
+    if (!amplitudes) {
+        for (size_t i = 0; i < parts.size(); ++i) {
+            const std::vector<double> image = pixel_image(*parts[i], points);
+            blended.resize(image.size(), 0.0);
+            for (size_t t = 0; t < image.size(); ++t) blended[t] += share[i] * image[t];
+        }
+    } else {
+        Field sum(exact.size(), 0.0);
+        double target = 0;
+        for (size_t i = 0; i < parts.size(); ++i) {
+            for (size_t t = 0; t < sum.size(); ++t) sum[t] += share[i] * (*parts[i])[t];
+            target += share[i] * power(*parts[i]);
+        }
+        const double p = power(sum), scale = p > 0 ? std::sqrt(target / p) : 0.0;
+        for (auto& v : sum) v *= scale;
+        blended = pixel_image(sum, points);
+    }
+    const std::vector<double> truth = pixel_image(exact, points);
+    double e = 0, r = 0;
+    for (size_t t = 0; t < truth.size(); ++t) {
+        e += (blended[t] - truth[t]) * (blended[t] - truth[t]);
+        r += truth[t] * truth[t];
+    }
+    return r > 0 ? std::sqrt(e / r) : 0.0;
+}
+
+}  // namespace
+
+Result<PsfErrorCheck> check_psf_error(const PsfSummationSpec& spec, double lattice_pitch, const UnitSource& unit) {
+    using R = Result<PsfErrorCheck>;
+    const PsfSummationGeometry g = psf_summation_geometry(spec);
+    PsfErrorCheck check;
+    const PinholeCamera& c = spec.camera;
+    if (!spec.incoherent && airy_spans_a_pixel(spec))
+        check.tail = 0.8 * std::sqrt((1 - kernel_energy(spec)) / std::max(1, spec.runs));
+    const KernelSums sums = kernel_sums(spec, g);
+    const ApertureSamples samples = sample_aperture(spec.aperture, lattice_pitch);
+    const KernelSetup setup{&spec, &g, &samples, sums.to_pinhole, unit};
+    const int points = spec.subsamples * spec.subsamples, L = g.layers.count;
+    const double nearest = g.layers.inverse_depth(L - 1);
+    // the probe cells (x cell, y cell): on the axis, the outermost on the horizontal axis, the
+    // outermost corner
+    const int axis_x = g.ax.cell_of(g.origin + c.width / 2);
+    const int axis_y = g.ay.cell_of(g.origin + c.height / 2);
+    const std::array<std::array<int, 2>, 3> cells{{{axis_x, axis_y}, {0, axis_y}, {0, 0}}};
+    // every source the probes need: (domain x, domain y, inverse depths); a cell's corners and
+    // centre at the nearest layer, the axis cell's centre also at the two nearest layers' middle
+    struct Probe {
+        int x, y;
+        std::vector<double> depths;
+    };
+    std::vector<Probe> probes;
+    const auto centre = [&](const AnchorAxis& a, int cell) { return (a.knots[cell] + a.knots[cell + 1]) / 2; };
+    for (const auto& cell : cells) {
+        const int cx = std::min(cell[0], int(g.ax.knots.size()) - 2), cy = std::min(cell[1], int(g.ay.knots.size()) - 2);
+        if (cx < 0 || cy < 0) continue;  // one knot along an axis: no cell, nothing blended
+        for (int corner = 0; corner < 4; ++corner)
+            probes.push_back({g.ax.knots[cx + (corner & 1)], g.ay.knots[cy + (corner >> 1)], {nearest}});
+        probes.push_back({centre(g.ax, cx), centre(g.ay, cy), {nearest}});
+    }
+    const bool layered = L > 1;
+    if (layered && g.ax.knots.size() > 1 && g.ay.knots.size() > 1) {
+        const double below = g.layers.inverse_depth(L - 2);
+        probes.push_back({g.ax.knots[axis_x], g.ay.knots[axis_y], {below, 0.5 * (below + nearest), nearest}});
+    }
+    std::vector<std::vector<Field>> fields(probes.size());
+    PlanScope film_scope;
+    const SummationSettings& kernel_settings = sums.to_film;
+    if (probes.empty()) return R::success(check);
+    if (auto r = source_kernels(setup, probes[0].x - g.origin, probes[0].y - g.origin, probes[0].depths,
+                                kernel_settings, film_scope, fields[0]);
+        !r.ok())
+        return R::failure(r);
+    const bool on_cpu = !spec.settings.device.gpu();
+    SummationSettings one_thread = kernel_settings;
+    one_thread.nthreads = on_cpu ? 1 : spec.settings.nthreads;
+    const int threads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
+    Result<bool> failed = Result<bool>::success(true);
+#pragma omp parallel for num_threads(on_cpu ? threads : 1) schedule(dynamic)
+    for (size_t i = 1; i < probes.size(); ++i) {
+        PlanScope scope = film_scope;
+        auto r = source_kernels(setup, probes[i].x - g.origin, probes[i].y - g.origin, probes[i].depths, one_thread,
+                                scope, fields[i]);
+        if (!r.ok()) {
+#pragma omp critical(psf_error_check)
+            failed = r;
+        }
+    }
+    if (!failed.ok()) return R::failure(failed);
+    // the cells' blends: bilinear at their centres
+    size_t at = 0;
+    for (const auto& cell : cells) {
+        const int cx = std::min(cell[0], int(g.ax.knots.size()) - 2), cy = std::min(cell[1], int(g.ay.knots.size()) - 2);
+        if (cx < 0 || cy < 0) continue;
+        const double tx = double(probes[at + 4].x - g.ax.knots[cx]) / (g.ax.knots[cx + 1] - g.ax.knots[cx]);
+        const double ty = double(probes[at + 4].y - g.ay.knots[cy]) / (g.ay.knots[cy + 1] - g.ay.knots[cy]);
+        const std::vector<const Field*> parts{&fields[at][0], &fields[at + 1][0], &fields[at + 2][0],
+                                              &fields[at + 3][0]};
+        const std::vector<double> share{(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
+        const double e = blend_error(parts, share, fields[at + 4][0], points, false);
+        check.probes.push_back({probes[at + 4].x - g.origin, probes[at + 4].y - g.origin, false, e});
+        check.blend = std::max(check.blend, e);
+        at += 5;
+    }
+    if (at < probes.size()) {
+        const std::vector<Field>& f = fields[at];
+        const double e = blend_error({&f[0], &f[2]}, {0.5, 0.5}, f[1], points, !spec.incoherent);
+        check.probes.push_back({probes[at].x - g.origin, probes[at].y - g.origin, true, e});
+        check.blend = std::max(check.blend, e);
+    }
+    return R::success(check);
+}
+
+}  // namespace wavecam::detail

@@ -1,0 +1,141 @@
+// The psf summation's runs (summation_evaluator.h; the psf row): each run a convolution of the
+// sources' complex weights with amplitude PSFs (psf_summation.h). The sources are every
+// pixel of the convolution's domain at its centre: the input's, and beyond it the edge continued
+// pixel by pixel (each with the edge pixel's radiance and planar depth at its own field
+// position), each with the phases the direct sums give it (scene_runs.h): an input pixel keeps
+// its key, so a scene whose edge is dark gets the direct sums' runs, kernel blends apart. The
+// convolution comes from the job's memo where one is given (the kernels of a wavelength's other
+// part), and the runs go through it several at once.
+#include <algorithm>
+#include <cmath>
+
+#include "wavecam/edge_continuation.h"
+#include "summation/psf/psf_kernel.h"
+#include "summation/scene_runs.h"
+#include "summation/summation_evaluator.h"
+
+namespace wavecam::detail {
+namespace {
+
+class PsfRuns final : public SummationEvaluator {
+public:
+    explicit PsfRuns(const EvaluatorSetup& setup) : setup_(setup) {
+        const SceneSumSettings& s = *setup.settings;
+        const SceneSum& sum = *setup.sum;
+        too_deep_ = too_deep_for_psf(setup.nearest, s.aperture, setup.wavelength);
+        if (too_deep_) return;  // refused by set_points, before any work
+        spec_ = psf_summation_spec(s, setup.scene->camera, setup.wavelength, setup.nearest, sum.subsamples);
+        // progress: the kernels and the runs by their work
+        const int runs = spec_.incoherent ? 1 : setup.range.run_end - setup.range.run_begin;
+        pitch_ = kernel_lattice_pitch(spec_, sum.samples.pitch);
+        const PsfSummationWork work = psf_work(s, sum, spec_, setup.nearest, pitch_);
+        kernels_ = work.kernels / (work.kernels + runs * work.per_run);
+    }
+
+    double setup_share() const override { return kernels_; }
+
+    Result<bool> set_points(const ProgressFn& progress) override {
+        const PinholeCamera& c = setup_.scene->camera;
+        if (too_deep_) return too_many_layers();
+        auto make = [&] { return PsfSummation::create(spec_, pitch_, unit_sources(c), progress); };
+        PsfSummationMemo none;
+        auto made = (setup_.memo ? setup_.memo : &none)->get(spec_, pitch_, make);
+        if (!made.ok()) return Result<bool>::failure(made);
+        conv_ = made.value;
+        place_sources();
+        // the far tail, in every run's mean (added with each run: a job is the sum of its shares)
+        const MonochromeScene& scene = *setup_.scene;
+        tail_.assign(size_t(c.width) * c.height, 0.0f);
+        conv_->add_far_tail(scene.power, scene.depth, scene.depth_meaning, 1.0, rows(), tail_.data());
+        // and what the runs' mean lacks of the kernels' intensity blend (psf_summation.h)
+        conv_->add_blend_mean(sources_, power_, balance_, rows(), tail_.data());
+        return Result<bool>::success(true);
+    }
+
+    Result<bool> execute(const RunBatch& batch, float* irradiance, const ProgressFn& progress) override {
+        const SceneSumSettings& s = *setup_.settings;
+        const PsfSummation& conv = *conv_;
+        const bool incoherent = spec_.incoherent;
+        const int W = conv.domain_width(), origin = conv.origin();
+        const size_t n = size_t(W) * conv.domain_height();
+        const int runs = incoherent ? 1 : batch.run_end - batch.run_begin;
+        const PhaseCode code(s.runs);
+        const PhaseDraw draw{s, code, wavelength_stream(setup_.wavelength)};
+        const double per_run = 1.0 / runs;
+        const int at_once = conv.runs_at_once();
+        for (int k0 = 0; k0 < runs; k0 += at_once) {
+            sources_.runs = std::min(at_once, runs - k0);
+            sources_.weight.resize(size_t(sources_.runs) * n);
+            for (int k = 0; k < sources_.runs; ++k) {
+                const int run = batch.run_begin + k0 + k;
+                for (size_t p = 0; p < n; ++p) {
+                    const long ci = long(p % W) - origin, cj = long(p / W) - origin;
+                    const double turns = incoherent ? 0.0 : source_turns(draw, ci, cj, key_[p], run);
+                    sources_.weight[size_t(k) * n + p] = std::polar(amplitude_[p], float(2 * M_PI * turns));
+                }
+            }
+            const double at = k0 * per_run;
+            if (auto r = conv.run(sources_, incoherent ? 1.0 : 1.0 / s.runs, rows(), tail_.data(), irradiance,
+                                  progress_part(progress, at, at + sources_.runs * per_run));
+                !r.ok())
+                return r;
+        }
+        return Result<bool>::success(true);
+    }
+
+private:
+    RowRange rows() const { return {setup_.range.row_begin, setup_.range.row_end}; }  // the share's film rows
+
+    // Every domain pixel's layer, amplitude (its power balanced, psf_summation.h) and
+    // random numbers' key.
+    void place_sources() {
+        const MonochromeScene& scene = *setup_.scene;
+        const PinholeCamera& c = scene.camera;
+        const PsfSummation& conv = *conv_;
+        const int W = conv.domain_width(), H = conv.domain_height(), origin = conv.origin();
+        const size_t n = size_t(W) * H;
+        sources_.weight.resize(n);
+        sources_.lower.resize(n);
+        sources_.upper_share.resize(n);
+        amplitude_.resize(n);
+        power_.resize(n);
+        key_.resize(n);  // independent: the pixel's random numbers
+        const uint64_t pixels = uint64_t(c.width) * c.height;
+        const EdgeContinuation edge(scene.power, 1, c.width, c.height);  // a lone bright edge pixel is not copied beyond
+        for (int j = 0; j < H; ++j)
+            for (int i = 0; i < W; ++i) {
+                const size_t p = size_t(j) * W + i;
+                const int ci = i - origin, cj = j - origin;
+                const int qi = std::clamp(ci, 0, c.width - 1), qj = std::clamp(cj, 0, c.height - 1);
+                const size_t q = size_t(qj) * c.width + qi;
+                const double power = *edge.light(ci, cj) * c.solid_angle(ci, cj), d = scene.depth[q];
+                const double w = d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(qi, qj, d, scene.depth_meaning);
+                int lower = 0;
+                conv.layers().locate(w, lower, sources_.upper_share[p]);
+                sources_.lower[p] = uint8_t(lower);
+                amplitude_[p] = float(spec_.incoherent ? power : std::sqrt(power));
+                power_[p] = float(power);
+                key_[p] = ci == qi && cj == qj ? uint64_t(q) : pixels + p;
+            }
+        balance_ = conv.power_balance(sources_);
+        for (size_t p = 0; p < n; ++p) amplitude_[p] *= balance_[p];
+    }
+
+    EvaluatorSetup setup_;
+    bool too_deep_ = false;  // the scene's depths need more layers than the kernels take
+    PsfSummationSpec spec_;
+    double pitch_ = 0, kernels_ = 0;
+    std::shared_ptr<const PsfSummation> conv_;
+    PsfSummationSources sources_;
+    std::vector<float> amplitude_, tail_;
+    std::vector<float> power_, balance_;  // each domain pixel's power, and its weight's balance
+    std::vector<uint64_t> key_;
+};
+
+}  // namespace
+
+std::unique_ptr<SummationEvaluator> make_psf_runs(const EvaluatorSetup& setup) {
+    return std::make_unique<PsfRuns>(setup);
+}
+
+}  // namespace wavecam::detail

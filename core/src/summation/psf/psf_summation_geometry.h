@@ -1,0 +1,27 @@
+// The psf summation's convolution domain (psf_summation.h): the kernel radius at the
+// frame's widest field, the domain and its transform size, the anchors the kernels are
+// computed at and the depth layers; and what it costs. Internal to wavecam_core.
+#pragma once
+#include "summation/psf/psf_summation.h"
+
+namespace wavecam::detail {
+
+// The convolution's geometry: kernel radius, domain, transform size, anchors and layers.
+struct PsfSummationGeometry {
+    int radius = 0, origin = 0, width = 0, height = 0, nx = 0, ny = 0;
+    AnchorAxis ax, ay;
+    DepthLayers layers;
+    int anchors() const { return int(ax.knots.size() * ay.knots.size()); }
+};
+
+PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s);
+
+// Whether the Airy radius 1.22 lambda f / D spans a pixel or more: below it the film pixels
+// average the far tail's cross terms (psf_summation.h, the far tail).
+bool airy_spans_a_pixel(const PsfSummationSpec& s);
+
+// The share of its PSF's power a kernel holds: kPsfKernelEnergy, or more for coherent runs of a
+// job of few runs (psf_summation.h, the far tail).
+double kernel_energy(const PsfSummationSpec& s);
+
+}  // namespace wavecam::detail

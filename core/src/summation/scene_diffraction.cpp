@@ -1,0 +1,37 @@
+// Diffracting a scene at one wavelength (scene_diffraction.h): the frame's sums built once
+// (scene_sum.h), then its runs through the evaluator the settings name, created from the
+// evaluators' table (summation_evaluator.h), its points set, its runs executed, released.
+#include "wavecam/scene_diffraction.h"
+
+#include <cmath>
+
+#include "summation/summation_evaluator.h"
+
+namespace wavecam {
+
+Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const SceneSumSettings& s,
+                                 float* irradiance, const ProgressFn& progress) {
+    return detail::diffract_monochrome(scene, wavelength, s, irradiance, progress, nullptr);
+}
+
+Result<bool> detail::diffract_monochrome(const MonochromeScene& scene, double wavelength, const SceneSumSettings& s,
+                                         float* irradiance, const ProgressFn& progress, PsfSummationMemo* memo) {
+    const PinholeCamera& c = scene.camera;
+    if (auto v = check_settings(c, wavelength, s); !v.ok()) return v;
+    if (!scene.checked)
+        if (auto v = check_pixels(c, scene.power, 1, true, scene.depth); !v.ok()) return v;
+    const WorkRange range = work_range(s, c.height);
+    const double nearest =
+        std::isnan(s.nearest_depth) ? nearest_depth(c, scene.depth, scene.depth_meaning) : s.nearest_depth;
+    // auto here: the exact sums, each sum's evaluator the chooser's (a job has weighed psf before)
+    const EvaluatorRow& row = evaluator_row(s.summation);
+    const SceneSum sum = scene_sum(scene, wavelength, s, nearest, range, row.frame_lattice);
+    std::unique_ptr<SummationEvaluator> evaluator = row.create({&scene, &sum, wavelength, &s, range, nearest, memo});
+    const double setup = evaluator->setup_share();
+    if (auto r = evaluator->set_points(progress_part(progress, 0.0, setup)); !r.ok()) return r;
+    auto r = evaluator->execute({range.run_begin, range.run_end}, irradiance, progress_part(progress, setup, 1.0));
+    evaluator.reset();  // released
+    return r;
+}
+
+}  // namespace wavecam

@@ -1,0 +1,222 @@
+// A frame's sums counted for the chooser (summation/choose.h, which decides and prices them):
+// the exact sums' sources, pinhole samples and film points, and the psf summation's kernels on
+// their own lattice; and the estimates the jobs read from its choice.
+#include <algorithm>
+#include <cmath>
+
+#include "summation/psf/psf_error_check.h"
+#include "summation/psf/psf_kernel.h"
+#include "summation/scene_sum.h"
+#include "summation/choose.h"
+
+namespace wavecam {
+namespace detail {
+namespace {
+
+// Directions within tangents |u| <= e.u, |v| <= e.v as in-plane direction components (sines).
+DirectionRange direction_range(const Extent& e, double rho0, double rho1) {
+    const double sx = e.u / std::sqrt(1 + e.u * e.u), sy = e.v / std::sqrt(1 + e.v * e.v);
+    return {-sx, sx, -sy, sy, rho0, rho1};
+}
+
+
+// A wavelength's frame: its camera, the wavelength and the nearest source's depth.
+struct WavelengthFrame {
+    const PinholeCamera& camera;
+    double wavelength, nearest;
+};
+
+// The two sums' counts for the cost model (the film's for the whole frame), on a pinhole lattice of
+// `pitch` (the frame's, or the psf kernels' own), for one source at a time where `single`.
+struct FrameCounts {
+    SumCounts in, out;
+};
+FrameCounts frame_counts(const SceneSumSettings& s, const SceneSum& sum, const WavelengthFrame& frame, double pitch,
+                         bool single) {
+    const PinholeCamera& c = frame.camera;
+    const double wavelength = frame.wavelength, nearest = frame.nearest;
+    const double radius = s.aperture.bounding_radius(), f = c.film_distance;
+    const double samples = estimate_sample_count(s.aperture, pitch);
+    // Samples off the lattice: the rim's cells (about 1.3 per pitch of perimeter, twice for a
+    // zone plate's every zone edge); every sample of a grey mask or a sieve's holes.
+    const bool irregular = s.aperture.shape == ApertureShape::Mask || s.aperture.shape == ApertureShape::PhotonSieve;
+    const double rims = s.aperture.shape == ApertureShape::ZonePlate ? 2.0 * s.aperture.zones : 1.0;
+    const double off = irregular ? samples : std::min(samples, rims * 1.3 * 2 * M_PI * radius / pitch);
+    const int across = int(std::ceil(2 * radius / pitch)) + 1;
+    const int o = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);
+    const double film = double(c.width - 2 * o) * (c.height - 2 * o) * sum.subsamples * sum.subsamples;
+    const double rho = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
+    FrameCounts n;
+    n.in = {samples - off, off, across, single ? 1.0 : double(sum.emitters.size()),
+            direction_range(sum.source_extent, 0, rho), radius, wavelength, false, s.summation_tolerance};
+    n.out = n.in;
+    n.out.points = film;
+    n.out.range = direction_range(sum.film_extent, 1 / f, 1 / f);
+    n.out.film = true;
+    return n;
+}
+
+}  // namespace
+
+SumChoices plan_sums(const SceneSumSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
+                  double nearest, bool single) {
+    const FrameCounts n = frame_counts(s, sum, {c, wavelength, nearest}, sum.samples.pitch, single);
+    FrameSums frame;
+    frame.in = n.in;
+    frame.out = n.out;
+    frame.single = single;
+    const SummationChoice chosen = choose_summation(frame, {s.summation, false, &s.device, 0});
+    SumChoices plan;
+    plan.settings = {exact_asked(s.summation, single), s.summation_tolerance, s.nthreads, s.device};
+    plan.in.fixed_choice = plan.out.fixed_choice = true;
+    plan.in.choice = chosen.in;
+    plan.out.choice = chosen.out;
+    plan.out.fixed_range = true;
+    plan.out.range = n.out.range;
+    plan.in_work = plan.in.choice.work;
+    plan.out_work = plan.out.choice.work;
+    return plan;
+}
+
+// The runs as convolutions with amplitude PSFs (psf_summation.h) for this wavelength.
+detail::PsfSummationSpec psf_summation_spec(const SceneSumSettings& s, const PinholeCamera& c, double wavelength,
+                                            double nearest, int subsamples) {
+    detail::PsfSummationSpec spec;
+    spec.camera = c;
+    spec.overscan = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);
+    spec.aperture = s.aperture;
+    spec.wavelength = wavelength;
+    spec.max_inverse_depth = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
+    spec.subsamples = subsamples;
+    spec.incoherent = s.method == CoherenceMethod::Incoherent;
+    spec.runs = s.runs;
+    spec.settings = {Summation::Auto, s.summation_tolerance, s.nthreads, s.device};
+    return spec;
+}
+
+// Whether the scene's depths, nearest at `nearest`, need more amplitude layers than the psf
+// summation takes (psf_summation.h).
+bool too_deep_for_psf(double nearest, const Aperture& aperture, double wavelength) {
+    const double rho = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
+    return detail::amplitude_layers(rho, aperture.bounding_radius(), wavelength).count > detail::kMaxPsfLayers;
+}
+
+// The psf summation's work: its kernels' sums counted on their own lattice of `pitch`.
+detail::PsfSummationWork psf_work(const SceneSumSettings& s, const SceneSum& sum, const detail::PsfSummationSpec& spec,
+                                  double nearest, double pitch) {
+    const FrameCounts n = frame_counts(s, sum, {spec.camera, spec.wavelength, nearest}, pitch, false);
+    return detail::psf_summation_work(spec, n.in, n.out);
+}
+
+// The psf summation's plan-time check (psf_error_check.h) for the settings' frame at `wavelength`.
+Result<PsfErrorCheck> psf_error_check(const SceneSumSettings& s, const PinholeCamera& c, double wavelength) {
+    const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
+    const SceneSum sum = scene_sum({c, nullptr, nullptr}, wavelength, s, nearest, work_range(s, c.height), false);
+    const PsfSummationSpec spec = psf_summation_spec(s, c, wavelength, nearest, sum.subsamples);
+    return check_psf_error(spec, kernel_lattice_pitch(spec, sum.samples.pitch), unit_sources(c));
+}
+
+namespace {
+
+// Where the psf summation applies: sources at their pixels' centres (no jitter), an opening of one
+// piece (masks, zone plates and sieves have structure finer than the kernels' lattice), the
+// scene's depths within its layers.
+bool psf_applies(const SceneSumSettings& s, double nearest, double wavelength) {
+    const ApertureShape shape = s.aperture.shape;
+    const bool one_opening =
+        shape == ApertureShape::Circle || shape == ApertureShape::Square || shape == ApertureShape::Polygon;
+    return !s.jitter && one_opening && !too_deep_for_psf(nearest, s.aperture, wavelength);
+}
+
+// The chooser's view of the settings' share of a frame at `wavelength`, every pixel lit, for
+// s.nearest_depth (NaN counts as all sky): the exact sums (but where psf is asked), psf where
+// asked, or weighed by `auto` where it applies.
+SummationChoice scene_choice(const SceneSumSettings& s, const PinholeCamera& c, double wavelength,
+                             const ChoiceSettings& asked) {
+    const WorkRange w = work_range(s, c.height);
+    const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
+    const SceneSum sum = scene_sum({c, nullptr, nullptr}, wavelength, s, nearest, w, false);
+    const bool incoherent = s.method == CoherenceMethod::Incoherent;
+    const double runs = w.run_end - w.run_begin;
+    FrameSums frame;
+    if (s.summation != Summation::Psf) {
+        const FrameCounts n = frame_counts(s, sum, {c, wavelength, nearest}, sum.samples.pitch, incoherent);
+        frame.in = n.in;
+        frame.out = n.out;
+    }
+    frame.single = incoherent;
+    frame.repeats = incoherent ? double(sum.emitters.size()) : runs;
+    // this share's rows: their part of the film's work
+    const int o = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);
+    frame.film_share = double(w.row_end - w.row_begin) / std::max(1, c.height - 2 * o);
+    frame.psf_applies = psf_applies(s, nearest, wavelength);
+    frame.psf_counted = s.summation == Summation::Psf || (asked.weigh_psf && frame.psf_applies);
+    if (frame.psf_counted) {
+        frame.psf = psf_summation_spec(s, c, wavelength, nearest, sum.subsamples);
+        const double pitch = kernel_lattice_pitch(frame.psf, sum.samples.pitch);
+        const FrameCounts n = frame_counts(s, sum, {c, wavelength, nearest}, pitch, false);
+        frame.psf_in = n.in;
+        frame.psf_out = n.out;
+        frame.psf_runs = incoherent ? 1.0 : runs;
+    }
+    return choose_summation(frame, asked);
+}
+
+}  // namespace
+}  // namespace detail
+
+using detail::ChoiceSettings;
+using detail::psf_summation_spec;
+using detail::film_subsamples;
+using detail::scene_choice;
+using detail::SummationChoice;
+
+Summation chosen_summation(const SceneSumSettings& asked, const PinholeCamera& c, double wavelength) {
+    if (asked.summation != Summation::Auto) return asked.summation;
+    const double nearest = std::isnan(asked.nearest_depth) ? INFINITY : asked.nearest_depth;
+    if (!detail::psf_applies(asked, nearest, wavelength)) return Summation::Auto;
+    SceneSumSettings s = asked;  // the whole job: every row and run
+    s.row_begin = s.run_begin = 0;
+    s.row_end = s.run_end = -1;
+    const SummationChoice chosen = scene_choice(s, c, wavelength, {Summation::Auto, true, &s.device, 0});
+    if (chosen.summation != Summation::Psf) return Summation::Auto;
+    // cheaper: psf where its plan-time check finds it within its stated error (psf_error_check.h)
+    const auto check = detail::psf_error_check(s, c, wavelength);
+    return check.ok() && check.value.within() ? Summation::Psf : Summation::Auto;
+}
+
+SummationEstimate estimate_summation(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength,
+                                     double term_rate) {
+    const SummationChoice c = scene_choice(s, camera, wavelength, {s.summation, true, &s.device, term_rate});
+    SummationEstimate e;
+    e.summation = c.summation;
+    if (c.summation != Summation::Psf) {
+        const bool in = c.in.evaluator == Evaluator::Nufft, out = c.out.evaluator == Evaluator::Nufft;
+        e.sums = {!in, in, !out, out};
+    }
+    e.gpu = c.gpu;
+    e.terms = c.work;
+    e.seconds = c.seconds;
+    e.bytes = c.bytes;
+    e.reason = c.reason;
+    return e;
+}
+
+EvaluatorSet scene_evaluators(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength) {
+    const SummationChoice c = scene_choice(s, camera, wavelength, {s.summation, false, &s.device, 0});
+    const bool in = c.in.evaluator == Evaluator::Nufft, out = c.out.evaluator == Evaluator::Nufft;
+    return {!in, in, !out, out};
+}
+
+double scene_terms(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength) {
+    return scene_choice(s, camera, wavelength, {s.summation, false, &s.device, 0}).work;
+}
+
+double scene_summation_bytes(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength) {
+    if (s.summation != Summation::Psf) return 0;
+    const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
+    const int subsamples = film_subsamples(s, camera, wavelength);
+    return detail::psf_summation_bytes(psf_summation_spec(s, camera, wavelength, nearest, subsamples));
+}
+
+}  // namespace wavecam
