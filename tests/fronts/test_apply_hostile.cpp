@@ -284,15 +284,15 @@ WriteRun apply_while_writing(const fs::path& input, const fs::path& output, int 
 }
 }  // namespace
 
-// Every catchable terminating signal sent while the output is being written (a 1024 x 1024
-// frame of noise, which compresses slowly: its temporary lives a few tenths of a second), each
+// Every catchable terminating signal sent while the output is being written (a 512 x 512
+// frame of noise, which compresses slowly: its temporary lives about a tenth of a second), each
 // at two of four delays into the write: exit 128 + N, the old output byte for byte, no temporary.
 TEST(ApplyHostile, EveryTerminatingSignalDuringTheWriteKeepsTheOldOutput) {
     const fs::path dir = scratch("hostile_signal_write");
     const fs::path input = dir / "noise.exr", out_dir = dir / "out", out = out_dir / "out.exr";
     fs::create_directories(out_dir);
     {
-        OIIO::ImageSpec spec(1024, 1024, 4, OIIO::TypeDesc::FLOAT);
+        OIIO::ImageSpec spec(512, 512, 4, OIIO::TypeDesc::FLOAT);
         spec.channelnames = {"R", "G", "B", "Z"};
         spec.attribute("wavecam.fov", 40.0f);
         std::vector<float> px(spec.image_pixels() * 4);
