@@ -15,17 +15,27 @@
 namespace wavecam {
 
 SumChoice choose_sum(const SumCounts& counts, Summation asked, bool on_gpu) {
-    if (on_gpu && asked == Summation::Auto) asked = Summation::Direct;
-    SumChoice c;
-    if (asked == Summation::Direct) {
-        c.direct_work = c.nufft_work = (counts.lattice_samples + counts.off_lattice) * counts.points;
-    } else {
-        c = detail::sum_work(counts, asked == Summation::Auto);
+    // the lowest estimate among the rows that serve `asked` on the device (the CPU's where the
+    // device has none: such a plan is refused when it commits, choose_plan_sum)
+    using detail::kEvaluators;
+    const Device device = on_gpu ? Device::Gpu : Device::Cpu;
+    bool on_device = false;
+    for (const detail::EvaluatorRow& row : kEvaluators)
+        on_device = on_device || (row.estimate_sum && detail::serves(row, asked, device));
+    SumChoice best;
+    bool found = false;
+    double direct = NAN, nufft = NAN;
+    for (const detail::EvaluatorRow& row : kEvaluators) {
+        if (!row.estimate_sum || !detail::serves(row, asked, on_device ? device : Device::Cpu)) continue;
+        const SumChoice e = row.estimate_sum(counts, asked == Summation::Auto);
+        (e.evaluator == Evaluator::Direct ? direct : nufft) = e.work;
+        if (!found || e.work < best.work) best = e;
+        found = true;
     }
-    const bool nufft = asked == Summation::Nufft || (asked == Summation::Auto && c.nufft_work < c.direct_work);
-    c.evaluator = nufft ? Evaluator::Nufft : Evaluator::Direct;
-    c.work = nufft ? c.nufft_work : c.direct_work;
-    return c;
+    // both evaluators' work where both were weighed (the reasons quote the other's)
+    best.direct_work = std::isnan(direct) ? best.direct_work : direct;
+    best.nufft_work = std::isnan(nufft) ? best.direct_work : nufft;
+    return best;
 }
 
 namespace detail {
@@ -45,15 +55,15 @@ struct DiscLattice {
 // The nufft evaluator's work for one division into sub-apertures (`discs`, each of bnx x bny
 // cells): per sub-aperture and skeleton node an FFT and a lattice of chirps; per point and
 // sub-aperture its frequency and phase, its skeleton coefficients and each skeleton node's kernel
-// taps; the off-lattice samples direct. Skeleton ranks from the probed sub-apertures. The planning
+// taps; the off-lattice samples direct. Skeleton ranks from the probed sub-apertures. The tiling
 // spends `budget` (the chirp's evaluations); where it runs out, the work is infinite.
 SumChoice division_work(const ChirpGeometry& geo, const DirectionRange& range, const std::vector<ProbeDisc>& discs,
                         int bnx, int bny, const SumTerms& terms, double& budget) {
     const double lattice_samples = terms.lattice_samples, off_lattice = terms.off_lattice, points = terms.points;
     SumChoice w;
-    double planning = 0;
-    const std::vector<ChebyshevBox> boxes = geo.plan(range, discs, &planning, budget);
-    budget -= planning;
+    double tiling = 0;
+    const std::vector<ChebyshevBox> boxes = geo.tiling(range, discs, &tiling, budget);
+    budget -= tiling;
     if (boxes.empty()) {
         w.nufft_work = INFINITY;
         return w;
@@ -75,7 +85,7 @@ SumChoice division_work(const ChirpGeometry& geo, const DirectionRange& range, c
     w.nufft_count = int(std::lround(transforms * parts));
     w.nufft_work = transforms * (parts * kFftCost * nufft.fft_work() + kChirpCost * lattice_samples) +
                    points * parts * (point_work / volume + 2 * kChirpCost) + off_lattice * points +
-                   planning * kPlanProbeCost;
+                   tiling * kTilingProbeCost;
     return w;
 }
 
@@ -124,10 +134,10 @@ SumChoice cheapest_division(const ChirpGeometry& geo, const DirectionRange& rang
 
 SumChoice sum_work(const SumCounts& c, bool bounded) {
     const double direct = (c.lattice_samples + c.off_lattice) * c.points;
-    // the chirp's planning runs on one thread, the direct terms on every core: where it would
-    // cost a quarter of the direct terms' work, planning stops and the direct terms are taken
-    // (at 120 deg a 32 px frame's plan took more than ten minutes, its direct terms four)
-    double budget = bounded ? direct / (4 * kPlanProbeCost) : INFINITY;
+    // the chirp's tiling runs on one thread, the direct terms on every core: where it would
+    // cost a quarter of the direct terms' work, tiling stops and the direct terms are taken
+    // (at 120 deg a 32 px frame's tiling took more than ten minutes, its direct terms four)
+    double budget = bounded ? direct / (4 * kTilingProbeCost) : INFINITY;
     if (c.lattice_samples <= 0 || c.samples_across < 1) {
         SumChoice w;
         w.direct_work = w.nufft_work = direct;
@@ -171,6 +181,20 @@ SumChoice sum_work(const SumCounts& c, bool bounded) {
     return f;
 }
 
+
+SumChoice direct_sum_work(const SumCounts& c, bool) {
+    SumChoice w;
+    w.evaluator = Evaluator::Direct;
+    w.work = w.direct_work = w.nufft_work = (c.lattice_samples + c.off_lattice) * c.points;
+    return w;
+}
+
+SumChoice nufft_sum_work(const SumCounts& c, bool bounded) {
+    SumChoice w = sum_work(c, bounded);
+    w.evaluator = Evaluator::Nufft;
+    w.work = w.nufft_work;
+    return w;
+}
 
 KernelSums kernel_sums(const PsfSummationSpec& spec, const PsfSummationGeometry& g) {
     KernelSums k;
@@ -220,14 +244,18 @@ namespace {
 std::string no_gpu_evaluator(Summation asked, Device setting) {
     std::string on_gpu;
     for (const EvaluatorRow& row : kEvaluators)
-        if (row.devices & kOnGpu) on_gpu += std::string(row.word) + ", ";
+        if (row.device == Device::Gpu) on_gpu += std::string(row.word) + ", ";
     return std::string("device ") + device_word(setting) + ": the " + summation_word(asked) +
            " summation has no GPU evaluator; expected summation " + on_gpu.substr(0, on_gpu.size() - 2) +
            " or auto, or device " + (setting == Device::Gpu ? "auto or cpu" : "cpu");
 }
 
 // Whether the evaluator `asked` runs on a GPU (auto: what the device runs).
-bool runs_on_gpu(Summation asked) { return asked == Summation::Auto || (evaluator_row(asked).devices & kOnGpu); }
+bool runs_on_gpu(Summation asked) {
+    for (const EvaluatorRow& row : kEvaluators)
+        if (serves(row, asked, Device::Gpu)) return true;
+    return false;
+}
 
 }  // namespace
 
@@ -309,7 +337,8 @@ SummationChoice choose_summation(const FrameSums& f, const ChoiceSettings& cs) {
     }
     // the psf summation: its kernels, then every run
     if (f.psf_counted) c.psf = psf_summation_work(f.psf, f.psf_in, f.psf_out);
-    const double psf = c.psf.kernels + c.psf.per_run * f.psf_runs;
+    // (the psf row on the device: its estimate, the table's)
+    const double psf = f.psf_counted ? evaluator_row(Summation::Psf, gpu ? Device::Gpu : Device::Cpu).estimate(f, cs) : 0;
     const bool weighed = cs.asked == Summation::Auto && cs.weigh_psf && f.psf_applies && f.psf_counted;
     const bool take_psf = cs.asked == Summation::Psf || (weighed && psf < exact);
     const std::string words = exact_words(c.in, c.out);

@@ -26,11 +26,11 @@ namespace wavecam::detail {
 constexpr double kFftCost = 1.33, kTapCost = 2.9, kChirpCost = 15.0;
 // A complex multiply-add in double, a third of a term.
 constexpr double kMacCost = 0.35;
-// One evaluation of the chirp's remainder while the boxes are planned (ChirpGeometry::plan): the
-// chirp at the box's parameter and at the probe point, two chirps. The planning is a fixed cost
+// One evaluation of the chirp's remainder while the boxes are tiled (ChirpGeometry::tiling): the
+// chirp at the box's parameter and at the probe point, two chirps. The tiling is a fixed cost
 // per sum: nothing beside a frame's millions of points, but all of a psf kernel's sum where its
 // chirp needs many boxes (kMaxNufftKernelField).
-constexpr double kPlanProbeCost = 2 * kChirpCost;
+constexpr double kTilingProbeCost = 2 * kChirpCost;
 
 // Sub-apertures per side tried: 1, 2, 4, ... while each keeps at least kMinCellsAcross cells across
 // and the work falls.
@@ -39,19 +39,24 @@ constexpr int kMaxBlocks = 16;
 
 // Both evaluators' work for one sum's `counts` (SumChoice's direct_work, nufft_work, blocks,
 // stencil, nufft_count; `evaluator` and `work` left for choose_sum, summation_plan.h). `bounded`
-// (auto's estimate): the chirp's planning stops at a quarter of the direct terms' work, the nufft
-// work then infinite; an asked nufft is planned to the end.
+// (auto's estimate): the chirp's tiling stops at a quarter of the direct terms' work, the nufft
+// work then infinite; an asked nufft is tiled to the end.
 SumChoice sum_work(const SumCounts& counts, bool bounded);
+
+// The evaluators' estimates of one sum (the table's estimate_sum column): the direct terms, and
+// the nufft evaluator's work (sum_work) with it chosen.
+SumChoice direct_sum_work(const SumCounts& counts, bool bounded);
+SumChoice nufft_sum_work(const SumCounts& counts, bool bounded);
 
 // ---- the psf summation's cost and memory ----
 
 // Frames whose kernels' anchors (the frame and its margin, R beyond it) reach beyond this field
-// angle (radians, 45 deg) sum every kernel directly: there the nufft evaluator's chirp plans for
+// angle (radians, 45 deg) sum every kernel directly: there the nufft evaluator's chirp tilings for
 // the outer kernels took minutes each (a 24 px frame at 90 deg), far more than their direct sums
 // over a kernel's few thousand film points (kernels of 49 x 49 pixels in the margin of a 32 px
 // frame at 60 deg, beyond 45 deg: 4e7 to 6e7 chirp evaluations in 2300 to 3400 boxes each,
 // against 1.2e8 direct terms for the whole sum). The anchor nearest the frame's centre, which
-// chooses for all of them, sees none of that: its own plan is one box.
+// chooses for all of them, sees none of that: its own tiling is one box.
 constexpr double kMaxNufftKernelField = M_PI / 4;
 
 // How the psf summation's kernels are summed: one source to the pinhole directly (a lattice of

@@ -1,29 +1,35 @@
-// The creation table of the frame's evaluators (summation_evaluator.h): one row per evaluator,
-// its word, devices, create functions and cost. Add an evaluator here, and its file.
+// The creation table of the frame's evaluators (summation_evaluator.h): one row per evaluator
+// and device, its word, create functions and estimates. Add an evaluator here, and its file.
 #include "summation/summation_evaluator.h"
 
 namespace wavecam {
 namespace detail {
 namespace {
 
-// The direct terms of one sum: on the GPU of the plan's device where it committed there.
-std::unique_ptr<SumEvaluator> direct_sum(const SumGeometry& g, const SumChoice& choice) {
-    return choice.gpu ? make_gpu_direct_evaluator(g) : make_direct_evaluator(g);
+// The direct terms of one sum on the GPU of the plan's device.
+std::unique_ptr<SumEvaluator> gpu_direct_sum(const SumGeometry& g, const SumChoice&) {
+    return make_gpu_direct_evaluator(g);
 }
+std::unique_ptr<SumEvaluator> direct_sum(const SumGeometry& g, const SumChoice&) { return make_direct_evaluator(g); }
 
 }  // namespace
 
 const EvaluatorRow kEvaluators[kEvaluatorCount] = {
-    // summation, word, devices, on the frame's lattice, a frame's runs, one sum, cost
-    {Summation::Direct, "direct", kOnCpu | kOnGpu, true, make_exact_runs, direct_sum, direct_cost},
-    {Summation::Nufft, "nufft", kOnCpu, true, make_exact_runs, make_nufft_evaluator, nufft_cost},
-    {Summation::Psf, "psf", kOnCpu | kOnGpu, false, make_psf_runs, nullptr, psf_cost},
+    // summation, word, device, on the frame's lattice, a frame's runs, one sum, estimates (one sum, a frame)
+    {Summation::Direct, "direct", Device::Cpu, true, make_exact_runs, direct_sum, direct_sum_work, direct_cost},
+    {Summation::Direct, "direct", Device::Gpu, true, make_exact_runs, gpu_direct_sum, direct_sum_work, direct_cost},
+    {Summation::Nufft, "nufft", Device::Cpu, true, make_exact_runs, make_nufft_evaluator, nufft_sum_work, nufft_cost},
+    {Summation::Psf, "psf", Device::Cpu, false, make_psf_runs, nullptr, nullptr, psf_cost},
+    {Summation::Psf, "psf", Device::Gpu, false, make_psf_runs, nullptr, nullptr, psf_cost},
 };
 
-const EvaluatorRow& evaluator_row(Summation s) {
+const EvaluatorRow& evaluator_row(Summation s, Device device) {
+    const Summation wanted = s == Summation::Auto ? Summation::Direct : s;  // auto: the exact sums
     for (const EvaluatorRow& row : kEvaluators)
-        if (row.summation == s) return row;
-    return kEvaluators[0];  // auto: the exact sums
+        if (serves(row, wanted, device)) return row;
+    for (const EvaluatorRow& row : kEvaluators)
+        if (serves(row, wanted, Device::Cpu)) return row;
+    return kEvaluators[0];
 }
 
 }  // namespace detail
@@ -32,7 +38,11 @@ const char* summation_word(Summation s) { return s == Summation::Auto ? "auto" :
 
 std::vector<std::pair<const char*, Summation>> summation_choices() {
     std::vector<std::pair<const char*, Summation>> words{{"auto", Summation::Auto}};
-    for (const detail::EvaluatorRow& row : detail::kEvaluators) words.emplace_back(row.word, row.summation);
+    for (const detail::EvaluatorRow& row : detail::kEvaluators) {
+        bool listed = false;
+        for (const auto& [word, summation] : words) listed = listed || summation == row.summation;
+        if (!listed) words.emplace_back(row.word, row.summation);
+    }
     return words;
 }
 

@@ -1,6 +1,6 @@
 // The exact sums' runs (summation_evaluator.h; the direct and nufft rows): each run's two sums
-// through two plans (summation_plan.h), each sum by the evaluator the chooser gave it for the
-// frame (plan_sums), so that every share evaluates its part as the job would.
+// through two plans (summation_plan.h), each sum by the evaluator decided for the frame
+// (decide_sums, in diffract_monochrome), so that every share evaluates its part as the job would.
 #include <algorithm>
 
 #include "summation/scene_runs.h"
@@ -14,12 +14,12 @@ public:
     explicit ExactRuns(const EvaluatorSetup& setup) : setup_(setup) {
         const SceneSumSettings& s = *setup.settings;
         incoherent_ = s.method == CoherenceMethod::Incoherent;
-        plan_ = plan_sums(s, *setup.sum, setup.scene->camera, setup.wavelength, setup.nearest, incoherent_);
+        sums_ = *setup.sums;
     }
 
     Result<bool> set_points(const ProgressFn&) override {
         const SceneSum& sum = *setup_.sum;
-        to_film_ = SummationPlan::create(SumKind::PinholeToFilm, sum.samples, setup_.wavelength, plan_.settings, plan_.out);
+        to_film_ = SummationPlan::create(SumKind::PinholeToFilm, sum.samples, setup_.wavelength, sums_.settings, sums_.out);
         points_.assign(sum.film.size(), 0.0f);  // irradiance at every film point
         return to_film_.set_points(sum.film);
     }
@@ -42,7 +42,7 @@ private:
         for (size_t k = 0; k < n; ++k) {
             const std::vector<PointSource> one{centred(c, sum.emitters[k], 0.0)};
             SummationPlan to_pinhole = SummationPlan::create(SumKind::SourcesToPinhole, sum.samples,
-                                                             setup_.wavelength, plan_.settings, plan_.in);
+                                                             setup_.wavelength, sums_.settings, sums_.in);
             if (auto r = to_pinhole.set_points(one); !r.ok()) return r;
             if (auto r = to_pinhole.execute(source_weights(one), field); !r.ok()) return r;
             if (auto r = to_film_.execute_irradiance(field, 1.0, points_.data(),
@@ -72,7 +72,7 @@ private:
             const std::vector<PointSource> sources = run_sources(c, sum.emitters, draw, run);
             if (!to_pinhole || moving) {
                 to_pinhole =
-                    SummationPlan::create(SumKind::SourcesToPinhole, sum.samples, wavelength, plan_.settings, plan_.in);
+                    SummationPlan::create(SumKind::SourcesToPinhole, sum.samples, wavelength, sums_.settings, sums_.in);
                 if (auto r = to_pinhole.set_points(sources); !r.ok()) return r;
             }
             // half of a run's terms go to the pinhole, half to the film
@@ -91,7 +91,7 @@ private:
 
     EvaluatorSetup setup_;
     bool incoherent_ = false;
-    SumChoices plan_;
+    SumChoices sums_;
     SummationPlan to_film_;
     std::vector<float> points_;
 };

@@ -1,6 +1,7 @@
 // Diffracting a scene at one wavelength (scene_diffraction.h): the frame's sums built once
-// (scene_sum.h), then its runs through the evaluator the settings name, created from the
-// evaluators' table (summation_evaluator.h), its points set, its runs executed, released.
+// (scene_sum.h), each exact sum's evaluator decided, then its runs through the row of the
+// evaluators' table (summation_evaluator.h) that the settings and device name: created, its
+// points set, its runs executed, released.
 #include "wavecam/scene_diffraction.h"
 
 #include <cmath>
@@ -24,9 +25,15 @@ Result<bool> detail::diffract_monochrome(const MonochromeScene& scene, double wa
     const double nearest =
         std::isnan(s.nearest_depth) ? nearest_depth(c, scene.depth, scene.depth_meaning) : s.nearest_depth;
     // auto here: the exact sums, each sum's evaluator the chooser's (a job has weighed psf before)
-    const EvaluatorRow& row = evaluator_row(s.summation);
+    const EvaluatorRow& row = evaluator_row(s.summation, s.device.gpu() ? Device::Gpu : Device::Cpu);
     const SceneSum sum = scene_sum(scene, wavelength, s, nearest, range, row.frame_lattice);
-    std::unique_ptr<SummationEvaluator> evaluator = row.create({&scene, &sum, wavelength, &s, range, nearest, memo});
+    // the frame's one decision below the job's: each exact sum's evaluator, from the whole frame's
+    // counts, so that every share evaluates its part as the job would (nothing below decides again)
+    const SumChoices sums = row.create_sum ? decide_sums(s, sum, c, wavelength, nearest,
+                                                       s.method == CoherenceMethod::Incoherent)
+                                           : SumChoices{};
+    std::unique_ptr<SummationEvaluator> evaluator =
+        row.create({&scene, &sum, wavelength, &s, range, nearest, memo, &sums});
     const double setup = evaluator->setup_share();
     if (auto r = evaluator->set_points(progress_part(progress, 0.0, setup)); !r.ok()) return r;
     auto r = evaluator->execute({range.run_begin, range.run_end}, irradiance, progress_part(progress, setup, 1.0));

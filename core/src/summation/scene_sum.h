@@ -57,7 +57,7 @@ struct SceneSum {
 // How one run's two sums (or one source's, `single`) are evaluated, and their work in direct
 // terms: sum 1 from the sources to the pinhole, sum 2 to the film, each by the evaluator
 // s.summation asks for (summation/choose.h). Decided from the whole frame's counts, so
-// that every share of a job evaluates its part as the job would; the film's chirps planned over
+// that every share of a job evaluates its part as the job would; the film's chirps tiled over
 // the frame.
 struct SumChoices {
     SummationSettings settings;
@@ -91,7 +91,7 @@ SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const SceneS
                    const WorkRange& range, bool with_samples);
 
 // The two sums' evaluators and work for a run (or one source's, `single`).
-SumChoices plan_sums(const SceneSumSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
+SumChoices decide_sums(const SceneSumSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
                   double nearest, bool single);
 
 // The runs as convolutions with amplitude PSFs (psf_summation.h) for this wavelength.

@@ -58,7 +58,7 @@ FrameCounts frame_counts(const SceneSumSettings& s, const SceneSum& sum, const W
 
 }  // namespace
 
-SumChoices plan_sums(const SceneSumSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
+SumChoices decide_sums(const SceneSumSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
                   double nearest, bool single) {
     const FrameCounts n = frame_counts(s, sum, {c, wavelength, nearest}, sum.samples.pitch, single);
     FrameSums frame;
@@ -66,16 +66,16 @@ SumChoices plan_sums(const SceneSumSettings& s, const SceneSum& sum, const Pinho
     frame.out = n.out;
     frame.single = single;
     const SummationChoice chosen = choose_summation(frame, {s.summation, false, &s.device, 0});
-    SumChoices plan;
-    plan.settings = {exact_asked(s.summation, single), s.summation_tolerance, s.nthreads, s.device};
-    plan.in.fixed_choice = plan.out.fixed_choice = true;
-    plan.in.choice = chosen.in;
-    plan.out.choice = chosen.out;
-    plan.out.fixed_range = true;
-    plan.out.range = n.out.range;
-    plan.in_work = plan.in.choice.work;
-    plan.out_work = plan.out.choice.work;
-    return plan;
+    SumChoices sums;
+    sums.settings = {exact_asked(s.summation, single), s.summation_tolerance, s.nthreads, s.device};
+    sums.in.fixed_choice = sums.out.fixed_choice = true;
+    sums.in.choice = chosen.in;
+    sums.out.choice = chosen.out;
+    sums.out.fixed_range = true;
+    sums.out.range = n.out.range;
+    sums.in_work = sums.in.choice.work;
+    sums.out_work = sums.out.choice.work;
+    return sums;
 }
 
 // The runs as convolutions with amplitude PSFs (psf_summation.h) for this wavelength.

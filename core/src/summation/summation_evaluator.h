@@ -10,9 +10,11 @@
 //               shares to the bit);
 //   release     destroying it (`reset()` of its unique_ptr).
 //
-// The creation table, kEvaluators, is the one list of evaluators: one row each, its word (the
-// `summation` setting's value), the devices it runs on, its create functions and its cost
-// function (choose.h). Adding an evaluator (a CUDA one, say) is one new file that implements
+// The creation table, kEvaluators, is the one list of evaluators: one row per evaluator and
+// device (direct on the CPU, direct on a GPU, nufft on the CPU, psf on the CPU, psf on a GPU),
+// each with its word (the `summation` setting's value), its create functions and its estimates;
+// the chooser (choose.h) takes the row of lowest estimate among those the job's device and
+// setting allow. Adding an evaluator (a CUDA one, say) is one new file that implements
 // SummationEvaluator (or, for one sum, SumEvaluator) and one row. The command line's words for
 // `summation` come from it (summation_choices, summation_plan.h), `auto` added. Internal to core.
 #pragma once
@@ -34,6 +36,7 @@ struct EvaluatorSetup {
     WorkRange range{};
     double nearest = INFINITY;       // the scene's nearest planar depth
     PsfSummationMemo* memo = nullptr;    // psf: the job's kept kernels, or none
+    const SumChoices* sums = nullptr;    // the exact rows: each sum's evaluator, decided for the frame
 };
 
 // The runs one execute adds: [run_begin, run_end) of the settings' runs.
@@ -53,32 +56,38 @@ public:
     virtual Result<bool> execute(const RunBatch& batch, float* irradiance, const ProgressFn& progress) = 0;
 };
 
-// The devices a row runs on.
-enum EvaluatorDevices : unsigned { kOnCpu = 1, kOnGpu = 2 };
-
+// One row of the creation table: one evaluator on one kind of device, with its estimate.
 struct EvaluatorRow {
     Summation summation;
     const char* word;       // the `summation` setting's value
-    unsigned devices;       // EvaluatorDevices
+    Device device;          // Device::Cpu or Device::Gpu
     bool frame_lattice;     // runs on the frame's pinhole lattice and film points (psf samples its kernels' own)
     // a frame's runs through it
     std::unique_ptr<SummationEvaluator> (*create)(const EvaluatorSetup& setup);
     // one sum through it, for the exact sums' plans (summation_plan.h); null where the evaluator
     // takes whole runs (psf)
     std::unique_ptr<SumEvaluator> (*create_sum)(const SumGeometry& g, const SumChoice& choice);
-    // its work for a frame's sums, in direct terms (choose.h)
-    double (*cost)(const FrameSums& frame, const ChoiceSettings& settings);
+    // its estimate of one sum in direct terms (choose.h; `bounded`: auto's, whose tiling may
+    // stop early), null where it takes whole runs; and of a frame's runs, every sum by it
+    SumChoice (*estimate_sum)(const SumCounts& counts, bool bounded);
+    double (*estimate)(const FrameSums& frame, const ChoiceSettings& settings);
 };
 
-constexpr int kEvaluatorCount = 3;
+constexpr int kEvaluatorCount = 5;
 extern const EvaluatorRow kEvaluators[kEvaluatorCount];
+
+// Whether `row` serves `asked` (auto: every row) on `device` (Cpu or Gpu).
+inline bool serves(const EvaluatorRow& row, Summation asked, Device device) {
+    return row.device == device && (asked == Summation::Auto || asked == row.summation);
+}
 
 // The summation that runs a committed plan's evaluator.
 inline Summation summation_of(Evaluator e) { return e == Evaluator::Nufft ? Summation::Nufft : Summation::Direct; }
 
-// The row of `s`; `auto` (the exact sums, each sum's evaluator the chooser's, after a job has
-// weighed psf) is direct's, whose runs are the exact sums' whichever evaluates each sum.
-const EvaluatorRow& evaluator_row(Summation s);
+// The row of `s` on `device` (Cpu or Gpu; the CPU's where the device has none); `auto` (the exact
+// sums, each sum's evaluator the chooser's, after a job has weighed psf) is direct's, whose runs
+// are the exact sums' whichever evaluates each sum.
+const EvaluatorRow& evaluator_row(Summation s, Device device = Device::Cpu);
 
 // The rows' create functions (one file each).
 std::unique_ptr<SummationEvaluator> make_exact_runs(const EvaluatorSetup& setup);  // exact_runs.cpp

@@ -119,7 +119,7 @@ struct SummationPlan::Impl {
         const detail::SumGeometry g{kind, &samples, wavelength, settings, scope, &sources, &film};
         // its evaluator from the evaluators' table (no points: the direct terms, none of them)
         const Summation runs = empty ? Summation::Direct : detail::summation_of(choice.evaluator);
-        evaluator = detail::evaluator_row(runs).create_sum(g, choice);
+        evaluator = detail::evaluator_row(runs, choice.gpu ? Device::Gpu : Device::Cpu).create_sum(g, choice);
         if (!empty) detail::note_run(device, run_bits(kind, choice));
         return Result<bool>::success(true);
     }

@@ -104,7 +104,7 @@ bool ChebyshevBox::contains(const Parameter& p) const {
     return true;
 }
 
-std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel, int probes,
+std::vector<ChebyshevBox> tile_boxes(ChebyshevBox box, const KernelProbe& kernel, int probes,
                                      const BoxSplitting& splitting, int depth) {
     const double tolerance = splitting.tolerance;
     const int max_rank = splitting.max_rank, max_nodes = std::min(splitting.max_nodes, 16);
@@ -134,8 +134,8 @@ std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel
         const double mid = 0.5 * (box.lo[d] + box.hi[d]);
         a.hi[d] = mid;
         b.lo[d] = mid;
-        std::vector<ChebyshevBox> out = plan_boxes(a, kernel, probes, splitting, depth + 1);
-        for (ChebyshevBox& c : plan_boxes(b, kernel, probes, splitting, depth + 1)) out.push_back(c);
+        std::vector<ChebyshevBox> out = tile_boxes(a, kernel, probes, splitting, depth + 1);
+        for (ChebyshevBox& c : tile_boxes(b, kernel, probes, splitting, depth + 1)) out.push_back(c);
         if (spent()) return {};
         int total = 0;
         for (const ChebyshevBox& c : out) total += c.rank();

@@ -31,13 +31,13 @@ struct ChebyshevBox {
 // h(p, xi) for the parameter p and one of the probe points xi (index into the caller's probes).
 using KernelProbe = std::function<std::complex<double>(const Parameter& p, int probe)>;
 
-// What each planned box must meet and how far splitting goes (plan_boxes).
+// What each tiled box must meet and how far splitting goes (tile_boxes).
 struct BoxSplitting {
     double tolerance;
     int max_rank;
     int max_nodes = 10;
     bool economise = true;
-    // Where given, the kernel's evaluations so far: planning gives up, returning no boxes, once
+    // Where given, the kernel's evaluations so far: tiling gives up, returning no boxes, once
     // they pass max_evaluations (a chooser's budget, choose.cpp).
     const double* evaluations = nullptr;
     double max_evaluations = INFINITY;
@@ -48,7 +48,7 @@ struct BoxSplitting {
 // at most `max_nodes` per axis: halves the axis needing the most nodes until both bounds hold, and,
 // if `economise`, further where the halves need fewer nodes in all than the whole. No boxes where
 // the evaluations' budget ran out.
-std::vector<ChebyshevBox> plan_boxes(ChebyshevBox box, const KernelProbe& kernel, int probes,
+std::vector<ChebyshevBox> tile_boxes(ChebyshevBox box, const KernelProbe& kernel, int probes,
                                      const BoxSplitting& splitting, int depth = 0);
 
 }  // namespace wavecam::detail

@@ -18,14 +18,14 @@ ChebyshevBox ChirpGeometry::box(const DirectionRange& r) const {
     return b;
 }
 
-std::vector<ChebyshevBox> ChirpGeometry::plan(const DirectionRange& r, const std::vector<ProbeDisc>& discs,
+std::vector<ChebyshevBox> ChirpGeometry::tiling(const DirectionRange& r, const std::vector<ProbeDisc>& discs,
                                               double* probed, double max_evaluations) const {
     std::vector<std::array<double, 4>> pr;  // centre, probe point: 8 directions at each disc's reach
     for (const ProbeDisc& d : probe_discs(discs))
         for (int a = 0; a < 8; ++a)
             pr.push_back({d.cx, d.cy, d.cx + d.reach * std::cos(a * M_PI / 4), d.cy + d.reach * std::sin(a * M_PI / 4)});
     double evaluations = 0;
-    std::vector<ChebyshevBox> boxes = plan_boxes(
+    std::vector<ChebyshevBox> boxes = tile_boxes(
         box(r),
         [&](const Parameter& p, int i) {
             ++evaluations;

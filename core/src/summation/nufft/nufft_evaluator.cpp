@@ -156,7 +156,7 @@ void NufftEvaluator::build_pass(LatticePass& pass, const LatticeLayout& layout, 
     if (layout.nx == 0) return;
     const int nthreads = g_.settings.nthreads;
     pass.sub = split_lattice(layout, choice_.blocks, h_);
-    pass.boxes = geo_.plan(g_.scope.fixed_range ? range : range_of(pass.p, geo_.dims()), discs_of(pass.sub));
+    pass.boxes = geo_.tiling(g_.scope.fixed_range ? range : range_of(pass.p, geo_.dims()), discs_of(pass.sub));
     pass.members = group(pass.boxes, pass.p);
     for (size_t bi = 0; bi < pass.boxes.size(); ++bi) pass.weights.emplace_back(pass.boxes[bi], pass.p, pass.members[bi], nthreads);
     pass.nufft = std::make_unique<LatticeNufft>(pass.sub.bnx, pass.sub.bny, g_.settings.tolerance, nthreads);
