@@ -11,7 +11,7 @@ import tempfile
 
 ROOT, WAVECAM, PLUGIN_DIR = sys.argv[1:4]
 # `wavecam apply`'s options that are not settings: where the run reads and writes, and how.
-COMMAND_ONLY = {"--help", "--output", "--compare", "--png", "--frames", "--threads", "--part"}
+COMMAND_ONLY = {"--help", "--output", "--compare", "--png", "--frames", "--threads", "--share"}
 
 
 def documented():

@@ -85,7 +85,8 @@ Result<std::vector<std::string>> frame_files(const std::string& pattern, const s
 namespace {
 
 struct ApplyFlags {
-    std::string input, output, compare, png, frames, part;
+    std::string input, output, compare, png, frames, share;
+    std::string share_old_spelling;  // --part K/N: --share's other spelling, taken with a note
     front::Settings given;  // the settings flags that were given, by key (--no-jitter as jitter=false)
     int threads = 0;
 };
@@ -141,36 +142,37 @@ int fail_with(const Result<bool>& r) {
     return fail(front::word_failure(r, front::Front::Command), r.kind == ErrorKind::Cancelled || interrupted() ? interrupted_status() : 1);
 }
 
-// One share of a scene-sum job (--part K/N): a part file for `wavecam merge`. A part already there
-// for the same job and share is kept, so a re-run array task finishes at once.
+// One share of a scene-sum job (--share K/N): a share file for `wavecam merge`. A share file
+// already there for the same job and share is kept, so a re-run array task finishes at once.
 int run_share(const ApplyFlags& flags, const std::string& input, const std::string& output) {
-    auto k = parse_share(flags.part);
+    auto k = parse_share(flags.share);
     if (!k.ok()) return fail(k.error, 2);
     std::error_code ec;
     const std::string input_path = std::filesystem::absolute(input, ec).lexically_normal().string();
     const front::Settings settings = recorded_settings(flags.given);
     if (std::filesystem::exists(output, ec)) {
-        auto have = read_part(output);
+        auto have = read_share(output);
         auto fingerprint = file_fingerprint(input_path);
         if (have.ok() && fingerprint.ok() && have.value.job == job_fingerprint(fingerprint.value, settings) &&
             have.value.share.index == k.value.index && have.value.share.count == k.value.count) {
-            std::printf("%s: share %s already complete; kept\n", output.c_str(), flags.part.c_str());
+            if (have.value.old_spelling) front::show_notes({kOldShareRecordNote});
+            std::printf("%s: share %s already complete; kept\n", output.c_str(), flags.share.c_str());
             return 0;
         }
     }
     auto in = read_and_resolve(input, flags.given);
     if (!in.ok()) return fail(in.error, 2);
     if (const std::string bad = print_aperture_work(in.value.settings.options); !bad.empty()) return fail(bad, 2);
-    const DiffractOptions o = run_options(in.value, terminal_progress("apply share " + flags.part), flags.threads);
-    OIIO::ImageBuf part;
-    if (auto r = diffract_share(part, in.value.image, o, {input_path, settings}, k.value, flags.threads);
+    const DiffractOptions o = run_options(in.value, terminal_progress("apply share " + flags.share), flags.threads);
+    OIIO::ImageBuf share;
+    if (auto r = diffract_share(share, in.value.image, o, {input_path, settings}, k.value, flags.threads);
         !r.ok())
         return fail_with(r);
     finish_progress();
     if (interrupted()) return fail(input + ": interrupted", interrupted_status());
-    if (auto w = write_image_atomically(part, output, OIIO::TypeDesc::FLOAT); !w.ok()) return fail(w.error);
-    std::printf("share %s (%s)\nwrote %s\n", flags.part.c_str(),
-                part.spec().get_string_attribute("wavecam.part.summed").c_str(), output.c_str());
+    if (auto w = write_image_atomically(share, output, OIIO::TypeDesc::FLOAT); !w.ok()) return fail(w.error);
+    std::printf("share %s (%s)\nwrote %s\n", flags.share.c_str(), share_record(share.spec(), "summed").c_str(),
+                output.c_str());
     return 0;
 }
 
@@ -189,7 +191,7 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
               const ProgressFn& progress, const FrameFiles& files) {
     const std::string &input = files.input, &output = files.output, &compare = files.compare, &png = files.png;
     set_interrupt_message("wavecam apply: " + input + ": interrupted");
-    if (!flags.part.empty()) return run_share(flags, input, output);
+    if (!flags.share.empty()) return run_share(flags, input, output);
     auto in = read_and_resolve(input, flags.given);
     if (!in.ok()) return fail(in.error, 2);
     // a mask named by the render's own metadata (wavecam.aperture) is an input too
@@ -255,8 +257,8 @@ int run(const ApplyFlags& flags) {
     for (const std::string* name : {&flags.output, &flags.compare, &flags.png})  // before any work
         if (!name->empty())
             if (const std::string bad = output_name_problem(*name); !bad.empty()) return fail(bad, 2);
-    if (!flags.part.empty() && (!flags.compare.empty() || !flags.png.empty()))
-        return fail("--part writes a part file for `wavecam merge`; give --compare and --png to the merge instead", 2);
+    if (!flags.share.empty() && (!flags.compare.empty() || !flags.png.empty()))
+        return fail("--share writes a share file for `wavecam merge`; give --compare and --png to the merge instead", 2);
     std::vector<int> frames{0};
     std::vector<std::string> lists[4] = {{flags.input}, {flags.output}, {flags.compare}, {flags.png}};
     if (!flags.frames.empty()) {
@@ -311,10 +313,23 @@ void add_apply_command(CLI::App& app, int& status) {
     cmd->add_option("--frames", f->frames,
                     "Frame range, e.g. 1-100; input, -o, --compare and --png are then patterns (#, @ or %04d)");
     cmd->add_option("--threads", f->threads, "Threads (0 = every core)")->capture_default_str();
-    cmd->add_option("--part", f->part,
-                    "K/N: compute share K of N of a scene-sum job and write it to -o as a part file for "
+    cmd->add_option("--share", f->share,
+                    "K/N: compute share K of N of a scene-sum job and write it to -o as a share file for "
                     "`wavecam merge` (see `wavecam farm`)");
-    cmd->callback([f, &status] { status = run(*f); });
+    cmd->add_option("--part", f->share_old_spelling, "--share's other spelling")->group("");  // (not in --help)
+    cmd->callback([f, &status] {
+        if (!f->share_old_spelling.empty()) {
+            front::show_notes({"--part is now spelt --share (same meaning)"});
+            if (!f->share.empty() && f->share != f->share_old_spelling) {
+                status = fail("--share " + f->share + " and --part " + f->share_old_spelling +
+                                  ": one flag given twice; give one --share K/N",
+                              2);
+                return;
+            }
+            f->share = f->share_old_spelling;
+        }
+        status = run(*f);
+    });
 }
 
 }  // namespace wavecam::cli

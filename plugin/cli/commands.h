@@ -38,7 +38,7 @@ Result<std::vector<std::string>> frame_files(const std::string& pattern, const s
 // (monochrome = true, jitter = false, vignetting = false).
 void add_setting_options(CLI::App* cmd, front::Settings& given);
 
-// The settings a part file records for its merge: every result-changing key as given (not the
+// The settings a share file records for its merge: every result-changing key as given (not the
 // bounds --max-terms, --max-memory).
 front::Settings recorded_settings(const front::Settings& given);
 

@@ -1,7 +1,7 @@
 // `wavecam farm`: a scene-sum job on a Slurm cluster. `submit` writes an sbatch job array (one task
-// per frame x share, each `wavecam apply --part K/N`) and one merge job per frame that waits for
-// that frame's tasks (--dependency=afterok), skipping shares whose part files are complete;
-// `status` says what is done. Files live in OUT.farm/: parts/FRAME/share-K-of-N.exr, logs/, the
+// per frame x share, each `wavecam apply --share K/N`) and one merge job per frame that waits for
+// that frame's tasks (--dependency=afterok), skipping shares whose share files are complete;
+// `status` says what is done. Files live in OUT.farm/: shares/FRAME/share-K-of-N.exr, logs/, the
 // scripts and job.txt (what was submitted). The convolution method needs no shares: its frames go
 // through the array in chunks, one `wavecam apply --frames` per task.
 #include <OpenImageIO/filesystem.h>
@@ -58,19 +58,22 @@ struct Frame {
     std::string job;  // job fingerprint: input bytes and settings
 };
 
-fs::path part_path(const fs::path& farm, const Frame& f, int k, int n) {
-    return farm / "parts" / f.tag / ("share-" + std::to_string(k) + "-of-" + std::to_string(n) + ".exr");
+fs::path share_path(const fs::path& farm, const Frame& f, int k, int n) {
+    return farm / "shares" / f.tag / ("share-" + std::to_string(k) + "-of-" + std::to_string(n) + ".exr");
 }
 
-// A part file is complete when its header says it is this job's share K/N (it was written by
+// A share file is complete when its header says it is this job's share K/N (it was written by
 // rename, so a file that exists was written whole; the merge checks its pixels).
-bool part_complete(const fs::path& path, const Frame& f, int k, int n) {
+bool share_complete(const fs::path& path, const Frame& f, int k, int n) {
     if (!fs::exists(path)) return false;
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) return false;
     const OIIO::ImageSpec& spec = in->spec();
-    return spec.get_string_attribute("wavecam.part.job") == f.job &&
-           spec.get_string_attribute("wavecam.part.share") == std::to_string(k) + "/" + std::to_string(n);
+    bool old_spelling = false;
+    const bool complete = share_record(spec, "job", &old_spelling) == f.job &&
+                          share_record(spec, "", &old_spelling) == std::to_string(k) + "/" + std::to_string(n);
+    if (old_spelling) front::show_notes({kOldShareRecordNote});
+    return complete;
 }
 
 bool frame_merged(const Frame& f) {
@@ -149,7 +152,7 @@ int report_status(const std::string& output) {
             int done = 0;
             std::string queued;  // the missing shares
             for (int k = 1; k <= n; ++k)
-                if (part_complete(part_path(farm, f, k, n), f, k, n)) ++done;
+                if (share_complete(share_path(farm, f, k, n), f, k, n)) ++done;
                 else
                     queued += (queued.empty() ? "" : ", ") + std::to_string(k) + " " +
                               state(array + "_" + std::to_string(i * n + k - 1), "not queued");
@@ -201,10 +204,10 @@ Result<bool> check_nothing_queued(const FarmFlags& flags, size_t frames) {
     return Result<bool>::success(true);
 }
 
-// A task's `wavecam apply INPUT -o OUTPUT` with `part` (" --part K/N" or ""), its threads and the settings given.
+// A task's `wavecam apply INPUT -o OUTPUT` with `share` (" --share K/N" or ""), its threads and the settings given.
 std::string apply_command(const FarmFlags& flags, const std::string& input, const std::string& output,
-                          const std::string& part) {
-    std::string cmd = shell_quote(self_path()) + " apply " + shell_quote(input) + " -o " + shell_quote(output) + part +
+                          const std::string& share) {
+    std::string cmd = shell_quote(self_path()) + " apply " + shell_quote(input) + " -o " + shell_quote(output) + share +
                       " --threads " + std::to_string(flags.cpus);
     for (const auto& [key, value] : flags.given)
         if (key == "monochrome" || key == "diffract-again") cmd += " --" + key;
@@ -333,7 +336,7 @@ Result<std::string> submit_merge(const fs::path& farm, const Frame& f, int n, st
           << "#SBATCH --job-name=wavecam-merge\n"
           << "#SBATCH --output=" << (farm / "logs" / ("merge-" + f.tag + ".log")).string() << "\n"
           << "exec " << shell_quote(self_path()) << " merge "
-          << shell_quote((farm / "parts" / f.tag / ("share-*-of-" + std::to_string(n) + ".exr")).string())
+          << shell_quote((farm / "shares" / f.tag / ("share-*-of-" + std::to_string(n) + ".exr")).string())
           << " -o " << shell_quote(f.output) << "\n";
     if (auto w = write_text_atomically(merge.str(), script); !w.ok()) return Result<std::string>::failure(w);
     if (!after.empty()) {
@@ -354,14 +357,14 @@ std::vector<std::vector<int>> share_tasks(std::ostringstream& cases, const fs::p
     std::vector<std::vector<int>> pending_of(frames.size());
     for (size_t i = 0; i < frames.size(); ++i) {
         const Frame& f = frames[i];
-        fs::create_directories(farm / "parts" / f.tag, ec);
+        fs::create_directories(farm / "shares" / f.tag, ec);
         const bool merged = frame_merged(f);
         for (int k = 1; k <= n; ++k) {
             const int index = int(i) * n + k - 1;
-            const fs::path part = part_path(farm, f, k, n);
-            const std::string share = " --part " + std::to_string(k) + "/" + std::to_string(n);
-            cases << index << ") exec " << apply_command(flags, f.input, part.string(), share) << " ;;\n";
-            if (!merged && !part_complete(part, f, k, n)) pending_of[i].push_back(index);
+            const fs::path file = share_path(farm, f, k, n);
+            const std::string share = " --share " + std::to_string(k) + "/" + std::to_string(n);
+            cases << index << ") exec " << apply_command(flags, f.input, file.string(), share) << " ;;\n";
+            if (!merged && !share_complete(file, f, k, n)) pending_of[i].push_back(index);
         }
     }
     return pending_of;

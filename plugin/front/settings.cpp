@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "wavecam/aperture_mask.h"
+#include "wavecam/share_files.h"
 #include "wavecam/spectrum.h"
 #include "wavecam/units.h"
 
@@ -298,8 +299,9 @@ const SettingKey* find_key(const std::string& key) {
 }
 
 // What wavecam and its tools write into headers beside the settings: records of a run (the
-// output's, a share's `wavecam.part.*`, `wavecam psf`'s, the compare sheet's) and of the scene
-// (the tracer's, the POV-Ray harness's). Read back from a source they are known, and set nothing.
+// output's, a share file's `wavecam.share` and `wavecam.share.*`, `wavecam psf`'s, the compare
+// sheet's) and of the scene (the tracer's, the POV-Ray harness's). Read back from a source they
+// are known, and set nothing.
 constexpr const char* kRecordedAttributes[] = {
     "fov", "fov-from", "film-width", "cropped-overscan", "light", "summation-chosen", "alpha", "negative-clamped",
     "out-of-gamut-mapped", "fresnel-number", "summary", "job", "diffracted-channels", "edge", "half-overflow-written",
@@ -307,8 +309,12 @@ constexpr const char* kRecordedAttributes[] = {
     "quantity", "zoneplate-focus", "source-angle", "source-distance", "wavelength", "film-size", "pixel-pitch",
     "film-centre", "sample-pitch", "sample-count", "orientation"};
 
+// A share file's records (share_files.h): share, share.NAME, and part.NAME, their other spelling.
+bool is_share_record(const std::string& key) { return key == "share" || key.rfind("share.", 0) == 0; }
+bool is_old_share_record(const std::string& key) { return key.rfind("part.", 0) == 0; }
+
 bool is_recorded_attribute(const std::string& key) {
-    if (key.rfind("part.", 0) == 0) return true;  // a share's records (share_files.h)
+    if (is_share_record(key) || is_old_share_record(key)) return true;
     for (const char* r : kRecordedAttributes)
         if (key == r) return true;
     return false;
@@ -376,6 +382,7 @@ Result<ResolvedSettings> resolve_settings(const OIIO::ImageSpec& source, const S
         std::string text, name;
     };
     std::map<std::string, Given> layers;  // each key from the highest layer that gives it
+    bool old_share_records = false;        // wavecam.part.* records: read, with a note
     for (const OIIO::ParamValue& p : source.extra_attribs) {
         const std::string attribute = p.name().string();
         if (attribute.rfind("wavecam.", 0) != 0) continue;
@@ -383,6 +390,7 @@ Result<ResolvedSettings> resolve_settings(const OIIO::ImageSpec& source, const S
         // a typo never falls back to a default: a name that is neither a setting nor a record is refused
         if (!k && !is_recorded_attribute(attribute.substr(8)))
             return R::failure(unknown_key_message(attribute + " (the file's header)", attribute.substr(8)));
+        old_share_records |= is_old_share_record(attribute.substr(8));
         if (!k || !k->from_source) continue;
         auto text = attribute_text(p);
         if (!text.ok()) return R::failure(text);
@@ -397,6 +405,7 @@ Result<ResolvedSettings> resolve_settings(const OIIO::ImageSpec& source, const S
     for (const auto& [key, text] : sources.given) layers[key] = {text, sources.given_name(key)};
 
     ResolvedSettings r;
+    if (old_share_records) r.notes.push_back(kOldShareRecordNote);
     r.options.runs_from_psf = true;  // the fronts' default: runs=auto
     for (const auto& [key, given] : layers) {
         const SettingKey* k = find_key(key);
@@ -435,7 +444,7 @@ std::string word_failure(const Result<bool>& f, Front front) {
             if (f.field == "max-memory")
                 return f.error + "; use a smaller image or pinhole, or raise " + name(f.field) + " (e.g. " + give(f.field) + ")";
             return f.error + "; lower " + name("runs") + ", " + name("wavelengths") + " or the image size, raise " +
-                   name(f.field) + (command ? ", or share the work out (--part K/N, wavecam farm)" : "");
+                   name(f.field) + (command ? ", or share the work out (--share K/N, wavecam farm)" : "");
         case ErrorKind::Invalid: return f.error + " (" + name(f.field) + ")";
         default: return f.error;
     }

@@ -103,7 +103,7 @@ TEST_F(Farm, ACancelledTaskIsNamedByTheMergeAndAResubmitCompletesIt) {
     auto status = run_command(kWavecam + " farm status " + path("held.exr"));
     EXPECT_NE(status.status, 0);
     EXPECT_NE(status.output.find("3 of 4 shares done; missing: 3 not queued"), std::string::npos) << status.output;
-    auto merge = run_command(kWavecam + " merge '" + path("held.exr.farm/parts/image/share-*-of-4.exr") + "' -o " +
+    auto merge = run_command(kWavecam + " merge '" + path("held.exr.farm/shares/image/share-*-of-4.exr") + "' -o " +
                              path("held.exr"));
     EXPECT_NE(merge.status, 0);
     EXPECT_NE(merge.output.find("share 3/4 missing"), std::string::npos) << merge.output;

@@ -344,7 +344,7 @@ TEST(OutputFiles, NoOutputIsAnInputOrAnotherOutputInAnyCommand) {
     const std::string job = " --method exact --film-distance 20mm --pinhole 0.05mm --wavelengths 2 --runs 2 "
                             "--film-subsamples 1 --seed 7";
     for (const char* k : {"1", "2"}) {
-        auto r = run_command("cd " + d + " && " + kWavecam + " apply in.exr -o p" + k + ".exr" + job + " --part " +
+        auto r = run_command("cd " + d + " && " + kWavecam + " apply in.exr -o p" + k + ".exr" + job + " --share " +
                              k + "/2");
         ASSERT_EQ(r.status, 0) << r.output;
     }
@@ -356,8 +356,8 @@ TEST(OutputFiles, NoOutputIsAnInputOrAnotherOutputInAnyCommand) {
         {" apply shot.#.exr -o out.#.exr --compare shot.#.exr --frames 1-2",
          "--compare (frame 1) shot.0001.exr is the same file as the render (frame 1) shot.0001.exr"},
         {" apply shot.#.exr -o shot.#.exr --frames 2", "-o (frame 2) shot.0002.exr is the same file as the render"},
-        {" merge p1.exr p2.exr -o p1.exr", "-o p1.exr is the same file as the part file p1.exr"},
-        {" merge 'p*.exr' -o ./p2.exr", "-o ./p2.exr is the same file as the part file"},
+        {" merge p1.exr p2.exr -o p1.exr", "-o p1.exr is the same file as the share file p1.exr"},
+        {" merge 'p*.exr' -o ./p2.exr", "-o ./p2.exr is the same file as the share file"},
         {" merge p1.exr p2.exr -o in.exr", "-o in.exr is the same file as the shares' render"},
         {" merge p1.exr p2.exr -o m.exr --compare ./in.exr", "--compare ./in.exr is the same file as the shares' render"},
         {" merge p1.exr p2.exr -o m.exr --png m.exr", "--png m.exr is the same file as -o m.exr"},

@@ -1,4 +1,4 @@
-// Shares and merge (`wavecam apply --part K/N`, `wavecam merge`) as a user runs them: the
+// Shares and merge (`wavecam apply --share K/N`, `wavecam merge`) as a user runs them: the
 // merged image equals the single-machine run, and every bad set is refused with nothing written.
 #include <gtest/gtest.h>
 #include <OpenImageIO/imagebuf.h>
@@ -40,8 +40,8 @@ struct Fixture {
     std::string input;
     explicit Fixture(const std::string& name) : dir(scratch(name)), input((dir / "in.exr").string()) {
         write_render(input, 24, 16, 2.0f, 30.0f);
-        // saturated primaries: their spectra go negative at some wavelengths, so parts carry
-        // the negative channels too
+        // saturated primaries: their spectra go negative at some wavelengths, so share files
+        // carry the negative channels too
         OIIO::ImageBuf in(input);
         in.read(0, 0, true, OIIO::TypeDesc::FLOAT);
         for (int j = 10; j < 14; ++j) {
@@ -53,12 +53,14 @@ struct Fixture {
     }
     ~Fixture() { fs::remove_all(dir); }
     std::string path(const std::string& f) const { return (dir / f).string(); }
-    CommandRun part(int k, int n, const std::string& out, const std::string& extra = "") const {
-        return run_command(kWavecam + " apply " + input + " -o " + path(out) + job_with(extra) + " --part " +
+    // `flag` "--part" gives the share with the flag's other spelling
+    CommandRun share(int k, int n, const std::string& out, const std::string& extra = "",
+                     const std::string& flag = "--share") const {
+        return run_command(kWavecam + " apply " + input + " -o " + path(out) + job_with(extra) + " " + flag + " " +
                            std::to_string(k) + "/" + std::to_string(n));
     }
-    CommandRun merge(const std::string& parts, const std::string& out) const {
-        return run_command("cd " + dir.string() + " && " + kWavecam + " merge " + parts + " -o " + path(out));
+    CommandRun merge(const std::string& shares, const std::string& out) const {
+        return run_command("cd " + dir.string() + " && " + kWavecam + " merge " + shares + " -o " + path(out));
     }
 };
 
@@ -112,14 +114,14 @@ TEST(Shares, MergeEqualsTheSingleMachineRun) {
     ASSERT_EQ(single.status, 0) << single.output;
     for (int n : {4, 13}) {
         for (int k = 1; k <= n; ++k) {
-            auto r = f.part(k, n, "n" + std::to_string(n) + "_part" + std::to_string(k) + ".exr");
+            auto r = f.share(k, n, "n" + std::to_string(n) + "_share" + std::to_string(k) + ".exr");
             ASSERT_EQ(r.status, 0) << r.output;
         }
-        OIIO::ImageBuf last(f.path("n" + std::to_string(n) + "_part" + std::to_string(n) + ".exr"));
+        OIIO::ImageBuf last(f.path("n" + std::to_string(n) + "_share" + std::to_string(n) + ".exr"));
         ASSERT_TRUE(last.read());
         EXPECT_GE(last.spec().channelindex("w002.r001.neg"), 0) << "the test should cover negative power";
         const std::string out = "merged" + std::to_string(n) + ".exr";
-        auto m = f.merge("'n" + std::to_string(n) + "_part*.exr'", out);
+        auto m = f.merge("'n" + std::to_string(n) + "_share*.exr'", out);
         ASSERT_EQ(m.status, 0) << m.output;
         // the same sums in the same order: bit for bit on one machine
         EXPECT_EQ(max_difference(f.path("single.exr"), f.path(out)), 0.0f) << n << " shares";
@@ -128,7 +130,7 @@ TEST(Shares, MergeEqualsTheSingleMachineRun) {
     EXPECT_GT(max_difference(f.path("single.exr"), f.input), 1e-3f);
 }
 
-// An input rendered with overscan: the parts hold the input's rows (the margin's film is not
+// An input rendered with overscan: the share files hold the input's rows (the margin's film is not
 // summed), and the merge crops the margin as the single run does.
 TEST(Shares, OverscanSharesMergeEqualToTheSingleRun) {
     Fixture f("shares_overscan");
@@ -136,10 +138,10 @@ TEST(Shares, OverscanSharesMergeEqualToTheSingleRun) {
     auto single = run_command(kWavecam + " apply " + f.input + " -o " + f.path("single.exr") + job_with(overscan));
     ASSERT_EQ(single.status, 0) << single.output;
     for (int k = 1; k <= 3; ++k) {
-        auto r = f.part(k, 3, "part" + std::to_string(k) + ".exr", overscan);
+        auto r = f.share(k, 3, "share" + std::to_string(k) + ".exr", overscan);
         ASSERT_EQ(r.status, 0) << r.output;
     }
-    auto m = f.merge("'part*.exr'", "merged.exr");
+    auto m = f.merge("'share*.exr'", "merged.exr");
     ASSERT_EQ(m.status, 0) << m.output;
     OIIO::ImageBuf merged(f.path("merged.exr"));
     ASSERT_TRUE(merged.read());
@@ -150,16 +152,16 @@ TEST(Shares, OverscanSharesMergeEqualToTheSingleRun) {
 
 TEST(Shares, BadSetsAreRefusedNamingTheShareAndNothingIsWritten) {
     Fixture f("shares_bad");
-    for (int k = 1; k <= 3; ++k) ASSERT_EQ(f.part(k, 3, "p" + std::to_string(k) + ".exr").status, 0);
+    for (int k = 1; k <= 3; ++k) ASSERT_EQ(f.share(k, 3, "p" + std::to_string(k) + ".exr").status, 0);
     // other seed, other setting, other input: share 2 made differently
-    ASSERT_EQ(f.part(2, 3, "seed2.exr", " --seed 8").status, 0);
-    ASSERT_EQ(f.part(2, 3, "pinhole2.exr", " --pinhole 0.12mm").status, 0);
+    ASSERT_EQ(f.share(2, 3, "seed2.exr", " --seed 8").status, 0);
+    ASSERT_EQ(f.share(2, 3, "pinhole2.exr", " --pinhole 0.12mm").status, 0);
     write_render(f.path("other.exr"), 24, 16, 3.0f, 30.0f);
     ASSERT_EQ(run_command(kWavecam + " apply " + f.path("other.exr") + " -o " + f.path("input2.exr") + job() +
-                          " --part 2/3")
+                          " --share 2/3")
                   .status,
               0);
-    ASSERT_EQ(f.part(2, 4, "split2.exr").status, 0);
+    ASSERT_EQ(f.share(2, 4, "split2.exr").status, 0);
     fs::copy_file(f.path("p2.exr"), f.path("copy2.exr"));
     {  // corrupt: the file cut short, and one pixel changed behind the checksum's back
         std::string bytes;
@@ -176,7 +178,7 @@ TEST(Shares, BadSetsAreRefusedNamingTheShareAndNothingIsWritten) {
     std::ofstream(f.path("text.exr")) << "not an image";
 
     struct Case {
-        std::string parts, expected;
+        std::string shares, expected;
     };
     const std::vector<Case> cases = {
         {"p1.exr p3.exr", "share 2/3 missing (given: 2 of 3)"},
@@ -188,15 +190,15 @@ TEST(Shares, BadSetsAreRefusedNamingTheShareAndNothingIsWritten) {
         {"p1.exr cut2.exr p3.exr", "cut2.exr: cannot be read as an image ("},
         {"p1.exr edited2.exr p3.exr", "edited2.exr: corrupt: its pixels do not match the checksum in its header"},
         {"p1.exr text.exr p3.exr", "text.exr: cannot be read as an image ("},
-        {"p1.exr " + f.input + " p3.exr", f.input + ": not a wavecam part file"},
-        {"'none*.exr'", "none*.exr: no part files match this pattern"},
+        {"p1.exr " + f.input + " p3.exr", f.input + ": not a wavecam share file"},
+        {"'none*.exr'", "none*.exr: no share files match this pattern"},
     };
     for (const auto& c : cases) {
-        auto r = f.merge(c.parts, "out.exr");
-        EXPECT_NE(r.status, 0) << c.parts;
+        auto r = f.merge(c.shares, "out.exr");
+        EXPECT_NE(r.status, 0) << c.shares;
         EXPECT_NE(r.output.find("refused, nothing written"), std::string::npos) << r.output;
-        EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.parts << "\n" << r.output;
-        EXPECT_FALSE(fs::exists(f.path("out.exr"))) << c.parts;
+        EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.shares << "\n" << r.output;
+        EXPECT_FALSE(fs::exists(f.path("out.exr"))) << c.shares;
     }
     // the input changed after the shares were computed
     write_render(f.input, 24, 16, 2.5f, 30.0f);
@@ -205,30 +207,97 @@ TEST(Shares, BadSetsAreRefusedNamingTheShareAndNothingIsWritten) {
     EXPECT_FALSE(fs::exists(f.path("out.exr")));
 }
 
-TEST(Shares, PartFlagErrorsAndACompletePartIsKept) {
+TEST(Shares, ShareFlagErrorsAndACompleteShareIsKept) {
     Fixture f("shares_flags");
-    auto bad = f.part(5, 4, "x.exr");
+    auto bad = f.share(5, 4, "x.exr");
     EXPECT_EQ(WEXITSTATUS(bad.status), 2) << bad.output;
-    EXPECT_NE(bad.output.find("--part: expected K/N with 1 <= K <= N"), std::string::npos) << bad.output;
-    auto many = f.part(1, 24 * 16 * 6 + 1, "x.exr");
+    EXPECT_NE(bad.output.find("--share: expected K/N with 1 <= K <= N"), std::string::npos) << bad.output;
+    auto many = f.share(1, 24 * 16 * 6 + 1, "x.exr");
     EXPECT_NE(many.output.find("more than the job's 6 units x 16 film rows"), std::string::npos) << many.output;
-    auto fast = run_command(kWavecam + " apply " + f.input + " -o " + f.path("x.exr") + " --part 1/2 --fov 30deg");
+    auto fast = run_command(kWavecam + " apply " + f.input + " -o " + f.path("x.exr") + " --share 1/2 --fov 30deg");
     EXPECT_NE(fast.output.find("expected method random-phase or incoherent (--method)"), std::string::npos) << fast.output;
     EXPECT_FALSE(fs::exists(f.path("x.exr")));
     // the share's own terms are bounded, and the message describes the job
-    auto big = f.part(1, 2, "x.exr", " --max-terms 1e6");
+    auto big = f.share(1, 2, "x.exr", " --max-terms 1e6");
     EXPECT_NE(big.output.find("share 1/2 of 24x16 pixels x 3 wavelengths x 2 runs"), std::string::npos) << big.output;
     EXPECT_NE(big.output.find("beyond the max-terms limit of 1e+06"), std::string::npos) << big.output;
     EXPECT_NE(big.output.find("raise --max-terms"), std::string::npos) << big.output;
-    // a re-run task keeps a complete part of the same job (a killed task is simply re-run)
-    ASSERT_EQ(f.part(1, 2, "p1.exr").status, 0);
+    // a re-run task keeps a complete share file of the same job (a killed task is simply re-run)
+    ASSERT_EQ(f.share(1, 2, "p1.exr").status, 0);
     const auto written = fs::last_write_time(f.path("p1.exr"));
-    auto again = f.part(1, 2, "p1.exr");
+    auto again = f.share(1, 2, "p1.exr");
     EXPECT_NE(again.output.find("already complete; kept"), std::string::npos) << again.output;
     EXPECT_EQ(fs::last_write_time(f.path("p1.exr")), written);
     // ...but not one of another seed
-    auto other = f.part(1, 2, "p1.exr", " --seed 9");
+    auto other = f.share(1, 2, "p1.exr", " --seed 9");
     EXPECT_EQ(other.output.find("already complete"), std::string::npos) << other.output;
+}
+
+// `--part K/N` is --share's other spelling: the same share file, with one note on standard error
+// (`--help` lists --share alone, and the two given with different shares are refused). A share
+// file whose header spells its records wavecam.part.* is read as one spelt wavecam.share.*: kept
+// by a re-run task, merged to the same image, with one note.
+TEST(Shares, ThePartSpellingOfTheShareFlagAndRecordsIsReadWithANote) {
+    Fixture f("shares_spelling");
+    auto count = [](const std::string& text, const std::string& line) {
+        size_t n = 0;
+        for (size_t at = text.find(line); at != std::string::npos; at = text.find(line, at + 1)) ++n;
+        return n;
+    };
+    const std::string flag_note = "wavecam: --part is now spelt --share (same meaning)";
+    const std::string record_note = std::string("wavecam: ") + wavecam::kOldShareRecordNote;
+    auto s1 = f.share(1, 2, "s1.exr"), s2 = f.share(2, 2, "s2.exr");
+    ASSERT_EQ(s1.status, 0) << s1.output;
+    ASSERT_EQ(s2.status, 0) << s2.output;
+    EXPECT_EQ(s2.output.find("--part"), std::string::npos) << s2.output;
+    auto p2 = f.share(2, 2, "p2.exr", "", "--part");
+    ASSERT_EQ(p2.status, 0) << p2.output;
+    EXPECT_EQ(count(p2.output, flag_note), 1u) << p2.output;
+    EXPECT_NE(p2.output.find("share 2/2 ("), std::string::npos) << p2.output;
+    const OIIO::ImageBuf by_share = read_float(f.path("s2.exr")), by_part = read_float(f.path("p2.exr"));
+    EXPECT_EQ(by_part.spec().get_string_attribute("wavecam.share"), "2/2");
+    EXPECT_EQ(by_part.spec().get_string_attribute("wavecam.share.job"),
+              by_share.spec().get_string_attribute("wavecam.share.job"));
+    EXPECT_EQ(max_difference(f.path("s2.exr"), f.path("p2.exr")), 0.0f);
+    auto merged = f.merge("s1.exr p2.exr", "merged.exr");
+    ASSERT_EQ(merged.status, 0) << merged.output;
+
+    auto both = run_command(kWavecam + " apply " + f.input + " -o " + f.path("x.exr") + job() +
+                            " --share 1/2 --part 2/2");
+    EXPECT_EQ(WEXITSTATUS(both.status), 2) << both.output;
+    EXPECT_NE(both.output.find("--share 1/2 and --part 2/2: one flag given twice"), std::string::npos) << both.output;
+    EXPECT_FALSE(fs::exists(f.path("x.exr")));
+    auto help = run_command(kWavecam + " apply --help");
+    EXPECT_NE(help.output.find("--share"), std::string::npos) << help.output;
+    EXPECT_EQ(help.output.find("--part"), std::string::npos) << help.output;
+
+    {  // share 2/2 with its records spelt wavecam.part.share and wavecam.part.NAME
+        OIIO::ImageBuf old = read_float(f.path("s2.exr"));
+        OIIO::ImageSpec& spec = old.specmod();
+        OIIO::ParamValueList respelt;
+        for (const OIIO::ParamValue& a : spec.extra_attribs) {
+            const std::string name = a.name().string();
+            if (name == "wavecam.share")
+                respelt.push_back(OIIO::ParamValue("wavecam.part.share", a.type(), 1, a.data()));
+            else if (name.rfind("wavecam.share.", 0) == 0)
+                respelt.push_back(OIIO::ParamValue("wavecam.part." + name.substr(14), a.type(), 1, a.data()));
+            else
+                respelt.push_back(a);
+        }
+        spec.extra_attribs = respelt;
+        ASSERT_TRUE(old.write(f.path("old2.exr"))) << old.geterror();
+    }
+    const OIIO::ImageBuf old = read_float(f.path("old2.exr"));
+    EXPECT_EQ(old.spec().get_string_attribute("wavecam.share"), "");
+    EXPECT_EQ(old.spec().get_string_attribute("wavecam.part.share"), "2/2");
+    auto kept = f.share(2, 2, "old2.exr");
+    EXPECT_NE(kept.output.find("already complete; kept"), std::string::npos) << kept.output;
+    EXPECT_EQ(count(kept.output, record_note), 1u) << kept.output;
+    auto merged_old = f.merge("s1.exr old2.exr", "merged_old.exr");
+    ASSERT_EQ(merged_old.status, 0) << merged_old.output;
+    EXPECT_EQ(count(merged_old.output, record_note), 1u) << merged_old.output;
+    EXPECT_EQ(count(merged.output, record_note), 0u) << merged.output;
+    EXPECT_EQ(max_difference(f.path("merged.exr"), f.path("merged_old.exr")), 0.0f);
 }
 
 // Monochrome light diffracts each channel on its own (three propagations per wavelength): its
@@ -240,16 +309,16 @@ TEST(Shares, MonochromeSharesMergeEqualToTheSingleRun) {
     ASSERT_EQ(single.status, 0) << single.output;
     for (int n : {2, 5}) {
         for (int k = 1; k <= n; ++k) {
-            auto r = f.part(k, n, "n" + std::to_string(n) + "_part" + std::to_string(k) + ".exr", mono);
+            auto r = f.share(k, n, "n" + std::to_string(n) + "_share" + std::to_string(k) + ".exr", mono);
             ASSERT_EQ(r.status, 0) << r.output;
         }
-        OIIO::ImageBuf last(f.path("n" + std::to_string(n) + "_part" + std::to_string(n) + ".exr"));
+        OIIO::ImageBuf last(f.path("n" + std::to_string(n) + "_share" + std::to_string(n) + ".exr"));
         ASSERT_TRUE(last.read());
         // the last share holds run 2 of the one wavelength: every channel's propagation
         for (const char* c : {"w000.r001.pos", "w001.r001.pos", "w002.r001.pos"})
             EXPECT_GE(last.spec().channelindex(c), 0) << c << " in share " << n << "/" << n;
         const std::string out = "merged" + std::to_string(n) + ".exr";
-        auto m = f.merge("'n" + std::to_string(n) + "_part*.exr'", out);
+        auto m = f.merge("'n" + std::to_string(n) + "_share*.exr'", out);
         ASSERT_EQ(m.status, 0) << m.output;
         EXPECT_EQ(max_difference(f.path("single.exr"), f.path(out)), 0.0f) << n << " shares";
     }
@@ -311,7 +380,7 @@ TEST(Shares, EstimateCountsMonochromeLightThreeTimes) {
 
 // Every split of every small job shape: 1-3 wavelengths (1 and 2 are monochrome light, three
 // propagations per wavelength; 3 is colour) x 1-3 runs, into 1-4 shares (fewer shares than
-// units, as many, and more: bands of rows). Each split, written as part files, read back, checked
+// units, as many, and more: bands of rows). Each split, written as share files, read back, checked
 // as a set and merged, equals the single run bit for bit. In-process, on a 4 x 4 frame, so that
 // the 36 splits take a few seconds.
 TEST(Shares, EverySplitOfEveryJobShapeMergesToTheSingleRun) {
@@ -332,7 +401,7 @@ TEST(Shares, EverySplitOfEveryJobShapeMergesToTheSingleRun) {
     }
     OIIO::ImageBuf src(input);
     ASSERT_TRUE(src.read(0, 0, true, OIIO::TypeDesc::FLOAT));
-    int negative_parts = 0;
+    int negative_channels = 0;
     for (int waves = 1; waves <= 3; ++waves)
         for (int runs = 1; runs <= 3; ++runs) {
             wavecam::DiffractOptions opt;
@@ -351,28 +420,28 @@ TEST(Shares, EverySplitOfEveryJobShapeMergesToTheSingleRun) {
             const wavecam::SettingsText settings = {{"wavelengths", std::to_string(waves)},
                                                     {"runs", std::to_string(runs)}};
             for (int n = 1; n <= 4; ++n) {
-                std::vector<wavecam::PartFile> parts;
+                std::vector<wavecam::ShareFile> shares;
                 for (int k = 1; k <= n; ++k) {
-                    OIIO::ImageBuf part;
-                    auto r = wavecam::diffract_share(part, src, opt, {input, settings}, {k, n}, 1);
+                    OIIO::ImageBuf share;
+                    auto r = wavecam::diffract_share(share, src, opt, {input, settings}, {k, n}, 1);
                     ASSERT_TRUE(r.ok()) << shape << ", share " << k << "/" << n << ": " << r.error;
                     // a name of its own per split (OIIO's image cache knows a name read before)
                     const std::string path = (dir / ("w" + std::to_string(waves) + "r" + std::to_string(runs) + "_" +
                                                      std::to_string(k) + "of" + std::to_string(n) + ".exr"))
                                                  .string();
-                    auto w = wavecam::write_image_atomically(part, path, OIIO::TypeDesc::FLOAT);
+                    auto w = wavecam::write_image_atomically(share, path, OIIO::TypeDesc::FLOAT);
                     ASSERT_TRUE(w.ok()) << w.error;
-                    auto p = wavecam::read_part(path);
+                    auto p = wavecam::read_share(path);
                     ASSERT_TRUE(p.ok()) << shape << ", share " << k << "/" << n << ": " << p.error;
                     for (const auto& name : p.value.image.spec().channelnames)
-                        negative_parts += name.find(".neg") != std::string::npos;
-                    parts.push_back(std::move(p.value));
+                        negative_channels += name.find(".neg") != std::string::npos;
+                    shares.push_back(std::move(p.value));
                 }
-                auto set = wavecam::check_part_set(parts);
+                auto set = wavecam::check_share_set(shares);
                 ASSERT_TRUE(set.ok()) << shape << ", " << n << " shares: " << set.error;
                 wavecam::DiffractOptions merge = opt;
                 merge.max_terms = INFINITY;
-                merge.scene_sum_propagator = wavecam::stored_units(parts);
+                merge.scene_sum_propagator = wavecam::stored_units(shares);
                 OIIO::ImageBuf merged;
                 auto m = wavecam::DiffractPlan(merge).diffract(merged, src, input, 1);
                 ASSERT_TRUE(m.ok()) << shape << ", " << n << " shares: " << m.error;
@@ -385,6 +454,6 @@ TEST(Shares, EverySplitOfEveryJobShapeMergesToTheSingleRun) {
                 EXPECT_GT(*std::max_element(a.begin(), a.end()), 0.0f) << shape;
             }
         }
-    EXPECT_GT(negative_parts, 0) << "the test should cover negative spectral power";
+    EXPECT_GT(negative_channels, 0) << "the test should cover negative spectral power";
     fs::remove_all(dir);
 }

@@ -19,10 +19,10 @@ struct WorkShare {
 };
 
 // The K-th of N shares of `wavelengths` x `runs` units on a film `height` rows high.
-// Errors name what is wrong ("part: ..."): K outside 1..N, or more shares than unit rows.
+// Errors name what is wrong ("share: ..."): K outside 1..N, or more shares than unit rows.
 Result<WorkShare> work_share(int index, int count, int wavelengths, int runs, int height);
 
-// "K/N" -> (K, N); errors read "--part: expected K/N with 1 <= K <= N, e.g. 3/8, got '...'".
+// "K/N" -> (K, N); errors read "--share: expected K/N with 1 <= K <= N, e.g. 3/8, got '...'".
 Result<WorkShare> parse_share(const std::string& text);
 
 // "wavelengths 0-2 x runs 0-1, rows 0-15": what a share sums, for headers and messages.

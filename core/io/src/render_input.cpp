@@ -200,12 +200,12 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
     // (DiffractPlan::diffract takes anamorphic frames to square pixels before they reach here)
     if (const float aspect = spec.get_float_attribute("PixelAspectRatio", 1.0f); aspect != 1.0f)
         return fail("pixel aspect ratio " + OIIO::Strutil::fmt::format("{:g}", aspect) +
-                    ": a share of a job (apply --part, farm) is computed on square pixels; expected square pixels, "
+                    ": a share of a job (apply --share, farm) is computed on square pixels; expected square pixels, "
                     "or the whole frame diffracted in one run (wavecam apply, the plugin)");
     // (DiffractPlan::diffract takes each view of a multi-view file alone, multi_view.h)
     if (const std::vector<std::string> views = detail::view_names(spec); !views.empty())
         return fail("a multi-view (stereo) file, views " + OIIO::Strutil::join(views, ", ") +
-                    ": a share of a job (apply --part, farm) reads one view; expected a single-view file, or the whole "
+                    ": a share of a job (apply --share, farm) reads one view; expected a single-view file, or the whole "
                     "file diffracted in one run (wavecam apply, the plugin), each view with its own depth");
     if (spec.find_attribute("wavecam.summary") && !opt.diffract_again)
         return fail(already_diffracted(spec), ErrorKind::Invalid, "diffract-again");

@@ -15,7 +15,30 @@
 namespace wavecam {
 namespace {
 
-constexpr const char* kSettingPrefix = "wavecam.part.setting.";
+// The share's records: wavecam.share ("K/N") and wavecam.share.NAME; wavecam.part.share and
+// wavecam.part.NAME read as the same records.
+constexpr const char* kShareRecord = "wavecam.share";
+constexpr const char* kOldShareRecord = "wavecam.part.share";
+constexpr const char* kRecordPrefix = "wavecam.share.";
+constexpr const char* kOldRecordPrefix = "wavecam.part.";
+constexpr const char* kSettingPrefix = "setting.";  // wavecam.share.setting.KEY: a setting as given
+
+std::string record_name(const std::string& name) { return name.empty() ? kShareRecord : kRecordPrefix + name; }
+std::string old_record_name(const std::string& name) {
+    return name.empty() ? kOldShareRecord : kOldRecordPrefix + name;
+}
+
+const OIIO::ParamValue* find_record(const OIIO::ImageSpec& spec, const std::string& name, bool* old_spelling) {
+    if (const OIIO::ParamValue* p = spec.find_attribute(record_name(name))) return p;
+    const OIIO::ParamValue* p = spec.find_attribute(old_record_name(name));
+    if (p && old_spelling) *old_spelling = true;
+    return p;
+}
+
+int int_record(const OIIO::ImageSpec& spec, const std::string& name, bool* old_spelling, int absent = 0) {
+    const OIIO::ParamValue* p = find_record(spec, name, old_spelling);
+    return p ? p->get_int(absent) : absent;
+}
 
 // FNV-1a, 64 bit (Fowler, Noll, Vo): a fingerprint, not a cryptographic hash.
 struct Fnv1a {
@@ -60,16 +83,16 @@ bool parse_range(const std::string& t, int& a, int& b) {
     return std::sscanf(t.c_str(), "%d-%d%n", &a, &b, &used) == 2 && used == int(t.size());
 }
 
-std::string share_name(const PartFile& p) {
+std::string share_name(const ShareFile& p) {
     return "share " + std::to_string(p.share.index) + "/" + std::to_string(p.share.count) + " (" + p.path + ")";
 }
 
-// The value most parts carry (the first part's on a tie), so the odd one out is named.
+// The value most shares carry (the first share's on a tie), so the odd one out is named.
 template <class Key>
-Key majority(const std::vector<PartFile>& parts, Key (*key)(const PartFile&)) {
+Key majority(const std::vector<ShareFile>& shares, Key (*key)(const ShareFile&)) {
     std::map<Key, int> count;
-    for (const auto& p : parts) ++count[key(p)];
-    Key best = key(parts.front());
+    for (const auto& p : shares) ++count[key(p)];
+    Key best = key(shares.front());
     for (const auto& [k, n] : count)
         if (n > count[best]) best = k;
     return best;
@@ -184,10 +207,10 @@ MonochromePropagator unit_propagator(const Share& j, const ProgressFn& progress,
     };
 }
 
-// The part's header: the whole job's (`spec`), its channels the units by name, its window the
+// The share file's header: the whole job's (`spec`), its channels the units by name, its window the
 // share's rows of the input (an overscan margin included: the merge crops it, as a single run
 // does), and what was summed: share `share` of `job`.
-OIIO::ImageSpec part_spec(OIIO::ImageSpec spec, const Share& j, const std::vector<std::string>& order,
+OIIO::ImageSpec share_spec(OIIO::ImageSpec spec, const Share& j, const std::vector<std::string>& order,
                           const JobRecord& job, const WorkShare& share) {
     const std::string& input_path = job.input_path;
     const SettingsText& settings = job.settings;
@@ -201,24 +224,29 @@ OIIO::ImageSpec part_spec(OIIO::ImageSpec spec, const Share& j, const std::vecto
     spec.height = j.sh.row_end - j.sh.row_begin;
     spec.full_y = 0;
     spec.full_height = j.f.in.height;
-    spec.attribute("wavecam.part.share", std::to_string(share.index) + "/" + std::to_string(share.count));
-    spec.attribute("wavecam.part.units", range_text(j.sh.unit_begin, j.sh.unit_end));
-    spec.attribute("wavecam.part.rows", range_text(j.sh.row_begin, j.sh.row_end));
-    spec.attribute("wavecam.part.summed", describe_share(j.sh, j.R));
-    spec.attribute("wavecam.part.wavelength-count", j.S);
-    spec.attribute("wavecam.part.runs", j.R);
-    spec.attribute("wavecam.part.propagations", j.per_wavelength);
-    spec.attribute("wavecam.part.terms", float(j.terms));
-    spec.attribute("wavecam.part.input", input_path);
-    spec.attribute("wavecam.part.input-fingerprint", j.fingerprint);
-    spec.attribute("wavecam.part.job", job_fingerprint(j.fingerprint, settings));
-    for (const auto& [k, v] : settings) spec.attribute(kSettingPrefix + k, v);
+    spec.attribute(record_name(""), std::to_string(share.index) + "/" + std::to_string(share.count));
+    spec.attribute(record_name("units"), range_text(j.sh.unit_begin, j.sh.unit_end));
+    spec.attribute(record_name("rows"), range_text(j.sh.row_begin, j.sh.row_end));
+    spec.attribute(record_name("summed"), describe_share(j.sh, j.R));
+    spec.attribute(record_name("wavelength-count"), j.S);
+    spec.attribute(record_name("runs"), j.R);
+    spec.attribute(record_name("propagations"), j.per_wavelength);
+    spec.attribute(record_name("terms"), float(j.terms));
+    spec.attribute(record_name("input"), input_path);
+    spec.attribute(record_name("input-fingerprint"), j.fingerprint);
+    spec.attribute(record_name("job"), job_fingerprint(j.fingerprint, settings));
+    for (const auto& [k, v] : settings) spec.attribute(record_name(kSettingPrefix + k), v);
     return spec;
 }
 
 }  // namespace
 
-Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, const DiffractOptions& opt,
+std::string share_record(const OIIO::ImageSpec& spec, const std::string& name, bool* old_spelling) {
+    const OIIO::ParamValue* p = find_record(spec, name, old_spelling);
+    return p ? p->get_string() : std::string();
+}
+
+Result<bool> diffract_share(OIIO::ImageBuf& share_image, const OIIO::ImageBuf& src, const DiffractOptions& opt,
                             const JobRecord& job, const WorkShare& share, int nthreads) {
     const std::string& input_path = job.input_path;
     const int index = share.index, count = share.count;
@@ -237,55 +265,58 @@ Result<bool> diffract_share(OIIO::ImageBuf& part, const OIIO::ImageBuf& src, con
     if (auto r = DiffractPlan(run).diffract(whole, src, j.f, input_path, nthreads); !r.ok()) return r;
     std::vector<std::string> order;  // by name, as OpenEXR stores them
     for (const auto& unit : units) order.push_back(unit.first);
-    const OIIO::ImageSpec spec = part_spec(whole.spec(), j, order, job, share);
-    part.reset(spec);
-    // each unit's rows written once, straight into its channel of the part
+    const OIIO::ImageSpec spec = share_spec(whole.spec(), j, order, job, share);
+    share_image.reset(spec);
+    // each unit's rows written once, straight into its channel of the share file
     const OIIO::stride_t row = OIIO::stride_t(j.f.in.width) * sizeof(float);
     for (int c = 0; c < spec.nchannels; ++c)
-        if (!part.set_pixels(OIIO::ROI(0, spec.width, spec.y, spec.y + spec.height, 0, 1, c, c + 1),
+        if (!share_image.set_pixels(OIIO::ROI(0, spec.width, spec.y, spec.y + spec.height, 0, 1, c, c + 1),
                              OIIO::TypeDesc::FLOAT, units[order[c]].data() + size_t(j.sh.row_begin) * j.f.in.width,
                              sizeof(float), row))
-            return Result<bool>::failure(input_path + ": cannot fill the part image: " + part.geterror());
-    part.specmod().attribute("wavecam.part.checksum", pixel_checksum(part));
+            return Result<bool>::failure(input_path + ": cannot fill the share image: " + share_image.geterror());
+    share_image.specmod().attribute(record_name("checksum"), pixel_checksum(share_image));
     return Result<bool>::success(true);
 }
 
-Result<PartFile> read_part(const std::string& path) {
-    auto fail = [&path](const std::string& m) { return Result<PartFile>::failure(path + ": " + m); };
-    PartFile p;
+Result<ShareFile> read_share(const std::string& path) {
+    auto fail = [&path](const std::string& m) { return Result<ShareFile>::failure(path + ": " + m); };
+    ShareFile p;
     p.path = path;
     auto image = read_image(path);
-    if (!image.ok()) return Result<PartFile>::failure(image.error);
+    if (!image.ok()) return Result<ShareFile>::failure(image.error);
     p.image = std::move(image.value);
     const OIIO::ImageSpec& spec = p.image.spec();
-    const std::string share = spec.get_string_attribute("wavecam.part.share");
-    if (share.empty()) return fail("not a wavecam part file: no wavecam.part.share in its header");
+    bool* old = &p.old_spelling;
+    const std::string share = share_record(spec, "", old);
+    if (share.empty()) return fail("not a wavecam share file: no wavecam.share in its header");
     auto k = parse_share(share);
     int ub = 0, ue = 0, rb = 0, re = 0;
-    p.wavelengths = spec.get_int_attribute("wavecam.part.wavelength-count");
-    p.runs = spec.get_int_attribute("wavecam.part.runs");
+    p.wavelengths = int_record(spec, "wavelength-count", old);
+    p.runs = int_record(spec, "runs", old);
     // propagations per wavelength: 1 for colour light, 3 (one per channel) for monochrome light
-    const int per = spec.get_int_attribute("wavecam.part.propagations", 1);
+    const int per = int_record(spec, "propagations", old, 1);
     p.width = spec.full_width;
     p.height = spec.full_height;
-    p.input = spec.get_string_attribute("wavecam.part.input");
-    p.input_fingerprint = spec.get_string_attribute("wavecam.part.input-fingerprint");
-    p.job = spec.get_string_attribute("wavecam.part.job");
-    if (!k.ok() || !parse_range(spec.get_string_attribute("wavecam.part.units"), ub, ue) ||
-        !parse_range(spec.get_string_attribute("wavecam.part.rows"), rb, re) || p.wavelengths < 1 || p.runs < 1 ||
+    p.input = share_record(spec, "input", old);
+    p.input_fingerprint = share_record(spec, "input-fingerprint", old);
+    p.job = share_record(spec, "job", old);
+    if (!k.ok() || !parse_range(share_record(spec, "units", old), ub, ue) ||
+        !parse_range(share_record(spec, "rows", old), rb, re) || p.wavelengths < 1 || p.runs < 1 ||
         (per != 1 && per != 3) || p.input.empty() || p.input_fingerprint.empty() || p.job.empty())
-        return fail("corrupt: its wavecam.part header is incomplete");
+        return fail("corrupt: its wavecam.share header is incomplete");
     auto layout = work_share(k.value.index, k.value.count, p.wavelengths, p.runs, p.height);
     if (!layout.ok() || layout.value.unit_begin != ub || layout.value.unit_end != ue ||
         layout.value.row_begin != rb || layout.value.row_end != re || spec.y != rb || spec.height != re - rb)
         return fail("corrupt: its header's units and rows are not share " + share + "'s");
     p.share = layout.value;
-    const std::string sum = spec.get_string_attribute("wavecam.part.checksum");
+    const std::string sum = share_record(spec, "checksum", old);
     if (sum != pixel_checksum(p.image))
         return fail("corrupt: its pixels do not match the checksum in its header");
+    // the settings under the spelling its share record has
+    const std::string settings = (p.old_spelling ? kOldRecordPrefix : kRecordPrefix) + std::string(kSettingPrefix);
     for (const auto& a : spec.extra_attribs) {
         const std::string name = a.name().string();
-        if (name.rfind(kSettingPrefix, 0) == 0) p.settings[name.substr(std::string(kSettingPrefix).size())] = a.get_string();
+        if (name.rfind(settings, 0) == 0) p.settings[name.substr(settings.size())] = a.get_string();
     }
     if (job_fingerprint(p.input_fingerprint, p.settings) != p.job)
         return fail("corrupt: its settings do not match the job fingerprint in its header");
@@ -294,21 +325,21 @@ Result<PartFile> read_part(const std::string& path) {
         for (int c = 0; c < per; ++c)
             if (const std::string name = channel_name(u / p.runs * per + c, u % p.runs, +1); spec.channelindex(name) < 0)
                 return fail("corrupt: channel " + name + " is missing");
-    return Result<PartFile>::success(std::move(p));
+    return Result<ShareFile>::success(std::move(p));
 }
 
-Result<bool> check_part_set(const std::vector<PartFile>& parts) {
-    if (parts.empty()) return Result<bool>::failure("no part files given");
+Result<bool> check_share_set(const std::vector<ShareFile>& shares) {
+    if (shares.empty()) return Result<bool>::failure("no share files given");
     std::vector<std::string> problems;
-    const std::string input = majority<std::string>(parts, [](const PartFile& p) { return p.input_fingerprint; });
-    const SettingsText settings = majority<SettingsText>(parts, [](const PartFile& p) { return p.settings; });
-    const int count = majority<int>(parts, [](const PartFile& p) { return p.share.count; });
-    std::map<int, const PartFile*> seen;
-    for (const auto& p : parts) {
+    const std::string input = majority<std::string>(shares, [](const ShareFile& p) { return p.input_fingerprint; });
+    const SettingsText settings = majority<SettingsText>(shares, [](const ShareFile& p) { return p.settings; });
+    const int count = majority<int>(shares, [](const ShareFile& p) { return p.share.count; });
+    std::map<int, const ShareFile*> seen;
+    for (const auto& p : shares) {
         const size_t before = problems.size();
         if (p.input_fingerprint != input) {
-            const PartFile& other = *std::find_if(parts.begin(), parts.end(),
-                                                  [&](const PartFile& q) { return q.input_fingerprint == input; });
+            const ShareFile& other = *std::find_if(shares.begin(), shares.end(),
+                                                   [&](const ShareFile& q) { return q.input_fingerprint == input; });
             problems.push_back(share_name(p) + ": made from another input (" + p.input + ", fingerprint " +
                                p.input_fingerprint + "; the other shares: " + other.input + ", fingerprint " + input +
                                ")");
@@ -345,11 +376,11 @@ Result<bool> check_part_set(const std::vector<PartFile>& parts) {
     return Result<bool>::failure(all);
 }
 
-MonochromePropagator stored_units(const std::vector<PartFile>& parts) {
+MonochromePropagator stored_units(const std::vector<ShareFile>& shares) {
     // Every unit's rows gathered into one full-height image per channel name.
     auto units = std::make_shared<std::map<std::string, std::vector<float>>>();
-    const int W = parts.front().width, H = parts.front().height, R = parts.front().runs;
-    for (const auto& p : parts) {
+    const int W = shares.front().width, H = shares.front().height, R = shares.front().runs;
+    for (const auto& p : shares) {
         const OIIO::ImageSpec& spec = p.image.spec();
         const size_t rows = size_t(spec.height), C = size_t(spec.nchannels);
         std::vector<float> px(size_t(W) * rows * C);

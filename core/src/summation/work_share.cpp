@@ -7,7 +7,7 @@
 namespace wavecam {
 
 Result<WorkShare> work_share(int index, int count, int wavelengths, int runs, int height) {
-    auto fail = [](const std::string& m) { return Result<WorkShare>::failure("part: " + m); };
+    auto fail = [](const std::string& m) { return Result<WorkShare>::failure("share: " + m); };
     if (count < 1 || index < 1 || index > count) {
         std::ostringstream m;
         m << "expected share K of N with 1 <= K <= N, got " << index << "/" << count;
@@ -48,7 +48,7 @@ Result<WorkShare> parse_share(const std::string& text) {
     int k = 0, n = 0, used = 0;
     if (std::sscanf(text.c_str(), "%d/%d%n", &k, &n, &used) != 2 || used != int(text.size()) || n < 1 || k < 1 ||
         k > n)
-        return Result<WorkShare>::failure("--part: expected K/N with 1 <= K <= N, e.g. 3/8, got '" + text + "'");
+        return Result<WorkShare>::failure("--share: expected K/N with 1 <= K <= N, e.g. 3/8, got '" + text + "'");
     WorkShare s;
     s.index = k;
     s.count = n;

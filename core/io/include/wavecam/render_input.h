@@ -96,7 +96,7 @@ Result<RenderInput> load_render(const OIIO::ImageBuf& image, const std::string& 
 Result<OIIO::ImageBuf> read_render(const std::string& path, const std::string& subimage,
                                    double max_bytes = 16.0 * (1ull << 30));
 
-// Reads a whole image file (a render, a mask, a part file) through OpenImageIO as float; the
+// Reads a whole image file (a render, a mask, a share file) through OpenImageIO as float; the
 // one reader every front and command uses. Errors read "PATH: cannot be read as an image (OIIO's reason)".
 // An image whose header says its pixels need more than `max_bytes` as float is refused before
 // they are read (a forged or corrupt header: 60000 x 60000 pixels in a 7 MB file); a name that
