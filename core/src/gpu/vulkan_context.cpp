@@ -74,6 +74,97 @@ std::string driver_of(VkPhysicalDevice d, const VkPhysicalDeviceProperties& p) {
     return "driver version " + std::to_string(p.driverVersion);
 }
 
+// The instance: fails where no Vulkan driver could be loaded.
+Result<bool> create_instance(VkInstance& instance) {
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.pApplicationName = "wavecam";
+    app.apiVersion = VK_API_VERSION_1_2;
+    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    ici.pApplicationInfo = &app;
+    if (VkResult r = vkCreateInstance(&ici, nullptr, &instance); r != VK_SUCCESS)
+        return Result<bool>::failure(
+            "no Vulkan driver could be loaded (vkCreateInstance: " + vk_error(r) +
+            "): install one (a GPU vendor's driver, or mesa-vulkan-drivers) or check VK_ICD_FILENAMES");
+    return Result<bool>::success(true);
+}
+
+// The preferred device with a compute queue (device_rank; only a discrete GPU where
+// `discrete_only`), and its compute queue's family; fails naming the devices seen.
+Result<bool> choose_device(VkInstance instance, bool discrete_only, VkPhysicalDevice& physical,
+                           uint32_t& queue_family) {
+    uint32_t n = 0;
+    vkEnumeratePhysicalDevices(instance, &n, nullptr);
+    std::vector<VkPhysicalDevice> devices(n);
+    vkEnumeratePhysicalDevices(instance, &n, devices.data());
+    int best = 5;
+    std::string seen;
+    for (VkPhysicalDevice d : devices) {
+        VkPhysicalDeviceProperties p;
+        vkGetPhysicalDeviceProperties(d, &p);
+        seen += (seen.empty() ? "" : ", ") + std::string(p.deviceName);
+        uint32_t family;
+        const int rank = device_rank(p.deviceType);
+        if (!compute_family(d, family) || rank >= best || (discrete_only && rank != 0)) continue;
+        best = rank;
+        physical = d;
+        queue_family = family;
+    }
+    if (!physical) {
+        if (devices.empty()) return Result<bool>::failure("the Vulkan driver found no device");
+        return Result<bool>::failure(std::string(discrete_only ? "no discrete GPU" : "no device with a compute queue") +
+                                     " among the Vulkan devices (" + seen + ")");
+    }
+    return Result<bool>::success(true);
+}
+
+// The logical device on `physical` (named `name` in its failure), one queue of `queue_family`,
+// with double precision in shaders where the device has it.
+Result<bool> create_device(VkPhysicalDevice physical, uint32_t queue_family, const VkPhysicalDeviceFeatures& have,
+                           const std::string& name, VkDevice& device) {
+    const float priority = 1.0f;
+    VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    qci.queueFamilyIndex = queue_family;
+    qci.queueCount = 1;
+    qci.pQueuePriorities = &priority;
+    VkPhysicalDeviceFeatures want{};
+    want.shaderFloat64 = have.shaderFloat64;
+    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    dci.queueCreateInfoCount = 1;
+    dci.pQueueCreateInfos = &qci;
+    dci.pEnabledFeatures = &want;
+    if (VkResult r = vkCreateDevice(physical, &dci, nullptr, &device); r != VK_SUCCESS)
+        return failed<bool>("vkCreateDevice on " + name, r);
+    return Result<bool>::success(true);
+}
+
+// What a submission takes: the command pool and its one command buffer, the descriptor pool
+// (kMaxSteps sets of 8 storage buffers) and the fence.
+Result<bool> create_submission(VkDevice device, uint32_t queue_family, VkCommandPool& pool, VkCommandBuffer& commands,
+                               VkDescriptorPool& descriptors, VkFence& fence) {
+    VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pci.queueFamilyIndex = queue_family;
+    if (VkResult r = vkCreateCommandPool(device, &pci, nullptr, &pool); r != VK_SUCCESS)
+        return failed<bool>("vkCreateCommandPool", r);
+    VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    cai.commandPool = pool;
+    cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    cai.commandBufferCount = 1;
+    if (VkResult r = vkAllocateCommandBuffers(device, &cai, &commands); r != VK_SUCCESS)
+        return failed<bool>("vkAllocateCommandBuffers", r);
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 8 * Context::kMaxSteps};
+    VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    dpi.maxSets = Context::kMaxSteps;
+    dpi.poolSizeCount = 1;
+    dpi.pPoolSizes = &size;
+    if (VkResult r = vkCreateDescriptorPool(device, &dpi, nullptr, &descriptors); r != VK_SUCCESS)
+        return failed<bool>("vkCreateDescriptorPool", r);
+    VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    if (VkResult r = vkCreateFence(device, &fci, nullptr, &fence); r != VK_SUCCESS)
+        return failed<bool>("vkCreateFence", r);
+    return Result<bool>::success(true);
+}
+
 }  // namespace
 
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
@@ -111,36 +202,9 @@ Pipeline::~Pipeline() {
 Result<std::unique_ptr<Context>> Context::create(bool discrete_only) {
     using R = Result<std::unique_ptr<Context>>;
     std::unique_ptr<Context> c(new Context);
-    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-    app.pApplicationName = "wavecam";
-    app.apiVersion = VK_API_VERSION_1_2;
-    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-    ici.pApplicationInfo = &app;
-    if (VkResult r = vkCreateInstance(&ici, nullptr, &c->instance_); r != VK_SUCCESS)
-        return R::failure("no Vulkan driver could be loaded (vkCreateInstance: " + vk_error(r) +
-                          "): install one (a GPU vendor's driver, or mesa-vulkan-drivers) or check VK_ICD_FILENAMES");
-    uint32_t n = 0;
-    vkEnumeratePhysicalDevices(c->instance_, &n, nullptr);
-    std::vector<VkPhysicalDevice> devices(n);
-    vkEnumeratePhysicalDevices(c->instance_, &n, devices.data());
-    int best = 5;
-    std::string seen;
-    for (VkPhysicalDevice d : devices) {
-        VkPhysicalDeviceProperties p;
-        vkGetPhysicalDeviceProperties(d, &p);
-        seen += (seen.empty() ? "" : ", ") + std::string(p.deviceName);
-        uint32_t family;
-        const int rank = device_rank(p.deviceType);
-        if (!compute_family(d, family) || rank >= best || (discrete_only && rank != 0)) continue;
-        best = rank;
-        c->physical_ = d;
-        c->queue_family_ = family;
-    }
-    if (!c->physical_) {
-        if (devices.empty()) return R::failure("the Vulkan driver found no device");
-        return R::failure(std::string(discrete_only ? "no discrete GPU" : "no device with a compute queue") +
-                          " among the Vulkan devices (" + seen + ")");
-    }
+    if (auto r = create_instance(c->instance_); !r.ok()) return R::failure(r);
+    if (auto r = choose_device(c->instance_, discrete_only, c->physical_, c->queue_family_); !r.ok())
+        return R::failure(r);
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(c->physical_, &props);
     VkPhysicalDeviceFeatures have;
@@ -151,43 +215,12 @@ Result<std::unique_ptr<Context>> Context::create(bool discrete_only) {
     c->float64_ = have.shaderFloat64;
     c->max_buffer_ = std::min<size_t>(props.limits.maxStorageBufferRange, size_t(64) << 20);
     c->shared_memory_ = props.limits.maxComputeSharedMemorySize;
-
-    const float priority = 1.0f;
-    VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-    qci.queueFamilyIndex = c->queue_family_;
-    qci.queueCount = 1;
-    qci.pQueuePriorities = &priority;
-    VkPhysicalDeviceFeatures want{};
-    want.shaderFloat64 = have.shaderFloat64;
-    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    dci.queueCreateInfoCount = 1;
-    dci.pQueueCreateInfos = &qci;
-    dci.pEnabledFeatures = &want;
-    if (VkResult r = vkCreateDevice(c->physical_, &dci, nullptr, &c->device_); r != VK_SUCCESS)
-        return failed<std::unique_ptr<Context>>("vkCreateDevice on " + c->name_, r);
+    if (auto r = create_device(c->physical_, c->queue_family_, have, c->name_, c->device_); !r.ok())
+        return R::failure(r);
     vkGetDeviceQueue(c->device_, c->queue_family_, 0, &c->queue_);
-
-    VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    pci.queueFamilyIndex = c->queue_family_;
-    if (VkResult r = vkCreateCommandPool(c->device_, &pci, nullptr, &c->pool_); r != VK_SUCCESS)
-        return failed<std::unique_ptr<Context>>("vkCreateCommandPool", r);
-    VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    cai.commandPool = c->pool_;
-    cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    cai.commandBufferCount = 1;
-    if (VkResult r = vkAllocateCommandBuffers(c->device_, &cai, &c->commands_); r != VK_SUCCESS)
-        return failed<std::unique_ptr<Context>>("vkAllocateCommandBuffers", r);
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 8 * kMaxSteps};
-    VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    dpi.maxSets = kMaxSteps;
-    dpi.poolSizeCount = 1;
-    dpi.pPoolSizes = &size;
-    if (VkResult r = vkCreateDescriptorPool(c->device_, &dpi, nullptr, &c->descriptors_); r != VK_SUCCESS)
-        return failed<std::unique_ptr<Context>>("vkCreateDescriptorPool", r);
-    VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    if (VkResult r = vkCreateFence(c->device_, &fci, nullptr, &c->fence_); r != VK_SUCCESS)
-        return failed<std::unique_ptr<Context>>("vkCreateFence", r);
+    if (auto r = create_submission(c->device_, c->queue_family_, c->pool_, c->commands_, c->descriptors_, c->fence_);
+        !r.ok())
+        return R::failure(r);
     return R::success(std::move(c));
 }
 

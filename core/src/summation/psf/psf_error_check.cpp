@@ -60,31 +60,21 @@ double blend_error(const std::vector<const Field*>& parts, const std::vector<dou
     return r > 0 ? std::sqrt(e / r) : 0.0;
 }
 
-}  // namespace
+// A probe source: domain pixel (x, y), at `depths` (inverse depths).
+struct Probe {
+    int x, y;
+    std::vector<double> depths;
+};
 
-Result<PsfErrorCheck> check_psf_error(const PsfSummationSpec& spec, double lattice_pitch, const UnitSource& unit) {
-    using R = Result<PsfErrorCheck>;
-    const PsfSummationGeometry g = psf_summation_geometry(spec);
-    PsfErrorCheck check;
-    const PinholeCamera& c = spec.camera;
-    if (!spec.incoherent && airy_spans_a_pixel(spec))
-        check.tail = 0.8 * std::sqrt((1 - kernel_energy(spec)) / std::max(1, spec.runs));
-    const KernelSums sums = kernel_sums(spec, g);
-    const ApertureSamples samples = sample_aperture(spec.aperture, lattice_pitch);
-    const KernelSetup setup{&spec, &g, &samples, sums.to_pinhole, unit};
-    const int points = spec.subsamples * spec.subsamples, L = g.layers.count;
+// The probe cells (x cell, y cell): on the axis, the outermost on the horizontal axis, the
+// outermost corner.
+using ProbeCells = std::array<std::array<int, 2>, 3>;
+
+// Every source the probes need: a cell's corners and centre at the nearest layer, the axis cell's
+// centre also at the two nearest layers' middle (axis_x, axis_y: the axis cell).
+std::vector<Probe> place_probes(const PsfSummationGeometry& g, const ProbeCells& cells, int axis_x, int axis_y) {
+    const int L = g.layers.count;
     const double nearest = g.layers.inverse_depth(L - 1);
-    // the probe cells (x cell, y cell): on the axis, the outermost on the horizontal axis, the
-    // outermost corner
-    const int axis_x = g.ax.cell_of(g.origin + c.width / 2);
-    const int axis_y = g.ay.cell_of(g.origin + c.height / 2);
-    const std::array<std::array<int, 2>, 3> cells{{{axis_x, axis_y}, {0, axis_y}, {0, 0}}};
-    // every source the probes need: (domain x, domain y, inverse depths); a cell's corners and
-    // centre at the nearest layer, the axis cell's centre also at the two nearest layers' middle
-    struct Probe {
-        int x, y;
-        std::vector<double> depths;
-    };
     std::vector<Probe> probes;
     const auto centre = [&](const AnchorAxis& a, int cell) { return (a.knots[cell] + a.knots[cell + 1]) / 2; };
     for (const auto& cell : cells) {
@@ -99,14 +89,20 @@ Result<PsfErrorCheck> check_psf_error(const PsfSummationSpec& spec, double latti
         const double below = g.layers.inverse_depth(L - 2);
         probes.push_back({g.ax.knots[axis_x], g.ay.knots[axis_y], {below, 0.5 * (below + nearest), nearest}});
     }
-    std::vector<std::vector<Field>> fields(probes.size());
+    return probes;
+}
+
+// The probes' exact kernels, probe by probe into `fields`: the first fixes the film sums'
+// evaluator (`kernel_settings`), the others follow, one per thread on the CPU.
+Result<bool> probe_kernels(const PsfSummationSpec& spec, const KernelSetup& setup,
+                           const SummationSettings& kernel_settings, const std::vector<Probe>& probes,
+                           std::vector<std::vector<Field>>& fields) {
+    const PsfSummationGeometry& g = *setup.g;
     PlanScope film_scope;
-    const SummationSettings& kernel_settings = sums.to_film;
-    if (probes.empty()) return R::success(check);
     if (auto r = source_kernels(setup, probes[0].x - g.origin, probes[0].y - g.origin, probes[0].depths,
                                 kernel_settings, film_scope, fields[0]);
         !r.ok())
-        return R::failure(r);
+        return r;
     const bool on_cpu = !spec.settings.device.gpu();
     SummationSettings one_thread = kernel_settings;
     one_thread.nthreads = on_cpu ? 1 : spec.settings.nthreads;
@@ -122,8 +118,13 @@ Result<PsfErrorCheck> check_psf_error(const PsfSummationSpec& spec, double latti
             failed = r;
         }
     }
-    if (!failed.ok()) return R::failure(failed);
-    // the cells' blends: bilinear at their centres
+    return failed;
+}
+
+// The probes' blend errors into `check`: the cells' blends, bilinear at their centres, then the
+// layers' where there is one.
+void check_blends(const PsfSummationGeometry& g, const ProbeCells& cells, const std::vector<Probe>& probes,
+                  const std::vector<std::vector<Field>>& fields, int points, bool incoherent, PsfErrorCheck& check) {
     size_t at = 0;
     for (const auto& cell : cells) {
         const int cx = std::min(cell[0], int(g.ax.knots.size()) - 2), cy = std::min(cell[1], int(g.ay.knots.size()) - 2);
@@ -140,10 +141,33 @@ Result<PsfErrorCheck> check_psf_error(const PsfSummationSpec& spec, double latti
     }
     if (at < probes.size()) {
         const std::vector<Field>& f = fields[at];
-        const double e = blend_error({&f[0], &f[2]}, {0.5, 0.5}, f[1], points, !spec.incoherent);
+        const double e = blend_error({&f[0], &f[2]}, {0.5, 0.5}, f[1], points, !incoherent);
         check.probes.push_back({probes[at].x - g.origin, probes[at].y - g.origin, true, e});
         check.blend = std::max(check.blend, e);
     }
+}
+
+}  // namespace
+
+Result<PsfErrorCheck> check_psf_error(const PsfSummationSpec& spec, double lattice_pitch, const UnitSource& unit) {
+    using R = Result<PsfErrorCheck>;
+    const PsfSummationGeometry g = psf_summation_geometry(spec);
+    PsfErrorCheck check;
+    const PinholeCamera& c = spec.camera;
+    if (!spec.incoherent && airy_spans_a_pixel(spec))
+        check.tail = 0.8 * std::sqrt((1 - kernel_energy(spec)) / std::max(1, spec.runs));
+    const KernelSums sums = kernel_sums(spec, g);
+    const ApertureSamples samples = sample_aperture(spec.aperture, lattice_pitch);
+    const KernelSetup setup{&spec, &g, &samples, sums.to_pinhole, unit};
+    const int points = spec.subsamples * spec.subsamples;
+    const int axis_x = g.ax.cell_of(g.origin + c.width / 2);
+    const int axis_y = g.ay.cell_of(g.origin + c.height / 2);
+    const ProbeCells cells{{{axis_x, axis_y}, {0, axis_y}, {0, 0}}};
+    const std::vector<Probe> probes = place_probes(g, cells, axis_x, axis_y);
+    std::vector<std::vector<Field>> fields(probes.size());
+    if (probes.empty()) return R::success(check);
+    if (auto r = probe_kernels(spec, setup, sums.to_film, probes, fields); !r.ok()) return R::failure(r);
+    check_blends(g, cells, probes, fields, points, spec.incoherent, check);
     return R::success(check);
 }
 

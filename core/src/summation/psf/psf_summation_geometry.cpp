@@ -72,7 +72,7 @@ PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s) {
     // changes little between them (kernel_table.h). Even cells, mirror-symmetric about the
     // optical axis: a knot is a source pixel (its centre), so knots k and width - 1 - k are
     // mirror images, and where the aperture is even their kernels are each other's mirror images
-    // (psf_summation.cpp computes one of each pair).
+    // (psf_summation_kernels.cpp computes one of each pair).
     // The cells are 1/sqrt(2) of the convolution method's: its kernels blend powers, these
     // amplitudes, whose runs carry the cross terms of neighbouring anchors' kernels. Measured on
     // PsfSummation.UniformWallIsUniform (32 px, 50 deg): RMS 1.02% against the incoherent image at
