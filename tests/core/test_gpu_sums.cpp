@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <random>
 
+#include "gpu/gpu_psf_summation.h"
 #include "vulkan_test.h"
 #include "wavecam/compute_device.h"
 #include "wavecam/gpu_sums.h"
@@ -334,6 +335,33 @@ TEST(GpuSums, PsfSummationRunsMatchTheCpu) {
         if (!s.device.gpu()) {
             EXPECT_EQ(fallback, cpu);
         }
+    }
+}
+
+// A kernel of more sub-points than one submission holds dispatches (a product each: 300 here,
+// as a large pinhole's Fresnel structure gives): every sub-point's product reaches the film.
+// With every spectrum 1 each sub-point's film is the sources transformed there and back, N x the
+// sources, so a pixel's sum over the sub-points is points x N^2 x |source|^2.
+TEST(GpuSums, PsfSummationTakesMoreSubPointsThanOneSubmission) {
+    REQUIRE_VULKAN();
+    const int n = 8, points = 300;
+    auto made = detail::GpuPsfSummation::create(gpu_device(), n, n, 1, points);
+    ASSERT_TRUE(made.ok()) << made.error;
+    detail::GpuPsfSummation& gpu = *made.value;
+    const std::vector<std::complex<float>> ones(size_t(n) * n, 1.0f);
+    for (int p = 0; p < points; ++p) ASSERT_TRUE(gpu.set_spectrum(0, p, ones.data()).ok());
+    gpu.begin_run();
+    std::complex<float>* sources = gpu.sources();
+    for (int q = 0; q < n * n; ++q) sources[q] = {float(q % 5) / 4, 0.0f};
+    auto added = gpu.add_sources(0);
+    ASSERT_TRUE(added.ok()) << added.error;
+    std::vector<float> sum;
+    ASSERT_TRUE(gpu.finish_run(false, sum).ok());
+    ASSERT_EQ(sum.size(), size_t(n) * n);
+    const double N = double(n) * n;
+    for (int q = 0; q < n * n; ++q) {
+        const double expected = points * N * N * std::pow((q % 5) / 4.0, 2);
+        EXPECT_NEAR(sum[q], expected, 1e-4 * points * N * N) << q;
     }
 }
 

@@ -145,12 +145,18 @@ Result<bool> GpuPsfSummation::add_sources(int kernel) {
     const Impl& m = *impl_;
     std::vector<gpu::Context::Step> steps;
     m.transform(m.image, false, steps);
+    // (one product per sub-point: a pixel of many sub-points takes several submissions, each
+    // after the last, so the image's transform comes first)
     for (int p = 0; p < m.points; ++p) {
         const size_t index = size_t(kernel) * m.points + p;
         steps.push_back(step(m.product, {&m.image, &m.slabs[index / m.per_slab], &m.totals[p]},
                              ProductPush{uint32_t(m.size()), uint32_t((index % m.per_slab) * m.size())}, m.groups()));
+        if (steps.size() == gpu::Context::kMaxSteps) {
+            if (auto r = m.ctx->submit(steps); !r.ok()) return r;
+            steps.clear();
+        }
     }
-    return m.ctx->submit(steps);
+    return steps.empty() ? Result<bool>::success(true) : m.ctx->submit(steps);
 }
 
 Result<bool> GpuPsfSummation::finish_run(bool powers, std::vector<float>& sum) {
