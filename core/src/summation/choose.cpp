@@ -226,12 +226,9 @@ PsfSummationWork psf_summation_work(const PsfSummationSpec& spec, SumCounts in, 
     const double N = double(g.nx) * g.ny, transform = kFftCost * N * std::log2(N);
     const KernelSums sums = kernel_sums(spec, g);
     PsfSummationWork w;
-    // the sub-point modes the runs transform (kernel_basis.h): the incoherent sum's one, else
-    // at most one per film point of a pixel
-    const double modes = spec.incoherent ? 1 : S;
     w.kernels = computed * (choose_sum(in, sums.to_pinhole.summation).work +
-                            choose_sum(out, sums.to_film.summation, spec.settings.device.gpu()).work + modes * transform);
-    w.per_run = kernels * transform + (kernels + 1) * modes * N * kMacCost + modes * transform;
+                            choose_sum(out, sums.to_film.summation, spec.settings.device.gpu()).work + S * transform);
+    w.per_run = kernels * transform + (kernels + 1) * S * N * kMacCost + S * transform;
     return w;
 }
 
