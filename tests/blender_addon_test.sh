@@ -44,7 +44,7 @@ errors)
 settings)
   "${blender[@]}" "$work/scene.blend" --python "$steps" -- settings > "$work/settings.log" 2>&1 ||
     { cat "$work/settings.log"; exit 1; }
-  grep -E "^(pinhole|film|tooltips|images|orthographic|panoramic|png|max_terms|gpu_nufft|software|decreasing|xray|wavelengths0|runs0|centimetres|vignetting|summation)" \
+  grep -E "^(pinhole|film|tooltips|images|orthographic|panoramic|png|max_terms|gpu_nufft|software|decreasing|xray|wavelengths0|runs0|centimetres|vignetting|summation|estimate)" \
     "$work/settings.log"
   ;;
 oldfile)  # saved without the add-on, as its earlier version did; loaded with it

@@ -14,6 +14,7 @@ namespace wavecam::cli {
 
 void add_psf_command(CLI::App& app, int& status);
 void add_apply_command(CLI::App& app, int& status);
+void add_estimate_command(CLI::App& app, int& status);
 void add_sweep_command(CLI::App& app, int& status);
 void add_merge_command(CLI::App& app, int& status);
 void add_farm_command(CLI::App& app, int& status);

@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
     try {
         wavecam::cli::add_psf_command(app, status);
         wavecam::cli::add_apply_command(app, status);
+        wavecam::cli::add_estimate_command(app, status);
         wavecam::cli::add_sweep_command(app, status);
         wavecam::cli::add_merge_command(app, status);
         wavecam::cli::add_farm_command(app, status);

@@ -4,7 +4,7 @@
 #   cmake -DHELP2MAN=help2man -DWAVECAM=path/to/wavecam -DOUT=wavecam.1 -P man_page.cmake
 set(include_file "${OUT}.include")
 set(text "[COMMANDS]\n")
-foreach(command psf apply sweep merge farm)
+foreach(command psf apply estimate sweep merge farm)
   execute_process(COMMAND ${WAVECAM} ${command} --help OUTPUT_VARIABLE help RESULT_VARIABLE status)
   if(NOT status EQUAL 0)
     message(FATAL_ERROR "wavecam ${command} --help failed (${status})")

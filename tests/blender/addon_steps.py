@@ -10,6 +10,7 @@
 # the add-on: a sensor fit of Auto spans the sensor width across the frame's longer side.
 import math
 import os
+import re
 import sys
 
 import bpy
@@ -351,6 +352,28 @@ def settings():
     spec = oiio.ImageInput.open(out).spec() if os.path.exists(out) else None
     expect(spec is not None and spec.getattribute("wavecam.runs") == 2, "random-phase: wavecam.runs 2")
     expect(spec is not None and spec.getattribute("wavecam.summation") == "auto", "random-phase: summation auto")
+    # the panel's estimate before the render (a description of the frame: its size, fov and the
+    # nearest depth its rays meet) against the job's own estimate line, and the depth pass
+    from wavecam_blender import frame_handler, job_estimate
+    printed = []
+    frame_handler.print = lambda *a, **k: printed.append(" ".join(map(str, a)))
+    command = job_estimate.estimate_command(scene, scene.camera, bpy.context.evaluated_depsgraph_get())
+    panel = job_estimate.estimate_text(command) if command else None
+    out = render("estimated")
+    del frame_handler.print
+    job = [line for line in printed if " terms, about " in line]
+    job_terms = float(re.search(r" = ([0-9.e+-]+) terms", job[0]).group(1)) if job else None
+    shown = re.search(r"Estimate: about \S+ here \(([0-9.e+-]+) terms", panel or "")
+    panel_terms = float(shown.group(1)) if shown else None
+    expect(job_terms and panel_terms and abs(panel_terms / job_terms - 1) < 0.25,
+           f"estimate: the panel's {panel!r} against the job's {job}")
+    depth = channel(oiio.ImageBuf(out), "ViewLayer.Depth.Z") if os.path.exists(out) else None
+    nearest = float(command[command.index("--nearest") + 1].rstrip("m")) if command else None
+    expect(depth is not None and nearest and abs(nearest / depth.min() - 1) < 0.1,
+           f"estimate: nearest depth {nearest} from the rays, {depth.min() if depth is not None else None} "
+           "in the depth pass")
+    print(f"estimate: panel '{panel}'; job '{job[0] if job else None}'; nearest {nearest} m from rays, "
+          f"{depth.min() if depth is not None else None} m in the depth pass", flush=True)
     # Max terms as a count: shown as one, a typed text that is none refused by name
     expect(w.max_terms_text == "4e12", f"max terms shown as {w.max_terms_text!r}, expected '4e12'")
     w.max_terms_text = "lots"

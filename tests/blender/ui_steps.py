@@ -9,6 +9,8 @@
 #              ("wrote ..." read back from the Info editor's log) and shown, its fov the camera's;
 #              on screen it looks as the Render Result does (the same view transform): the
 #              centre's displayed colour of each, read from screenshots of the render window.
+#   estimate:  random-phase (64 runs) chosen: the panel shows the job's estimate before the render
+#              (`wavecam estimate` on the frame's description, off the main thread).
 #   progress:  F12 with random-phase (64 runs): the command's estimate in the Info log, its
 #              progress ("42% after ...") in the status bar; then Esc: the command ends, no
 #              file (nor the command's temporary) is left, the still phase's result is kept as
@@ -24,7 +26,7 @@ import time
 import bpy
 import OpenImageIO as oiio
 
-from wavecam_blender import diffraction_queue, panel, progress_display, wrapped_label
+from wavecam_blender import diffraction_queue, job_estimate, panel, progress_display, wrapped_label
 
 # Blender's own redraws under xvfb (software OpenGL, cores shared with builds) pause the main
 # thread too, up to about 2 s under load with nothing running; so a pause while wavecam runs
@@ -275,6 +277,20 @@ def tick():
             fail(f"the F12 still was kept at {shown_wavecam_image()}, expected {still_path()}")
         state["still_kept"] = os.path.getmtime(still_path())
         w.method, w.auto_runs, w.runs = 'random-phase', False, 64
+        next_phase("estimate")
+    elif phase == "estimate":  # the panel's estimate, before the render
+        properties_area().tag_redraw()
+        text = job_estimate._state["text"] or ""
+        if not text.startswith("Estimate: about"):
+            if time.time() - state["since"] > 60:
+                fail(f"the panel shows no estimate for 64 runs: {text!r}")
+            return 0.5
+        if "estimate_shown" not in state:
+            print(f"ui: panel: {text}", flush=True)
+            state["estimate_shown"] = True
+            scroll_properties_down()
+            return 1.0  # the panel redrawn, scrolled
+        screenshot("panel_estimate.png")
         next_phase("progress")
         render(animation=False)
     elif phase == "progress":

@@ -2,6 +2,8 @@
 // (and its alpha as coverage), its colours mapped and its output header written.
 #include "wavecam/diffract_image.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -50,6 +52,17 @@ bool alpha_is_diffracted(const RenderInput& in) {
     return !(*lo == *hi && (*lo == 0.0f || *lo == 1.0f));
 }
 
+// Bytes the job needs at its peak, `summation` of them the psf summation's kernels (the largest
+// wavelength's: one at a time).
+double job_bytes(const DiffractOptions& opt, const ResolvedFrame& f, double& summation) {
+    summation = 0;
+    if (opt.method != DiffractMethod::Convolution)
+        for (int k = 0; k < f.colour.basis.size(); ++k)
+            summation = std::max(summation, scene_summation_bytes(f.scene_sum, f.camera, f.colour.basis.wavelength(k)));
+    const bool table = opt.method == DiffractMethod::Convolution || alpha_is_diffracted(f.in);
+    return estimate_memory(opt, f.camera) + summation + (table ? ConvolutionPlan::estimate_bytes(f.convolution) : 0.0);
+}
+
 // The job's terms and bytes against the max-terms and max-memory limits.
 Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, const std::string& name,
                           int nthreads) {
@@ -64,13 +77,8 @@ Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, co
           << " at the " << rate << " terms/s measured here, beyond the max-terms limit of " << opt.max_terms;
         return Result<bool>::failure(m.str(), ErrorKind::TooLarge, "max-terms");
     }
-    double summation = 0;  // the psf summation's kernels: the largest wavelength's (one at a time)
-    if (opt.method != DiffractMethod::Convolution)
-        for (int k = 0; k < f.colour.basis.size(); ++k)
-            summation = std::max(summation, scene_summation_bytes(f.scene_sum, f.camera, f.colour.basis.wavelength(k)));
-    const bool table = opt.method == DiffractMethod::Convolution || alpha_is_diffracted(f.in);
-    const double bytes = estimate_memory(opt, f.camera) + summation +
-                         (table ? ConvolutionPlan::estimate_bytes(f.convolution) : 0.0);
+    double summation = 0;
+    const double bytes = job_bytes(opt, f, summation);
     if (!(bytes <= opt.max_memory)) {
         std::ostringstream m;
         m << name << ": " << f.in.width << "x" << f.in.height << " pixels need about " << bytes / (1 << 20)
@@ -285,6 +293,29 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
     auto frame = detail::resolve_frame(opt_, std::move(input.value), name, nthreads);
     if (!frame.ok()) return Result<bool>::failure(frame);
     return diffract(dst, src, frame.value, name, nthreads);
+}
+
+Result<JobEstimate> DiffractPlan::estimate(const OIIO::ImageBuf& src, const std::string& name, int nthreads) {
+    using R = Result<JobEstimate>;
+    auto input = load_render(src, name, opt_.read);
+    if (!input.ok()) return R::failure(input);
+    auto frame = detail::resolve_frame(opt_, std::move(input.value), name, nthreads);
+    if (!frame.ok()) return R::failure(frame);
+    const ResolvedFrame& f = frame.value;
+    JobEstimate e;
+    e.job = !f.job.empty() ? f.job
+                           : std::to_string(f.in.width) + "x" + std::to_string(f.in.height) + " pixels x " +
+                                 std::to_string(f.colour.sampling.wavelength.size()) + " wavelengths, convolution method";
+    e.terms = f.terms;
+    e.threads = nthreads > 0 ? nthreads : omp_get_max_threads();
+    if (opt_.method != DiffractMethod::Convolution) {
+        e.rate = measured_term_rate(e.threads);
+        e.seconds = f.terms / e.rate;
+    }
+    double summation = 0;
+    e.bytes = job_bytes(opt_, f, summation);
+    if (auto r = check_limits(opt_, f, name, nthreads); !r.ok()) e.refusal = r.error;
+    return R::success(std::move(e));
 }
 
 // Check the frame's limits, run its method, map its colours, write the output.

@@ -198,9 +198,10 @@ SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const SceneS
     if (scene.power) {
         sum.emitters = scene_emitters(scene, cells);
         for (const Emitter& e : sum.emitters) source.add(c, e.x, e.y, e.x + e.w, e.y + e.h);
+        sum.emitter_count = sum.emitters.size();
     } else {
         source.add(c, o - reach, o - reach, c.width - o + reach, c.height - o + reach);
-        sum.emitters.resize(size_t(c.width) * c.height + cells.size());
+        sum.emitter_count = size_t(c.width) * c.height + cells.size();
     }
     const double pitch = lattice_pitch(s, c, wavelength, nearest, source, film);
     sum.source_extent = source;

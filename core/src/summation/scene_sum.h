@@ -47,7 +47,8 @@ struct WorkRange {
 // The frame's sources (the input's pixels and its margin's cells), the pinhole lattice and the
 // film points of one wavelength's sum.
 struct SceneSum {
-    std::vector<Emitter> emitters;
+    std::vector<Emitter> emitters;  // empty where only counted (a scene without its power)
+    size_t emitter_count = 0;       // the sources: emitters' size, or what a count-only sum would hold
     ApertureSamples samples;
     FilmPoints film;
     int subsamples = 1;

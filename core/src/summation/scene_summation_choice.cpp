@@ -47,7 +47,7 @@ FrameCounts frame_counts(const SceneSumSettings& s, const SceneSum& sum, const W
     const double film = double(c.width - 2 * o) * (c.height - 2 * o) * sum.subsamples * sum.subsamples;
     const double rho = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
     FrameCounts n;
-    n.in = {samples - off, off, across, single ? 1.0 : double(sum.emitters.size()),
+    n.in = {samples - off, off, across, single ? 1.0 : double(sum.emitter_count),
             direction_range(sum.source_extent, 0, rho), radius, wavelength, false, s.summation_tolerance};
     n.out = n.in;
     n.out.points = film;
@@ -145,7 +145,7 @@ SummationChoice scene_choice(const SceneSumSettings& s, const PinholeCamera& c, 
         frame.out = n.out;
     }
     frame.single = incoherent;
-    frame.repeats = incoherent ? double(sum.emitters.size()) : runs;
+    frame.repeats = incoherent ? double(sum.emitter_count) : runs;
     // this share's rows: their part of the film's work
     const int o = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);
     frame.film_share = double(w.row_end - w.row_begin) / std::max(1, c.height - 2 * o);

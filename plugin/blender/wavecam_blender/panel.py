@@ -1,9 +1,9 @@
 # Properties > Camera data > wavecam Pinhole. Every message is drawn as wrapped rows
-# (wrapped_label.py); what the render would refuse is shown while it stands, and a running
-# diffraction's progress bar with its cancel cross.
+# (wrapped_label.py); what the render would refuse is shown while it stands, else the job's
+# estimate (job_estimate.py), and a running diffraction's progress bar with its cancel cross.
 import bpy
 
-from . import camera_fov, diffraction_queue, progress_display, settings_check, wrapped_label
+from . import camera_fov, diffraction_queue, job_estimate, progress_display, settings_check, wrapped_label
 
 
 def problem(scene, camera_object):
@@ -76,6 +76,10 @@ class DATA_PT_wavecam(bpy.types.Panel):
         refusal = problem(context.scene, camera_object) if camera_object and w.enabled else None
         if refusal:
             wrapped_label.draw(layout, context, f"Not diffracted: {refusal}", icon='ERROR', box=True)
+        elif camera_object and w.enabled and not status:  # (none while a frame diffracts: it has its own)
+            estimate = job_estimate.panel_text(context, camera_object)
+            if estimate:
+                wrapped_label.draw(layout, context, estimate, icon='TIME')
 
 
 def register():

@@ -18,25 +18,29 @@ class WavecamRunError(Exception):
     pass
 
 
+def setting_flags(camera, fov_in_file, max_terms=True):
+    """The camera's settings as the command's flags; max_terms: with the panel's Max terms."""
+    flags = ["--film-distance", f"{camera.film_distance_mm:.9g}mm", "--wavelengths", camera.wavelengths,
+             "--method", camera.method, "--depth-scale", f"{camera.depth_scale_m:.9g}m"]
+    if camera.pinhole_mm is not None:
+        flags += ["--pinhole", f"{camera.pinhole_mm:.9g}mm"]
+    if camera.method == 'random-phase' and camera.runs is not None:
+        flags += ["--runs", str(camera.runs)]
+    if camera.method != 'convolution':
+        flags += ["--summation", camera.summation, "--device", camera.device]
+        if max_terms:
+            flags += ["--max-terms", f"{camera.max_terms:.6g}"]
+    if not camera.vignetting:
+        flags += ["--no-vignetting"]
+    if not fov_in_file:
+        flags += ["--fov", f"{camera.fov:.9g}deg"]
+    return flags
+
+
 def apply_command(exe, camera, frame_path, out_path, fov_in_file, verb=("apply",)):
     """The command line; verb ("farm", "submit") gives the same job for a cluster, each share
     within the command's default limit."""
-    cmd = [exe, *verb, frame_path, "-o", out_path, "--film-distance", f"{camera.film_distance_mm:.9g}mm",
-           "--wavelengths", camera.wavelengths, "--method", camera.method,
-           "--depth-scale", f"{camera.depth_scale_m:.9g}m"]
-    if camera.pinhole_mm is not None:
-        cmd += ["--pinhole", f"{camera.pinhole_mm:.9g}mm"]
-    if camera.method == 'random-phase' and camera.runs is not None:
-        cmd += ["--runs", str(camera.runs)]
-    if camera.method != 'convolution':
-        cmd += ["--summation", camera.summation, "--device", camera.device]
-        if verb == ("apply",):
-            cmd += ["--max-terms", f"{camera.max_terms:.6g}"]
-    if not camera.vignetting:
-        cmd += ["--no-vignetting"]
-    if not fov_in_file:
-        cmd += ["--fov", f"{camera.fov:.9g}deg"]
-    return cmd
+    return [exe, *verb, frame_path, "-o", out_path, *setting_flags(camera, fov_in_file, verb == ("apply",))]
 
 
 class WavecamProcess:

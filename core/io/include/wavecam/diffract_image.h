@@ -80,6 +80,17 @@ int job_runs(const DiffractOptions& opt, const PinholeCamera& camera, const std:
 // Bytes the job needs at its peak (images, pinhole samples or PSF kernels), an upper estimate.
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera);
 
+// What a frame costs, found as diffract finds it before any work: the job line, the scene sums'
+// terms and the seconds they take at the rate measured here and now (measured_term_rate), the
+// bytes at the job's peak, and the refusal the job would meet (max-terms, max-memory), "" if
+// none. The convolution method has no scene sums: terms and seconds 0.
+struct JobEstimate {
+    std::string job;  // "24x16 pixels x 3 wavelengths x 2 runs, ..." (the job line)
+    double terms = 0, seconds = 0, rate = 0, bytes = 0;
+    int threads = 0;      // the threads the rate was measured on
+    std::string refusal;  // the job's refusal by its limits, naming `name`
+};
+
 namespace detail {
 struct ResolvedFrame;  // one frame's render, camera, colours and method settings (core/io/src/resolved_frame.h)
 }
@@ -96,6 +107,8 @@ public:
     // in the output colour space, the source's depth channel, and every parameter in its header.
     // A failure carries its kind and the setting it is about, for the front to word (result.h).
     Result<bool> diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const std::string& name, int nthreads = 0);
+    // What diffract(dst, src, name, nthreads) would cost, without the work (JobEstimate).
+    Result<JobEstimate> estimate(const OIIO::ImageBuf& src, const std::string& name, int nthreads = 0);
     // The same, for a caller that has resolved the frame already under options() but for their
     // callbacks and limits (a share resolves it once, for its estimate and its run).
     Result<bool> diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const detail::ResolvedFrame& frame,
