@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "convolution/kernel_table.h"
 #include "summation/nufft/chirp_interpolation.h"
 #include "summation/psf/psf_summation_geometry.h"
 #include "summation/nufft/lattice_nufft.h"
@@ -211,14 +212,22 @@ KernelSums kernel_sums(const PsfSummationSpec& spec, const PsfSummationGeometry&
 PsfSummationWork psf_summation_work(const PsfSummationSpec& spec, SumCounts in, SumCounts out) {
     const PsfSummationGeometry g = psf_summation_geometry(spec);
     const double side = 2.0 * g.radius + 1, S = double(spec.subsamples) * spec.subsamples;
-    const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxPsfLayers + 1);
+    const int layers = std::min(g.layers.count, kMaxPsfLayers + 1);
+    const double kernels = double(g.anchors()) * layers;
+    // the kernels summed: one of each mirror pair (psf_summation_kernels.cpp), a quarter of the
+    // anchors for a circle or a square
+    const std::vector<int> source = mirror_sources(g.ax, g.ay, g.width - 1, g.height - 1, spec.aperture.even_in_x(),
+                                                   spec.aperture.even_in_y());
+    double computed = 0;
+    for (size_t a = 0; a < source.size(); ++a) computed += source[a] == int(a);
+    computed *= layers;
     in.points = 1;
     out.points = side * side * S;
     const double N = double(g.nx) * g.ny, transform = kFftCost * N * std::log2(N);
     const KernelSums sums = kernel_sums(spec, g);
     PsfSummationWork w;
-    w.kernels = kernels * (choose_sum(in, sums.to_pinhole.summation).work +
-                           choose_sum(out, sums.to_film.summation, spec.settings.device.gpu()).work + S * transform);
+    w.kernels = computed * (choose_sum(in, sums.to_pinhole.summation).work +
+                            choose_sum(out, sums.to_film.summation, spec.settings.device.gpu()).work + S * transform);
     w.per_run = kernels * transform + (kernels + 1) * S * N * kMacCost + S * transform;
     return w;
 }
