@@ -111,10 +111,10 @@ std::string unsupported_output(const ApplyFlags& flags) {
 }
 
 // A resolved input's options, with this run's progress and its estimates printed before work.
-DiffractOptions run_options(const ResolvedInput& in, const ProgressFn& progress, int threads) {
+DiffractOptions run_options(const ResolvedInput& in, const ProgressFn& progress) {
     DiffractOptions o = in.settings.options;
     o.progress = progress;
-    o.on_estimate = [threads](const std::string& job, double terms) { print_estimate("apply", job, terms, threads); };
+    o.on_estimate = [](const JobEstimate& e) { print_estimate("apply", e); };
     return o;
 }
 
@@ -163,7 +163,7 @@ int run_share(const ApplyFlags& flags, const std::string& input, const std::stri
     auto in = read_and_resolve(input, flags.given);
     if (!in.ok()) return fail(in.error, 2);
     if (const std::string bad = print_aperture_work(in.value.settings.options); !bad.empty()) return fail(bad, 2);
-    const DiffractOptions o = run_options(in.value, terminal_progress("apply share " + flags.share), flags.threads);
+    const DiffractOptions o = run_options(in.value, terminal_progress("apply share " + flags.share));
     OIIO::ImageBuf share;
     if (auto r = diffract_share(share, in.value.image, o, {input_path, settings}, k.value, flags.threads);
         !r.ok())
@@ -203,7 +203,7 @@ int run_frame(const ApplyFlags& flags, std::unique_ptr<DiffractPlan>& plan, fron
     const OIIO::ImageBuf& src = in.value.image;
     if (!plan || plan_settings != in.value.settings.text) {
         if (const std::string bad = print_aperture_work(in.value.settings.options); !bad.empty()) return fail(bad, 2);
-        plan = std::make_unique<DiffractPlan>(run_options(in.value, progress, flags.threads));
+        plan = std::make_unique<DiffractPlan>(run_options(in.value, progress));
         plan_settings = in.value.settings.text;
     }
     OIIO::ImageBuf dst;

@@ -90,7 +90,7 @@ int run(const EstimateFlags& flags) {
     auto e = plan.estimate(in.image, name, flags.threads);
     if (!e.ok()) return fail(front::word_failure(Result<bool>::failure(e), front::Front::Command), 2);
     const JobEstimate& j = e.value;
-    if (j.rate > 0) print_estimate("estimate", j.job, j.terms, j.threads);
+    if (j.rate > 0) print_estimate("estimate", j);
     else std::fprintf(stderr, "estimate: %s: no scene sums (a PSF grid and FFTs); not timed\n", j.job.c_str());
     std::fprintf(stderr, "estimate: about %.0f MiB at the peak\n", j.bytes / (1 << 20));
     if (!j.refusal.empty()) return fail(j.refusal, 1);

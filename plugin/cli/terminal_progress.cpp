@@ -79,12 +79,10 @@ std::string format_duration(double seconds) {
     return s;
 }
 
-void print_estimate(const std::string& label, const std::string& job, double terms, int nthreads) {
-    const int threads = nthreads > 0 ? nthreads : omp_get_max_threads();
-    const double rate = measured_term_rate(threads);
+void print_estimate(const std::string& label, const JobEstimate& e) {
     std::fprintf(stderr, "%s: %s = %.3g terms, about %s on %d thread%s at %.3g terms/s measured here\n",
-                 label.c_str(), job.c_str(), terms, format_duration(terms / rate).c_str(), threads,
-                 threads == 1 ? "" : "s", rate);
+                 label.c_str(), e.job.c_str(), e.terms, format_duration(e.seconds).c_str(), e.threads,
+                 e.threads == 1 ? "" : "s", e.rate);
     std::fflush(stderr);
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 #include <string>
 #include "wavecam/aperture.h"
+#include "wavecam/diffract_image.h"
 #include "wavecam/progress.h"
 
 namespace wavecam::cli {
@@ -10,9 +11,9 @@ namespace wavecam::cli {
 // "1h02m", "3m20s", "12s".
 std::string format_duration(double seconds);
 
-// Prints "LABEL: JOB = T terms, about D on N threads at R terms/s measured here" on stderr,
-// timing the kernel here first (measured_term_rate).
-void print_estimate(const std::string& label, const std::string& job, double terms, int nthreads);
+// Prints "LABEL: JOB = T terms, about D on N threads at R terms/s measured here" on stderr: the
+// job's estimate (diffract_image.h), its rate measured where the job runs.
+void print_estimate(const std::string& label, const JobEstimate& estimate);
 
 // What an aperture multiplies the work by, for the estimate printed before it: "aperture
 // sieve:2000 (245001 holes): about 3.1e+09 pinhole samples per PSF" (zone plates: their zones).

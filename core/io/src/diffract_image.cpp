@@ -68,7 +68,7 @@ Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, co
                           int nthreads) {
     // (an estimate that is not a number, from settings beyond any sense, is refused too)
     if (!(f.terms <= opt.max_terms)) {
-        const double rate = measured_term_rate(nthreads);
+        const double rate = measured_term_rate(f.scene_sum.device, nthreads);
         std::ostringstream m;
         const double seconds = f.terms / rate;
         m << name << ": " << f.job << " = " << f.terms << " terms, about "
@@ -89,6 +89,22 @@ Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, co
     }
     return Result<bool>::success(true);
 }
+
+}  // namespace
+
+JobEstimate detail::job_estimate(const DiffractOptions& opt, const ResolvedFrame& f, int nthreads) {
+    JobEstimate e;
+    e.job = f.job;
+    e.terms = f.terms;
+    e.threads = nthreads > 0 ? nthreads : omp_get_max_threads();
+    if (opt.method != DiffractMethod::Convolution) {
+        e.rate = measured_term_rate(f.scene_sum.device, e.threads);
+        e.seconds = f.terms / e.rate;
+    }
+    return e;
+}
+
+namespace {
 
 // The exact sums light the film within the overscan from every input pixel and the scene beyond
 // the input (frame_margin.h); the output frame is then moved to the front of the same buffer.
@@ -302,16 +318,10 @@ Result<JobEstimate> DiffractPlan::estimate(const OIIO::ImageBuf& src, const std:
     auto frame = detail::resolve_frame(opt_, std::move(input.value), name, nthreads);
     if (!frame.ok()) return R::failure(frame);
     const ResolvedFrame& f = frame.value;
-    JobEstimate e;
-    e.job = !f.job.empty() ? f.job
-                           : std::to_string(f.in.width) + "x" + std::to_string(f.in.height) + " pixels x " +
-                                 std::to_string(f.colour.sampling.wavelength.size()) + " wavelengths, convolution method";
-    e.terms = f.terms;
-    e.threads = nthreads > 0 ? nthreads : omp_get_max_threads();
-    if (opt_.method != DiffractMethod::Convolution) {
-        e.rate = measured_term_rate(e.threads);
-        e.seconds = f.terms / e.rate;
-    }
+    JobEstimate e = detail::job_estimate(opt_, f, nthreads);
+    if (e.job.empty())
+        e.job = std::to_string(f.in.width) + "x" + std::to_string(f.in.height) + " pixels x " +
+                std::to_string(f.colour.sampling.wavelength.size()) + " wavelengths, convolution method";
     double summation = 0;
     e.bytes = job_bytes(opt_, f, summation);
     if (auto r = check_limits(opt_, f, name, nthreads); !r.ok()) e.refusal = r.error;
@@ -332,7 +342,7 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
             return false;
         };
     if (auto r = check_limits(opt, f, name, nthreads); !r.ok()) return r;
-    if (opt.on_estimate && opt.method != DiffractMethod::Convolution) opt.on_estimate(f.job, f.terms);
+    if (opt.on_estimate && opt.method != DiffractMethod::Convolution) opt.on_estimate(detail::job_estimate(opt, f, nthreads));
 
     std::vector<float> xyz, alpha;
     const bool alpha_pass = alpha_is_diffracted(f.in);

@@ -43,6 +43,10 @@ constexpr double kDesignWavelength = 550e-9;
 // the job's device (the header's), or, before they ran, those the estimate gives each sum.
 std::string auto_choice(const SceneSumSettings& s, const PinholeCamera& camera, const SpectralBasis& basis);
 
+// The frame's estimate (diffract_image.h's JobEstimate) but for its bytes and refusal: its job
+// line, terms, and their time at the rate measured on the job's device.
+JobEstimate job_estimate(const DiffractOptions& opt, const ResolvedFrame& f, int nthreads);
+
 // `input` (load_render's value) under `opt`; errors name `name`.
 Result<ResolvedFrame> resolve_frame(const DiffractOptions& opt, RenderInput input, const std::string& name,
                                     int nthreads);

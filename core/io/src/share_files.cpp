@@ -253,7 +253,13 @@ Result<bool> diffract_share(OIIO::ImageBuf& share_image, const OIIO::ImageBuf& s
     auto resolved = resolve_share(src, input_path, opt, index, count, nthreads);
     if (!resolved.ok()) return Result<bool>::failure(resolved);
     Share& j = resolved.value;
-    if (opt.on_estimate) opt.on_estimate(j.job, j.terms);
+    if (opt.on_estimate) {  // the share's own job and terms
+        JobEstimate e = detail::job_estimate(opt, j.f, nthreads);
+        e.job = j.job;
+        e.terms = j.terms;
+        e.seconds = e.terms / e.rate;
+        opt.on_estimate(e);
+    }
     std::map<std::string, std::vector<float>> units;
     double done = 0;
     DiffractOptions run = opt;

@@ -23,6 +23,18 @@ enum class DiffractMethod { Convolution, RandomPhase, Incoherent };
 // "convolution", "random-phase", "incoherent": the setting's words, as headers record them.
 const char* method_word(DiffractMethod m);
 
+// What a frame costs, found as diffract finds it before any work: the job line, the scene sums'
+// terms and the seconds they take at the rate measured here and now where they run (measured_term_rate on
+// the job's device), the
+// bytes at the job's peak, and the refusal the job would meet (max-terms, max-memory), "" if
+// none. The convolution method has no scene sums: terms and seconds 0.
+struct JobEstimate {
+    std::string job;  // "24x16 pixels x 3 wavelengths x 2 runs, ..." (the job line)
+    double terms = 0, seconds = 0, rate = 0, bytes = 0;
+    int threads = 0;      // the threads the rate was measured on
+    std::string refusal;  // the job's refusal by its limits, naming `name`
+};
+
 struct DiffractOptions {
     DiffractMethod method = DiffractMethod::Convolution;
     RenderReadOptions read;                        // depth channel, fov
@@ -56,8 +68,9 @@ struct DiffractOptions {
     double max_terms = 4e12;                       // refuse larger scene-sum jobs (see term_rate.h for the time)
     double max_memory = 16.0 * (1ull << 30);       // bytes; refuse jobs estimated to need more
     ProgressFn progress;
-    // Told the job before any work starts: "24x16 pixels x 3 wavelengths x 2 runs" and its terms.
-    std::function<void(const std::string& job, double terms)> on_estimate;
+    // Told the scene-sum methods' estimate before any work starts (the job line, its terms and
+    // time; a share's own).
+    std::function<void(const JobEstimate&)> on_estimate;
     // Replaces the scene-sum methods' physical propagator (shares and merges, share_files.h).
     MonochromePropagator scene_sum_propagator;
 };
@@ -79,17 +92,6 @@ int job_runs(const DiffractOptions& opt, const PinholeCamera& camera, const std:
 
 // Bytes the job needs at its peak (images, pinhole samples or PSF kernels), an upper estimate.
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera);
-
-// What a frame costs, found as diffract finds it before any work: the job line, the scene sums'
-// terms and the seconds they take at the rate measured here and now (measured_term_rate), the
-// bytes at the job's peak, and the refusal the job would meet (max-terms, max-memory), "" if
-// none. The convolution method has no scene sums: terms and seconds 0.
-struct JobEstimate {
-    std::string job;  // "24x16 pixels x 3 wavelengths x 2 runs, ..." (the job line)
-    double terms = 0, seconds = 0, rate = 0, bytes = 0;
-    int threads = 0;      // the threads the rate was measured on
-    std::string refusal;  // the job's refusal by its limits, naming `name`
-};
 
 namespace detail {
 struct ResolvedFrame;  // one frame's render, camera, colours and method settings (core/io/src/resolved_frame.h)
