@@ -110,8 +110,10 @@ def _poll():
 
 
 def panel_text(context, camera_object):
-    """The estimate for the panel: the last one while it stands, else a new one started (its
-    text 'Estimating ...' until the command answers)."""
+    """The estimate for the panel: the last one while it stands (or while Blender renders), else
+    a new one started (its text 'Estimating ...' until the command answers)."""
+    if bpy.app.is_job_running('RENDER'):  # the depsgraph is not ours to evaluate while Blender renders
+        return _state["text"]
     scene = context.scene
     key = _key(scene, camera_object)
     if key == _state["key"]:
