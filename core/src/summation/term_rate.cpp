@@ -14,6 +14,21 @@
 #include "wavecam/source.h"
 
 namespace wavecam {
+namespace {
+
+// The probes' film: side x side points 10 um apart, 50 mm behind the pinhole.
+FilmPoints probe_film(int side) {
+    FilmPoints film;
+    film.film_distance = 50e-3;
+    for (int j = 0; j < side; ++j)
+        for (int i = 0; i < side; ++i) {
+            film.x.push_back(float((i - side / 2) * 1e-5));
+            film.y.push_back(float((j - side / 2) * 1e-5));
+        }
+    return film;
+}
+
+}  // namespace
 
 double measured_term_rate(int nthreads, double seconds) {
     static std::mutex lock;
@@ -28,13 +43,7 @@ double measured_term_rate(int nthreads, double seconds) {
     const ApertureSamples samples = sample_aperture({ApertureShape::Circle, 0.3e-3}, 0.3e-3 / 128);
     PinholeField field;
     illuminate_pinhole(samples, {source_at_field_angle(INFINITY, 0)}, lambda, field, threads);
-    FilmPoints film;
-    film.film_distance = 50e-3;
-    for (int j = 0; j < 32; ++j)
-        for (int i = 0; i < 32; ++i) {
-            film.x.push_back(float((i - 16) * 1e-5));
-            film.y.push_back(float((j - 16) * 1e-5));
-        }
+    const FilmPoints film = probe_film(32);
     std::vector<float> out(film.size(), 0.0f);
     // The fastest of the passes (at least kMinPasses, for about `seconds`): the first pass pays
     // the threads' start, and another process that holds a core for part of the window slows
@@ -73,13 +82,7 @@ double measured_term_rate(const ComputeDevice& device, int nthreads, double seco
     double fastest = 0, elapsed = 0;
     const auto start = clock::now();
     for (int side = 32, pass = 0; pass < 3 || elapsed < seconds; ++pass) {
-        FilmPoints film;
-        film.film_distance = 50e-3;
-        for (int j = 0; j < side; ++j)
-            for (int i = 0; i < side; ++i) {
-                film.x.push_back(float((i - side / 2) * 1e-5));
-                film.y.push_back(float((j - side / 2) * 1e-5));
-            }
+        const FilmPoints film = probe_film(side);
         SummationPlan plan = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda,
                                                    {Summation::Direct, kSummationTolerance, nthreads, device});
         std::vector<float> out(film.size(), 0.0f);
