@@ -3,7 +3,7 @@
 # does not end on one of them alone. ctest prefers its own record (Testing/Temporary/CTestCostData.txt)
 # once it has one; a name not in the directory is ignored.
 foreach(cost_and_test
-    410 OneSourceModel.AllThreeMethodsConvergeToOneImage
+    160 OneSourceModel.AllThreeMethodsConvergeToOneImage
     370 WideField.PsfRunsMatchTheExactSumsWithTheSamePhases
     113 WideField.ConvolutionMethodMatchesTheRayleighSommerfeldIntegral
     160 WideField.PsfSummationAndExactSumsAtTheWidestFieldsMatchTheRayleighSommerfeldIntegral
