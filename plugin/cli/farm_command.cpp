@@ -428,7 +428,7 @@ int submit(const FarmFlags& flags) {
     std::printf("farm: %zu frame%s x %d shares = %.3g terms, about %.3g core-hours at the %.3g terms/s per core "
                 "measured here; with every task running at once, about %s\n",
                 frames.size(), frames.size() == 1 ? "" : "s", flags.tasks, total, core_hours, core_rate,
-                format_duration(total / frames.size() / flags.tasks / (core_rate * flags.cpus)).c_str());
+                front::format_duration(total / frames.size() / flags.tasks / (core_rate * flags.cpus)).c_str());
     std::fflush(stdout);
 
     if (auto q = check_nothing_queued(flags, frames.size()); !q.ok()) return fail(q.error);

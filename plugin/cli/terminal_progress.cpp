@@ -70,19 +70,8 @@ int interrupted_status() {
     return 128 + (sig > 0 ? sig : SIGINT);
 }
 
-std::string format_duration(double seconds) {
-    char s[32];
-    const long t = std::lround(std::max(0.0, seconds));
-    if (t >= 3600) std::snprintf(s, sizeof s, "%ldh%02ldm", t / 3600, t / 60 % 60);
-    else if (t >= 60) std::snprintf(s, sizeof s, "%ldm%02lds", t / 60, t % 60);
-    else std::snprintf(s, sizeof s, "%lds", t);
-    return s;
-}
-
 void print_estimate(const std::string& label, const JobEstimate& e) {
-    std::fprintf(stderr, "%s: %s = %.3g terms, about %s on %d thread%s at %.3g terms/s measured here\n",
-                 label.c_str(), e.job.c_str(), e.terms, format_duration(e.seconds).c_str(), e.threads,
-                 e.threads == 1 ? "" : "s", e.rate);
+    std::fprintf(stderr, "%s: %s\n", label.c_str(), front::estimate_line(e).c_str());
     std::fflush(stderr);
 }
 
@@ -113,7 +102,7 @@ ProgressFn terminal_progress(const std::string& label) {
         const double elapsed = std::chrono::duration<double>(now - st->start).count();
         const double since = std::chrono::duration<double>(now - st->last_line).count();
         const bool known = fraction > 0.001 && elapsed > 1;  // enough done to extrapolate
-        const std::string left = known ? format_duration(elapsed / fraction * (1 - fraction)) + " left" : "estimating";
+        const std::string left = known ? front::format_duration(elapsed / fraction * (1 - fraction)) + " left" : "estimating";
         if (st->tty) {
             const int width = 30, full = static_cast<int>(fraction * width + 0.5);
             std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%  %-16s", label.c_str(), full, "##############################",
@@ -121,7 +110,7 @@ ProgressFn terminal_progress(const std::string& label) {
             g_drawn = true;
         } else if (since >= 10 || (fraction - st->last_fraction >= 0.05 && since >= 1)) {
             std::fprintf(stderr, "%s: %d%% after %s, %s\n", label.c_str(), static_cast<int>(fraction * 100),
-                         format_duration(elapsed).c_str(), (known ? "about " + left : left).c_str());
+                         front::format_duration(elapsed).c_str(), (known ? "about " + left : left).c_str());
             st->last_line = now;
             st->last_fraction = fraction;
         }

@@ -2,17 +2,15 @@
 // time left, and in a log (stderr not a terminal, as under Slurm) a line every 10 s or 5%.
 #pragma once
 #include <string>
+
+#include "../front/estimate_line.h"
 #include "wavecam/aperture.h"
 #include "wavecam/diffract_image.h"
 #include "wavecam/progress.h"
 
 namespace wavecam::cli {
 
-// "1h02m", "3m20s", "12s".
-std::string format_duration(double seconds);
-
-// Prints "LABEL: JOB = T terms, about D on N threads at R terms/s measured here" on stderr: the
-// job's estimate (diffract_image.h), its rate measured where the job runs.
+// Prints "LABEL: " and the job's estimate line (front/estimate_line.h) on stderr.
 void print_estimate(const std::string& label, const JobEstimate& estimate);
 
 // What an aperture multiplies the work by, for the estimate printed before it: "aperture

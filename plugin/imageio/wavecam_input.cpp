@@ -22,6 +22,7 @@
 #include <set>
 
 #include "../front/description.h"
+#include "../front/estimate_line.h"
 #include "name_query.h"
 #include "result_cache.h"
 #include "source_identity.h"
@@ -216,6 +217,10 @@ private:
         auto settings = wavecam::front::resolve_settings(src.spec(), sources);
         if (!settings.ok()) return Computed::failure(source + ": " + settings.error);
         wavecam::front::show_notes(settings.value.notes);
+        // the scene-sum methods' estimate before their work, in the command's words
+        settings.value.options.on_estimate = [](const wavecam::JobEstimate& e) {
+            wavecam::front::show_notes({"estimate: " + wavecam::front::estimate_line(e)});
+        };
         std::string plan_key;
         for (const auto& [k, v] : settings.value.text) plan_key += k + "=" + v + "\n";
         plan_key += settings.value.options.read.fov_from;
