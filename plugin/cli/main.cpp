@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "parse_errors.h"
 #include "terminal_progress.h"
+#include "thread_waits.h"
 #include "wavecam/atomic_write.h"
 
 namespace {
@@ -42,6 +43,7 @@ std::string describe(const std::exception& e) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    wavecam::cli::wait_briefly_at_barriers(argv);
     std::set_terminate(on_terminate);
     CLI::App app{"wavecam: a wave-optics pinhole camera"};
     app.require_subcommand(1);

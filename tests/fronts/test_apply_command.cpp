@@ -357,6 +357,34 @@ TEST(ApplyCommand, DepthScaleTurnsTheDepthChannelIntoMetres) {
 // One word, one meaning, and nothing in the environment changes an image: the methods' and the
 // summations' words share none; a random-phase run through each evaluator gives the same pixels
 // whatever the environment holds (a variable that once chose the evaluator, the thread count).
+// OpenMP's threads spin briefly at their barriers and then sleep (GOMP_SPINCOUNT=10000: libgomp's
+// default spin took cores that other work shared from the thread being waited for), unless the
+// environment says how they wait; `wavecam estimate` says which, and the image is the same.
+TEST(ApplyCommand, ThreadsSpinBrieflyAtBarriersUnlessTheEnvironmentSaysHow) {
+    const std::string unset = "env -u OMP_WAIT_POLICY -u GOMP_SPINCOUNT ";
+    auto waits = [&](const std::string& env) {
+        const auto r = run_command(unset + env + " " + kWavecam + " estimate --size 16x12 --fov 30deg --nearest 2m");
+        EXPECT_EQ(r.status, 0) << r.output;
+        const size_t at = r.output.find("threads wait at barriers:");
+        return at == std::string::npos ? r.output : r.output.substr(at, r.output.find('\n', at) - at);
+    };
+    EXPECT_EQ(waits(""), "threads wait at barriers: GOMP_SPINCOUNT=10000");
+    EXPECT_EQ(waits("OMP_WAIT_POLICY=passive"), "threads wait at barriers: OMP_WAIT_POLICY=passive");
+    EXPECT_EQ(waits("GOMP_SPINCOUNT=5"), "threads wait at barriers: GOMP_SPINCOUNT=5");
+    const fs::path dir = scratch("apply_barrier_waits");
+    write_render((dir / "in.exr").string(), 16, 12, 2.0f, 30.0f);
+    const std::string args = " apply " + (dir / "in.exr").string() +
+                             " --method random-phase --runs 2 --seed 3 --film-distance 20mm --pinhole 0.05mm"
+                             " --wavelengths 3 --summation direct -o ";
+    for (const std::string env : {"", "OMP_WAIT_POLICY=passive"}) {
+        const auto r = run_command(unset + env + " " + kWavecam + args + (dir / (env.empty() ? "a.exr" : "b.exr")).string());
+        ASSERT_EQ(r.status, 0) << r.output;
+    }
+    OIIO::ImageBuf a((dir / "a.exr").string()), b((dir / "b.exr").string());
+    EXPECT_EQ(OIIO::ImageBufAlgo::compare(a, b, 0.0f, 0.0f).nfail, 0u);
+    fs::remove_all(dir);
+}
+
 TEST(ApplyCommand, TheEnvironmentChangesNoImageAndNoWordMeansTwoThings) {
     const fs::path dir = scratch("apply_environment");
     write_render((dir / "in.exr").string(), 16, 12, 2.0f, 30.0f);

@@ -1,0 +1,21 @@
+// How wavecam's OpenMP threads wait at their barriers. libgomp's threads spin there by default
+// (about 300000 rounds before they sleep), which on a machine whose cores other work shares
+// takes those cores from the thread being waited for: a scene-sum job beside two CPU-bound loops
+// on 2 cores took 1.5x its fair share (twice its quiet time), 1.2x with a spin of 10000 rounds
+// then sleep, and the same quiet time either way (docs/performance.md, the busy machine).
+#pragma once
+#include <string>
+
+namespace wavecam::cli {
+
+// Where the environment says nothing of OpenMP's waiting (neither OMP_WAIT_POLICY nor
+// GOMP_SPINCOUNT), sets GOMP_SPINCOUNT=10000 and executes the command again: libgomp reads them
+// once, as it loads, before main. A user's own setting is kept; if the execution fails, the
+// command goes on as it is.
+void wait_briefly_at_barriers(char** argv);
+
+// "threads wait at barriers: GOMP_SPINCOUNT=10000" (what `wavecam estimate` says): the settings
+// in effect.
+std::string barrier_waits();
+
+}  // namespace wavecam::cli
