@@ -1,8 +1,8 @@
 // How wavecam's OpenMP threads wait at their barriers. libgomp's threads spin there by default
 // (about 300000 rounds before they sleep), which on a machine whose cores other work shares
 // takes those cores from the thread being waited for: a scene-sum job beside two CPU-bound loops
-// on 2 cores took 1.5x its fair share (twice its quiet time), 1.2x with a spin of 10000 rounds
-// then sleep, and the same quiet time either way (docs/performance.md, the busy machine).
+// on 2 cores took 1.4x its fair share (twice its quiet time), 1.1x with a spin of 10000 rounds
+// then sleep, and the same quiet time either way (docs/performance.md, a busy machine).
 #pragma once
 #include <string>
 

@@ -28,6 +28,15 @@ std::string file_bytes(const fs::path& p) {
     std::ifstream f(p, std::ios::binary);
     return {std::istreambuf_iterator<char>(f), {}};
 }
+
+// A random-phase job of 2 runs on `input` through `summation`, its output path to follow (a 0.05 mm
+// pinhole: a sixteenth of the 0.2 mm one's samples, for the direct sums' sake).
+std::string small_random_phase_job(const fs::path& input, const std::string& summation) {
+    return " apply " + input.string() +
+           " --method random-phase --runs 2 --seed 3 --film-distance 20mm --pinhole 0.05mm --wavelengths 3"
+           " --summation " +
+           summation + " -o ";
+}
 }  // namespace
 
 TEST(ApplyCommand, WritesRgbAndKeepsTheDepthChannel) {
@@ -354,9 +363,6 @@ TEST(ApplyCommand, DepthScaleTurnsTheDepthChannelIntoMetres) {
     fs::remove_all(dir);
 }
 
-// One word, one meaning, and nothing in the environment changes an image: the methods' and the
-// summations' words share none; a random-phase run through each evaluator gives the same pixels
-// whatever the environment holds (a variable that once chose the evaluator, the thread count).
 // OpenMP's threads spin briefly at their barriers and then sleep (GOMP_SPINCOUNT=10000: libgomp's
 // default spin took cores that other work shared from the thread being waited for), unless the
 // environment says how they wait; `wavecam estimate` says which, and the image is the same.
@@ -373,9 +379,7 @@ TEST(ApplyCommand, ThreadsSpinBrieflyAtBarriersUnlessTheEnvironmentSaysHow) {
     EXPECT_EQ(waits("GOMP_SPINCOUNT=5"), "threads wait at barriers: GOMP_SPINCOUNT=5");
     const fs::path dir = scratch("apply_barrier_waits");
     write_render((dir / "in.exr").string(), 16, 12, 2.0f, 30.0f);
-    const std::string args = " apply " + (dir / "in.exr").string() +
-                             " --method random-phase --runs 2 --seed 3 --film-distance 20mm --pinhole 0.05mm"
-                             " --wavelengths 3 --summation direct -o ";
+    const std::string args = small_random_phase_job(dir / "in.exr", "direct");
     for (const std::string env : {"", "OMP_WAIT_POLICY=passive"}) {
         const auto r = run_command(unset + env + " " + kWavecam + args + (dir / (env.empty() ? "a.exr" : "b.exr")).string());
         ASSERT_EQ(r.status, 0) << r.output;
@@ -385,15 +389,14 @@ TEST(ApplyCommand, ThreadsSpinBrieflyAtBarriersUnlessTheEnvironmentSaysHow) {
     fs::remove_all(dir);
 }
 
+// One word, one meaning, and nothing in the environment changes an image: the methods' and the
+// summations' words share none; a random-phase run through each evaluator gives the same pixels
+// whatever the environment holds (a variable that once chose the evaluator, the thread count).
 TEST(ApplyCommand, TheEnvironmentChangesNoImageAndNoWordMeansTwoThings) {
     const fs::path dir = scratch("apply_environment");
     write_render((dir / "in.exr").string(), 16, 12, 2.0f, 30.0f);
     for (const std::string summation : {"auto", "direct", "nufft", "psf"}) {
-        // (a 0.05 mm pinhole: a sixteenth of the 0.2 mm one's samples, for the direct sums' sake)
-        const std::string args = " apply " + (dir / "in.exr").string() +
-                                 " --method random-phase --runs 2 --seed 3 --film-distance 20mm --pinhole 0.05mm"
-                                 " --wavelengths 3 --summation " +
-                                 summation + " -o ";
+        const std::string args = small_random_phase_job(dir / "in.exr", summation);
         const auto plain = run_command(kWavecam + args + (dir / "plain.exr").string());
         ASSERT_EQ(plain.status, 0) << plain.output;
         const auto other = run_command("WAVECAM_SUMMATION=direct OMP_NUM_THREADS=1 " + kWavecam + args +

@@ -56,7 +56,7 @@ TEST(Plugin, OiiotoolMatchesWavecamApply) {
             auto job = [](const std::string& out, const std::string& label) {
                 const size_t end = out.find(" terms, about ");
                 if (end == std::string::npos) return std::string();
-                const size_t start = out.rfind('\n', end) == std::string::npos ? 0 : out.rfind('\n', end) + 1;
+                const size_t newline = out.rfind('\n', end), start = newline == std::string::npos ? 0 : newline + 1;
                 const std::string line = out.substr(start, end - start);
                 return line.rfind(label + ": ", 0) == 0 ? line.substr(label.size() + 2) : "(no label) " + line;
             };
