@@ -77,8 +77,9 @@ TEST(OneSourceModel, AllThreeMethodsConvergeToOneImage) {
         const double pinhole = 1.22 * 550e-9 * 50e-3 / (2 * pitch);
         const OIIO::ImageBuf src = textured_frame(side, fov);
         const auto convolution = diffracted(src, DiffractMethod::Convolution, pinhole, 1, Summation::Auto);
-        // the reference: where `auto` would take the psf summation at 60 deg, the exact sums (the
-        // NUFFTs, 3e-4) by name; at 10 deg psf's error is far below the models' differences
+        // the reference: at 60 deg, where `auto` would take the psf summation, the exact sums (the
+        // NUFFTs, 3e-4) by name; at 10 deg `auto` (psf, as for the runs: that pair then differs by
+        // the runs' noise alone; psf against the exact sums has its own tests)
         const auto incoherent = diffracted(src, DiffractMethod::Incoherent, pinhole, 1,
                                            fov > 30 ? Summation::Nufft : Summation::Auto);
         // (1024 coded runs: the PSF spans about 30 pixels at the longest wavelength, so the runs'
