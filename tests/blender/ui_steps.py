@@ -9,9 +9,9 @@
 #              ("wrote ..." read back from the Info editor's log) and shown, its fov the camera's;
 #              on screen it looks as the Render Result does (the same view transform): the
 #              centre's displayed colour of each, read from screenshots of the render window.
-#   estimate:  random-phase (64 runs) chosen: the panel shows the job's estimate before the render
+#   estimate:  random-phase (256 runs) chosen: the panel shows the job's estimate before the render
 #              (`wavecam estimate` on the frame's description, off the main thread).
-#   progress:  F12 with random-phase (64 runs): the command's estimate in the Info log, its
+#   progress:  F12 with random-phase (256 runs; Esc ends it): the command's estimate in the Info log, its
 #              progress ("42% after ...") in the status bar; then Esc: the command ends, no
 #              file (nor the command's temporary) is left, the still phase's result is kept as
 #              it was (beside the output path, not in a temporary folder), the cancel reported.
@@ -276,14 +276,16 @@ def tick():
         if shown_wavecam_image() != still_path():
             fail(f"the F12 still was kept at {shown_wavecam_image()}, expected {still_path()}")
         state["still_kept"] = os.path.getmtime(still_path())
-        w.method, w.auto_runs, w.runs = 'random-phase', False, 64
+        # (256 runs: the job must outlast the progress phase's checks on a loaded machine, where
+        # 64 runs once ended before them; Esc ends it)
+        w.method, w.auto_runs, w.runs = 'random-phase', False, 256
         next_phase("estimate")
     elif phase == "estimate":  # the panel's estimate, before the render
         properties_area().tag_redraw()
         text = job_estimate._state["text"] or ""
         if not text.startswith("Estimate: about"):
             if time.time() - state["since"] > 60:
-                fail(f"the panel shows no estimate for 64 runs: {text!r}")
+                fail(f"the panel shows no estimate for 256 runs: {text!r}")
             return 0.5
         if "estimate_shown" not in state:
             print(f"ui: panel: {text}", flush=True)
