@@ -12,7 +12,7 @@ PACKAGES=(
   # test-scene tracer
   libembree-dev libosd-dev
   # chosen dependencies (see README, "Dependencies")
-  libkissfft-dev libcli11-dev libtomlplusplus-dev libeigen3-dev
+  libcli11-dev libtomlplusplus-dev libeigen3-dev
   # packaging (.deb with shared-library dependencies; the man page made from --help)
   dpkg-dev file help2man
   # tests and benchmarks

@@ -73,7 +73,7 @@ set(CPACK_COMPONENT_RUNTIME_DESCRIPTION "Wave-optics pinhole camera: diffraction
 The wavecam command diffracts a render (RGB radiance and depth, OpenEXR) through a real
 pinhole; an OpenImageIO plugin does the same when oiiotool or a program reads NAME.wavecam;
 a Blender add-on diffracts every rendered frame.")
-# the shared libraries the command and the plugin link (OpenImageIO, OpenColorIO, kissfft, ...)
+# the shared libraries the command and the plugin link (OpenImageIO, OpenColorIO, ...)
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_SHLIBDEPS ON)
 # oiiotool and the Python bindings read images through the plugin; the add-on runs in Blender
 # and tags frames through OpenImageIO's Python
@@ -86,7 +86,7 @@ libwavecam (the physics) and libwavecam_io (its OpenImageIO layer), their header
 CMake package: find_package(wavecam) gives wavecam::core and wavecam::io.")
 # static libraries: what they link is what a program built with them needs
 set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS
-  "wavecam (= ${PROJECT_VERSION}), libopenimageio-dev, libopencolorio-dev, libkissfft-dev, pkg-config")
+  "wavecam (= ${PROJECT_VERSION}), libopenimageio-dev, libopencolorio-dev, pkg-config")
 if(WAVECAM_VULKAN_BUILT)  # the static library's users link the Vulkan loader too
   string(APPEND CPACK_DEBIAN_DEV_PACKAGE_DEPENDS ", libvulkan-dev")
 endif()

@@ -11,7 +11,6 @@
 #include "commands.h"
 #include "parse_errors.h"
 #include "terminal_progress.h"
-#include "thread_waits.h"
 #include "wavecam/atomic_write.h"
 
 namespace {
@@ -43,7 +42,6 @@ std::string describe(const std::exception& e) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    wavecam::cli::wait_briefly_at_barriers(argv);
     std::set_terminate(on_terminate);
     CLI::App app{"wavecam: a wave-optics pinhole camera"};
     app.require_subcommand(1);

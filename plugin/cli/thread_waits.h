@@ -9,10 +9,9 @@
 namespace wavecam::cli {
 
 // Where the environment says nothing of OpenMP's waiting (neither OMP_WAIT_POLICY nor
-// GOMP_SPINCOUNT), sets GOMP_SPINCOUNT=10000 and executes the command again: libgomp reads them
-// once, as it loads, before main. A user's own setting is kept; if the execution fails, the
-// command goes on as it is.
-void wait_briefly_at_barriers(char** argv);
+// GOMP_SPINCOUNT), the command runs with GOMP_SPINCOUNT=10000: thread_waits.cpp hands it to
+// libgomp before libgomp reads the environment (once, as it initialises, before main). A user's
+// own setting is kept.
 
 // "threads wait at barriers: GOMP_SPINCOUNT=10000" (what `wavecam estimate` says): the settings
 // in effect.

@@ -1,7 +1,7 @@
-// The psf summation's and far tail's 2D FFTs (core/src/complex_fft2d.h, column_fft.h) against
-// the discrete Fourier transform summed directly, for sizes of every radix the transform takes
-// (4, 2, 3, 5, and odd counts of stages, whose result ends in the work array), rectangular,
-// with rows known to be zero, and large enough to spread over threads.
+// Core's FFTs (core/src/fft/: complex 2D, real 2D, lines, all through column_fft.h) against the
+// discrete Fourier transform summed directly, for sizes of every radix the transform takes (4,
+// 2, 3, 5, and odd counts of stages, whose result ends in the work array), rectangular, with
+// rows or columns known to be zero, and large enough to spread over threads.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,11 +9,15 @@
 #include <random>
 #include <vector>
 
-#include "fft/complex_fft2d.h"
 #include "fft/column_fft.h"
+#include "fft/complex_fft2d.h"
+#include "fft/line_fft.h"
+#include "fft/real_fft2d.h"
 
 using wavecam::detail::ColumnFft;
 using wavecam::detail::ComplexFft2D;
+using wavecam::detail::LineFft;
+using wavecam::detail::RealFft2D;
 using cfloat = std::complex<float>;
 
 namespace {
@@ -107,4 +111,74 @@ TEST(ComplexFft, LargeTransformsSpreadOverThreadsRoundTrip) {
 TEST(ComplexFft, RefusesSizesWithLargerPrimeFactors) {
     EXPECT_FALSE(ColumnFft(14, false).ok());
     EXPECT_TRUE(ColumnFft(wavecam::detail::fft_friendly_size(14), false).ok());
+}
+
+TEST(RealFft, MatchesTheDirectTransformAndRoundTrips) {
+    // widths even (columns go in pairs), heights even and odd; spectrum S[kx][ky], ky <= h/2
+    const int sizes[][2] = {{2, 6}, {32, 90}, {60, 100}, {150, 8}, {12, 45}, {90, 15}};
+    unsigned seed = 11;
+    for (const auto& s : sizes) {
+        const int w = s[0], h = s[1];
+        RealFft2D fft(w, h);
+        ASSERT_TRUE(fft.ok());
+        ASSERT_EQ(fft.spectrum_rows(), w);
+        ASSERT_EQ(fft.spectrum_columns(), h / 2 + 1);
+        // columns [zero_begin, w) zero, the hint given, as a tile in its padded frame
+        for (const int zero_begin : {w, w / 2 + 1}) {
+            std::vector<cfloat> complex_image = random_image(w, h, h, seed++);
+            std::vector<float> image(size_t(w) * h);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    complex_image[size_t(y) * w + x] = image[size_t(y) * w + x] =
+                        x < zero_begin ? complex_image[size_t(y) * w + x].real() : 0.0f;
+            const auto forward = direct_dft(complex_image, w, h, -1);
+            std::vector<cfloat> spectrum(fft.spectrum_size());
+            fft.forward(image.data(), spectrum.data(), zero_begin, w);
+            double e = 0, r = 0;
+            for (int kx = 0; kx < w; ++kx)
+                for (int ky = 0; ky <= h / 2; ++ky) {
+                    const std::complex<double> want = forward[size_t(ky) * w + kx];
+                    e += std::norm(std::complex<double>(spectrum[size_t(kx) * (h / 2 + 1) + ky]) - want);
+                    r += std::norm(want);
+                }
+            EXPECT_LT(std::sqrt(e / r), 1e-6) << w << " x " << h << ", zero from column " << zero_begin;
+            std::vector<float> back(size_t(w) * h);
+            fft.inverse(spectrum.data(), back.data());
+            e = r = 0;
+            for (size_t q = 0; q < image.size(); ++q) {
+                e += std::pow(back[q] / float(w * h) - image[q], 2);
+                r += std::pow(image[q], 2);
+            }
+            EXPECT_LT(std::sqrt(e / r), 1e-6) << w << " x " << h;
+        }
+    }
+}
+
+TEST(LineFft, TransformsEveryLineInPlaceWhereverItLies) {
+    // lines of a grid wider than they are long, every other row, both directions
+    for (const int n : {6, 32, 45, 100}) {
+        const int stride = n + 3, count = 7;
+        std::vector<cfloat> grid = random_image(stride, 2 * count, 2 * count, unsigned(n));
+        const std::vector<cfloat> before = grid;
+        for (const bool inverse : {false, true}) {
+            grid = before;
+            LineFft fft(n, inverse);
+            ASSERT_TRUE(fft.ok());
+            fft.transform(count, [&](int k) { return &grid[size_t(2 * k) * stride]; });
+            double e = 0, r = 0;
+            for (int row = 0; row < 2 * count; ++row)
+                for (int k = 0; k < stride; ++k) {
+                    std::complex<double> want = before[size_t(row) * stride + k];
+                    if (row % 2 == 0 && k < n) {
+                        want = 0;
+                        for (int x = 0; x < n; ++x)
+                            want += std::complex<double>(before[size_t(row) * stride + x]) *
+                                    std::polar(1.0, (inverse ? 2 : -2) * M_PI * double(k) * x / n);
+                    }
+                    e += std::norm(std::complex<double>(grid[size_t(row) * stride + k]) - want);
+                    r += std::norm(want);
+                }
+            EXPECT_LT(std::sqrt(e / r), 1e-6) << n << (inverse ? " inverse" : " forward");
+        }
+    }
 }

@@ -2,6 +2,7 @@
 
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -69,13 +70,29 @@ Result<bool> ColourConfig::convert_from_xyz(float* rgb, size_t count, const std:
 Result<bool> ColourConfig::convert(float* rgb, size_t count, const std::string& from, const std::string& to) const {
     for (const std::string& space : {from, to})
         if (!has_colorspace(space)) return Result<bool>::failure(path_ + ": colour space '" + space + "' not found");
+    OCIO::ConstCPUProcessorRcPtr processor;
     try {
-        auto processor = config_->getProcessor(from.c_str(), to.c_str())->getDefaultCPUProcessor();
-        OCIO::PackedImageDesc desc(rgb, static_cast<long>(count), 1, 3);
-        processor->apply(desc);
+        processor = config_->getProcessor(from.c_str(), to.c_str())->getDefaultCPUProcessor();
     } catch (const std::exception& e) {
         return Result<bool>::failure(path_ + ": cannot convert '" + from + "' to '" + to + "': " + e.what());
     }
+    // in runs of pixels: OCIO's scratch is one run (a whole frame's was 32 MiB a call, freshly
+    // faulted in), and the runs spread over the threads (a CPU processor's apply is thread-safe)
+    constexpr long kRun = 4096;
+    const long runs = (long(count) + kRun - 1) / kRun;
+    std::string failed;
+#pragma omp parallel for schedule(static)
+    for (long r = 0; r < runs; ++r) {
+        try {
+            OCIO::PackedImageDesc desc(rgb + 3 * r * kRun, std::min<long>(kRun, long(count) - r * kRun), 1, 3);
+            processor->apply(desc);
+        } catch (const std::exception& e) {
+#pragma omp critical(colour_failure)
+            failed = e.what();
+        }
+    }
+    if (!failed.empty())
+        return Result<bool>::failure(path_ + ": cannot convert '" + from + "' to '" + to + "': " + failed);
     return Result<bool>::success(true);
 }
 

@@ -57,7 +57,7 @@ void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, std::vector<f
     // the kernel centred on the origin, wrapped
     for (int b = -R; b <= R; ++b)
         for (int a = -R; a <= R; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = w[size_t(b + R) * kw + (a + R)];
-    fft.forward(image.data(), spectrum, R + 1, Ny - R);
+    fft.forward(image.data(), spectrum, R + 1, Nx - R);
     for (int b = -R; b <= R; ++b)
         for (int a = -R; a <= R; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = 0.0f;
 }
@@ -95,7 +95,7 @@ Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int t
         if (progress) progress(1.0);
         return Result<AnchoredConvolution>::success(std::move(c));
     }
-    c.kernel_spectra_.resize(size_t(count) * c.spectrum_size_);
+    c.kernel_spectra_ = LargeArray<std::complex<float>>(size_t(count) * c.spectrum_size_);
     std::vector<long> table_kernel(count);  // the table's kernel index of each kept spectrum
     for (int l = 0; l < t.layers.count; ++l)
         for (int a = 0; a < t.anchors(); ++a)
@@ -119,10 +119,11 @@ Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int t
 
 AnchoredConvolution::KernelView AnchoredConvolution::spectrum(int layer, int anchor, int m) const {
     const KernelTable& t = table_;
-    // w(-x, y) has the spectrum X(-kx, ky) = conj X(kx, -ky) (real input); w(x, -y) has X(kx, -ky)
-    const bool columns = t.mirrored_x(anchor), rows = t.mirrored_y(anchor);
+    // spectra kept for ky >= 0 (real_fft2d.h): w(-x, y) has the spectrum X(-kx, ky); w(x, -y) has
+    // X(kx, -ky) = conj X(-kx, ky) (real input); both, conj X(kx, ky)
+    const bool in_x = t.mirrored_x(anchor), in_y = t.mirrored_y(anchor);
     return {&kernel_spectra_[((size_t(layer) * kept_anchors_ + slot_[t.source[anchor]]) * 9 + m) * spectrum_size_],
-            columns != rows, columns};
+            in_x != in_y, in_y};
 }
 
 namespace {
@@ -171,8 +172,8 @@ bool anchor_weights(const KernelTable& t, const DomainSources& src, const TileBo
 }
 
 // acc_q += sum_p in_p K_{3p+q}, written on floats so that it vectorises (std::complex's
-// operator* keeps a NaN-recovery branch); spectra of N rows of `half` (a kernel's rows read
-// as N - r where it is its source's mirror image).
+// operator* keeps a NaN-recovery branch); spectra of N rows (kx) of `half` (ky >= 0; a kernel's
+// rows read as N - r where it is its source's mirror image).
 void multiply_accumulate(const std::complex<float>* in, const AnchoredConvolution::KernelView kernels[9],
                          std::complex<float>* acc, int N, int half) {
     const size_t spec = size_t(N) * half;
@@ -226,7 +227,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
     const int T = tile_, Nx = fft_width_, Ny = fft_height_, R = t.radius, W = src.width;
     const int ntx = int(edges_x_.size()) - 1, nty = int(edges_y_.size()) - 1, nkx = int(t.ax.knots.size());
     const size_t spec = spectrum_size_;
-    const float norm = 1.0f / (float(Nx) * Ny);  // kissfft leaves the inverse unnormalised
+    const float norm = 1.0f / (float(Nx) * Ny);  // the transforms leave the inverse unnormalised
     ProgressTicker ticker(progress, double(ntx) * nty);
     // Four passes: tiles of one parity are at least one tile apart, a tile is at least 2 R wide
     // (tile_edges), and a tile writes at most R pixels beyond itself, so concurrent tiles never
@@ -269,7 +270,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
                                     for (int i = b.x0; i < b.x1; ++i)
                                         image[size_t(j - b.y0) * Nx + (i - b.x0)] =
                                             weight[size_t(j - b.y0) * T + (i - b.x0)] * src.rgb[3 * (size_t(j) * W + i) + p];
-                                fft.forward(image.data(), &in[p * spec], b.y1 - b.y0, Ny);
+                                fft.forward(image.data(), &in[p * spec], b.x1 - b.x0, Nx);
                             }
                             KernelView kernels[9];
                             for (int m = 0; m < 9; ++m) {
@@ -279,7 +280,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
                                 kernels[m] = kernel_spectra_.empty() ? KernelView{&own[m * spec], false, false}
                                                                      : spectrum(l, anchor, m);
                             }
-                            multiply_accumulate(in.data(), kernels, acc.data(), Ny, Nx / 2 + 1);
+                            multiply_accumulate(in.data(), kernels, acc.data(), Nx, Ny / 2 + 1);
                         }
                 if (hi >= lo)
                     for (int q = 0; q < 3; ++q) {

@@ -17,6 +17,7 @@
 #include <complex>
 #include <cstdint>
 #include <vector>
+#include "base/large_array.h"
 #include "convolution/kernel_table.h"
 #include "convolution/output_window.h"
 
@@ -86,7 +87,7 @@ private:
     size_t spectrum_size_ = 0;
     std::vector<int> slot_;  // per anchor: its place among the kept anchors, -1 for a mirror image
     int kept_anchors_ = 0;
-    std::vector<std::complex<float>> kernel_spectra_;  // [layer][slot][m][spectrum]; empty: none kept
+    LargeArray<std::complex<float>> kernel_spectra_;  // [layer][slot][m][spectrum]; empty: none kept
     // kernel k = (layer x anchors + anchor) x 9 + m's spectrum into `spectrum` (`image`: the
     // transform's height x width of zeros, left so)
     void transform_kernel(long k, RealFft2D& fft, std::vector<float>& image, std::complex<float>* spectrum) const;

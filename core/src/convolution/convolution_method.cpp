@@ -169,7 +169,7 @@ double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
     const double anchors = double(ax.knots.size()) * ay.knots.size();
     const double side = 2.0 * t.radius + 1, nx = detail::convolution_fft_length(t.tile, t.radius, t.domain_width),
                  ny = detail::convolution_fft_length(t.tile, t.radius, t.domain_height);
-    const double spectrum = ny * std::floor(nx / 2 + 1) * 8;  // bytes of one
+    const double spectrum = nx * std::floor(ny / 2 + 1) * 8;  // bytes of one (real_fft2d.h)
     const double spectra = t.layers.count * detail::computed_anchors(t, ax, ay) * 9 * spectrum;
     const double kernels = t.layers.count * anchors * 9 * side * side * sizeof(float) +
                            (spectra > detail::kMaxKernelSpectraBytes ? t.nthreads * 9 * spectrum : spectra);

@@ -3,7 +3,7 @@
 // butterfly applied to a whole run of columns, so the inner loops are long, contiguous and
 // vectorised. The psf summation's runs take thousands of 2D transforms of one size; down the
 // columns of a row-major image every butterfly has hundreds of independent lanes, where a 1D
-// library (kissfft) works one scalar sequence at a time. Internal to core.
+// library works one scalar sequence at a time. Internal to core.
 //
 // Stage of radix P on a length n = P m, stride s (the sub-sequences already split off):
 //   y[q + s (P p + k)] = w_n^(p k) sum_j x[q + s (p + j m)] w_P^(j k),   w_n = exp(-+2 pi i / n),
@@ -38,7 +38,7 @@ private:
     std::vector<Stage> stages_;
 };
 
-// Smallest size >= n with no prime factor above 5 (fast for kissfft and ColumnFft), and even.
+// Smallest size >= n with no prime factor above 5 (the sizes ColumnFft takes), and even.
 inline int fft_friendly_size(int n) {
     // (at least 2: a size of 0 never leaves the loop below; beyond 2^28 no search, a size that
     // large is only ever a cost to compare, never allocated)

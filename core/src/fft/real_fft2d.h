@@ -1,77 +1,49 @@
-// Real 2D FFTs of one size (width x height) through kissfft (BSD-3-Clause; see docs/install.md on why not FFTW):
-// real 1D transforms along rows, complex 1D transforms along the n/2 + 1 columns.
-// (Debian's kissfft 131 returns no configuration from kiss_fftndr_alloc, so the 2D transform
-// is composed here from the 1D ones.) Internal to core; one object per thread.
+// Real 2D FFTs of one size (width x height, width even) through the vectorised column transforms
+// (column_fft.h), the one FFT of core. Internal to core; one object per thread.
+//
+// Forward, for a real image x[y][x] (height rows of width):
+//   1. pairs of columns packed as one complex column, z[y][c] = x[y][2c] + i x[y][2c+1], and
+//      the height-point transforms of all width/2 of them at once: Z[ky][c];
+//   2. each column's own transform from the pair's, by the symmetry of a real column's
+//      spectrum, X(-ky) = conj X(ky):
+//        E = (Z[ky] + conj Z[-ky]) / 2 (column 2c),  O = (Z[ky] - conj Z[-ky]) / 2i (column 2c+1),
+//      for ky = 0 .. height/2 only (the rest is the conjugate);
+//   3. the width-point transforms across those height/2 + 1 rows (columns of their transpose).
+// The spectrum is kept transposed, S[kx][ky] for kx = 0 .. width-1 and ky = 0 .. height/2, so
+// that no step transposes back: width rows of height/2 + 1 values. The inverse runs the steps
+// backwards, the negative ky rows rebuilt as conjugates (a product of real images' spectra is
+// a real image's), and the result lands packed, two columns a value, in the output image.
 #pragma once
-#include <kiss_fft.h>
-#include <kiss_fftr.h>
-
-#include <algorithm>
 #include <complex>
 #include <vector>
 
-#include "fft/column_fft.h"  // fft_friendly_size
+#include "fft/column_fft.h"
 
 namespace wavecam::detail {
 
 class RealFft2D {
 public:
-    RealFft2D(int width, int height)
-        : width_(width),
-          height_(height),
-          half_(width / 2 + 1),
-          row_forward_(kiss_fftr_alloc(width, 0, nullptr, nullptr)),
-          row_inverse_(kiss_fftr_alloc(width, 1, nullptr, nullptr)),
-          column_forward_(kiss_fft_alloc(height, 0, nullptr, nullptr)),
-          column_inverse_(kiss_fft_alloc(height, 1, nullptr, nullptr)),
-          column_(height),
-          column_out_(height) {}
-    ~RealFft2D() {
-        kiss_fftr_free(row_forward_);
-        kiss_fftr_free(row_inverse_);
-        kiss_fft_free(column_forward_);
-        kiss_fft_free(column_inverse_);
-    }
-    RealFft2D(const RealFft2D&) = delete;
-    RealFft2D& operator=(const RealFft2D&) = delete;
+    RealFft2D(int width, int height);
 
-    bool ok() const { return row_forward_ && row_inverse_ && column_forward_ && column_inverse_; }
-    size_t spectrum_size() const { return size_t(height_) * half_; }
+    bool ok() const { return ok_; }
+    // The spectrum's shape: rows kx = 0 .. width-1, columns ky = 0 .. height/2.
+    int spectrum_rows() const { return w_; }
+    int spectrum_columns() const { return half_; }
+    size_t spectrum_size() const { return size_t(w_) * half_; }
 
-    // height x width real (row-major) -> height x (width/2 + 1) spectrum (row-major). Rows
-    // [zero_begin, zero_end) are known to be zero (a tile's padding, a wrapped kernel's middle):
-    // their transforms are skipped.
-    void forward(const float* image, std::complex<float>* spectrum, int zero_begin = 0, int zero_end = 0) {
-        for (int r = 0; r < height_; ++r)
-            if (r >= zero_begin && r < zero_end)
-                std::fill(spectrum + size_t(r) * half_, spectrum + size_t(r + 1) * half_, std::complex<float>(0));
-            else
-                kiss_fftr(row_forward_, image + size_t(r) * width_, cpx(spectrum + size_t(r) * half_));
-        columns(spectrum, column_forward_);
-    }
-    // spectrum -> height x width real, scaled by width x height (kissfft does not normalise); the
-    // spectrum is overwritten
-    void inverse(std::complex<float>* spectrum, float* image) {
-        columns(spectrum, column_inverse_);
-        for (int r = 0; r < height_; ++r)
-            kiss_fftri(row_inverse_, cpx(spectrum + size_t(r) * half_), image + size_t(r) * width_);
-    }
+    // height x width real (row-major) -> the spectrum. Columns [zero_begin, zero_end) of the
+    // image are known to be zero (a tile's padding, a wrapped kernel's middle): their transforms
+    // are skipped.
+    void forward(const float* image, std::complex<float>* spectrum, int zero_begin = 0, int zero_end = 0);
+    // spectrum -> height x width real, scaled by width x height (neither direction normalises);
+    // the spectrum is overwritten.
+    void inverse(std::complex<float>* spectrum, float* image);
 
 private:
-    static kiss_fft_cpx* cpx(std::complex<float>* p) { return reinterpret_cast<kiss_fft_cpx*>(p); }
-
-    void columns(std::complex<float>* spectrum, kiss_fft_cfg cfg) {
-        for (int k = 0; k < half_; ++k) {
-            for (int r = 0; r < height_; ++r) column_[r] = spectrum[size_t(r) * half_ + k];
-            kiss_fft(cfg, cpx(column_.data()), cpx(column_out_.data()));
-            for (int r = 0; r < height_; ++r) spectrum[size_t(r) * half_ + k] = column_out_[r];
-        }
-    }
-
-    int width_, height_, half_;
-    kiss_fftr_cfg row_forward_, row_inverse_;
-    kiss_fft_cfg column_forward_, column_inverse_;
-    std::vector<std::complex<float>> column_, column_out_;
+    int w_, h_, pairs_, half_;
+    bool ok_;
+    ColumnFft column_forward_, column_inverse_, row_forward_, row_inverse_;
+    std::vector<std::complex<float>> packed_, rows_, work_;
 };
 
 }  // namespace wavecam::detail

@@ -32,7 +32,7 @@ public:
 
     // A run: begin; for each kernel with light, fill sources() (nx x ny, row-major, in the
     // device's mapped memory) and add it; finish with each domain point's sum over sub-points of
-    // |u|^2 (or of Re u where `powers`), unnormalised as kissfft's transforms.
+    // |u|^2 (or of Re u where `powers`), unnormalised as core's transforms (fft/).
     void begin_run();
     std::complex<float>* sources();
     Result<bool> add_sources(int kernel);

@@ -1,14 +1,13 @@
 #include "optics/fresnel_transfer.h"
 
-#include <kiss_fft.h>
-
 #include <algorithm>
 #include <cmath>
 #include <complex>
 #include <string>
 #include <vector>
 
-#include "fft/real_fft2d.h"
+#include "fft/column_fft.h"
+#include "fft/line_fft.h"
 
 namespace wavecam::detail {
 
@@ -74,26 +73,6 @@ TransferPlan plan_transfer(const FieldPsfRequest& q, const FieldGeometry& g) {
 
 namespace {
 
-// Unnormalised 1D complex FFTs (kissfft) of `count` consecutive lines of length n, out of
-// place (kissfft in place allocates per call). The 2D transforms below keep their arrays with
-// the transformed axis contiguous: the spectrum transposed (one line per kx), the image rows.
-class LineFft {
-public:
-    LineFft(int n, bool inverse) : n_(n), cfg_(kiss_fft_alloc(n, inverse ? 1 : 0, nullptr, nullptr)) {}
-    ~LineFft() { kiss_fft_free(cfg_); }
-    LineFft(const LineFft&) = delete;
-    LineFft& operator=(const LineFft&) = delete;
-    void operator()(const std::complex<float>* in, std::complex<float>* out, int count) const {
-        for (int k = 0; k < count; ++k)
-            kiss_fft(cfg_, reinterpret_cast<const kiss_fft_cpx*>(in + size_t(k) * n_),
-                     reinterpret_cast<kiss_fft_cpx*>(out + size_t(k) * n_));
-    }
-
-private:
-    int n_;
-    kiss_fft_cfg cfg_;
-};
-
 // The pupil's spectrum on an n x n grid of pitch h: it depends on neither the wavelength nor
 // the field angle (the chirp is all in the transfer function), so a table's requests at one
 // depth share it. Each thread keeps the last kSpectraKept; a request whose grid must be at
@@ -134,19 +113,21 @@ const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometr
     const int n = plan.n;
     const double h = plan.h;
     const int reach = std::min(n / 2 - 1, int(std::ceil(0.5 * g.span / h)) + 1), row0 = n / 2 - reach;
-    std::vector<std::complex<float>> pupil(size_t(n) * n, 0.0f), rows(size_t(n) * n, 0.0f);
+    std::vector<std::complex<float>> pupil(size_t(n) * n, 0.0f);
     for (int iy = row0; iy <= n / 2 + reach; ++iy)
         for (int ix = n / 2 - reach; ix <= n / 2 + reach; ++ix) {
             const double x = (ix - n / 2 + o) * h, y = (iy - n / 2 + o) * h;
             double cx, cy;
             pupil[size_t(iy) * n + ix] = float(q.aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy));
         }
-    const LineFft forward(n, false);
-    forward(&pupil[size_t(row0) * n], &rows[size_t(row0) * n], 2 * reach + 1);
-    for (int y = 0; y < n; ++y)  // transposed: the columns' transforms run along lines
-        for (int x = 0; x < n; ++x) pupil[size_t(x) * n + y] = rows[size_t(y) * n + x];
+    // the rows (the others are zero), then the columns as lines of the transpose: the spectrum
+    // is kept transposed, one line per kx
+    detail::LineFft forward(n, false);
+    forward.transform(2 * reach + 1, [&](int k) { return &pupil[size_t(row0 + k) * n]; });
     kept.value.resize(size_t(n) * n);
-    forward(pupil.data(), kept.value.data(), n);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) kept.value[size_t(x) * n + y] = pupil[size_t(y) * n + x];
+    forward.transform(n, [&](int k) { return &kept.value[size_t(k) * n]; });
     kept.aperture = q.aperture.name();
     kept.mask = q.aperture.mask.get();
     kept.diameter = q.aperture.diameter;
@@ -213,10 +194,9 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
     const bool even = plan.symmetric && o == 0.0;
     const int lines = even ? n / 2 + 1 : n;
     thread_local std::vector<std::complex<float>> field, columns;  // scratch, reused
-    transfer(spectrum, lines, q.wavelength, g, field);
-    const LineFft inverse(n, true);
-    columns.resize(size_t(lines) * n);
-    inverse(field.data(), columns.data(), lines);  // columns[kx][y]: image row y at frequency kx
+    transfer(spectrum, lines, q.wavelength, g, columns);
+    detail::LineFft inverse(n, true);
+    inverse.transform(lines, [&](int k) { return &columns[size_t(k) * n]; });  // columns[kx][y]: image row y at frequency kx
     // the image rows the kernel reads, frequency kx along each (kx >= lines: the mirror's)
     const int b0 = even ? 0 : -R;
     const int row0 = n / 2 + b0 * sub - sub / 2, rows = (R - b0 + 1) * sub;
@@ -234,15 +214,15 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
         for (int k = 0; k < rows; ++k) field[size_t(k) * n + kx] = column[from[k]];
     }
     // Each pixel: sum of |U|^2 h^2 over its points / transmitted power (the aperture's area);
-    // kissfft's forward-inverse pair scales by n^2.
+    // the unnormalised forward-inverse pair scales by n^2.
     const int w = 2 * R + 1;
     std::vector<int> column_of(size_t(w) * sub);  // kernel column a's grid columns
     for (int a = -R; a <= R; ++a)
         for (int t = 0; t < sub; ++t) column_of[size_t(a + R) * sub + t] = wrap(n / 2 + a * sub - sub / 2 + t);
     std::vector<double> sum(size_t(w) * w, 0.0);
-    std::vector<std::complex<float>> row(n);
+    inverse.transform(rows, [&](int k) { return &field[size_t(k) * n]; });
     for (int k = 0; k < rows; ++k) {
-        inverse(&field[size_t(k) * n], row.data(), 1);
+        const std::complex<float>* row = &field[size_t(k) * n];
         double* dst = &sum[size_t(b0 + R + k / sub) * w];
         for (int a = 0; a < w; ++a)
             for (int t = 0; t < sub; ++t) dst[a] += std::norm(row[column_of[size_t(a) * sub + t]]);

@@ -8,18 +8,27 @@
 // Modes are centred (k = m - nx/2), the offset is a phase per point.
 #include "summation/nufft/lattice_nufft.h"
 
-#include <kiss_fft.h>
 #include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "fft/real_fft2d.h"
+#include "fft/column_fft.h"
+#include "fft/line_fft.h"
 
 namespace wavecam::detail {
 namespace {
 
 int threads(int n) { return n > 0 ? n : omp_get_max_threads(); }
+
+// This thread's line transform of length n, kept between calls (its buffers fault in once).
+LineFft& kept_line_fft(int n, bool inverse) {
+    thread_local std::vector<std::pair<bool, LineFft>> kept;
+    for (auto& [dir, fft] : kept)
+        if (fft.length() == n && dir == inverse) return fft;
+    if (kept.size() >= 4) kept.erase(kept.begin());
+    return kept.emplace_back(inverse, LineFft(n, inverse)).second;
+}
 
 // (M / 2 pi) phihat(k) = (w / 2) int_-1^1 es(z) cos(pi k w z / M) dz (midpoint rule; es is smooth
 // inside and e^-beta at the ends).
@@ -93,44 +102,31 @@ double LatticeNufft::fft_work() const {
 }
 
 // In place on a grid of my_ rows of stride mx_ + w_: the rows listed (the others are zero and
-// stay so, or are not needed), then the columns listed (likewise), or columns first as
-// `rows_first` says: the transform is the same, the pruning differs.
-void LatticeNufft::fft2d(std::vector<cfloat>& grid, bool rows_first, const std::vector<int>& rows,
-                         const std::vector<int>& columns) const {
+// stay so, or are not needed), then the columns listed (likewise). The rows as lines (line_fft.h,
+// each thread a share of them), the columns down the grid itself, run by run of neighbours.
+void LatticeNufft::fft2d(std::vector<cfloat>& grid, const std::vector<int>& rows, const std::vector<int>& columns) const {
     const size_t stride = size_t(mx_) + w_;
-    kiss_fft_cfg row_cfg = kiss_fft_alloc(mx_, 0, nullptr, nullptr);
-    kiss_fft_cfg col_cfg = kiss_fft_alloc(my_, 0, nullptr, nullptr);
-    auto cpx = [](cfloat* p) { return reinterpret_cast<kiss_fft_cpx*>(p); };
+    std::vector<std::pair<int, int>> runs;  // [first, last) of neighbouring columns
+    for (const int c : columns)
+        if (!runs.empty() && runs.back().second == c)
+            ++runs.back().second;
+        else
+            runs.emplace_back(c, c + 1);
+    const ColumnFft column_fft(my_, false);
+    column_work_.resize(size_t(my_) * stride);
 #pragma omp parallel num_threads(threads(nthreads_))
     {
-        std::vector<cfloat> in(std::max(mx_, my_)), out(std::max(mx_, my_));
-        auto do_rows = [&] {
-#pragma omp for schedule(static)
-            for (long k = 0; k < long(rows.size()); ++k) {
-                cfloat* row = grid.data() + size_t(rows[k]) * stride;
-                kiss_fft(row_cfg, cpx(row), cpx(out.data()));
-                std::copy(out.begin(), out.begin() + mx_, row);
-            }
-        };
-        auto do_columns = [&] {
-#pragma omp for schedule(static)
-            for (long k = 0; k < long(columns.size()); ++k) {
-                const int c = columns[k];
-                for (int r = 0; r < my_; ++r) in[r] = grid[size_t(r) * stride + c];
-                kiss_fft(col_cfg, cpx(in.data()), cpx(out.data()));
-                for (int r = 0; r < my_; ++r) grid[size_t(r) * stride + c] = out[r];
-            }
-        };
-        if (rows_first) {
-            do_rows();
-            do_columns();
-        } else {
-            do_columns();
-            do_rows();
+        const int team = omp_get_num_threads(), me = omp_get_thread_num();
+        const int per = (int(rows.size()) + team - 1) / team, a = std::min(int(rows.size()), me * per),
+                  b = std::min(int(rows.size()), a + per);
+        kept_line_fft(mx_, false).transform(b - a, [&](int k) { return grid.data() + size_t(rows[a + k]) * stride; });
+#pragma omp barrier
+        for (const auto& [first, last] : runs) {
+            const int share = std::max(16, (last - first + team - 1) / team);
+            const int x0 = std::min(last, first + me * share), x1 = std::min(last, x0 + share);
+            if (x0 < x1) column_fft.transform(grid.data(), column_work_.data(), int(stride), x0, x1);
         }
     }
-    kiss_fft_free(row_cfg);
-    kiss_fft_free(col_cfg);
 }
 
 std::vector<int> LatticeNufft::mode_lines(int n, int m) {
@@ -214,7 +210,7 @@ void LatticeNufft::to_lattice(const LatticePoints& points, const cfloat* a, int 
             for (int c = mx_; c < mx_ + w_; ++c) one[size_t(r) * stride + c - mx_] += one[size_t(r) * stride + c];
         for (int r = my_; r < my_ + w_; ++r)
             for (int c = 0; c < mx_; ++c) one[size_t(r - my_) * stride + c] += one[size_t(r) * stride + c];
-        fft2d(one, true, rows, columns);
+        fft2d(one, rows, columns);
         cfloat* lattice = lattices[q];
 #pragma omp parallel for schedule(static) num_threads(threads(nthreads_))
         for (int n = 0; n < ny_; ++n)
@@ -243,7 +239,7 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
                 const size_t bin = size_t(wrap(n - cy, my_)) * stride + wrap(m - cx, mx_);
                 one[bin] = lattice[size_t(n) * nx_ + m] * float(deconvolve_x_[m] * deconvolve_y_[n]);
             }
-        fft2d(one, true, rows, columns);
+        fft2d(one, rows, columns);
         // periodic padding: w columns beyond each row, then w rows beyond the last, repeat the start
         for (int r = 0; r < my_; ++r)
             for (int col = mx_; col < mx_ + w_; ++col) one[size_t(r) * stride + col] = one[size_t(r) * stride + col - mx_];

@@ -10,7 +10,7 @@
 // SIAM J. Sci. Comput. 41 (2019)); relative RMS error about 10^(1 - w), within 2x of the tolerance
 // asked (tests/core/test_lattice_nufft.cpp). Written here (about 250
 // lines, tested against the direct sums) rather than taken from a library: Debian bookworm ships
-// no NUFFT library (FINUFFT is not packaged), and kissfft (BSD) is already our FFT.
+// no NUFFT library (FINUFFT is not packaged), and core's own FFT (fft/) serves.
 // Internal to core.
 #pragma once
 #include <complex>
@@ -57,8 +57,7 @@ public:
     double taps_per_point() const { return double(w_) * w_; }
 
 private:
-    void fft2d(std::vector<cfloat>& grid, bool rows_first, const std::vector<int>& rows,
-               const std::vector<int>& columns) const;
+    void fft2d(std::vector<cfloat>& grid, const std::vector<int>& rows, const std::vector<int>& columns) const;
     // The grid lines (of m) that the kernels of points at x (radians per step) touch, and the
     // lines of the n centred modes.
     std::vector<int> touched(const double* x, size_t count, int m) const;
@@ -68,7 +67,8 @@ private:
     std::vector<double> deconvolve_x_, deconvolve_y_;
     std::vector<float> table_;  // the kernel, tabulated
     std::vector<std::vector<cfloat>>& workspace(int batch, size_t plane) const;
-    mutable std::vector<std::vector<cfloat>> grids_;  // one transform at a time per object  // 1 / kernel's Fourier transform per mode
+    mutable std::vector<std::vector<cfloat>> grids_;  // one transform at a time per object
+    mutable std::vector<cfloat> column_work_;         // the column transforms' work array
 };
 
 }  // namespace wavecam::detail
