@@ -123,17 +123,20 @@ TEST(RealFft, MatchesTheDirectTransformAndRoundTrips) {
         ASSERT_TRUE(fft.ok());
         ASSERT_EQ(fft.spectrum_rows(), w);
         ASSERT_EQ(fft.spectrum_columns(), h / 2 + 1);
-        // columns [zero_begin, w) zero, the hint given, as a tile in its padded frame
-        for (const int zero_begin : {w, w / 2 + 1}) {
+        // columns outside [first, last) zero, the hint given: a tile in its padded frame, an
+        // anchor's hat in it, a kernel wrapped round the first column
+        const int ranges[][2] = {{0, w}, {0, w / 2 + 1}, {1, w / 2 + 1}, {w - 1, w + 2}};
+        for (const auto& range : ranges) {
+            const int first = range[0], last = range[1];
             std::vector<cfloat> complex_image = random_image(w, h, h, seed++);
             std::vector<float> image(size_t(w) * h);
             for (int y = 0; y < h; ++y)
                 for (int x = 0; x < w; ++x)
                     complex_image[size_t(y) * w + x] = image[size_t(y) * w + x] =
-                        x < zero_begin ? complex_image[size_t(y) * w + x].real() : 0.0f;
+                        (x >= first && x < last) || x + w < last ? complex_image[size_t(y) * w + x].real() : 0.0f;
             const auto forward = direct_dft(complex_image, w, h, -1);
             std::vector<cfloat> spectrum(fft.spectrum_size());
-            fft.forward(image.data(), spectrum.data(), zero_begin, w);
+            fft.forward(image.data(), spectrum.data(), first, last);
             double e = 0, r = 0;
             for (int kx = 0; kx < w; ++kx)
                 for (int ky = 0; ky <= h / 2; ++ky) {
@@ -141,7 +144,7 @@ TEST(RealFft, MatchesTheDirectTransformAndRoundTrips) {
                     e += std::norm(std::complex<double>(spectrum[size_t(kx) * (h / 2 + 1) + ky]) - want);
                     r += std::norm(want);
                 }
-            EXPECT_LT(std::sqrt(e / r), 1e-6) << w << " x " << h << ", zero from column " << zero_begin;
+            EXPECT_LT(std::sqrt(e / r), 1e-6) << w << " x " << h << ", columns " << first << " to " << last;
             std::vector<float> back(size_t(w) * h);
             fft.inverse(spectrum.data(), back.data());
             e = r = 0;

@@ -53,11 +53,11 @@ void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, std::vector<f
                                            std::complex<float>* spectrum) const {
     const KernelTable& t = table_;
     const int R = t.radius, kw = 2 * R + 1, Nx = fft_width_, Ny = fft_height_;
-    const float* w = &t.weights[size_t(k) * t.kernel_size()];
+    const float* w = t.kernel(k);
     // the kernel centred on the origin, wrapped
     for (int b = -R; b <= R; ++b)
         for (int a = -R; a <= R; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = w[size_t(b + R) * kw + (a + R)];
-    fft.forward(image.data(), spectrum, R + 1, Nx - R);
+    fft.forward(image.data(), spectrum, Nx - R, Nx + R + 1);  // (the columns wrap)
     for (int b = -R; b <= R; ++b)
         for (int a = -R; a <= R; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = 0.0f;
 }
@@ -75,14 +75,9 @@ Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int t
     c.table_ = std::move(table);
     const KernelTable& t = c.table_;
     const int Nx = c.fft_width_, Ny = c.fft_height_;
-    // only the computed anchors' spectra are kept: a mirror image's is its source's, reflected
-    // as it is read (KernelView)
-    c.slot_.assign(t.anchors(), -1);
-    int kept = 0;
-    for (int a = 0; a < t.anchors(); ++a)
-        if (t.source[a] == a) c.slot_[a] = kept++;
-    c.kept_anchors_ = kept;
-    const long count = long(t.layers.count) * kept * 9;
+    // only the computed anchors' spectra are kept, as the table keeps their kernels: a mirror
+    // image's is its source's, reflected as it is read (KernelView)
+    const long count = long(t.layers.count) * t.computed * 9;
     {
         RealFft2D probe(Nx, Ny);
         if (!probe.ok())
@@ -90,17 +85,13 @@ Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int t
                                                         std::to_string(Ny) + "-point transform");
         c.spectrum_size_ = probe.spectrum_size();
     }
-    // spectra beyond kMaxKernelSpectraBytes are transformed by each tile that needs them instead
-    if (double(count) * c.spectrum_size_ * sizeof(std::complex<float>) > kMaxKernelSpectraBytes) {
+    // spectra beyond kMaxKernelSpectraBytes are transformed by each tile that needs them instead,
+    // and so are a single tile's (it uses each once)
+    if (!keeps_kernel_spectra(count, c.spectrum_size_, (c.edges_x_.size() - 1) * (c.edges_y_.size() - 1))) {
         if (progress) progress(1.0);
         return Result<AnchoredConvolution>::success(std::move(c));
     }
     c.kernel_spectra_ = LargeArray<std::complex<float>>(size_t(count) * c.spectrum_size_);
-    std::vector<long> table_kernel(count);  // the table's kernel index of each kept spectrum
-    for (int l = 0; l < t.layers.count; ++l)
-        for (int a = 0; a < t.anchors(); ++a)
-            for (int m = 0; c.slot_[a] >= 0 && m < 9; ++m)
-                table_kernel[(size_t(l) * kept + c.slot_[a]) * 9 + m] = (long(l) * t.anchors() + a) * 9 + m;
     ProgressTicker ticker(progress, double(count));
 #pragma omp parallel num_threads(nthreads)
     {
@@ -109,7 +100,7 @@ Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int t
 #pragma omp for schedule(dynamic, 4)
         for (long k = 0; k < count; ++k) {
             if (ticker.cancelled()) continue;
-            c.transform_kernel(table_kernel[k], fft, image, &c.kernel_spectra_[size_t(k) * c.spectrum_size_]);
+            c.transform_kernel(k, fft, image, &c.kernel_spectra_[size_t(k) * c.spectrum_size_]);
             ticker.advance(1, omp_get_thread_num() == 0);
         }
     }
@@ -122,16 +113,10 @@ AnchoredConvolution::KernelView AnchoredConvolution::spectrum(int layer, int anc
     // spectra kept for ky >= 0 (real_fft2d.h): w(-x, y) has the spectrum X(-kx, ky); w(x, -y) has
     // X(kx, -ky) = conj X(-kx, ky) (real input); both, conj X(kx, ky)
     const bool in_x = t.mirrored_x(anchor), in_y = t.mirrored_y(anchor);
-    return {&kernel_spectra_[((size_t(layer) * kept_anchors_ + slot_[t.source[anchor]]) * 9 + m) * spectrum_size_],
-            in_x != in_y, in_y};
+    return {&kernel_spectra_[size_t(t.kernel_index(layer, t.source[anchor], m)) * spectrum_size_], in_x != in_y, in_y};
 }
 
 namespace {
-
-// A tile's source pixels [x0, x1) x [y0, y1) of the domain.
-struct TileBounds {
-    int x0, y0, x1, y1;
-};
 
 // The depth layers the tile's sources touch, [lo, hi] (hi < lo: none).
 void layer_span(const DomainSources& src, const TileBounds& b, int layers, int& lo, int& hi) {
@@ -221,74 +206,156 @@ void add_to_output(const std::vector<float>& image, const TileFrame& frame, cons
 
 }  // namespace
 
+// One thread's working arrays for a tile: its transform, the weighted image, the input and
+// accumulated spectra, and the kernels' spectra where the plan keeps none.
+struct AnchoredConvolution::TileScratch {
+    RealFft2D fft;
+    std::vector<float> image, weight, kernel_image;
+    std::vector<std::complex<float>> in, acc, own;
+    TileScratch(int Nx, int Ny, int T, size_t spec, bool own_kernels)
+        : fft(Nx, Ny),
+          image(size_t(Nx) * Ny, 0.0f),
+          weight(size_t(T) * T),
+          kernel_image(own_kernels ? size_t(Nx) * Ny : 0, 0.0f),
+          in(3 * spec, 0.0f),
+          acc(3 * spec, 0.0f),
+          own(own_kernels ? 9 * spec : 0) {}
+};
+
+// The anchors of one depth layer that share one computed anchor's kernels (it and its mirror
+// images) and that a tile meets.
+struct AnchoredConvolution::KernelGroup {
+    int layer, source;
+    std::vector<int> anchors;
+};
+
+std::vector<AnchoredConvolution::KernelGroup> AnchoredConvolution::groups_of(const DomainSources& src,
+                                                                              const TileBounds& b) const {
+    // the anchors whose hats reach into the tile: the knots of the cells it spans, at the depth
+    // layers its sources touch
+    const KernelTable& t = table_;
+    const int kx0 = t.ax.cell_of(b.x0), kx1 = t.ax.cell_of(b.x1 - 1) + 1;
+    const int ky0 = t.ay.cell_of(b.y0), ky1 = t.ay.cell_of(b.y1 - 1) + 1, nkx = int(t.ax.knots.size());
+    int lo, hi;
+    layer_span(src, b, t.layers.count, lo, hi);
+    std::vector<KernelGroup> groups;
+    for (int l = lo; l <= hi; ++l)
+        for (int ky = ky0; ky <= ky1; ++ky)
+            for (int kx = kx0; kx <= kx1; ++kx) {
+                const int anchor = ky * nkx + kx, source = t.source[anchor];
+                auto g = std::find_if(groups.begin(), groups.end(),
+                                      [&](const KernelGroup& k) { return k.layer == l && k.source == source; });
+                if (g == groups.end()) g = groups.insert(groups.end(), KernelGroup{l, source, {}});
+                g->anchors.push_back(anchor);
+            }
+    return groups;
+}
+
+void AnchoredConvolution::add_group(const DomainSources& src, const TileBounds& b, const KernelGroup& g,
+                                    TileScratch& s) const {
+    const KernelTable& t = table_;
+    const int T = tile_, Nx = fft_width_, Ny = fft_height_, W = src.width, nkx = int(t.ax.knots.size());
+    const size_t spec = spectrum_size_;
+    bool transformed = false;  // the group's kernels, where the plan keeps none: once, when first needed
+    for (const int anchor : g.anchors) {
+        if (!anchor_weights(t, src, b, {g.layer, anchor % nkx, anchor / nkx}, T, s.weight)) continue;
+        KernelView kernels[9];
+        for (int m = 0; m < 9; ++m) {
+            if (!kernel_spectra_.empty()) {
+                kernels[m] = spectrum(g.layer, anchor, m);
+                continue;
+            }
+            if (!transformed)
+                transform_kernel(t.kernel_index(g.layer, g.source, m), s.fft, s.kernel_image, &s.own[m * spec]);
+            const bool in_x = t.mirrored_x(anchor), in_y = t.mirrored_y(anchor);
+            kernels[m] = {&s.own[m * spec], in_x != in_y, in_y};
+        }
+        transformed = true;
+        // the columns the anchor's hat lights in the tile: the others are zero in every image
+        int first = b.x1 - b.x0, last = 0;
+        for (int j = 0; j < b.y1 - b.y0; ++j)
+            for (int i = 0; i < b.x1 - b.x0; ++i)
+                if (s.weight[size_t(j) * T + i] > 0) {
+                    first = std::min(first, i);
+                    last = std::max(last, i + 1);
+                }
+        for (int p = 0; p < 3; ++p) {
+            for (int j = b.y0; j < b.y1; ++j)
+                for (int i = b.x0; i < b.x1; ++i)
+                    s.image[size_t(j - b.y0) * Nx + (i - b.x0)] =
+                        s.weight[size_t(j - b.y0) * T + (i - b.x0)] * src.rgb[3 * (size_t(j) * W + i) + p];
+            s.fft.forward(s.image.data(), &s.in[p * spec], first, last);
+        }
+        multiply_accumulate(s.in.data(), kernels, s.acc.data(), Nx, Ny / 2 + 1);
+    }
+}
+
+void AnchoredConvolution::add_tile_light(const TileBounds& b, std::complex<float>* acc, int q, const OutputWindow& out,
+                                         float* xyz, TileScratch& s) const {
+    const int Nx = fft_width_, Ny = fft_height_;
+    s.fft.inverse(&acc[q * spectrum_size_], s.image.data());
+    const float norm = 1.0f / (float(Nx) * Ny);  // the transforms leave the inverse unnormalised
+    add_to_output(s.image, {Nx, Ny, table_.radius, b}, out, norm, q, xyz);
+}
+
 Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWindow& out, float* xyz,
                                         const ProgressFn& progress) const {
-    const KernelTable& t = table_;
-    const int T = tile_, Nx = fft_width_, Ny = fft_height_, R = t.radius, W = src.width;
-    const int ntx = int(edges_x_.size()) - 1, nty = int(edges_y_.size()) - 1, nkx = int(t.ax.knots.size());
+    const int Nx = fft_width_, Ny = fft_height_, R = table_.radius;
+    const int ntx = int(edges_x_.size()) - 1, nty = int(edges_y_.size()) - 1;
     const size_t spec = spectrum_size_;
-    const float norm = 1.0f / (float(Nx) * Ny);  // the transforms leave the inverse unnormalised
+    const bool own_kernels = kernel_spectra_.empty();
     ProgressTicker ticker(progress, double(ntx) * nty);
     // Four passes: tiles of one parity are at least one tile apart, a tile is at least 2 R wide
     // (tile_edges), and a tile writes at most R pixels beyond itself, so concurrent tiles never
     // write the same pixel.
-    for (int phase = 0; phase < 4; ++phase) {
-#pragma omp parallel num_threads(nthreads_)
-        {
-            RealFft2D fft(Nx, Ny);
-            // image: the tile in its top-left corner, zero elsewhere (the FFT's padding)
-            std::vector<float> image(size_t(Nx) * Ny), weight(size_t(T) * T);
-            std::vector<std::complex<float>> in(3 * spec), acc(3 * spec);
-            // a tile's own transforms of its kernels, where the plan keeps none
-            std::vector<std::complex<float>> own(kernel_spectra_.empty() ? 9 * spec : 0);
-            std::vector<float> scratch(kernel_spectra_.empty() ? size_t(Nx) * Ny : 0, 0.0f);
-#pragma omp for schedule(dynamic, 1)
-            for (long k = 0; k < long(ntx) * nty; ++k) {
-                const int tx = int(k % ntx), ty = int(k / ntx);
-                if ((tx % 2) + 2 * (ty % 2) != phase || ticker.cancelled()) continue;
+    for (int phase = 0; phase < 4 && !ticker.cancelled(); ++phase) {
+        std::vector<TileBounds> tiles;
+        for (int ty = phase / 2; ty < nty; ty += 2)
+            for (int tx = phase % 2; tx < ntx; tx += 2) {
                 const TileBounds b{edges_x_[tx], edges_y_[ty], edges_x_[tx + 1], edges_y_[ty + 1]};
-                // skip tiles whose light cannot reach the output window
                 if (b.x1 + R <= out.x0 || b.x0 - R >= out.x0 + out.width || b.y1 + R <= out.y0 ||
-                    b.y0 - R >= out.y0 + out.height) {
-                    ticker.advance(1, omp_get_thread_num() == 0);
-                    continue;
-                }
-                // the anchors whose hats reach into the tile: the knots of the cells it spans
-                const int kx0 = t.ax.cell_of(b.x0), kx1 = t.ax.cell_of(b.x1 - 1) + 1;
-                const int ky0 = t.ay.cell_of(b.y0), ky1 = t.ay.cell_of(b.y1 - 1) + 1;
-                int lo, hi;
-                layer_span(src, b, t.layers.count, lo, hi);
-                std::fill(acc.begin(), acc.end(), std::complex<float>(0));
-                std::fill(image.begin(), image.end(), 0.0f);
-                for (int l = lo; l <= hi; ++l)
-                    for (int ky = ky0; ky <= ky1; ++ky)
-                        for (int kx = kx0; kx <= kx1; ++kx) {
-                            const int anchor = ky * nkx + kx;
-                            if (!anchor_weights(t, src, b, {l, kx, ky}, T, weight)) continue;
-                            for (int p = 0; p < 3; ++p) {
-                                for (int j = b.y0; j < b.y1; ++j)
-                                    for (int i = b.x0; i < b.x1; ++i)
-                                        image[size_t(j - b.y0) * Nx + (i - b.x0)] =
-                                            weight[size_t(j - b.y0) * T + (i - b.x0)] * src.rgb[3 * (size_t(j) * W + i) + p];
-                                fft.forward(image.data(), &in[p * spec], b.x1 - b.x0, Nx);
-                            }
-                            KernelView kernels[9];
-                            for (int m = 0; m < 9; ++m) {
-                                if (kernel_spectra_.empty())
-                                    transform_kernel((long(l) * t.anchors() + anchor) * 9 + m, fft, scratch,
-                                                     &own[m * spec]);
-                                kernels[m] = kernel_spectra_.empty() ? KernelView{&own[m * spec], false, false}
-                                                                     : spectrum(l, anchor, m);
-                            }
-                            multiply_accumulate(in.data(), kernels, acc.data(), Nx, Ny / 2 + 1);
-                        }
-                if (hi >= lo)
-                    for (int q = 0; q < 3; ++q) {
-                        fft.inverse(&acc[q * spec], image.data());
-                        add_to_output(image, {Nx, Ny, R, b}, out, norm, q, xyz);
-                    }
-                ticker.advance(1, omp_get_thread_num() == 0);
+                    b.y0 - R >= out.y0 + out.height)
+                    ticker.advance(1, true);  // its light cannot reach the output window
+                else
+                    tiles.push_back(b);
             }
+        if (int(tiles.size()) >= nthreads_) {  // a tile a thread
+#pragma omp parallel num_threads(nthreads_)
+            {
+                TileScratch s(Nx, Ny, tile_, spec, own_kernels);
+#pragma omp for schedule(dynamic, 1)
+                for (long k = 0; k < long(tiles.size()); ++k) {
+                    if (ticker.cancelled()) continue;
+                    const std::vector<KernelGroup> groups = groups_of(src, tiles[k]);
+                    std::fill(s.acc.begin(), s.acc.end(), std::complex<float>(0));
+                    std::fill(s.image.begin(), s.image.end(), 0.0f);  // (the last tile's inverse)
+                    for (const KernelGroup& g : groups) add_group(src, tiles[k], g, s);
+                    for (int q = 0; q < 3 && !groups.empty(); ++q) add_tile_light(tiles[k], s.acc.data(), q, out, xyz, s);
+                    ticker.advance(1, omp_get_thread_num() == 0);
+                }
+            }
+            continue;
+        }
+        // Fewer tiles than threads (kernels wide against the frame: one whole-domain tile): each
+        // tile's kernel groups spread over the threads, their sums added, the three channels'
+        // inverse transforms spread too.
+        for (const TileBounds& b : tiles) {
+            const std::vector<KernelGroup> groups = groups_of(src, b);
+            std::vector<std::complex<float>> acc(3 * spec, std::complex<float>(0));
+#pragma omp parallel num_threads(nthreads_)
+            {
+                TileScratch s(Nx, Ny, tile_, spec, own_kernels);
+#pragma omp for schedule(dynamic, 1)
+                for (long k = 0; k < long(groups.size()); ++k)
+                    if (!ticker.cancelled()) add_group(src, b, groups[k], s);
+#pragma omp critical(anchored_tile_sum)
+                for (size_t e = 0; e < acc.size(); ++e) acc[e] += s.acc[e];
+#pragma omp barrier
+#pragma omp for schedule(static, 1)
+                for (int q = 0; q < 3; ++q)
+                    if (!groups.empty()) add_tile_light(b, acc.data(), q, out, xyz, s);
+            }
+            ticker.advance(1, true);
         }
     }
     if (ticker.cancelled()) return Result<bool>::failure("cancelled", ErrorKind::Cancelled);

@@ -54,7 +54,19 @@ std::vector<int> tile_edges(const AnchorAxis& knots, int length, int tile, int r
 // frame with hundreds of anchors at a wide field: 4x the transforms, memory bounded).
 constexpr double kMaxKernelSpectraBytes = 1024.0 * (1 << 20);
 
+// Whether a plan keeps its `count` kernel spectra of `size` values for `tiles` tiles: where they
+// fit, and where tiles share them (one tile transforms each group's kernels once, as a plan
+// would, and keeps none: a small pinhole's whole-domain tile held a GiB of them).
+inline bool keeps_kernel_spectra(double count, double size, double tiles) {
+    return tiles > 1 && count * size * 8 <= kMaxKernelSpectraBytes;
+}
+
 class RealFft2D;
+
+// A tile's source pixels [x0, x1) x [y0, y1) of the domain.
+struct TileBounds {
+    int x0, y0, x1, y1;
+};
 
 class AnchoredConvolution {
 public:
@@ -85,13 +97,21 @@ private:
     bool tiles_on_cells_ = false;
     std::vector<int> edges_x_, edges_y_;  // tile_edges across and down the domain
     size_t spectrum_size_ = 0;
-    std::vector<int> slot_;  // per anchor: its place among the kept anchors, -1 for a mirror image
-    int kept_anchors_ = 0;
     LargeArray<std::complex<float>> kernel_spectra_;  // [layer][slot][m][spectrum]; empty: none kept
-    // kernel k = (layer x anchors + anchor) x 9 + m's spectrum into `spectrum` (`image`: the
+    // kernel k (KernelTable::kernel_index)'s spectrum into `spectrum` (`image`: the
     // transform's height x width of zeros, left so)
     void transform_kernel(long k, RealFft2D& fft, std::vector<float>& image, std::complex<float>* spectrum) const;
     KernelView spectrum(int layer, int anchor, int m) const;
+
+    struct TileScratch;
+    struct KernelGroup;
+    std::vector<KernelGroup> groups_of(const DomainSources& src, const TileBounds& b) const;
+    // adds the group's anchors' light (each anchor's share of the tile's sources, convolved
+    // with its kernels) to s.acc
+    void add_group(const DomainSources& src, const TileBounds& b, const KernelGroup& g, TileScratch& s) const;
+    // channel q of acc, transformed back, added to the output window
+    void add_tile_light(const TileBounds& b, std::complex<float>* acc, int q, const OutputWindow& out, float* xyz,
+                        TileScratch& s) const;
 };
 
 }  // namespace wavecam::detail

@@ -65,7 +65,8 @@ double transform_work(const detail::KernelTableSpec& t) {
     const double anchors = detail::computed_anchors(t, ax, ay);  // the others' spectra are theirs mirrored
     const double points = nx * ny;
     // kernels beyond the spectra a plan keeps are transformed by each tile that meets them
-    const bool kept = t.layers.count * 9 * anchors * points / 2 * 8 <= detail::kMaxKernelSpectraBytes;
+    // (a single tile transforms each computed anchor's once, as a plan does)
+    const bool kept = tiles == 1 || detail::keeps_kernel_spectra(t.layers.count * 9 * anchors, points / 2, tiles);
     return ((kept ? 9 * anchors : 0) + (kept ? 3 : 12) * met(ax, ex) * met(ay, ey) + 3 * tiles) * points *
            std::log2(points);
 }
@@ -166,15 +167,20 @@ double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
     if (!g.ok()) return 0;
     const detail::KernelTableSpec& t = g.value;
     const detail::AnchorAxis ax = detail::anchor_axis(t, false), ay = detail::anchor_axis(t, true);
-    const double anchors = double(ax.knots.size()) * ay.knots.size();
     const double side = 2.0 * t.radius + 1, nx = detail::convolution_fft_length(t.tile, t.radius, t.domain_width),
                  ny = detail::convolution_fft_length(t.tile, t.radius, t.domain_height);
     const double spectrum = nx * std::floor(ny / 2 + 1) * 8;  // bytes of one (real_fft2d.h)
     const double spectra = t.layers.count * detail::computed_anchors(t, ax, ay) * 9 * spectrum;
-    const double kernels = t.layers.count * anchors * 9 * side * side * sizeof(float) +
-                           (spectra > detail::kMaxKernelSpectraBytes ? t.nthreads * 9 * spectrum : spectra);
+    const double tile_count = double(detail::tile_edges(ax, t.domain_width, t.tile, t.radius, t.tiles_on_cells).size() - 1) *
+                              (detail::tile_edges(ay, t.domain_height, t.tile, t.radius, t.tiles_on_cells).size() - 1);
+    const bool kept = detail::keeps_kernel_spectra(spectra / spectrum, spectrum / 8, tile_count);
+    const double kernels = t.layers.count * detail::computed_anchors(t, ax, ay) * 9 * side * side * sizeof(float) +
+                           (kept ? spectra : 0);
     const double domain = double(t.domain_width) * t.domain_height * 17;  // radiance, layer, share
-    const double tiles = t.nthreads * (nx * ny * sizeof(float) + 7 * spectrum);
+    // each thread's tile: its image twice (one for kernels where none are kept), its transform's
+    // three arrays, the input and accumulated spectra (3 each), the kernels' (9) where none are kept
+    const double tiles = t.nthreads * ((kept ? 1 : 2) * nx * ny * sizeof(float) + (9 + (kept ? 0 : 9)) * spectrum) +
+                         (tile_count < t.nthreads ? 3 * spectrum : 0);
     // each thread's working memory for one PSF of the table, at its largest: the nearest layer
     // or the sky, on the axis or at the corner anchor, the shortest or the longest wavelength
     double lambda_min = spec.basis.wavelength(0), lambda_max = lambda_min;

@@ -108,13 +108,6 @@ std::vector<int> mirror_knots(const AnchorAxis& a, int axis2, bool even) {
     return mirror;
 }
 
-// Kernel `from` mirrored (columns reversed: x -> -x; rows: y -> -y) into `to`, both of side w.
-void mirror_kernel(const float* from, float* to, int w, bool columns, bool rows) {
-    for (int b = 0; b < w; ++b)
-        for (int e = 0; e < w; ++e)
-            to[size_t(b) * w + e] = from[size_t(rows ? w - 1 - b : b) * w + (columns ? w - 1 - e : e)];
-}
-
 }  // namespace
 
 std::vector<int> mirror_sources(const AnchorAxis& ax, const AnchorAxis& ay, int axis2x, int axis2y, bool even_x,
@@ -150,10 +143,13 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
     t.ay = anchor_axis(spec, true);
     const int anchors = t.anchors(), S = spec.basis->size(), nkx = int(t.ax.knots.size());
     const size_t ksize = t.kernel_size();
-    t.weights.assign(size_t(t.layers.count) * anchors * 9 * ksize, 0.0f);
-    t.deficit.assign(size_t(t.layers.count) * anchors * 9, 0.0f);
     const PinholeCamera& c = spec.camera;
     t.source = anchor_sources(spec, t.ax, t.ay);
+    t.slot.assign(anchors, -1);
+    for (int a = 0; a < anchors; ++a)
+        if (t.source[a] == a) t.slot[a] = t.computed++;
+    t.weights.assign(size_t(t.layers.count) * t.computed * 9 * ksize, 0.0f);
+    t.deficit.assign(size_t(t.layers.count) * anchors * 9, 0.0f);
     std::vector<long> computed;
     for (long g = 0; g < long(t.layers.count) * anchors; ++g)
         if (t.source[g % anchors] == g % anchors) computed.push_back(g);
@@ -195,7 +191,7 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
                 for (int qq = 0; qq < 3; ++qq) {
                     const float w = float(bp * xyz_s[qq]);
                     t.deficit[(size_t(l) * anchors + a) * 9 + 3 * p + qq] += float(w * (1.0 - held));
-                    float* dst = &t.weights[((size_t(l) * anchors + a) * 9 + 3 * p + qq) * ksize];
+                    float* dst = &t.weights[size_t(t.kernel_index(l, a, 3 * p + qq)) * ksize];
                     for (int b = 0; b < pw; ++b)
                         for (int e = 0; e < pw; ++e)
                             dst[size_t(b + inset) * tw + (e + inset)] += w * psf.weight[size_t(b) * pw + e];
@@ -210,11 +206,7 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
             const int from = t.source[a];
             if (from == a) continue;
             const size_t to_k = (size_t(l) * anchors + a) * 9, from_k = (size_t(l) * anchors + from) * 9;
-            for (int m = 0; m < 9; ++m) {
-                mirror_kernel(&t.weights[(from_k + m) * ksize], &t.weights[(to_k + m) * ksize], 2 * t.radius + 1,
-                              t.mirrored_x(a), t.mirrored_y(a));
-                t.deficit[to_k + m] = t.deficit[from_k + m];
-            }
+            for (int m = 0; m < 9; ++m) t.deficit[to_k + m] = t.deficit[from_k + m];
         }
     return Result<KernelTable>::success(std::move(t));
 }

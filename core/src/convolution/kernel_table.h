@@ -109,7 +109,9 @@ struct KernelTableSpec {
     int nthreads = 1;
 };
 
-// kernel(layer, anchor, m): (2 radius + 1)^2 weights, m = 3 p + q (primary p -> XYZ q).
+// The computed anchors' kernels: (2 radius + 1)^2 weights each, m = 3 p + q (primary p -> XYZ
+// q); a mirror image's are its source's read mirrored (never stored: at a small pinhole's
+// 470 px kernels the copies were 440 MB of a 512x512 frame's 640).
 struct KernelTable {
     int radius = 0;
     DepthLayers layers;
@@ -119,15 +121,18 @@ struct KernelTable {
     // per anchor: the anchor whose kernels, mirrored across the axis where its knot differs, are
     // this one's (itself where its own were computed)
     std::vector<int> source;
+    // per anchor: its place among the computed anchors (-1 for a mirror image), and how many
+    std::vector<int> slot;
+    int computed = 0;
     // whether anchor a's kernels are its source's with the columns (x) or rows (y) reversed
     bool mirrored_x(int a) const { return source[a] % ax.knots.size() != a % ax.knots.size(); }
     bool mirrored_y(int a) const { return source[a] / ax.knots.size() != a / ax.knots.size(); }
 
     int anchors() const { return int(ax.knots.size() * ay.knots.size()); }
     size_t kernel_size() const { return size_t(2 * radius + 1) * (2 * radius + 1); }
-    const float* kernel(int layer, int anchor, int m) const {
-        return &weights[((size_t(layer) * anchors() + anchor) * 9 + m) * kernel_size()];
-    }
+    // kernel k = (layer x computed + slot) x 9 + m
+    const float* kernel(long k) const { return &weights[size_t(k) * kernel_size()]; }
+    long kernel_index(int layer, int anchor, int m) const { return (long(layer) * computed + slot[anchor]) * 9 + m; }
 };
 
 // The anchor axis build_kernel_table lays out across (vertical: down) the spec's domain:

@@ -36,13 +36,16 @@ RealFft2D::RealFft2D(int width, int height)
     ok_ = ok_ && column_forward_.ok() && column_inverse_.ok() && row_forward_.ok() && row_inverse_.ok();
 }
 
-void RealFft2D::forward(const float* image, std::complex<float>* spectrum, int zero_begin, int zero_end) {
+void RealFft2D::forward(const float* image, std::complex<float>* spectrum, int first, int last) {
     // 1. column pairs: packed c is zero where both its columns are
     std::memcpy(static_cast<void*>(packed_.data()), image, sizeof(float) * size_t(w_) * h_);
-    const int zero_first = std::clamp((zero_begin + 1) / 2, 0, pairs_);
-    const int zero_last = std::clamp(zero_end / 2, zero_first, pairs_);
-    column_forward_.transform(packed_.data(), work_.data(), pairs_, 0, zero_first);
-    column_forward_.transform(packed_.data(), work_.data(), pairs_, zero_last, pairs_);
+    if (last < 0) last = w_;
+    const int p0 = std::max(0, first) / 2, count = std::min(pairs_, (last + 1) / 2 - p0);
+    if (count > 0) {
+        const int a = ((p0 % pairs_) + pairs_) % pairs_;
+        column_forward_.transform(packed_.data(), work_.data(), pairs_, a, std::min(pairs_, a + count));
+        if (a + count > pairs_) column_forward_.transform(packed_.data(), work_.data(), pairs_, 0, a + count - pairs_);
+    }
     // 2. each column's transform, rows ky = 0 .. height/2
     for (int ky = 0; ky < half_; ++ky) {
         const std::complex<float>* z = &packed_[size_t(ky) * pairs_];

@@ -31,10 +31,10 @@ public:
     int spectrum_columns() const { return half_; }
     size_t spectrum_size() const { return size_t(w_) * half_; }
 
-    // height x width real (row-major) -> the spectrum. Columns [zero_begin, zero_end) of the
-    // image are known to be zero (a tile's padding, a wrapped kernel's middle): their transforms
-    // are skipped.
-    void forward(const float* image, std::complex<float>* spectrum, int zero_begin = 0, int zero_end = 0);
+    // height x width real (row-major) -> the spectrum. Columns outside [first, last), taken
+    // modulo width (a wrapped kernel's range runs past the last column), are known to be zero (a
+    // tile's padding, the columns an anchor's hat leaves dark): their transforms are skipped.
+    void forward(const float* image, std::complex<float>* spectrum, int first = 0, int last = -1);
     // spectrum -> height x width real, scaled by width x height (neither direction normalises);
     // the spectrum is overwritten.
     void inverse(std::complex<float>* spectrum, float* image);
