@@ -126,7 +126,6 @@ def _start(job):
         _running["process"] = WavecamProcess(job.camera, job.frame_path, job.out_path, job.fov_in_file,
                                              nice=COMMAND_NICENESS)
         _running["job"] = job
-        escape_watch.watch_every_window()
     except (WavecamRunError, OSError) as e:
         reports.error(f"frame {job.frame}: {e}")
 
@@ -158,6 +157,7 @@ def _poll():
         if process is None and not _waiting.empty():
             _start(_waiting.get())
         elif process is not None:
+            escape_watch.watch_every_window()  # (each window once; again where Blender refused)
             done = process.finished()
             for line in process.lines():
                 _read(job, line)

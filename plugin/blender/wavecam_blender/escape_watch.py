@@ -43,10 +43,15 @@ class WAVECAM_OT_cancel(bpy.types.Operator):
 
 
 def watch_every_window():
+    """Starts a watcher in each window that has none; where Blender refuses an operator at this
+    moment (while it draws or finishes a render), that window is tried again at the next call."""
     for window in bpy.context.window_manager.windows:
         if window.as_pointer() not in _watched:
-            with bpy.context.temp_override(window=window, screen=window.screen):
-                bpy.ops.wavecam.watch_escape('INVOKE_DEFAULT')
+            try:
+                with bpy.context.temp_override(window=window, screen=window.screen):
+                    bpy.ops.wavecam.watch_escape('INVOKE_DEFAULT')
+            except RuntimeError:
+                pass
 
 
 def register():

@@ -16,6 +16,7 @@ import sys
 import bpy
 
 _pending = queue.Queue()
+_delays = {}  # id of a pending item -> drains it has waited for Blender
 
 
 def info(message):
@@ -119,8 +120,17 @@ def _rendering():
     return bpy.app.is_job_running('RENDER')
 
 
+def _not_now(e):
+    """Blender refused to have its data written at this moment (while it draws or finishes a
+    render, even from a timer): the same call goes through a moment later."""
+    return "in this state" in str(e) or "not allowed" in str(e)
+
+
+_MAX_DELAYS = 240  # drains (2 minutes) an item may wait for Blender before it is given up
+
+
 def _drain():
-    held = []  # images to show once Blender has finished rendering
+    held = []  # items Blender could not take yet, in order: shown images while it renders
     while not _pending.empty():
         item = _pending.get()
         if item[0] == 'show' and _rendering():
@@ -133,8 +143,14 @@ def _drain():
                 item[1](*item[2])
             else:
                 _show(item[1])
+            _delays.pop(id(item), None)
         except Exception as e:  # one failure must not stop later messages
-            print(f"wavecam: error: {item[0]} {item[1]}: {e}", file=sys.stderr)
+            _delays[id(item)] = _delays.get(id(item), 0) + 1
+            if _not_now(e) and _delays[id(item)] < _MAX_DELAYS:
+                held.append(item)
+            else:
+                _delays.pop(id(item), None)
+                print(f"wavecam: error: {item[0]} {item[1]}: {e}", file=sys.stderr)
     for item in held:
         _pending.put(item)
     return 0.5
