@@ -24,6 +24,7 @@
 #include "wavecam/render_input.h"
 #include "wavecam/share_files.h"
 #include "wavecam/term_rate.h"
+#include "../front/estimate_line.h"
 
 namespace wavecam::cli {
 namespace {

@@ -15,6 +15,7 @@
 
 #include "wavecam/atomic_write.h"
 #include "wavecam/term_rate.h"
+#include "../front/estimate_line.h"
 
 namespace wavecam::cli {
 namespace {

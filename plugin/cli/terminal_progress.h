@@ -3,7 +3,6 @@
 #pragma once
 #include <string>
 
-#include "../front/estimate_line.h"
 #include "wavecam/aperture.h"
 #include "wavecam/diffract_image.h"
 #include "wavecam/progress.h"
