@@ -135,12 +135,17 @@ struct LayerAnchor {
     int layer, kx, ky;
 };
 
+// The tile's columns [first, last) that an anchor's share lights (none where first >= last).
+struct LitColumns {
+    int first, last;
+};
+
 // Layer l's and anchor (kx, ky)'s share of each source of the tile into `weight` (row stride
-// T); whether any is lit.
-bool anchor_weights(const KernelTable& t, const DomainSources& src, const TileBounds& b, const LayerAnchor& la, int T,
-                    std::vector<float>& weight) {
+// T); the columns it lights (the others are zero in every weighted image).
+LitColumns anchor_weights(const KernelTable& t, const DomainSources& src, const TileBounds& b, const LayerAnchor& la,
+                          int T, std::vector<float>& weight) {
     const int l = la.layer, kx = la.kx, ky = la.ky;
-    bool any = false;
+    LitColumns lit{b.x1 - b.x0, 0};
     for (int j = b.y0; j < b.y1; ++j) {
         const float wy = float(t.ay.hat(ky, j));
         for (int i = b.x0; i < b.x1; ++i) {
@@ -150,10 +155,13 @@ bool anchor_weights(const KernelTable& t, const DomainSources& src, const TileBo
                                                         : 0.0f;
             const float w = share * wy * float(t.ax.hat(kx, i));
             weight[size_t(j - b.y0) * T + (i - b.x0)] = w;
-            any |= w > 0;
+            if (w > 0) {
+                lit.first = std::min(lit.first, i - b.x0);
+                lit.last = std::max(lit.last, i - b.x0 + 1);
+            }
         }
     }
-    return any;
+    return lit;
 }
 
 // acc_q += sum_p in_p K_{3p+q}, written on floats so that it vectorises (std::complex's
@@ -258,7 +266,8 @@ void AnchoredConvolution::add_group(const DomainSources& src, const TileBounds& 
     const size_t spec = spectrum_size_;
     bool transformed = false;  // the group's kernels, where the plan keeps none: once, when first needed
     for (const int anchor : g.anchors) {
-        if (!anchor_weights(t, src, b, {g.layer, anchor % nkx, anchor / nkx}, T, s.weight)) continue;
+        const LitColumns lit = anchor_weights(t, src, b, {g.layer, anchor % nkx, anchor / nkx}, T, s.weight);
+        if (lit.first >= lit.last) continue;
         KernelView kernels[9];
         for (int m = 0; m < 9; ++m) {
             if (!kernel_spectra_.empty()) {
@@ -271,20 +280,12 @@ void AnchoredConvolution::add_group(const DomainSources& src, const TileBounds& 
             kernels[m] = {&s.own[m * spec], in_x != in_y, in_y};
         }
         transformed = true;
-        // the columns the anchor's hat lights in the tile: the others are zero in every image
-        int first = b.x1 - b.x0, last = 0;
-        for (int j = 0; j < b.y1 - b.y0; ++j)
-            for (int i = 0; i < b.x1 - b.x0; ++i)
-                if (s.weight[size_t(j) * T + i] > 0) {
-                    first = std::min(first, i);
-                    last = std::max(last, i + 1);
-                }
         for (int p = 0; p < 3; ++p) {
             for (int j = b.y0; j < b.y1; ++j)
                 for (int i = b.x0; i < b.x1; ++i)
                     s.image[size_t(j - b.y0) * Nx + (i - b.x0)] =
                         s.weight[size_t(j - b.y0) * T + (i - b.x0)] * src.rgb[3 * (size_t(j) * W + i) + p];
-            s.fft.forward(s.image.data(), &s.in[p * spec], first, last);
+            s.fft.forward(s.image.data(), &s.in[p * spec], lit.first, lit.last);
         }
         multiply_accumulate(s.in.data(), kernels, s.acc.data(), Nx, Ny / 2 + 1);
     }
