@@ -8,7 +8,7 @@
 
 #include "convolution/anchored_convolution.h"
 #include "convolution/far_tail.h"
-#include "fft/real_fft2d.h"
+#include "fft/column_fft.h"  // fft_friendly_size
 #include "wavecam/edge_continuation.h"
 #include "wavecam/fresnel_psf.h"
 

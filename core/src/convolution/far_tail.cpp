@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "fft/complex_fft2d.h"
-#include "fft/real_fft2d.h"
 
 namespace wavecam::detail {
 

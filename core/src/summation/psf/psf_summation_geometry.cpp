@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "fft/real_fft2d.h"
+#include "fft/column_fft.h"  // fft_friendly_size
 #include "wavecam/fresnel_psf.h"
 #include "wavecam/convolution_method.h"
 
