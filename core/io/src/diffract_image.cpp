@@ -140,7 +140,7 @@ std::string edge_note(const ResolvedFrame& f) {
 // The output's header: the input's less what described the ideal camera (output_layout.h), the
 // frame without its overscan, and every parameter of this run.
 OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& channels, const DiffractOptions& opt,
-                            const ResolvedFrame& f, size_t mapped) {
+                            const ResolvedFrame& f, size_t mapped, const std::string& edge) {
     const RenderInput& in = f.in;
     const SceneSumSettings& s = f.scene_sum;
     // the input's data and display windows, its channels but the diffracted ones as they were
@@ -194,7 +194,7 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
     if (in.premultiplied_on_reading)  // the output's colour is premultiplied, whatever the input's format said
         for (const char* flag : {"oiio:UnassociatedAlpha", "tiff:UnassociatedAlpha"}) spec.erase_attribute(flag);
     if (opt.read.clamp_negative) spec.attribute("wavecam.negative-clamped", std::to_string(in.clamped) + " values");
-    if (const std::string edge = edge_note(f); !edge.empty()) spec.attribute("wavecam.edge", edge);
+    if (!edge.empty()) spec.attribute("wavecam.edge", edge);
     if (!opt.compression.empty()) spec.attribute("compression", opt.compression);
     spec.attribute("wavecam.input-colorspace", f.colour.in_space);
     spec.attribute("wavecam.output-colorspace", f.colour.out_space);
@@ -308,7 +308,7 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
     if (!input.ok()) return Result<bool>::failure(input);
     auto frame = detail::resolve_frame(opt_, std::move(input.value), name, nthreads);
     if (!frame.ok()) return Result<bool>::failure(frame);
-    return diffract(dst, src, frame.value, name, nthreads);
+    return diffract_frame(dst, src, frame.value, name, nthreads, &frame.value.in);
 }
 
 Result<JobEstimate> DiffractPlan::estimate(const OIIO::ImageBuf& src, const std::string& name, int nthreads) {
@@ -328,9 +328,14 @@ Result<JobEstimate> DiffractPlan::estimate(const OIIO::ImageBuf& src, const std:
     return R::success(std::move(e));
 }
 
-// Check the frame's limits, run its method, map its colours, write the output.
 Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ResolvedFrame& f,
                                     const std::string& name, int nthreads) {
+    return diffract_frame(dst, src, f, name, nthreads, nullptr);
+}
+
+// Check the frame's limits, run its method, map its colours, write the output.
+Result<bool> DiffractPlan::diffract_frame(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ResolvedFrame& f,
+                                          const std::string& name, int nthreads, RenderInput* spent) {
     using Fail = Result<bool>;
     // A stop asked for through the progress callback is a cancellation, whatever failed with it.
     auto stopped = std::make_shared<std::atomic<bool>>(false);
@@ -354,6 +359,11 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
     if (!r.ok() && (*stopped || r.kind == ErrorKind::Cancelled))
         return Fail::failure(name + ": interrupted", ErrorKind::Cancelled);
     if (!r.ok()) return Fail::failure(name + ": " + r.error);
+    const std::string edge = edge_note(f);
+    if (spent) {  // (f is *spent's frame: its radiance and depth are not read again)
+        std::vector<float>().swap(spent->rgb);
+        std::vector<float>().swap(spent->depth);
+    }
     keep_data_window(xyz, f.out_w, f.kept);
     if (!alpha_pass && !f.in.alpha.empty()) alpha.assign(size_t(f.kept.npixels()), f.in.alpha.front());
     auto mapped = f.colour.config.output_colour(xyz.data(), xyz.size() / 3, f.colour.out_space, f.colour.in_space,
@@ -361,7 +371,7 @@ Result<bool> DiffractPlan::diffract(OIIO::ImageBuf& dst, const OIIO::ImageBuf& s
     if (!mapped.ok()) return Fail::failure(mapped);
 
     // the radiance layer in the output space and its alpha under the input's names, every other channel as it was
-    dst.reset(output_spec(src.spec(), f.in.channels, opt, f, mapped.value));
+    dst.reset(output_spec(src.spec(), f.in.channels, opt, f, mapped.value, edge));
     if (auto w = fill_output(dst, src, f.in.channels, f.overscan, xyz.data(), alpha.data()); !w.ok())
         return Fail::failure(name + ": " + w.error);
     return Fail::success(true);

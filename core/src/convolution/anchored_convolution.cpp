@@ -105,6 +105,7 @@ Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int t
         }
     }
     if (ticker.cancelled()) return Result<AnchoredConvolution>::failure("cancelled", ErrorKind::Cancelled);
+    std::vector<float>().swap(c.table_.weights);  // the kernels live on as their spectra
     return Result<AnchoredConvolution>::success(std::move(c));
 }
 
@@ -140,10 +141,11 @@ struct LitColumns {
     int first, last;
 };
 
-// Layer l's and anchor (kx, ky)'s share of each source of the tile into `weight` (row stride
-// T); the columns it lights (the others are zero in every weighted image).
+// Layer l's and anchor (kx, ky)'s share of each source of the tile into `weight` (row by row,
+// the tile's width each); the columns it lights (the others are zero in every weighted image).
 LitColumns anchor_weights(const KernelTable& t, const DomainSources& src, const TileBounds& b, const LayerAnchor& la,
-                          int T, std::vector<float>& weight) {
+                          std::vector<float>& weight) {
+    const int T = b.x1 - b.x0;
     const int l = la.layer, kx = la.kx, ky = la.ky;
     LitColumns lit{b.x1 - b.x0, 0};
     for (int j = b.y0; j < b.y1; ++j) {
@@ -164,28 +166,29 @@ LitColumns anchor_weights(const KernelTable& t, const DomainSources& src, const 
     return lit;
 }
 
-// acc_q += sum_p in_p K_{3p+q}, written on floats so that it vectorises (std::complex's
-// operator* keeps a NaN-recovery branch); spectra of N rows (kx) of `half` (ky >= 0; a kernel's
-// rows read as N - r where it is its source's mirror image).
-void multiply_accumulate(const std::complex<float>* in, const AnchoredConvolution::KernelView kernels[9],
+// acc_q += in_p K_{3p+q} for q = 0, 1, 2 (one primary's part of acc_q = sum_p in_p K_{3p+q}: the
+// primaries' spectra in turn, one at a time, add to each acc_q in the same order as all three
+// at once), written on floats so that it vectorises (std::complex's operator* keeps a
+// NaN-recovery branch); spectra of N rows (kx) of `half` (ky >= 0; a kernel's rows read as
+// N - r where it is its source's mirror image).
+void multiply_accumulate(const std::complex<float>* in, const AnchoredConvolution::KernelView kernels[3],
                          std::complex<float>* acc, int N, int half) {
     const size_t spec = size_t(N) * half;
-    for (int q = 0; q < 3; ++q)
-        for (int p = 0; p < 3; ++p) {
-            const AnchoredConvolution::KernelView& kv = kernels[3 * p + q];
-            const float sign = kv.conjugate ? -1.0f : 1.0f;
-            for (int r = 0; r < N; ++r) {
-                float* a = reinterpret_cast<float*>(&acc[q * spec + size_t(r) * half]);
-                const float* x = reinterpret_cast<const float*>(&in[p * spec + size_t(r) * half]);
-                const float* k = reinterpret_cast<const float*>(kv.data + size_t(kv.flip_rows ? (N - r) % N : r) * half);
+    for (int q = 0; q < 3; ++q) {
+        const AnchoredConvolution::KernelView& kv = kernels[q];
+        const float sign = kv.conjugate ? -1.0f : 1.0f;
+        for (int r = 0; r < N; ++r) {
+            float* a = reinterpret_cast<float*>(&acc[q * spec + size_t(r) * half]);
+            const float* x = reinterpret_cast<const float*>(&in[size_t(r) * half]);
+            const float* k = reinterpret_cast<const float*>(kv.data + size_t(kv.flip_rows ? (N - r) % N : r) * half);
 #pragma omp simd
-                for (int e = 0; e < half; ++e) {
-                    const float kr = k[2 * e], ki = sign * k[2 * e + 1];
-                    a[2 * e] += x[2 * e] * kr - x[2 * e + 1] * ki;
-                    a[2 * e + 1] += x[2 * e] * ki + x[2 * e + 1] * kr;
-                }
+            for (int e = 0; e < half; ++e) {
+                const float kr = k[2 * e], ki = sign * k[2 * e + 1];
+                a[2 * e] += x[2 * e] * kr - x[2 * e + 1] * ki;
+                a[2 * e + 1] += x[2 * e] * ki + x[2 * e + 1] * kr;
             }
         }
+    }
 }
 
 // A tile's FFT frame: width x height, holding the tile's sources `bounds` and the R pixels its
@@ -214,18 +217,18 @@ void add_to_output(const std::vector<float>& image, const TileFrame& frame, cons
 
 }  // namespace
 
-// One thread's working arrays for a tile: its transform, the weighted image, the input and
-// accumulated spectra, and the kernels' spectra where the plan keeps none.
+// One thread's working arrays for a tile: its transform, the weighted image (the kernels'
+// too, where the plan keeps no spectra), one primary's spectrum, the accumulated spectra, and
+// the kernels' spectra where the plan keeps none.
 struct AnchoredConvolution::TileScratch {
     RealFft2D fft;
-    std::vector<float> image, weight, kernel_image;
+    std::vector<float> image, weight;
     std::vector<std::complex<float>> in, acc, own;
-    TileScratch(int Nx, int Ny, int T, size_t spec, bool own_kernels)
+    TileScratch(int Nx, int Ny, size_t tile_pixels, size_t spec, bool own_kernels)
         : fft(Nx, Ny),
           image(size_t(Nx) * Ny, 0.0f),
-          weight(size_t(T) * T),
-          kernel_image(own_kernels ? size_t(Nx) * Ny : 0, 0.0f),
-          in(3 * spec, 0.0f),
+          weight(tile_pixels),
+          in(spec, 0.0f),
           acc(3 * spec, 0.0f),
           own(own_kernels ? 9 * spec : 0) {}
 };
@@ -262,32 +265,35 @@ std::vector<AnchoredConvolution::KernelGroup> AnchoredConvolution::groups_of(con
 void AnchoredConvolution::add_group(const DomainSources& src, const TileBounds& b, const KernelGroup& g,
                                     TileScratch& s) const {
     const KernelTable& t = table_;
-    const int T = tile_, Nx = fft_width_, Ny = fft_height_, W = src.width, nkx = int(t.ax.knots.size());
+    const int Nx = fft_width_, Ny = fft_height_, nkx = int(t.ax.knots.size());
     const size_t spec = spectrum_size_;
     bool transformed = false;  // the group's kernels, where the plan keeps none: once, when first needed
     for (const int anchor : g.anchors) {
-        const LitColumns lit = anchor_weights(t, src, b, {g.layer, anchor % nkx, anchor / nkx}, T, s.weight);
+        const LitColumns lit = anchor_weights(t, src, b, {g.layer, anchor % nkx, anchor / nkx}, s.weight);
         if (lit.first >= lit.last) continue;
         KernelView kernels[9];
+        if (kernel_spectra_.empty() && !transformed)  // the kernels go through the image: zero but for the tile
+            for (int j = 0; j < b.y1 - b.y0; ++j) std::fill_n(&s.image[size_t(j) * Nx], b.x1 - b.x0, 0.0f);
         for (int m = 0; m < 9; ++m) {
             if (!kernel_spectra_.empty()) {
                 kernels[m] = spectrum(g.layer, anchor, m);
                 continue;
             }
             if (!transformed)
-                transform_kernel(t.kernel_index(g.layer, g.source, m), s.fft, s.kernel_image, &s.own[m * spec]);
+                transform_kernel(t.kernel_index(g.layer, g.source, m), s.fft, s.image, &s.own[m * spec]);
             const bool in_x = t.mirrored_x(anchor), in_y = t.mirrored_y(anchor);
             kernels[m] = {&s.own[m * spec], in_x != in_y, in_y};
         }
         transformed = true;
         for (int p = 0; p < 3; ++p) {
             for (int j = b.y0; j < b.y1; ++j)
-                for (int i = b.x0; i < b.x1; ++i)
-                    s.image[size_t(j - b.y0) * Nx + (i - b.x0)] =
-                        s.weight[size_t(j - b.y0) * T + (i - b.x0)] * src.rgb[3 * (size_t(j) * W + i) + p];
-            s.fft.forward(s.image.data(), &s.in[p * spec], lit.first, lit.last);
+                for (int i = b.x0; i < b.x1; ++i) {
+                    const float w = s.weight[size_t(j - b.y0) * (b.x1 - b.x0) + (i - b.x0)];
+                    s.image[size_t(j - b.y0) * Nx + (i - b.x0)] = w == 0.0f ? 0.0f : w * src.light(i, j, p);
+                }
+            s.fft.forward(s.image.data(), s.in.data(), lit.first, lit.last);
+            multiply_accumulate(s.in.data(), &kernels[3 * p], s.acc.data(), Nx, Ny / 2 + 1);
         }
-        multiply_accumulate(s.in.data(), kernels, s.acc.data(), Nx, Ny / 2 + 1);
     }
 }
 
@@ -305,6 +311,10 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
     const int ntx = int(edges_x_.size()) - 1, nty = int(edges_y_.size()) - 1;
     const size_t spec = spectrum_size_;
     const bool own_kernels = kernel_spectra_.empty();
+    int widest = 0, tallest = 0;  // the largest tile's sides (a whole-domain tile's are the domain's)
+    for (int k = 0; k < ntx; ++k) widest = std::max(widest, edges_x_[k + 1] - edges_x_[k]);
+    for (int k = 0; k < nty; ++k) tallest = std::max(tallest, edges_y_[k + 1] - edges_y_[k]);
+    const size_t tile_pixels = size_t(widest) * tallest;
     ProgressTicker ticker(progress, double(ntx) * nty);
     // Four passes: tiles of one parity are at least one tile apart, a tile is at least 2 R wide
     // (tile_edges), and a tile writes at most R pixels beyond itself, so concurrent tiles never
@@ -323,7 +333,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
         if (int(tiles.size()) >= nthreads_) {  // a tile a thread
 #pragma omp parallel num_threads(nthreads_)
             {
-                TileScratch s(Nx, Ny, tile_, spec, own_kernels);
+                TileScratch s(Nx, Ny, tile_pixels, spec, own_kernels);
 #pragma omp for schedule(dynamic, 1)
                 for (long k = 0; k < long(tiles.size()); ++k) {
                     if (ticker.cancelled()) continue;
@@ -338,23 +348,27 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
             continue;
         }
         // Fewer tiles than threads (kernels wide against the frame: one whole-domain tile): each
-        // tile's kernel groups spread over the threads, their sums added, the three channels'
-        // inverse transforms spread too.
+        // tile's kernel groups spread over the threads, in turn (the same groups to the same
+        // thread every run), their sums added in the threads' order into the first thread's,
+        // the three channels' inverse transforms spread too: the same image every run.
         for (const TileBounds& b : tiles) {
             const std::vector<KernelGroup> groups = groups_of(src, b);
-            std::vector<std::complex<float>> acc(3 * spec, std::complex<float>(0));
+            std::vector<TileScratch*> scratch(nthreads_, nullptr);
 #pragma omp parallel num_threads(nthreads_)
             {
-                TileScratch s(Nx, Ny, tile_, spec, own_kernels);
-#pragma omp for schedule(dynamic, 1)
+                TileScratch s(Nx, Ny, tile_pixels, spec, own_kernels);
+                const int threads = omp_get_num_threads();
+                scratch[omp_get_thread_num()] = &s;
+#pragma omp for schedule(static, 1)
                 for (long k = 0; k < long(groups.size()); ++k)
                     if (!ticker.cancelled()) add_group(src, b, groups[k], s);
-#pragma omp critical(anchored_tile_sum)
-                for (size_t e = 0; e < acc.size(); ++e) acc[e] += s.acc[e];
-#pragma omp barrier
+                std::complex<float>* acc = scratch[0]->acc.data();
+#pragma omp for schedule(static)
+                for (size_t e = 0; e < 3 * spec; ++e)
+                    for (int other = 1; other < threads; ++other) acc[e] += scratch[other]->acc[e];
 #pragma omp for schedule(static, 1)
                 for (int q = 0; q < 3; ++q)
-                    if (!groups.empty()) add_tile_light(b, acc.data(), q, out, xyz, s);
+                    if (!groups.empty()) add_tile_light(b, acc, q, out, xyz, s);
             }
             ticker.advance(1, true);
         }

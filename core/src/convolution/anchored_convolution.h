@@ -18,18 +18,29 @@
 #include <cstdint>
 #include <vector>
 #include "base/large_array.h"
+#include "wavecam/edge_continuation.h"
 #include "convolution/kernel_table.h"
 #include "convolution/output_window.h"
 
 namespace wavecam::detail {
 
-// The sources on the convolution's domain: radiance per primary (already carrying each
-// source's cos^4 fall-off) and each pixel's depth layers.
+// The sources on the convolution's domain: each pixel's depth layers, and its light read from
+// the frame as a tile needs it (a copy of the domain's radiance was the largest array after
+// the kernel spectra): the frame's own, its edge continued beyond (edge_continuation.h), times
+// the source's natural cos^4 fall-off at its own field position, cos^2 = 1 / (1 + u^2 + v^2)
+// with u, v the pixel centre's tangents (pinhole_camera.h).
 struct DomainSources {
     int width = 0, height = 0;
-    std::vector<float> rgb;           // 3 per pixel
-    std::vector<uint8_t> lower;       // layer at or below the pixel's 1/z
-    std::vector<float> upper_share;   // share of its light in the layer above
+    const EdgeContinuation* frame = nullptr;  // the frame's light, 3 per pixel
+    int origin = 0;                           // domain pixel (i, j) is the frame's (i - origin, j - origin)
+    std::vector<double> u, v;                 // per domain column, per domain row: the tangents
+    std::vector<uint8_t> lower;               // layer at or below the pixel's 1/z
+    std::vector<float> upper_share;           // share of its light in the layer above
+
+    float light(int i, int j, int p) const {
+        const double c2 = 1.0 / (1.0 + u[i] * u[i] + v[j] * v[j]);
+        return float(frame->light(i - origin, j - origin)[p] * c2 * c2);
+    }
 };
 
 // FFT length along one axis of a domain `length` long, for tiles of side `tile` and kernels of

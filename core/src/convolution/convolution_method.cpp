@@ -174,13 +174,13 @@ double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
     const double tile_count = double(detail::tile_edges(ax, t.domain_width, t.tile, t.radius, t.tiles_on_cells).size() - 1) *
                               (detail::tile_edges(ay, t.domain_height, t.tile, t.radius, t.tiles_on_cells).size() - 1);
     const bool kept = detail::keeps_kernel_spectra(spectra / spectrum, spectrum / 8, tile_count);
-    const double kernels = t.layers.count * detail::computed_anchors(t, ax, ay) * 9 * side * side * sizeof(float) +
-                           (kept ? spectra : 0);
-    const double domain = double(t.domain_width) * t.domain_height * 17;  // radiance, layer, share
-    // each thread's tile: its image twice (one for kernels where none are kept), its transform's
-    // three arrays, the input and accumulated spectra (3 each), the kernels' (9) where none are kept
-    const double tiles = t.nthreads * ((kept ? 1 : 2) * nx * ny * sizeof(float) + (9 + (kept ? 0 : 9)) * spectrum) +
-                         (tile_count < t.nthreads ? 3 * spectrum : 0);
+    // the kernels, and their spectra where kept (the kernels themselves then freed)
+    const double kernels = t.layers.count * detail::computed_anchors(t, ax, ay) * 9 * side * side * sizeof(float);
+    const double domain = double(t.domain_width) * t.domain_height * 5;  // layer, share
+    // each thread's tile: its image and weights, its transform's three arrays, one primary's
+    // spectrum and the three accumulated, the kernels' (9) where none are kept
+    const double tile_pixels = std::min<double>(t.tile, t.domain_width) * std::min<double>(t.tile, t.domain_height);
+    const double tiles = t.nthreads * ((nx * ny + tile_pixels) * sizeof(float) + (7 + (kept ? 0 : 9)) * spectrum);
     // each thread's working memory for one PSF of the table, at its largest: the nearest layer
     // or the sky, on the axis or at the corner anchor, the shortest or the longest wavelength
     double lambda_min = spec.basis.wavelength(0), lambda_max = lambda_min;
@@ -208,7 +208,8 @@ double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
                                              q.pixel_pitch, t.radius);
                 psf = std::max(psf, field_psf_scratch_bytes(q));
             }
-    return kernels + domain + tiles + t.nthreads * psf;
+    // the larger of two stages: the table built and transformed, and the tiles convolved
+    return std::max(kernels + (kept ? spectra : 0) + t.nthreads * psf, (kept ? spectra : kernels) + domain + tiles);
 }
 
 Result<std::shared_ptr<const ConvolutionPlan>> ConvolutionPlan::create(const ConvolutionPlanSpec& spec, const ProgressFn& progress) {
@@ -252,32 +253,32 @@ Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting,
     const int out_w = c.width - 2 * o, out_h = c.height - 2 * o;
 
     // The sources on the domain: the input where it reaches, its edge continued beyond.
+    const EdgeContinuation edge(scene.rgb, 3, c.width, c.height);
     detail::DomainSources src;
     src.width = out_w + 2 * R;
     src.height = out_h + 2 * R;
+    src.frame = &edge;
+    src.origin = origin;
+    src.u.resize(src.width);
+    src.v.resize(src.height);
+    double unused;
+    for (int i = 0; i < src.width; ++i) c.tangent(i - origin + 0.5, 0.5, src.u[i], unused);
+    for (int j = 0; j < src.height; ++j) c.tangent(0.5, j - origin + 0.5, unused, src.v[j]);
     const size_t n = size_t(src.width) * src.height;
-    src.rgb.resize(3 * n);
     src.lower.resize(n);
     src.upper_share.resize(n);
     const int threads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
-    const EdgeContinuation edge(scene.rgb, 3, c.width, c.height);
 #pragma omp parallel for num_threads(threads)
     for (int j = 0; j < src.height; ++j) {
         const int cj = std::clamp(j - origin, 0, c.height - 1);
         for (int i = 0; i < src.width; ++i) {
             const int ci = std::clamp(i - origin, 0, c.width - 1);
             const size_t p = size_t(j) * src.width + i, q = size_t(cj) * c.width + ci;
-            const float* rgb = edge.light(i - origin, j - origin);
             const double d = scene.depth[q];
             const double w = d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(ci, cj, d, scene.depth_meaning);
             int lower = 0;
             table.layers.locate(w, lower, src.upper_share[p]);
             src.lower[p] = uint8_t(lower);
-            // the natural cos^4 fall-off of the source's light, at the source's own field position
-            double u, v;
-            c.tangent(i - origin + 0.5, j - origin + 0.5, u, v);
-            const double c2 = 1.0 / (1.0 + u * u + v * v);
-            for (int k = 0; k < 3; ++k) src.rgb[3 * p + k] = float(rgb[k] * c2 * c2);
         }
     }
     std::fill(xyz, xyz + 3 * size_t(out_w) * out_h, 0.0f);

@@ -93,6 +93,7 @@ int job_runs(const DiffractOptions& opt, const PinholeCamera& camera, const std:
 // Bytes the job needs at its peak (images, pinhole samples or PSF kernels), an upper estimate.
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera);
 
+struct RenderInput;
 namespace detail {
 struct ResolvedFrame;  // one frame's render, camera, colours and method settings (core/io/src/resolved_frame.h)
 }
@@ -117,6 +118,10 @@ public:
                           const std::string& name, int nthreads = 0);
 
 private:
+    // diffract(dst, src, frame, ...), freeing `spent` (the frame's own render) once its image is
+    // made, before the output's is: a 4K frame's radiance and depth are 130 MB of its peak
+    Result<bool> diffract_frame(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const detail::ResolvedFrame& frame,
+                                const std::string& name, int nthreads, RenderInput* spent);
     Result<bool> run_convolution(const DiffractOptions& opt, const detail::ResolvedFrame& frame, std::vector<float>& xyz);
     Result<bool> diffract_alpha(const DiffractOptions& opt, const detail::ResolvedFrame& frame, std::vector<float>& alpha);
     DiffractOptions opt_;
