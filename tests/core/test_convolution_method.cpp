@@ -84,3 +84,34 @@ TEST(ConvolutionMethod, AgreesWithTheExactIncoherentSum) {
             EXPECT_LT(std::sqrt(e / r), 0.05) << "block " << bx << "," << by;
         }
 }
+
+// A pinhole whose kernels are wide against the frame makes the whole domain one tile, its kernel
+// groups spread over the threads: the same image every run, and, within float rounding, the
+// image that tiles of twice the kernel radius give (their kernel spectra kept and shared, each
+// tile's anchors applied one at a time: the other path through the same sum).
+TEST(ConvolutionMethod, AWholeDomainTileGivesTheSameImageEveryRunAndWhatTilesGive) {
+    const double f = 2e-3;
+    const int w = 40;
+    const Scene sc = occlusion_scene(w, 2 * std::atan(w * 15e-6 / (2 * f)), f, 0.05, 0.005, 0);
+    const auto basis = make_spectral_basis(visible_sampling(3).value, kXyzTo709).value;
+    const Aperture ap{ApertureShape::Circle, 0.25 * std::sqrt(f * 550e-9)};  // far below the optimum
+    const SpectralScene scene{sc.cam, sc.rgb.data(), sc.depth.data(), DepthMeaning::Planar};
+    ConvolutionSettings whole;
+    whole.tile = 1 << 20;  // a tile wider than the domain: the domain's
+    whole.nthreads = 4;
+    whole.anchor_cells = 3;
+    const ConvolutionPlanSpec spec{sc.cam, 0, ap, basis, 1 / 0.005, whole};
+    const int R = ConvolutionPlan::kernel_radius(spec);
+    ASSERT_GT(2 * R, w / 2) << "kernels wide against the frame";
+    ConvolutionSettings tiled = whole;
+    tiled.tile = 2 * R;
+    std::vector<float> first(3 * w * w), again(3 * w * w), tiles(3 * w * w);
+    ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, first.data()}, whole).ok());
+    ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, again.data()}, whole).ok());
+    ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, tiles.data()}, tiled).ok());
+    EXPECT_EQ(first, again);
+    double largest = 0;
+    for (float v : first) largest = std::max(largest, double(v));
+    ASSERT_GT(largest, 0);
+    for (size_t k = 0; k < first.size(); ++k) ASSERT_NEAR(first[k], tiles[k], 1e-5 * largest) << "value " << k;
+}

@@ -148,14 +148,20 @@ LitColumns anchor_weights(const KernelTable& t, const DomainSources& src, const 
     const int T = b.x1 - b.x0;
     const int l = la.layer, kx = la.kx, ky = la.ky;
     LitColumns lit{b.x1 - b.x0, 0};
+    std::vector<float> wx(T);  // the hat across, once per column
+    for (int i = b.x0; i < b.x1; ++i) wx[i - b.x0] = float(t.ax.hat(kx, i));
     for (int j = b.y0; j < b.y1; ++j) {
         const float wy = float(t.ay.hat(ky, j));
+        if (wy == 0.0f) {  // a row beyond the hat
+            std::fill_n(&weight[size_t(j - b.y0) * T], T, 0.0f);
+            continue;
+        }
         for (int i = b.x0; i < b.x1; ++i) {
             const size_t q = size_t(j) * src.width + i;
             const float share = src.lower[q] == l         ? 1.0f - src.upper_share[q]
                                 : src.lower[q] + 1 == l ? src.upper_share[q]
                                                         : 0.0f;
-            const float w = share * wy * float(t.ax.hat(kx, i));
+            const float w = share * wy * wx[i - b.x0];
             weight[size_t(j - b.y0) * T + (i - b.x0)] = w;
             if (w > 0) {
                 lit.first = std::min(lit.first, i - b.x0);
@@ -166,27 +172,22 @@ LitColumns anchor_weights(const KernelTable& t, const DomainSources& src, const 
     return lit;
 }
 
-// acc_q += in_p K_{3p+q} for q = 0, 1, 2 (one primary's part of acc_q = sum_p in_p K_{3p+q}: the
-// primaries' spectra in turn, one at a time, add to each acc_q in the same order as all three
-// at once), written on floats so that it vectorises (std::complex's operator* keeps a
-// NaN-recovery branch); spectra of N rows (kx) of `half` (ky >= 0; a kernel's rows read as
-// N - r where it is its source's mirror image).
-void multiply_accumulate(const std::complex<float>* in, const AnchoredConvolution::KernelView kernels[3],
-                         std::complex<float>* acc, int N, int half) {
-    const size_t spec = size_t(N) * half;
-    for (int q = 0; q < 3; ++q) {
-        const AnchoredConvolution::KernelView& kv = kernels[q];
-        const float sign = kv.conjugate ? -1.0f : 1.0f;
-        for (int r = 0; r < N; ++r) {
-            float* a = reinterpret_cast<float*>(&acc[q * spec + size_t(r) * half]);
-            const float* x = reinterpret_cast<const float*>(&in[size_t(r) * half]);
-            const float* k = reinterpret_cast<const float*>(kv.data + size_t(kv.flip_rows ? (N - r) % N : r) * half);
+// acc += in K: one primary's spectrum times one kernel's, added to one channel's accumulated
+// spectrum (acc_q = sum_p in_p K_{3p+q}), written on floats so that it vectorises
+// (std::complex's operator* keeps a NaN-recovery branch); spectra of N rows (kx) of `half`
+// (ky >= 0; a kernel's rows read as N - r where it is its source's mirror image).
+void multiply_add(const std::complex<float>* in, const AnchoredConvolution::KernelView& kv, std::complex<float>* acc,
+                  int N, int half) {
+    const float sign = kv.conjugate ? -1.0f : 1.0f;
+    for (int r = 0; r < N; ++r) {
+        float* a = reinterpret_cast<float*>(&acc[size_t(r) * half]);
+        const float* x = reinterpret_cast<const float*>(&in[size_t(r) * half]);
+        const float* k = reinterpret_cast<const float*>(kv.data + size_t(kv.flip_rows ? (N - r) % N : r) * half);
 #pragma omp simd
-            for (int e = 0; e < half; ++e) {
-                const float kr = k[2 * e], ki = sign * k[2 * e + 1];
-                a[2 * e] += x[2 * e] * kr - x[2 * e + 1] * ki;
-                a[2 * e + 1] += x[2 * e] * ki + x[2 * e + 1] * kr;
-            }
+        for (int e = 0; e < half; ++e) {
+            const float kr = k[2 * e], ki = sign * k[2 * e + 1];
+            a[2 * e] += x[2 * e] * kr - x[2 * e + 1] * ki;
+            a[2 * e + 1] += x[2 * e] * ki + x[2 * e + 1] * kr;
         }
     }
 }
@@ -218,19 +219,20 @@ void add_to_output(const std::vector<float>& image, const TileFrame& frame, cons
 }  // namespace
 
 // One thread's working arrays for a tile: its transform, the weighted image (the kernels'
-// too, where the plan keeps no spectra), one primary's spectrum, the accumulated spectra, and
-// the kernels' spectra where the plan keeps none.
+// too, where the plan keeps no spectra), the input spectra (one; one per anchor of a group
+// where the plan keeps no kernel spectra), the accumulated spectra, and one kernel's spectrum
+// where the plan keeps none.
 struct AnchoredConvolution::TileScratch {
     RealFft2D fft;
     std::vector<float> image, weight;
     std::vector<std::complex<float>> in, acc, own;
-    TileScratch(int Nx, int Ny, size_t tile_pixels, size_t spec, bool own_kernels)
+    TileScratch(int Nx, int Ny, size_t tile_pixels, size_t spec, int inputs, bool own_kernels)
         : fft(Nx, Ny),
           image(size_t(Nx) * Ny, 0.0f),
           weight(tile_pixels),
-          in(spec, 0.0f),
+          in(inputs * spec, 0.0f),
           acc(3 * spec, 0.0f),
-          own(own_kernels ? 9 * spec : 0) {}
+          own(own_kernels ? spec : 0) {}
 };
 
 // The anchors of one depth layer that share one computed anchor's kernels (it and its mirror
@@ -262,37 +264,56 @@ std::vector<AnchoredConvolution::KernelGroup> AnchoredConvolution::groups_of(con
     return groups;
 }
 
+void AnchoredConvolution::light_spectrum(const DomainSources& src, const TileBounds& b, int first, int last, int p,
+                                         TileScratch& s, std::complex<float>* in) const {
+    const int Nx = fft_width_, T = b.x1 - b.x0;
+    for (int j = b.y0; j < b.y1; ++j)
+        for (int i = b.x0; i < b.x1; ++i) {
+            const float w = s.weight[size_t(j - b.y0) * T + (i - b.x0)];
+            s.image[size_t(j - b.y0) * Nx + (i - b.x0)] = w == 0.0f ? 0.0f : w * src.light(i, j, p);
+        }
+    s.fft.forward(s.image.data(), in, first, last);
+}
+
 void AnchoredConvolution::add_group(const DomainSources& src, const TileBounds& b, const KernelGroup& g,
                                     TileScratch& s) const {
     const KernelTable& t = table_;
-    const int Nx = fft_width_, Ny = fft_height_, nkx = int(t.ax.knots.size());
+    const int Nx = fft_width_, half = fft_height_ / 2 + 1, nkx = int(t.ax.knots.size());
     const size_t spec = spectrum_size_;
-    bool transformed = false;  // the group's kernels, where the plan keeps none: once, when first needed
-    for (const int anchor : g.anchors) {
-        const LitColumns lit = anchor_weights(t, src, b, {g.layer, anchor % nkx, anchor / nkx}, s.weight);
-        if (lit.first >= lit.last) continue;
-        KernelView kernels[9];
-        if (kernel_spectra_.empty() && !transformed)  // the kernels go through the image: zero but for the tile
-            for (int j = 0; j < b.y1 - b.y0; ++j) std::fill_n(&s.image[size_t(j) * Nx], b.x1 - b.x0, 0.0f);
-        for (int m = 0; m < 9; ++m) {
-            if (!kernel_spectra_.empty()) {
-                kernels[m] = spectrum(g.layer, anchor, m);
-                continue;
+    auto weights = [&](int anchor) { return anchor_weights(t, src, b, {g.layer, anchor % nkx, anchor / nkx}, s.weight); };
+    if (!kernel_spectra_.empty()) {  // the plan's spectra: each anchor in turn
+        for (const int anchor : g.anchors) {
+            const LitColumns lit = weights(anchor);
+            if (lit.first >= lit.last) continue;
+            for (int p = 0; p < 3; ++p) {
+                light_spectrum(src, b, lit.first, lit.last, p, s, s.in.data());
+                for (int q = 0; q < 3; ++q)
+                    multiply_add(s.in.data(), spectrum(g.layer, anchor, 3 * p + q), &s.acc[q * spec], Nx, half);
             }
-            if (!transformed)
-                transform_kernel(t.kernel_index(g.layer, g.source, m), s.fft, s.image, &s.own[m * spec]);
-            const bool in_x = t.mirrored_x(anchor), in_y = t.mirrored_y(anchor);
-            kernels[m] = {&s.own[m * spec], in_x != in_y, in_y};
         }
-        transformed = true;
-        for (int p = 0; p < 3; ++p) {
-            for (int j = b.y0; j < b.y1; ++j)
-                for (int i = b.x0; i < b.x1; ++i) {
-                    const float w = s.weight[size_t(j - b.y0) * (b.x1 - b.x0) + (i - b.x0)];
-                    s.image[size_t(j - b.y0) * Nx + (i - b.x0)] = w == 0.0f ? 0.0f : w * src.light(i, j, p);
-                }
-            s.fft.forward(s.image.data(), s.in.data(), lit.first, lit.last);
-            multiply_accumulate(s.in.data(), &kernels[3 * p], s.acc.data(), Nx, Ny / 2 + 1);
+        return;
+    }
+    // None kept: a primary's light of every anchor of the group transformed, then each kernel
+    // that takes that primary transformed once and applied to them all (read mirrored for a
+    // mirror image): a kernel's spectrum and one per anchor held, not the group's nine. The
+    // weights are found again for each primary: one array of them, not one per anchor.
+    for (int p = 0; p < 3; ++p) {
+        std::vector<int> lit_anchors;
+        for (const int anchor : g.anchors) {
+            const LitColumns lit = weights(anchor);
+            if (lit.first >= lit.last) continue;
+            light_spectrum(src, b, lit.first, lit.last, p, s, &s.in[lit_anchors.size() * spec]);
+            lit_anchors.push_back(anchor);
+        }
+        if (lit_anchors.empty()) return;
+        for (int j = 0; j < b.y1 - b.y0; ++j)  // the kernels go through the image: zero but for the tile
+            std::fill_n(&s.image[size_t(j) * Nx], b.x1 - b.x0, 0.0f);
+        for (int q = 0; q < 3; ++q) {
+            transform_kernel(t.kernel_index(g.layer, g.source, 3 * p + q), s.fft, s.image, s.own.data());
+            for (size_t k = 0; k < lit_anchors.size(); ++k) {
+                const bool in_x = t.mirrored_x(lit_anchors[k]), in_y = t.mirrored_y(lit_anchors[k]);
+                multiply_add(&s.in[k * spec], {s.own.data(), in_x != in_y, in_y}, &s.acc[q * spec], Nx, half);
+            }
         }
     }
 }
@@ -315,6 +336,10 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
     for (int k = 0; k < ntx; ++k) widest = std::max(widest, edges_x_[k + 1] - edges_x_[k]);
     for (int k = 0; k < nty; ++k) tallest = std::max(tallest, edges_y_[k + 1] - edges_y_[k]);
     const size_t tile_pixels = size_t(widest) * tallest;
+    // input spectra: one, or, where each group's kernels are transformed, one per anchor of the largest group
+    int inputs = 1;
+    for (int a = 0; a < table_.anchors() && own_kernels; ++a)
+        inputs = std::max<int>(inputs, std::count(table_.source.begin(), table_.source.end(), table_.source[a]));
     ProgressTicker ticker(progress, double(ntx) * nty);
     // Four passes: tiles of one parity are at least one tile apart, a tile is at least 2 R wide
     // (tile_edges), and a tile writes at most R pixels beyond itself, so concurrent tiles never
@@ -333,7 +358,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
         if (int(tiles.size()) >= nthreads_) {  // a tile a thread
 #pragma omp parallel num_threads(nthreads_)
             {
-                TileScratch s(Nx, Ny, tile_pixels, spec, own_kernels);
+                TileScratch s(Nx, Ny, tile_pixels, spec, inputs, own_kernels);
 #pragma omp for schedule(dynamic, 1)
                 for (long k = 0; k < long(tiles.size()); ++k) {
                     if (ticker.cancelled()) continue;
@@ -356,7 +381,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
             std::vector<TileScratch*> scratch(nthreads_, nullptr);
 #pragma omp parallel num_threads(nthreads_)
             {
-                TileScratch s(Nx, Ny, tile_pixels, spec, own_kernels);
+                TileScratch s(Nx, Ny, tile_pixels, spec, inputs, own_kernels);
                 const int threads = omp_get_num_threads();
                 scratch[omp_get_thread_num()] = &s;
 #pragma omp for schedule(static, 1)

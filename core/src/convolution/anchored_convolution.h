@@ -120,6 +120,10 @@ private:
     // adds the group's anchors' light (each anchor's share of the tile's sources, convolved
     // with its kernels) to s.acc
     void add_group(const DomainSources& src, const TileBounds& b, const KernelGroup& g, TileScratch& s) const;
+    // the anchor's light of primary p (its weights in s.weight, lighting the tile's columns
+    // [first, last)) into s.image, the tile's corner at its origin, transformed into `in`
+    void light_spectrum(const DomainSources& src, const TileBounds& b, int first, int last, int p, TileScratch& s,
+                        std::complex<float>* in) const;
     // channel q of acc, transformed back, added to the output window
     void add_tile_light(const TileBounds& b, std::complex<float>* acc, int q, const OutputWindow& out, float* xyz,
                         TileScratch& s) const;

@@ -177,10 +177,11 @@ double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
     // the kernels, and their spectra where kept (the kernels themselves then freed)
     const double kernels = t.layers.count * detail::computed_anchors(t, ax, ay) * 9 * side * side * sizeof(float);
     const double domain = double(t.domain_width) * t.domain_height * 5;  // layer, share
-    // each thread's tile: its image and weights, its transform's three arrays, one primary's
-    // spectrum and the three accumulated, the kernels' (9) where none are kept
+    // each thread's tile: its image and weights, its transform's three arrays, the three
+    // accumulated spectra, one primary's (where none are kept: one per anchor of a group, at most
+    // four, and one kernel's)
     const double tile_pixels = std::min<double>(t.tile, t.domain_width) * std::min<double>(t.tile, t.domain_height);
-    const double tiles = t.nthreads * ((nx * ny + tile_pixels) * sizeof(float) + (7 + (kept ? 0 : 9)) * spectrum);
+    const double tiles = t.nthreads * ((nx * ny + tile_pixels) * sizeof(float) + (kept ? 7 : 11) * spectrum);
     // each thread's working memory for one PSF of the table, at its largest: the nearest layer
     // or the sky, on the axis or at the corner anchor, the shortest or the longest wavelength
     double lambda_min = spec.basis.wavelength(0), lambda_max = lambda_min;
