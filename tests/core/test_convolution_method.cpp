@@ -86,9 +86,10 @@ TEST(ConvolutionMethod, AgreesWithTheExactIncoherentSum) {
 }
 
 // A pinhole whose kernels are wide against the frame makes the whole domain one tile, its kernel
-// groups spread over the threads: the same image every run, and, within float rounding, the
-// image that tiles of twice the kernel radius give (their kernel spectra kept and shared, each
-// tile's anchors applied one at a time: the other path through the same sum).
+// groups spread over the threads, each with its own arrays or all sharing one set: the same
+// image every run, and, within float rounding, the image that tiles of twice the kernel radius
+// give (their kernel spectra kept and shared, each tile's anchors applied one at a time: the
+// other path through the same sum).
 TEST(ConvolutionMethod, AWholeDomainTileGivesTheSameImageEveryRunAndWhatTilesGive) {
     const double f = 2e-3;
     const int w = 40;
@@ -105,13 +106,21 @@ TEST(ConvolutionMethod, AWholeDomainTileGivesTheSameImageEveryRunAndWhatTilesGiv
     ASSERT_GT(2 * R, w / 2) << "kernels wide against the frame";
     ConvolutionSettings tiled = whole;
     tiled.tile = 2 * R;
-    std::vector<float> first(3 * w * w), again(3 * w * w), tiles(3 * w * w);
+    ConvolutionSettings shared = whole;
+    shared.tile_memory = 0;  // one set of the tile's arrays for all threads
+    std::vector<float> first(3 * w * w), again(3 * w * w), tiles(3 * w * w), one_set(3 * w * w), one_again(3 * w * w);
     ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, first.data()}, whole).ok());
     ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, again.data()}, whole).ok());
     ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, tiles.data()}, tiled).ok());
+    ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, one_set.data()}, shared).ok());
+    ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, one_again.data()}, shared).ok());
     EXPECT_EQ(first, again);
+    EXPECT_EQ(one_set, one_again);
     double largest = 0;
     for (float v : first) largest = std::max(largest, double(v));
     ASSERT_GT(largest, 0);
-    for (size_t k = 0; k < first.size(); ++k) ASSERT_NEAR(first[k], tiles[k], 1e-5 * largest) << "value " << k;
+    for (size_t k = 0; k < first.size(); ++k) {
+        ASSERT_NEAR(first[k], tiles[k], 1e-5 * largest) << "value " << k;
+        ASSERT_NEAR(one_set[k], tiles[k], 1e-5 * largest) << "value " << k;
+    }
 }

@@ -36,6 +36,10 @@ struct ConvolutionSettings {
     int max_radius = 512;    // safety bound on the kernel half-width (pixels)
     int anchor_cells = 4;    // field-anchor cells across the frame's long side
     int nthreads = 0;
+    // Where kernels wide against the frame make one whole-domain tile and a set of its working
+    // arrays per thread would pass this many bytes, the threads share one set, each step spread
+    // over them (slower, a set's memory instead of one a thread).
+    double tile_memory = 1024.0 * (1 << 20);
 };
 
 // What a plan is built for.

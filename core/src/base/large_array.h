@@ -1,11 +1,15 @@
-// Memory for large arrays that are written in full before they are read (the convolution's
-// kernel spectra): not zero-filled first (a vector's resize writes every byte once before the
-// work writes it again), and on huge pages where the kernel offers them (one fault a 2 MiB page
-// instead of 512 for 4 KiB pages; page faults were a fifth of a 1080p frame's time). Internal to core.
+// Memory for large arrays (the convolution's kernels, their spectra, a tile's transform arrays):
+// pages of their own, mapped on allocation and unmapped on release, so that what a finished
+// stage frees goes back to the system at once (from the allocator's heap, a 4K frame's freed
+// kernels stayed in the process and raised its peak); zero until written, as the kernel hands
+// out fresh pages, with no pass that writes the zeros first (a vector's resize wrote every byte
+// once before the work wrote it again); and on huge pages where the kernel offers them (one
+// fault a 2 MiB page instead of 512 for 4 KiB pages; page faults were a fifth of a 1080p frame's
+// time). Internal to core.
 #pragma once
 #include <sys/mman.h>
 
-#include <cstdlib>
+#include <cstdint>
 #include <memory>
 #include <new>
 #include <type_traits>
@@ -14,19 +18,24 @@ namespace wavecam::detail {
 
 template <class T>
 class LargeArray {
-    static_assert(std::is_trivially_destructible_v<T>, "a LargeArray holds plain values");
+    static_assert(std::is_trivially_destructible_v<T> && std::is_trivially_copyable_v<T>, "a LargeArray holds plain values");
 
 public:
     LargeArray() = default;
-    // n values, their contents undefined until written; throws std::bad_alloc as a vector does
+    // n values, each zero until written; throws std::bad_alloc as a vector does
     explicit LargeArray(size_t n) : n_(n) {
         if (n == 0) return;
         constexpr size_t kHugePage = size_t(2) << 20;
         const size_t bytes = (n * sizeof(T) + kHugePage - 1) / kHugePage * kHugePage;
-        void* p = std::aligned_alloc(kHugePage, bytes);
-        if (!p) throw std::bad_alloc();
-        ::madvise(p, bytes, MADV_HUGEPAGE);  // advice only: without huge pages the array still works
-        p_.reset(static_cast<T*>(p));
+        // a huge page more than asked, so that the array can start on a huge page's boundary
+        void* raw = ::mmap(nullptr, bytes + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (raw == MAP_FAILED) throw std::bad_alloc();
+        const uintptr_t first = (reinterpret_cast<uintptr_t>(raw) + kHugePage - 1) / kHugePage * kHugePage;
+        const size_t head = first - reinterpret_cast<uintptr_t>(raw);
+        if (head > 0) ::munmap(raw, head);
+        if (kHugePage - head > 0) ::munmap(reinterpret_cast<void*>(first + bytes), kHugePage - head);
+        ::madvise(reinterpret_cast<void*>(first), bytes, MADV_HUGEPAGE);  // advice only: the array works without
+        p_ = std::unique_ptr<T[], Unmap>(reinterpret_cast<T*>(first), Unmap{bytes});
     }
 
     T* data() const { return p_.get(); }
@@ -35,10 +44,11 @@ public:
     T& operator[](size_t k) const { return p_[k]; }
 
 private:
-    struct Free {
-        void operator()(T* p) const { std::free(p); }
+    struct Unmap {
+        size_t bytes = 0;
+        void operator()(T* p) const { ::munmap(p, bytes); }
     };
-    std::unique_ptr<T[], Free> p_;
+    std::unique_ptr<T[], Unmap> p_;
     size_t n_ = 0;
 };
 

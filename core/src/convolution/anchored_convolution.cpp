@@ -49,22 +49,26 @@ std::vector<int> tile_edges(const AnchorAxis& a, int length, int tile, int radiu
     return edges;
 }
 
-void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, std::vector<float>& image,
-                                           std::complex<float>* spectrum) const {
+void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, float* image, std::complex<float>* spectrum,
+                                           int threads) const {
     const KernelTable& t = table_;
     const int R = t.radius, kw = 2 * R + 1, Nx = fft_width_, Ny = fft_height_;
     const float* w = t.kernel(k);
     // the kernel centred on the origin, wrapped
+#pragma omp parallel for num_threads(threads) if (threads > 1)
     for (int b = -R; b <= R; ++b)
         for (int a = -R; a <= R; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = w[size_t(b + R) * kw + (a + R)];
-    fft.forward(image.data(), spectrum, Nx - R, Nx + R + 1);  // (the columns wrap)
+    fft.forward(image, spectrum, Nx - R, Nx + R + 1);  // (the columns wrap)
+#pragma omp parallel for num_threads(threads) if (threads > 1)
     for (int b = -R; b <= R; ++b)
         for (int a = -R; a <= R; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = 0.0f;
 }
 
 Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int tile, bool tiles_on_cells, int width,
-                                                        int height, int nthreads, const ProgressFn& progress) {
+                                                        int height, int nthreads, double tile_memory,
+                                                        const ProgressFn& progress) {
     AnchoredConvolution c;
+    c.tile_memory_ = tile_memory;
     c.tile_ = tile;
     c.tiles_on_cells_ = tiles_on_cells;
     c.fft_width_ = convolution_fft_length(tile, table.radius, width);
@@ -100,12 +104,12 @@ Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int t
 #pragma omp for schedule(dynamic, 4)
         for (long k = 0; k < count; ++k) {
             if (ticker.cancelled()) continue;
-            c.transform_kernel(k, fft, image, &c.kernel_spectra_[size_t(k) * c.spectrum_size_]);
+            c.transform_kernel(k, fft, image.data(), &c.kernel_spectra_[size_t(k) * c.spectrum_size_], 1);
             ticker.advance(1, omp_get_thread_num() == 0);
         }
     }
     if (ticker.cancelled()) return Result<AnchoredConvolution>::failure("cancelled", ErrorKind::Cancelled);
-    std::vector<float>().swap(c.table_.weights);  // the kernels live on as their spectra
+    c.table_.weights = {};  // the kernels live on as their spectra
     return Result<AnchoredConvolution>::success(std::move(c));
 }
 
@@ -144,12 +148,13 @@ struct LitColumns {
 // Layer l's and anchor (kx, ky)'s share of each source of the tile into `weight` (row by row,
 // the tile's width each); the columns it lights (the others are zero in every weighted image).
 LitColumns anchor_weights(const KernelTable& t, const DomainSources& src, const TileBounds& b, const LayerAnchor& la,
-                          std::vector<float>& weight) {
+                          float* weight, int threads) {
     const int T = b.x1 - b.x0;
     const int l = la.layer, kx = la.kx, ky = la.ky;
-    LitColumns lit{b.x1 - b.x0, 0};
+    int first = T, last = 0;
     std::vector<float> wx(T);  // the hat across, once per column
     for (int i = b.x0; i < b.x1; ++i) wx[i - b.x0] = float(t.ax.hat(kx, i));
+#pragma omp parallel for num_threads(threads) if (threads > 1) reduction(min : first) reduction(max : last)
     for (int j = b.y0; j < b.y1; ++j) {
         const float wy = float(t.ay.hat(ky, j));
         if (wy == 0.0f) {  // a row beyond the hat
@@ -164,12 +169,12 @@ LitColumns anchor_weights(const KernelTable& t, const DomainSources& src, const 
             const float w = share * wy * wx[i - b.x0];
             weight[size_t(j - b.y0) * T + (i - b.x0)] = w;
             if (w > 0) {
-                lit.first = std::min(lit.first, i - b.x0);
-                lit.last = std::max(lit.last, i - b.x0 + 1);
+                first = std::min(first, i - b.x0);
+                last = std::max(last, i - b.x0 + 1);
             }
         }
     }
-    return lit;
+    return {first, last};
 }
 
 // acc += in K: one primary's spectrum times one kernel's, added to one channel's accumulated
@@ -177,8 +182,9 @@ LitColumns anchor_weights(const KernelTable& t, const DomainSources& src, const 
 // (std::complex's operator* keeps a NaN-recovery branch); spectra of N rows (kx) of `half`
 // (ky >= 0; a kernel's rows read as N - r where it is its source's mirror image).
 void multiply_add(const std::complex<float>* in, const AnchoredConvolution::KernelView& kv, std::complex<float>* acc,
-                  int N, int half) {
+                  int N, int half, int threads) {
     const float sign = kv.conjugate ? -1.0f : 1.0f;
+#pragma omp parallel for num_threads(threads) if (threads > 1)
     for (int r = 0; r < N; ++r) {
         float* a = reinterpret_cast<float*>(&acc[size_t(r) * half]);
         const float* x = reinterpret_cast<const float*>(&in[size_t(r) * half]);
@@ -200,11 +206,12 @@ struct TileFrame {
 };
 
 // Adds channel q of a tile's convolved image (its FFT frame, wrapped) to the output window.
-void add_to_output(const std::vector<float>& image, const TileFrame& frame, const OutputWindow& out, float norm, int q,
-                   float* xyz) {
+void add_to_output(const float* image, const TileFrame& frame, const OutputWindow& out, float norm, int q,
+                   float* xyz, int threads) {
     const int Nx = frame.width, Ny = frame.height, R = frame.radius;
     const TileBounds& b = frame.bounds;
     const int out_x0 = out.x0, out_y0 = out.y0, out_width = out.width, out_height = out.height;
+#pragma omp parallel for num_threads(threads) if (threads > 1)
     for (int r = -R; r < (b.y1 - b.y0) + R; ++r) {
         const int j = b.y0 + r - out_y0;
         if (j < 0 || j >= out_height) continue;
@@ -222,17 +229,19 @@ void add_to_output(const std::vector<float>& image, const TileFrame& frame, cons
 // too, where the plan keeps no spectra), the input spectra (one; one per anchor of a group
 // where the plan keeps no kernel spectra), the accumulated spectra, and one kernel's spectrum
 // where the plan keeps none.
+// (On huge pages, base/large_array.h: a whole-domain tile's arrays are tens of MB each.)
 struct AnchoredConvolution::TileScratch {
     RealFft2D fft;
-    std::vector<float> image, weight;
-    std::vector<std::complex<float>> in, acc, own;
+    LargeArray<float> image, weight;
+    LargeArray<std::complex<float>> in, acc, own;
+    int threads = 1;  // the threads each step is spread over (RealFft2D::set_threads): 1, or a whole-domain tile's
     TileScratch(int Nx, int Ny, size_t tile_pixels, size_t spec, int inputs, bool own_kernels)
         : fft(Nx, Ny),
-          image(size_t(Nx) * Ny, 0.0f),
+          image(size_t(Nx) * Ny),
           weight(tile_pixels),
-          in(inputs * spec, 0.0f),
-          acc(3 * spec, 0.0f),
-          own(own_kernels ? spec : 0) {}
+          in(inputs * spec),
+          acc(3 * spec),
+          own(own_kernels ? spec : 0) {}  // (zero until written)
 };
 
 // The anchors of one depth layer that share one computed anchor's kernels (it and its mirror
@@ -267,6 +276,7 @@ std::vector<AnchoredConvolution::KernelGroup> AnchoredConvolution::groups_of(con
 void AnchoredConvolution::light_spectrum(const DomainSources& src, const TileBounds& b, int first, int last, int p,
                                          TileScratch& s, std::complex<float>* in) const {
     const int Nx = fft_width_, T = b.x1 - b.x0;
+#pragma omp parallel for num_threads(s.threads) if (s.threads > 1)
     for (int j = b.y0; j < b.y1; ++j)
         for (int i = b.x0; i < b.x1; ++i) {
             const float w = s.weight[size_t(j - b.y0) * T + (i - b.x0)];
@@ -280,7 +290,9 @@ void AnchoredConvolution::add_group(const DomainSources& src, const TileBounds& 
     const KernelTable& t = table_;
     const int Nx = fft_width_, half = fft_height_ / 2 + 1, nkx = int(t.ax.knots.size());
     const size_t spec = spectrum_size_;
-    auto weights = [&](int anchor) { return anchor_weights(t, src, b, {g.layer, anchor % nkx, anchor / nkx}, s.weight); };
+    auto weights = [&](int anchor) {
+        return anchor_weights(t, src, b, {g.layer, anchor % nkx, anchor / nkx}, s.weight.data(), s.threads);
+    };
     if (!kernel_spectra_.empty()) {  // the plan's spectra: each anchor in turn
         for (const int anchor : g.anchors) {
             const LitColumns lit = weights(anchor);
@@ -288,7 +300,7 @@ void AnchoredConvolution::add_group(const DomainSources& src, const TileBounds& 
             for (int p = 0; p < 3; ++p) {
                 light_spectrum(src, b, lit.first, lit.last, p, s, s.in.data());
                 for (int q = 0; q < 3; ++q)
-                    multiply_add(s.in.data(), spectrum(g.layer, anchor, 3 * p + q), &s.acc[q * spec], Nx, half);
+                    multiply_add(s.in.data(), spectrum(g.layer, anchor, 3 * p + q), &s.acc[q * spec], Nx, half, s.threads);
             }
         }
         return;
@@ -306,13 +318,14 @@ void AnchoredConvolution::add_group(const DomainSources& src, const TileBounds& 
             lit_anchors.push_back(anchor);
         }
         if (lit_anchors.empty()) return;
+#pragma omp parallel for num_threads(s.threads) if (s.threads > 1)
         for (int j = 0; j < b.y1 - b.y0; ++j)  // the kernels go through the image: zero but for the tile
             std::fill_n(&s.image[size_t(j) * Nx], b.x1 - b.x0, 0.0f);
         for (int q = 0; q < 3; ++q) {
-            transform_kernel(t.kernel_index(g.layer, g.source, 3 * p + q), s.fft, s.image, s.own.data());
+            transform_kernel(t.kernel_index(g.layer, g.source, 3 * p + q), s.fft, s.image.data(), s.own.data(), s.threads);
             for (size_t k = 0; k < lit_anchors.size(); ++k) {
                 const bool in_x = t.mirrored_x(lit_anchors[k]), in_y = t.mirrored_y(lit_anchors[k]);
-                multiply_add(&s.in[k * spec], {s.own.data(), in_x != in_y, in_y}, &s.acc[q * spec], Nx, half);
+                multiply_add(&s.in[k * spec], {s.own.data(), in_x != in_y, in_y}, &s.acc[q * spec], Nx, half, s.threads);
             }
         }
     }
@@ -323,7 +336,7 @@ void AnchoredConvolution::add_tile_light(const TileBounds& b, std::complex<float
     const int Nx = fft_width_, Ny = fft_height_;
     s.fft.inverse(&acc[q * spectrum_size_], s.image.data());
     const float norm = 1.0f / (float(Nx) * Ny);  // the transforms leave the inverse unnormalised
-    add_to_output(s.image, {Nx, Ny, table_.radius, b}, out, norm, q, xyz);
+    add_to_output(s.image.data(), {Nx, Ny, table_.radius, b}, out, norm, q, xyz, s.threads);
 }
 
 Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWindow& out, float* xyz,
@@ -363,8 +376,8 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
                 for (long k = 0; k < long(tiles.size()); ++k) {
                     if (ticker.cancelled()) continue;
                     const std::vector<KernelGroup> groups = groups_of(src, tiles[k]);
-                    std::fill(s.acc.begin(), s.acc.end(), std::complex<float>(0));
-                    std::fill(s.image.begin(), s.image.end(), 0.0f);  // (the last tile's inverse)
+                    std::fill_n(s.acc.data(), s.acc.size(), std::complex<float>(0));
+                    std::fill_n(s.image.data(), s.image.size(), 0.0f);  // (the last tile's inverse)
                     for (const KernelGroup& g : groups) add_group(src, tiles[k], g, s);
                     for (int q = 0; q < 3 && !groups.empty(); ++q) add_tile_light(tiles[k], s.acc.data(), q, out, xyz, s);
                     ticker.advance(1, omp_get_thread_num() == 0);
@@ -372,12 +385,27 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
             }
             continue;
         }
-        // Fewer tiles than threads (kernels wide against the frame: one whole-domain tile): each
-        // tile's kernel groups spread over the threads, in turn (the same groups to the same
-        // thread every run), their sums added in the threads' order into the first thread's,
-        // the three channels' inverse transforms spread too: the same image every run.
+        // Fewer tiles than threads (kernels wide against the frame: one whole-domain tile).
+        const bool shared = shares_tile_scratch(double(tiles.size()), nthreads_,
+                                                tile_scratch_bytes(double(Nx) * Ny, double(tile_pixels), double(spec),
+                                                                   inputs, own_kernels),
+                                                tile_memory_);
         for (const TileBounds& b : tiles) {
             const std::vector<KernelGroup> groups = groups_of(src, b);
+            if (shared) {  // one set of arrays, each step of each kernel group spread over the threads
+                TileScratch s(Nx, Ny, tile_pixels, spec, inputs, own_kernels);
+                s.threads = nthreads_;
+                s.fft.set_threads(nthreads_);
+                for (const KernelGroup& g : groups)
+                    if (!ticker.cancelled()) add_group(src, b, g, s);
+                for (int q = 0; q < 3 && !groups.empty() && !ticker.cancelled(); ++q)
+                    add_tile_light(b, s.acc.data(), q, out, xyz, s);
+                ticker.advance(1, true);
+                continue;
+            }
+            // A set each: the kernel groups spread over the threads in turn (the same groups to
+            // the same thread every run), their sums added in the threads' order into the first
+            // thread's, the three channels' inverse transforms spread too: the same image every run.
             std::vector<TileScratch*> scratch(nthreads_, nullptr);
 #pragma omp parallel num_threads(nthreads_)
             {

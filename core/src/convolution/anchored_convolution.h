@@ -72,6 +72,22 @@ inline bool keeps_kernel_spectra(double count, double size, double tiles) {
     return tiles > 1 && count * size * 8 <= kMaxKernelSpectraBytes;
 }
 
+// The bytes of one set of a tile's working arrays: its transform's image (`points`) and the
+// tile's weights, the transform's three arrays, the three accumulated spectra, and the input
+// spectra: one, or, where no kernel spectra are kept, one per anchor of a group (`inputs`) and
+// one kernel's.
+inline double tile_scratch_bytes(double points, double tile_pixels, double spectrum_size, int inputs, bool own_kernels) {
+    return (points + tile_pixels) * 4 + (6 + inputs + (own_kernels ? 1 : 0)) * spectrum_size * 8;
+}
+
+// Whether the threads share one set of arrays, each step spread over them, for a plan of fewer
+// tiles than threads: where a set each would pass `limit` bytes (ConvolutionSettings::tile_memory;
+// a 4K frame's tile at a small pinhole held 1.6 GB of them). A set each is faster where they
+// fit: each thread takes whole kernel groups, no step waits for another.
+inline bool shares_tile_scratch(double tiles, int threads, double set_bytes, double limit) {
+    return tiles < threads && threads * set_bytes > limit;
+}
+
 class RealFft2D;
 
 // A tile's source pixels [x0, x1) x [y0, y1) of the domain.
@@ -83,8 +99,9 @@ class AnchoredConvolution {
 public:
     // Transforms every kernel of `table` once, for tiles of side `tile` (>= 2 x the radius) on
     // a source domain of width x height.
+    // `tile_memory`: ConvolutionSettings::tile_memory.
     static Result<AnchoredConvolution> create(KernelTable table, int tile, bool tiles_on_cells, int width, int height,
-                                              int nthreads, const ProgressFn& progress);
+                                              int nthreads, double tile_memory, const ProgressFn& progress);
 
     // Adds to `xyz` (interleaved, out.width x out.height) the image of `sources` on the output
     // window `out`.
@@ -105,13 +122,14 @@ public:
 private:
     KernelTable table_;
     int tile_ = 0, fft_width_ = 0, fft_height_ = 0, nthreads_ = 1;
+    double tile_memory_ = 0;
     bool tiles_on_cells_ = false;
     std::vector<int> edges_x_, edges_y_;  // tile_edges across and down the domain
     size_t spectrum_size_ = 0;
     LargeArray<std::complex<float>> kernel_spectra_;  // [layer][slot][m][spectrum]; empty: none kept
     // kernel k (KernelTable::kernel_index)'s spectrum into `spectrum` (`image`: the
-    // transform's height x width of zeros, left so)
-    void transform_kernel(long k, RealFft2D& fft, std::vector<float>& image, std::complex<float>* spectrum) const;
+    // transform's height x width of zeros, left so), its loops spread over `threads`
+    void transform_kernel(long k, RealFft2D& fft, float* image, std::complex<float>* spectrum, int threads) const;
     KernelView spectrum(int layer, int anchor, int m) const;
 
     struct TileScratch;

@@ -177,11 +177,12 @@ double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
     // the kernels, and their spectra where kept (the kernels themselves then freed)
     const double kernels = t.layers.count * detail::computed_anchors(t, ax, ay) * 9 * side * side * sizeof(float);
     const double domain = double(t.domain_width) * t.domain_height * 5;  // layer, share
-    // each thread's tile: its image and weights, its transform's three arrays, the three
-    // accumulated spectra, one primary's (where none are kept: one per anchor of a group, at most
-    // four, and one kernel's)
+    // each thread's tile arrays, or one set that the threads share (anchored_convolution.h; a
+    // group's anchors at most four)
     const double tile_pixels = std::min<double>(t.tile, t.domain_width) * std::min<double>(t.tile, t.domain_height);
-    const double tiles = t.nthreads * ((nx * ny + tile_pixels) * sizeof(float) + (kept ? 7 : 11) * spectrum);
+    const double set = detail::tile_scratch_bytes(nx * ny, tile_pixels, spectrum / 8, kept ? 1 : 4, !kept);
+    const double tiles =
+        (detail::shares_tile_scratch(tile_count, t.nthreads, set, spec.settings.tile_memory) ? 1 : t.nthreads) * set;
     // each thread's working memory for one PSF of the table, at its largest: the nearest layer
     // or the sky, on the axis or at the corner anchor, the shortest or the longest wavelength
     double lambda_min = spec.basis.wavelength(0), lambda_max = lambda_min;
@@ -223,7 +224,8 @@ Result<std::shared_ptr<const ConvolutionPlan>> ConvolutionPlan::create(const Con
     auto table = detail::build_kernel_table(t, progress_part(progress, 0.0, 0.8));
     if (!table.ok()) return R::failure(table.error);
     auto conv = detail::AnchoredConvolution::create(std::move(table.value), t.tile, t.tiles_on_cells, t.domain_width,
-                                                    t.domain_height, threads, progress_part(progress, 0.8, 1.0));
+                                                    t.domain_height, threads, spec.settings.tile_memory,
+                                                    progress_part(progress, 0.8, 1.0));
     if (!conv.ok()) return R::failure(conv.error);
     auto impl = std::make_unique<Impl>(Impl{spec, std::move(conv.value), t.origin});
     return R::success(std::shared_ptr<const ConvolutionPlan>(new ConvolutionPlan(std::move(impl))));
@@ -234,6 +236,7 @@ bool ConvolutionPlan::serves(const ConvolutionPlanSpec& s) const {
     if (!(same_camera(s.camera, p.camera) && s.overscan == p.overscan && s.aperture.name() == p.aperture.name() &&
           s.aperture.diameter == p.aperture.diameter && s.settings.tile == p.settings.tile &&
           s.settings.max_radius == p.settings.max_radius && s.settings.anchor_cells == p.settings.anchor_cells &&
+          s.settings.tile_memory == p.settings.tile_memory &&
           same_basis(s.basis, p.basis)))
         return false;
     // the frame's depth range must lead to this very plan (kernel radius, layers, tiles), so that

@@ -148,7 +148,7 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
     t.slot.assign(anchors, -1);
     for (int a = 0; a < anchors; ++a)
         if (t.source[a] == a) t.slot[a] = t.computed++;
-    t.weights.assign(size_t(t.layers.count) * t.computed * 9 * ksize, 0.0f);
+    t.weights = LargeArray<float>(size_t(t.layers.count) * t.computed * 9 * ksize);
     t.deficit.assign(size_t(t.layers.count) * anchors * 9, 0.0f);
     std::vector<long> computed;
     for (long g = 0; g < long(t.layers.count) * anchors; ++g)

@@ -4,6 +4,7 @@
 #pragma once
 #include <algorithm>
 #include <vector>
+#include "base/large_array.h"
 #include "wavecam/pinhole_camera.h"
 #include "wavecam/progress.h"
 #include "wavecam/result.h"
@@ -116,7 +117,7 @@ struct KernelTable {
     int radius = 0;
     DepthLayers layers;
     AnchorAxis ax, ay;
-    std::vector<float> weights;
+    LargeArray<float> weights;
     std::vector<float> deficit;  // (layer, anchor, m): the share of the PSFs' power beyond the kernel
     // per anchor: the anchor whose kernels, mirrored across the axis where its knot differs, are
     // this one's (itself where its own were computed)

@@ -1,5 +1,6 @@
 #include "fft/column_fft.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace wavecam::detail {
@@ -135,20 +136,25 @@ ColumnFft::ColumnFft(int length, bool inverse) : n_(length), inverse_(inverse) {
     }
 }
 
-void ColumnFft::transform(std::complex<float>* data, std::complex<float>* work, int columns, int first,
-                          int last) const {
+void ColumnFft::transform(std::complex<float>* data, std::complex<float>* work, int columns, int first, int last,
+                          int threads) const {
     Cf *x = reinterpret_cast<Cf*>(data), *y = reinterpret_cast<Cf*>(work);
     const bool whole = first == 0 && last == columns;
     size_t stride = 1;  // s: the sub-sequences split off so far
     for (const Stage& st : stages_) {
-        StageArgs a{x, y, reinterpret_cast<const Cf*>(st.twiddle.data()), st.m, stride * columns, 0, 0,
-                    inverse_ ? 1.0f : -1.0f};
+        const StageArgs stage{x, y, reinterpret_cast<const Cf*>(st.twiddle.data()), st.m, stride * columns, 0, 0,
+                              inverse_ ? 1.0f : -1.0f};
         // sub-sequence q's lanes are [q columns + first, q columns + last): one run where every
-        // column is asked for
-        const size_t runs = whole ? 1 : stride;
-        for (size_t q = 0; q < runs; ++q) {
-            a.j0 = whole ? 0 : q * columns + first;
-            a.j1 = whole ? stride * columns : q * columns + last;
+        // column is asked for; each run's lanes split into `threads` parts (a stage's lanes are
+        // independent: each reads and writes its own)
+        const long runs = whole ? 1 : long(stride), parts = std::max(1, threads);
+#pragma omp parallel for num_threads(threads) if (threads > 1)
+        for (long task = 0; task < runs * parts; ++task) {
+            const size_t q = size_t(task / parts), part = size_t(task % parts);
+            const size_t j0 = whole ? 0 : q * columns + first, j1 = whole ? stride * columns : q * columns + last;
+            StageArgs a = stage;
+            a.j0 = j0 + (j1 - j0) * part / parts;
+            a.j1 = j0 + (j1 - j0) * (part + 1) / parts;
             switch (st.radix) {
                 case 2: radix2(a); break;
                 case 3: radix3(a); break;
@@ -161,6 +167,7 @@ void ColumnFft::transform(std::complex<float>* data, std::complex<float>* work, 
     }
     // an odd number of stages leaves the result in `work`
     if (x != reinterpret_cast<Cf*>(data))
+#pragma omp parallel for num_threads(threads) if (threads > 1)
         for (int r = 0; r < n_; ++r)
             for (int c = first; c < last; ++c) data[size_t(r) * columns + c] = work[size_t(r) * columns + c];
 }

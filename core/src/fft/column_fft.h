@@ -25,8 +25,10 @@ public:
 
     // The transform of length() rows of `columns` complex values (row r at data + r * columns),
     // columns [first, last) only; `work` holds length() x columns values (its contents are lost).
-    // Unnormalised in both directions.
-    void transform(std::complex<float>* data, std::complex<float>* work, int columns, int first, int last) const;
+    // Unnormalised in both directions. Each stage's lanes spread over `threads` (called from
+    // outside any parallel region; the stages in turn): the same values at any count.
+    void transform(std::complex<float>* data, std::complex<float>* work, int columns, int first, int last,
+                   int threads = 1) const;
 
 private:
     struct Stage {

@@ -6,10 +6,10 @@
 namespace wavecam::detail {
 namespace {
 
-// dst (columns x rows) = the transpose of src (rows x columns), in tiles that stay in cache; on
-// the calling thread (each thread owns its transforms).
-void transpose(const std::complex<float>* src, std::complex<float>* dst, int rows, int columns) {
+// dst (columns x rows) = the transpose of src (rows x columns), in tiles that stay in cache.
+void transpose(const std::complex<float>* src, std::complex<float>* dst, int rows, int columns, int threads) {
     constexpr int kTile = 32;
+#pragma omp parallel for num_threads(threads) if (threads > 1)
     for (int r0 = 0; r0 < rows; r0 += kTile)
         for (int c0 = 0; c0 < columns; c0 += kTile) {
             const int r1 = std::min(r0 + kTile, rows), c1 = std::min(c0 + kTile, columns);
@@ -38,15 +38,20 @@ RealFft2D::RealFft2D(int width, int height)
 
 void RealFft2D::forward(const float* image, std::complex<float>* spectrum, int first, int last) {
     // 1. column pairs: packed c is zero where both its columns are
-    std::memcpy(static_cast<void*>(packed_.data()), image, sizeof(float) * size_t(w_) * h_);
+    const int T = threads_;
+#pragma omp parallel for num_threads(T) if (T > 1)
+    for (int y = 0; y < h_; ++y)
+        std::memcpy(static_cast<void*>(&packed_[size_t(y) * pairs_]), image + size_t(y) * w_, sizeof(float) * w_);
     if (last < 0) last = w_;
     const int p0 = std::max(0, first) / 2, count = std::min(pairs_, (last + 1) / 2 - p0);
     if (count > 0) {
         const int a = ((p0 % pairs_) + pairs_) % pairs_;
-        column_forward_.transform(packed_.data(), work_.data(), pairs_, a, std::min(pairs_, a + count));
-        if (a + count > pairs_) column_forward_.transform(packed_.data(), work_.data(), pairs_, 0, a + count - pairs_);
+        column_forward_.transform(packed_.data(), work_.data(), pairs_, a, std::min(pairs_, a + count), T);
+        if (a + count > pairs_)
+            column_forward_.transform(packed_.data(), work_.data(), pairs_, 0, a + count - pairs_, T);
     }
     // 2. each column's transform, rows ky = 0 .. height/2
+#pragma omp parallel for num_threads(T) if (T > 1)
     for (int ky = 0; ky < half_; ++ky) {
         const std::complex<float>* z = &packed_[size_t(ky) * pairs_];
         const std::complex<float>* zm = &packed_[size_t((h_ - ky) % h_) * pairs_];
@@ -61,15 +66,17 @@ void RealFft2D::forward(const float* image, std::complex<float>* spectrum, int f
         }
     }
     // 3. across: the transposed rows' columns
-    transpose(rows_.data(), spectrum, half_, w_);
-    row_forward_.transform(spectrum, work_.data(), half_, 0, half_);
+    transpose(rows_.data(), spectrum, half_, w_, T);
+    row_forward_.transform(spectrum, work_.data(), half_, 0, half_, T);
 }
 
 void RealFft2D::inverse(std::complex<float>* spectrum, float* image) {
-    row_inverse_.transform(spectrum, work_.data(), half_, 0, half_);
-    transpose(spectrum, rows_.data(), w_, half_);
+    const int T = threads_;
+    row_inverse_.transform(spectrum, work_.data(), half_, 0, half_, T);
+    transpose(spectrum, rows_.data(), w_, half_, T);
     // the column pairs, the negative ky rows as conjugates: z = E + i O
     std::complex<float>* packed = reinterpret_cast<std::complex<float>*>(image);
+#pragma omp parallel for num_threads(T) if (T > 1)
     for (int ky = 0; ky < h_; ++ky) {
         const bool mirrored = ky >= half_;
         const float* in = reinterpret_cast<const float*>(&rows_[size_t(mirrored ? h_ - ky : ky) * w_]);
@@ -82,7 +89,7 @@ void RealFft2D::inverse(std::complex<float>* spectrum, float* image) {
             out[2 * c + 1] = ei + orr;
         }
     }
-    column_inverse_.transform(packed, work_.data(), pairs_, 0, pairs_);
+    column_inverse_.transform(packed, work_.data(), pairs_, 0, pairs_, T);
 }
 
 }  // namespace wavecam::detail

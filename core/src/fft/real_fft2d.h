@@ -1,5 +1,7 @@
 // Real 2D FFTs of one size (width x height, width even) through the vectorised column transforms
-// (column_fft.h), the one FFT of core. Internal to core; one object per thread.
+// (column_fft.h), the one FFT of core. Internal to core; one object per thread, or one object
+// whose every step is spread over `threads` of its own (set_threads: a transform too large to
+// hold one per thread, a whole frame's tile), each thread its own columns or rows.
 //
 // Forward, for a real image x[y][x] (height rows of width):
 //   1. pairs of columns packed as one complex column, z[y][c] = x[y][2c] + i x[y][2c+1], and
@@ -17,6 +19,7 @@
 #include <complex>
 #include <vector>
 
+#include "base/large_array.h"
 #include "fft/column_fft.h"
 
 namespace wavecam::detail {
@@ -38,12 +41,14 @@ public:
     // spectrum -> height x width real, scaled by width x height (neither direction normalises);
     // the spectrum is overwritten.
     void inverse(std::complex<float>* spectrum, float* image);
+    // Each step spread over n threads (called from outside any parallel region); 1: the caller's.
+    void set_threads(int n) { threads_ = n; }
 
 private:
-    int w_, h_, pairs_, half_;
+    int w_, h_, pairs_, half_, threads_ = 1;
     bool ok_;
     ColumnFft column_forward_, column_inverse_, row_forward_, row_inverse_;
-    std::vector<std::complex<float>> packed_, rows_, work_;
+    LargeArray<std::complex<float>> packed_, rows_, work_;
 };
 
 }  // namespace wavecam::detail
