@@ -148,8 +148,7 @@ void ColumnFft::transform(std::complex<float>* data, std::complex<float>* work, 
         // column is asked for; each run's lanes split into `threads` parts (a stage's lanes are
         // independent: each reads and writes its own)
         const long runs = whole ? 1 : long(stride), parts = std::max(1, threads);
-#pragma omp parallel for num_threads(threads) if (threads > 1)
-        for (long task = 0; task < runs * parts; ++task) {
+        auto run = [&](long task) {
             const size_t q = size_t(task / parts), part = size_t(task % parts);
             const size_t j0 = whole ? 0 : q * columns + first, j1 = whole ? stride * columns : q * columns + last;
             StageArgs a = stage;
@@ -161,13 +160,18 @@ void ColumnFft::transform(std::complex<float>* data, std::complex<float>* work, 
                 case 4: radix4(a); break;
                 default: radix5(a); break;
             }
+        };
+        if (parts > 1) {
+#pragma omp parallel for num_threads(threads)
+            for (long task = 0; task < runs * parts; ++task) run(task);
+        } else {  // (no parallel construct at all: the psf summation takes thousands of small transforms)
+            for (long task = 0; task < runs; ++task) run(task);
         }
         std::swap(x, y);
         stride *= st.radix;
     }
     // an odd number of stages leaves the result in `work`
     if (x != reinterpret_cast<Cf*>(data))
-#pragma omp parallel for num_threads(threads) if (threads > 1)
         for (int r = 0; r < n_; ++r)
             for (int c = first; c < last; ++c) data[size_t(r) * columns + c] = work[size_t(r) * columns + c];
 }
