@@ -225,10 +225,10 @@ void add_to_output(const float* image, const TileFrame& frame, const OutputWindo
 
 }  // namespace
 
-// One thread's working arrays for a tile: its transform, the weighted image (the kernels'
-// too, where the plan keeps no spectra), the input spectra (one; one per anchor of a group
-// where the plan keeps no kernel spectra), the accumulated spectra, and one kernel's spectrum
-// where the plan keeps none.
+// A tile's working arrays, one set a thread or one that the threads share (shares_tile_scratch):
+// its transform, the weighted image (the kernels' too, where the plan keeps no spectra), the
+// input spectra (one; one per anchor of a group where the plan keeps no kernel spectra), the
+// accumulated spectra, and one kernel's spectrum where the plan keeps none.
 // (On huge pages, base/large_array.h: a whole-domain tile's arrays are tens of MB each.)
 struct AnchoredConvolution::TileScratch {
     RealFft2D fft;
