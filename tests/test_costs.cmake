@@ -3,10 +3,10 @@
 # does not end on one of them alone. ctest prefers its own record (Testing/Temporary/CTestCostData.txt)
 # once it has one; a name not in the directory is ignored.
 foreach(cost_and_test
-    160 OneSourceModel.AllThreeMethodsConvergeToOneImage
-    260 WideField.PsfRunsMatchTheExactSumsWithTheSamePhases
+    100 OneSourceModel.AllThreeMethodsConvergeToOneImage
+    180 WideField.PsfRunsMatchTheExactSumsWithTheSamePhases
     113 WideField.ConvolutionMethodMatchesTheRayleighSommerfeldIntegral
-    160 WideField.PsfSummationAndExactSumsAtTheWidestFieldsMatchTheRayleighSommerfeldIntegral
+    90 WideField.PsfSummationAndExactSumsAtTheWidestFieldsMatchTheRayleighSommerfeldIntegral
     30 GpuSums.PsfSummationRunsMatchTheCpu
     87 ApplyCommand.TheEnvironmentChangesNoImageAndNoWordMeansTwoThings
     72 PhaseCode.RunsFromThePsfKeepEveryChannelWithinTwoPercentWhereThePsfIsWide

@@ -99,8 +99,10 @@ TEST(Aperture, RegularPolygonHasAVertexOnPlusXAtZeroRotation) {
 }
 
 // even_in_x / even_in_y (which let the convolution method mirror one anchor's kernels into its
-// mirror image's) say yes exactly where the transmission reads the same at (-x, y) / (x, -y).
-TEST(Aperture, EvenInXOrYExactlyWhereTheTransmissionIs) {
+// mirror image's) say yes exactly where the transmission reads the same at (-x, y) / (x, -y);
+// even_across_antidiagonal (which lets the psf summation transpose them on a square frame), where
+// it reads the same at (-y, -x).
+TEST(Aperture, EvenInXOrYOrAcrossTheAntidiagonalExactlyWhereTheTransmissionIs) {
     auto parsed = [](const char* text) { return parse_aperture(text, "aperture").value; };
     struct Shape {
         Aperture aperture;
@@ -124,12 +126,14 @@ TEST(Aperture, EvenInXOrYExactlyWhereTheTransmissionIs) {
         shapes.push_back({a, skewed ? "skewed wedge mask" : "wedge mask"});
     }
     for (const auto& [a, what] : shapes) {
-        int odd_x = 0, odd_y = 0;
+        int odd_x = 0, odd_y = 0, odd_d = 0;
         for (int k = 0; k < 20000; ++k) {
             const double x = 0.5e-3 * std::sin(k * 1.7), y = 0.5e-3 * std::cos(k * 2.3 + 0.4);
             odd_x += a.transmission(x, y) != a.transmission(-x, y);
             odd_y += a.transmission(x, y) != a.transmission(x, -y);
+            odd_d += a.transmission(x, y) != a.transmission(-y, -x);
         }
+        EXPECT_EQ(a.even_across_antidiagonal(), odd_d == 0) << what << ": " << odd_d << " points differ across y = -x";
         EXPECT_EQ(a.even_in_x(), odd_x == 0) << what << ": " << odd_x << " points differ across x";
         EXPECT_EQ(a.even_in_y(), odd_y == 0) << what << ": " << odd_y << " points differ across y";
     }
@@ -137,6 +141,8 @@ TEST(Aperture, EvenInXOrYExactlyWhereTheTransmissionIs) {
     EXPECT_TRUE(parsed("polygon:5:90deg").even_in_x());
     EXPECT_FALSE(parsed("polygon:5:90deg").even_in_y());
     EXPECT_FALSE(parsed("sieve:8").even_in_x());
+    EXPECT_TRUE(parsed("polygon:8").even_across_antidiagonal());
+    EXPECT_FALSE(parsed("polygon:6").even_across_antidiagonal());
 }
 
 TEST(Aperture, PolygonAndZonePlateWeightsAddUpToTheirAreas) {

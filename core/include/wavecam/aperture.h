@@ -64,6 +64,10 @@ struct Aperture {
     // (u, v). A photon sieve's random hole angles are neither.
     bool even_in_x() const;
     bool even_in_y() const;
+    // Whether the transmission is its own mirror image across the line y = -x, t(-y, -x) = t(x, y):
+    // a square frame's camera then turns pixel (i, j) into (j, i) (image rows point down), and the
+    // PSF at field (-v, -u) is the transpose of the one at (u, v).
+    bool even_across_antidiagonal() const;
     // Width of the narrowest opening the samples must resolve: a sieve's smallest hole, a zone
     // plate's narrowest open zone, else the diameter.
     double finest_width() const;

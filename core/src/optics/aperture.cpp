@@ -199,6 +199,15 @@ bool Aperture::even_in_x() const {
     }
 }
 
+bool Aperture::even_across_antidiagonal() const {
+    switch (shape) {
+        case ApertureShape::Polygon: return polygon_mirrors_across(sides, rotation, 3 * M_PI / 4);
+        case ApertureShape::Mask:
+        case ApertureShape::PhotonSieve: return false;
+        default: return true;  // circle, square, zone plate
+    }
+}
+
 bool Aperture::even_in_y() const {
     switch (shape) {
         case ApertureShape::Polygon: return polygon_mirrors_across(sides, rotation, 0.0);

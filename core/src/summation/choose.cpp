@@ -215,12 +215,8 @@ PsfSummationWork psf_summation_work(const PsfSummationSpec& spec, SumCounts in, 
     const int layers = std::min(g.layers.count, kMaxPsfLayers + 1);
     const double kernels = double(g.anchors()) * layers;
     // the kernels summed: one of each mirror pair (psf_summation_kernels.cpp), a quarter of the
-    // anchors for a circle or a square
-    const std::vector<int> source = mirror_sources(g.ax, g.ay, g.width - 1, g.height - 1, spec.aperture.even_in_x(),
-                                                   spec.aperture.even_in_y());
-    double computed = 0;
-    for (size_t a = 0; a < source.size(); ++a) computed += source[a] == int(a);
-    computed *= layers;
+    // anchors for a circle or a square, about an eighth on a square frame (kernel_sources)
+    const double computed = double(kernel_sources(spec, g).count()) * layers;
     in.points = 1;
     out.points = side * side * S;
     const double N = double(g.nx) * g.ny, transform = kFftCost * N * std::log2(N);

@@ -90,6 +90,27 @@ PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s) {
     return g;
 }
 
+int KernelSources::count() const {
+    int n = 0;
+    for (int a = 0; a < int(mirror.size()); ++a) n += summed(a);
+    return n;
+}
+
+KernelSources kernel_sources(const PsfSummationSpec& s, const PsfSummationGeometry& g) {
+    KernelSources k;
+    k.mirror = mirror_sources(g.ax, g.ay, g.width - 1, g.height - 1, s.aperture.even_in_x(), s.aperture.even_in_y());
+    k.transpose.assign(k.mirror.size(), -1);
+    // (a square camera: its tangents' axes then meet the anchors' at the same knots)
+    if (s.camera.width != s.camera.height || g.ax.knots != g.ay.knots || !s.aperture.even_across_antidiagonal())
+        return k;
+    const int n = int(g.ax.knots.size());
+    for (int a = 0; a < int(k.mirror.size()); ++a) {
+        const int t = (a % n) * n + a / n;
+        if (t < a && k.mirror[size_t(a)] == a && k.mirror[size_t(t)] == t) k.transpose[size_t(a)] = t;
+    }
+    return k;
+}
+
 namespace {
 
 // The widest turn, in direction sines along either axis, of any kernel's sum over the pinhole

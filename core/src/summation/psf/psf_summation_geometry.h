@@ -16,6 +16,19 @@ struct PsfSummationGeometry {
 
 PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s);
 
+// Which anchors' kernels are summed (psf_summation_kernels.cpp); the others are read from them.
+// Per anchor: `mirror`, the anchor whose kernels mirrored across the optical axis are its own
+// (mirror_sources, kernel_table.h); `transpose`, where the frame is square and the opening its
+// own mirror image across y = -x (Aperture::even_across_antidiagonal), the anchor of the
+// transposed knots (kx, ky) -> (ky, kx) whose kernels transposed, rows for columns, are its own,
+// of each such pair among the mirror sources the one of lower index; else -1.
+struct KernelSources {
+    std::vector<int> mirror, transpose;
+    bool summed(int a) const { return mirror[size_t(a)] == a && transpose[size_t(a)] < 0; }
+    int count() const;  // the anchors summed
+};
+KernelSources kernel_sources(const PsfSummationSpec& s, const PsfSummationGeometry& g);
+
 // Whether the Airy radius 1.22 lambda f / D spans a pixel or more: below it the film pixels
 // average the far tail's cross terms (psf_summation.h, the far tail).
 bool airy_spans_a_pixel(const PsfSummationSpec& s);

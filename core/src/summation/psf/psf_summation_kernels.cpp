@@ -78,9 +78,9 @@ Result<bool> anchor_kernels(Impl& m, const KernelSetup& setup, const std::vector
     return Result<bool>::success(true);
 }
 
-// Every anchor's kernels that are computed (one of each mirror pair, tail.source), into `kernel`.
-Result<bool> sum_kernels(Impl& m, double lattice_pitch, const UnitSource& unit_source, const ProgressFn& progress,
-                         std::vector<Field>& kernel) {
+// Every anchor's kernels that are computed (one of each mirror or transposed pair, `sources`), into `kernel`.
+Result<bool> sum_kernels(Impl& m, const KernelSources& sources, double lattice_pitch, const UnitSource& unit_source,
+                         const ProgressFn& progress, std::vector<Field>& kernel) {
     const PsfSummationSpec& spec = m.spec;
     const PsfSummationGeometry& g = m.g;
     // how the kernels' sums are evaluated (choose.h: one source's directly)
@@ -90,20 +90,20 @@ Result<bool> sum_kernels(Impl& m, double lattice_pitch, const UnitSource& unit_s
     std::vector<double> depths(size_t(g.layers.count));
     for (int l = 0; l < g.layers.count; ++l) depths[size_t(l)] = g.layers.inverse_depth(l);
     // Where the aperture is even along an axis, an anchor and its mirror image across the optical
-    // axis have mirror-image kernels (psf_summation_geometry.cpp): one of each pair is computed.
-    m.tail.source =
-        mirror_sources(g.ax, g.ay, g.width - 1, g.height - 1, spec.aperture.even_in_x(), spec.aperture.even_in_y());
-    const std::vector<int>& source = m.tail.source;
+    // axis have mirror-image kernels, and on a square frame of an opening even across y = -x an
+    // anchor and its transpose have transposed kernels (kernel_sources): one of each is computed.
+    m.tail.source = sources.mirror;
     std::vector<int> computed;
     for (int a = 0; a < g.anchors(); ++a)
-        if (source[a] == a) computed.push_back(a);
+        if (sources.summed(a)) computed.push_back(a);
     const int C = int(computed.size());
     // The anchor nearest the frame's centre fixes the film sums' evaluator (a corner's film
     // points at a wide field took the cost model minutes); the others follow, one anchor per
     // thread on the CPU (a device's plans are not for concurrent use), reporting from the
     // first thread.
     PlanScope film_scope;
-    const int first = source[g.ay.knots.size() / 2 * g.ax.knots.size() + g.ax.knots.size() / 2];
+    int first = sources.mirror[g.ay.knots.size() / 2 * g.ax.knots.size() + g.ax.knots.size() / 2];
+    if (sources.transpose[size_t(first)] >= 0) first = sources.transpose[size_t(first)];
     const SummationSettings& kernel_settings = sums.to_film;
     if (auto r = anchor_kernels(m, setup, depths, first, kernel_settings, film_scope, kernel); !r.ok()) return r;
     if (progress && !progress(1.0 / C)) return cancelled();
@@ -128,6 +128,30 @@ Result<bool> sum_kernels(Impl& m, double lattice_pitch, const UnitSource& unit_s
     }
     if (stop) return failed.ok() ? cancelled() : failed;
     return Result<bool>::success(true);
+}
+
+// The mirror sources read transposed from theirs (kernel_sources): film point (dx, dy, sub-point
+// (sa, sb)) of one is (dy, dx, (sb, sa)) of the other; and the light beyond them, likewise.
+void transpose_kernels(Impl& m, const KernelSources& sources, std::vector<Field>& kernel) {
+    const PsfSummationGeometry& g = m.g;
+    const int n = m.spec.subsamples, side = 2 * g.radius + 1, A = g.anchors();
+    for (int a = 0; a < A; ++a) {
+        const int t = sources.transpose[size_t(a)];
+        if (t < 0) continue;
+        for (int l = 0; l < g.layers.count; ++l) {
+            const Field& from = kernel[m.kernel_index(l, t)];
+            Field& to = kernel[m.kernel_index(l, a)];
+            to.resize(from.size());
+            for (int sb = 0; sb < n; ++sb)
+                for (int sa = 0; sa < n; ++sa)
+                    for (int y = 0; y < side; ++y)
+                        for (int x = 0; x < side; ++x)
+                            to[((size_t(sb) * n + sa) * side + y) * side + x] =
+                                from[((size_t(sa) * n + sb) * side + x) * side + y];
+            for (int mm = 0; mm < 9; ++mm)
+                m.tail.deficit[(size_t(l) * A + a) * 9 + mm] = m.tail.deficit[(size_t(l) * A + t) * 9 + 3 * (mm % 3) + mm / 3];
+        }
+    }
 }
 
 // The others, their sources' kernels mirrored: film point (dx, sub-point sa) of one is
@@ -314,7 +338,9 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
     m.tail.deficit.assign(size_t(g.layers.count) * g.anchors() * 9, 0.0f);
     // every kernel (layer x anchors + anchor)
     std::vector<Field> kernel(size_t(g.layers.count) * g.anchors());
-    if (auto r = sum_kernels(m, lattice_pitch, unit_source, progress, kernel); !r.ok()) return R::failure(r);
+    const KernelSources sources = kernel_sources(spec, g);
+    if (auto r = sum_kernels(m, sources, lattice_pitch, unit_source, progress, kernel); !r.ok()) return R::failure(r);
+    transpose_kernels(m, sources, kernel);
     mirror_kernels(m, kernel);
     const std::vector<std::complex<double>> gram = kernel_gram(m, kernel);
     if (!spec.incoherent) blend_mean_images(m, kernel, gram);
