@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <utility>
 
 #include "gpu/compute_device_impl.h"
 #include "summation/choose.h"
@@ -130,57 +131,44 @@ Result<bool> sum_kernels(Impl& m, const KernelSources& sources, double lattice_p
     return Result<bool>::success(true);
 }
 
-// The mirror sources read transposed from theirs (kernel_sources): film point (dx, dy, sub-point
-// (sa, sb)) of one is (dy, dx, (sb, sa)) of the other; and the light beyond them, likewise.
-void transpose_kernels(Impl& m, const KernelSources& sources, std::vector<Field>& kernel) {
+// Anchor a's kernels, every layer, read from anchor `from`'s: transposed, film point (x, y) and
+// sub-point (sa, sb) from (y, x) and (sb, sa); mirrored along x, from side - 1 - x and n - 1 - sa,
+// likewise along y; and the light beyond them (entries m = 3p + q, transposed likewise).
+void read_kernels(Impl& m, int a, int from, bool transpose, bool flip_x, bool flip_y, std::vector<Field>& kernel) {
     const PsfSummationGeometry& g = m.g;
     const int n = m.spec.subsamples, side = 2 * g.radius + 1, A = g.anchors();
-    for (int a = 0; a < A; ++a) {
-        const int t = sources.transpose[size_t(a)];
-        if (t < 0) continue;
-        for (int l = 0; l < g.layers.count; ++l) {
-            const Field& from = kernel[m.kernel_index(l, t)];
-            Field& to = kernel[m.kernel_index(l, a)];
-            to.resize(from.size());
-            for (int sb = 0; sb < n; ++sb)
-                for (int sa = 0; sa < n; ++sa)
-                    for (int y = 0; y < side; ++y)
-                        for (int x = 0; x < side; ++x)
-                            to[((size_t(sb) * n + sa) * side + y) * side + x] =
-                                from[((size_t(sa) * n + sb) * side + x) * side + y];
-            for (int mm = 0; mm < 9; ++mm)
-                m.tail.deficit[(size_t(l) * A + a) * 9 + mm] = m.tail.deficit[(size_t(l) * A + t) * 9 + 3 * (mm % 3) + mm / 3];
-        }
+    for (int l = 0; l < g.layers.count; ++l) {
+        const Field& source = kernel[m.kernel_index(l, from)];
+        Field& to = kernel[m.kernel_index(l, a)];
+        to.resize(source.size());
+        for (int sb = 0; sb < n; ++sb)
+            for (int sa = 0; sa < n; ++sa)
+                for (int y = 0; y < side; ++y)
+                    for (int x = 0; x < side; ++x) {
+                        int fsa = flip_x ? n - 1 - sa : sa, fsb = flip_y ? n - 1 - sb : sb;
+                        int fx = flip_x ? side - 1 - x : x, fy = flip_y ? side - 1 - y : y;
+                        if (transpose) {
+                            std::swap(fsa, fsb);
+                            std::swap(fx, fy);
+                        }
+                        to[((size_t(sb) * n + sa) * side + y) * side + x] =
+                            source[((size_t(fsb) * n + fsa) * side + fy) * side + fx];
+                    }
+        for (int mm = 0; mm < 9; ++mm)
+            m.tail.deficit[(size_t(l) * A + a) * 9 + mm] =
+                m.tail.deficit[(size_t(l) * A + from) * 9 + (transpose ? 3 * (mm % 3) + mm / 3 : mm)];
     }
 }
 
-// The others, their sources' kernels mirrored: film point (dx, sub-point sa) of one is
-// (-dx, n - 1 - sa) of the other along x, likewise along y; and the light beyond them.
-void mirror_kernels(Impl& m, std::vector<Field>& kernel) {
-    const PsfSummationGeometry& g = m.g;
-    KernelTable& tail = m.tail;
-    const std::vector<int>& source = tail.source;
-    const int n = m.spec.subsamples, side = 2 * g.radius + 1, A = g.anchors();
-    for (int a = 0; a < A; ++a) {
-        if (source[a] == a) continue;
-        const bool flip_x = tail.mirrored_x(a), flip_y = tail.mirrored_y(a);
-        for (int l = 0; l < g.layers.count; ++l) {
-            const Field& from = kernel[m.kernel_index(l, source[a])];
-            Field& to = kernel[m.kernel_index(l, a)];
-            to.resize(from.size());
-            for (int sb = 0; sb < n; ++sb)
-                for (int sa = 0; sa < n; ++sa)
-                    for (int y = 0; y < side; ++y)
-                        for (int x = 0; x < side; ++x) {
-                            const int fsb = flip_y ? n - 1 - sb : sb, fsa = flip_x ? n - 1 - sa : sa;
-                            const int fy = flip_y ? side - 1 - y : y, fx = flip_x ? side - 1 - x : x;
-                            to[((size_t(sb) * n + sa) * side + y) * side + x] =
-                                from[((size_t(fsb) * n + fsa) * side + fy) * side + fx];
-                        }
-            for (int mm = 0; mm < 9; ++mm)
-                tail.deficit[(size_t(l) * A + a) * 9 + mm] = tail.deficit[(size_t(l) * A + source[a]) * 9 + mm];
-        }
-    }
+// The anchors not summed, read from those that are (kernel_sources): first the transposed ones,
+// which mirror images may read next, then the mirror images.
+void read_other_kernels(Impl& m, const KernelSources& sources, std::vector<Field>& kernel) {
+    const int A = m.g.anchors();
+    for (int a = 0; a < A; ++a)
+        if (sources.transpose[size_t(a)] >= 0) read_kernels(m, a, sources.transpose[size_t(a)], true, false, false, kernel);
+    for (int a = 0; a < A; ++a)
+        if (sources.mirror[size_t(a)] != a)
+            read_kernels(m, a, sources.mirror[size_t(a)], false, m.tail.mirrored_x(a), m.tail.mirrored_y(a), kernel);
 }
 
 // The kernels' Gram matrix, the pixel-mean over sub-points: whole up to kMaxBasisKernels, else
@@ -340,8 +328,7 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
     std::vector<Field> kernel(size_t(g.layers.count) * g.anchors());
     const KernelSources sources = kernel_sources(spec, g);
     if (auto r = sum_kernels(m, sources, lattice_pitch, unit_source, progress, kernel); !r.ok()) return R::failure(r);
-    transpose_kernels(m, sources, kernel);
-    mirror_kernels(m, kernel);
+    read_other_kernels(m, sources, kernel);
     const std::vector<std::complex<double>> gram = kernel_gram(m, kernel);
     if (!spec.incoherent) blend_mean_images(m, kernel, gram);
     // the few kernels the runs transform, and their spectra
