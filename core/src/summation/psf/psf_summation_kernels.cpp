@@ -93,7 +93,6 @@ Result<bool> sum_kernels(Impl& m, const KernelSources& sources, double lattice_p
     // Where the aperture is even along an axis, an anchor and its mirror image across the optical
     // axis have mirror-image kernels, and on a square frame of an opening even across y = -x an
     // anchor and its transpose have transposed kernels (kernel_sources): one of each is computed.
-    m.tail.source = sources.mirror;
     std::vector<int> computed;
     for (int a = 0; a < g.anchors(); ++a)
         if (sources.summed(a)) computed.push_back(a);
@@ -103,8 +102,8 @@ Result<bool> sum_kernels(Impl& m, const KernelSources& sources, double lattice_p
     // thread on the CPU (a device's plans are not for concurrent use), reporting from the
     // first thread.
     PlanScope film_scope;
-    int first = sources.mirror[g.ay.knots.size() / 2 * g.ax.knots.size() + g.ax.knots.size() / 2];
-    if (sources.transpose[size_t(first)] >= 0) first = sources.transpose[size_t(first)];
+    // (the centre's mirror source lies on the knots' diagonal: never a transpose's)
+    const int first = sources.mirror[g.ay.knots.size() / 2 * g.ax.knots.size() + g.ax.knots.size() / 2];
     const SummationSettings& kernel_settings = sums.to_film;
     if (auto r = anchor_kernels(m, setup, depths, first, kernel_settings, film_scope, kernel); !r.ok()) return r;
     if (progress && !progress(1.0 / C)) return cancelled();
@@ -327,6 +326,7 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
     // every kernel (layer x anchors + anchor)
     std::vector<Field> kernel(size_t(g.layers.count) * g.anchors());
     const KernelSources sources = kernel_sources(spec, g);
+    m.tail.source = sources.mirror;
     if (auto r = sum_kernels(m, sources, lattice_pitch, unit_source, progress, kernel); !r.ok()) return R::failure(r);
     read_other_kernels(m, sources, kernel);
     const std::vector<std::complex<double>> gram = kernel_gram(m, kernel);
