@@ -13,8 +13,8 @@
 
 #include "commands.h"
 #include "terminal_progress.h"
-#include "thread_waits.h"
 #include "wavecam/diffract_image.h"
+#include "wavecam/threads.h"
 #include "wavecam/units.h"
 #include "../front/settings.h"
 
@@ -108,7 +108,8 @@ int run(const EstimateFlags& flags) {
     if (j.rate > 0) print_estimate("estimate", j);
     else std::fprintf(stderr, "estimate: %s: no scene sums (a PSF grid and FFTs); not timed\n", j.job.c_str());
     std::fprintf(stderr, "estimate: about %.0f MiB at the peak\n", (j.bytes + process) / (1 << 20));
-    std::fprintf(stderr, "estimate: %s\n", barrier_waits().c_str());
+    std::fprintf(stderr, "estimate: threads: %d, each asleep after a short spin when it waits\n",
+                 flags.threads > 0 ? flags.threads : default_threads());
     if (!j.refusal.empty()) return fail(j.refusal, 1);
     return 0;
 }

@@ -1,6 +1,5 @@
 #include "terminal_progress.h"
 
-#include <omp.h>
 #include <sys/time.h>
 #include <unistd.h>
 

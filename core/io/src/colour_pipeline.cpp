@@ -6,8 +6,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <mutex>
 
 #include "wavecam/out_of_gamut.h"
+#include "wavecam/threads.h"
 
 namespace OCIO = OCIO_NAMESPACE;
 
@@ -81,16 +83,16 @@ Result<bool> ColourConfig::convert(float* rgb, size_t count, const std::string& 
     constexpr long kRun = 4096;
     const long runs = (long(count) + kRun - 1) / kRun;
     std::string failed;
-#pragma omp parallel for schedule(static)
-    for (long r = 0; r < runs; ++r) {
+    std::mutex failure;
+    parallel_for(0, runs, 0, [&](int64_t r) {
         try {
             OCIO::PackedImageDesc desc(rgb + 3 * r * kRun, std::min<long>(kRun, long(count) - r * kRun), 1, 3);
             processor->apply(desc);
         } catch (const std::exception& e) {
-#pragma omp critical(colour_failure)
+            std::lock_guard<std::mutex> lock(failure);
             failed = e.what();
         }
-    }
+    });
     if (!failed.empty())
         return Result<bool>::failure(path_ + ": cannot convert '" + from + "' to '" + to + "': " + failed);
     return Result<bool>::success(true);

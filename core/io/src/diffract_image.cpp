@@ -2,7 +2,6 @@
 // (and its alpha as coverage), its colours mapped and its output header written.
 #include "wavecam/diffract_image.h"
 
-#include <omp.h>
 
 #include <algorithm>
 #include <atomic>
@@ -17,6 +16,7 @@
 #include "wavecam/output_layout.h"
 #include "wavecam/pinhole_design.h"
 #include "wavecam/term_rate.h"
+#include "wavecam/threads.h"
 #include "wavecam/units.h"
 
 namespace wavecam {
@@ -96,7 +96,7 @@ JobEstimate detail::job_estimate(const DiffractOptions& opt, const ResolvedFrame
     JobEstimate e;
     e.job = f.job;
     e.terms = f.terms;
-    e.threads = nthreads > 0 ? nthreads : omp_get_max_threads();
+    e.threads = nthreads > 0 ? nthreads : default_threads();
     if (opt.method != DiffractMethod::Convolution) {
         e.rate = measured_term_rate(f.scene_sum.device, e.threads);
         e.seconds = f.terms / e.rate;

@@ -1,5 +1,6 @@
-// Shared progress accounting for the parallel loops: workers count finished items, the
-// calling thread's OpenMP master reports at most ~10 times a second and records a cancel.
+// Shared progress accounting for the parallel loops: workers count finished items, the thread
+// that started the work (a team's rank 0, on_calling_thread in base/parallel.h) reports at most
+// ~10 times a second and records a cancel.
 #pragma once
 #include <atomic>
 #include <chrono>
@@ -11,10 +12,10 @@ class ProgressTicker {
 public:
     ProgressTicker(const ProgressFn& fn, double total) : fn_(fn), total_(total) {}
 
-    // Called by any worker after finishing `n` items; only thread 0 invokes the callback.
-    void advance(long n, bool is_master) {
+    // Called by any worker after finishing `n` items; only the reporting thread invokes the callback.
+    void advance(long n, bool reporter) {
         done_.fetch_add(n, std::memory_order_relaxed);
-        if (!fn_ || !is_master) return;
+        if (!fn_ || !reporter) return;
         const auto now = std::chrono::steady_clock::now();
         if (now - last_ < std::chrono::milliseconds(100)) return;
         last_ = now;

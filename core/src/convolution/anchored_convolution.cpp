@@ -1,12 +1,12 @@
 #include "convolution/anchored_convolution.h"
 
-#include <omp.h>
 
 #include <algorithm>
 #include <atomic>
 #include <memory>
 
 #include "convolution/output_window.h"
+#include "base/parallel.h"
 #include "base/progress_ticker.h"
 #include "fft/real_fft2d.h"
 
@@ -55,13 +55,13 @@ void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, float* image,
     const int R = t.radius, kw = 2 * R + 1, Nx = fft_width_, Ny = fft_height_;
     const float* w = t.kernel(k);
     // the kernel centred on the origin, wrapped
-#pragma omp parallel for num_threads(threads) if (threads > 1)
-    for (int b = -R; b <= R; ++b)
+    parallel_for(-R, R + 1, threads, [&](int64_t b) {
         for (int a = -R; a <= R; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = w[size_t(b + R) * kw + (a + R)];
+    });
     fft.forward(image, spectrum, Nx - R, Nx + R + 1);  // (the columns wrap)
-#pragma omp parallel for num_threads(threads) if (threads > 1)
-    for (int b = -R; b <= R; ++b)
+    parallel_for(-R, R + 1, threads, [&](int64_t b) {
         for (int a = -R; a <= R; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = 0.0f;
+    });
 }
 
 Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int tile, bool tiles_on_cells, int width,
@@ -97,17 +97,15 @@ Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int t
     }
     c.kernel_spectra_ = LargeArray<std::complex<float>>(size_t(count) * c.spectrum_size_);
     ProgressTicker ticker(progress, double(count));
-#pragma omp parallel num_threads(nthreads)
-    {
+    parallel_team(nthreads, [&](Team& team) {
         RealFft2D fft(Nx, Ny);
         std::vector<float> image(size_t(Nx) * Ny, 0.0f);
-#pragma omp for schedule(dynamic, 4)
-        for (long k = 0; k < count; ++k) {
-            if (ticker.cancelled()) continue;
+        team.for_dynamic(0, count, 4, [&](int64_t k) {
+            if (ticker.cancelled()) return;
             c.transform_kernel(k, fft, image.data(), &c.kernel_spectra_[size_t(k) * c.spectrum_size_], 1);
-            ticker.advance(1, omp_get_thread_num() == 0);
-        }
-    }
+            ticker.advance(1, team.rank() == 0);
+        });
+    });
     if (ticker.cancelled()) return Result<AnchoredConvolution>::failure("cancelled", ErrorKind::Cancelled);
     c.table_.weights = {};  // the kernels live on as their spectra
     return Result<AnchoredConvolution>::success(std::move(c));
@@ -151,16 +149,18 @@ LitColumns anchor_weights(const KernelTable& t, const DomainSources& src, const 
                           float* weight, int threads) {
     const int T = b.x1 - b.x0;
     const int l = la.layer, kx = la.kx, ky = la.ky;
-    int first = T, last = 0;
     std::vector<float> wx(T);  // the hat across, once per column
     for (int i = b.x0; i < b.x1; ++i) wx[i - b.x0] = float(t.ax.hat(kx, i));
-#pragma omp parallel for num_threads(threads) if (threads > 1) reduction(min : first) reduction(max : last)
-    for (int j = b.y0; j < b.y1; ++j) {
-        const float wy = float(t.ay.hat(ky, j));
+    // each row's lit columns, then their union
+    std::vector<int> row_first(b.y1 - b.y0, T), row_last(b.y1 - b.y0, 0);
+    parallel_for(b.y0, b.y1, threads, [&](int64_t j) {
+        const float wy = float(t.ay.hat(ky, int(j)));
         if (wy == 0.0f) {  // a row beyond the hat
             std::fill_n(&weight[size_t(j - b.y0) * T], T, 0.0f);
-            continue;
+            return;
         }
+        int& first = row_first[j - b.y0];
+        int& last = row_last[j - b.y0];
         for (int i = b.x0; i < b.x1; ++i) {
             const size_t q = size_t(j) * src.width + i;
             const float share = src.lower[q] == l         ? 1.0f - src.upper_share[q]
@@ -173,8 +173,8 @@ LitColumns anchor_weights(const KernelTable& t, const DomainSources& src, const 
                 last = std::max(last, i - b.x0 + 1);
             }
         }
-    }
-    return {first, last};
+    });
+    return {*std::min_element(row_first.begin(), row_first.end()), *std::max_element(row_last.begin(), row_last.end())};
 }
 
 // acc += in K: one primary's spectrum times one kernel's, added to one channel's accumulated
@@ -184,8 +184,7 @@ LitColumns anchor_weights(const KernelTable& t, const DomainSources& src, const 
 void multiply_add(const std::complex<float>* in, const AnchoredConvolution::KernelView& kv, std::complex<float>* acc,
                   int N, int half, int threads) {
     const float sign = kv.conjugate ? -1.0f : 1.0f;
-#pragma omp parallel for num_threads(threads) if (threads > 1)
-    for (int r = 0; r < N; ++r) {
+    parallel_for(0, N, threads, [&](int64_t r) {
         float* a = reinterpret_cast<float*>(&acc[size_t(r) * half]);
         const float* x = reinterpret_cast<const float*>(&in[size_t(r) * half]);
         const float* k = reinterpret_cast<const float*>(kv.data + size_t(kv.flip_rows ? (N - r) % N : r) * half);
@@ -195,7 +194,7 @@ void multiply_add(const std::complex<float>* in, const AnchoredConvolution::Kern
             a[2 * e] += x[2 * e] * kr - x[2 * e + 1] * ki;
             a[2 * e + 1] += x[2 * e] * ki + x[2 * e + 1] * kr;
         }
-    }
+    });
 }
 
 // A tile's FFT frame: width x height, holding the tile's sources `bounds` and the R pixels its
@@ -211,16 +210,15 @@ void add_to_output(const float* image, const TileFrame& frame, const OutputWindo
     const int Nx = frame.width, Ny = frame.height, R = frame.radius;
     const TileBounds& b = frame.bounds;
     const int out_x0 = out.x0, out_y0 = out.y0, out_width = out.width, out_height = out.height;
-#pragma omp parallel for num_threads(threads) if (threads > 1)
-    for (int r = -R; r < (b.y1 - b.y0) + R; ++r) {
-        const int j = b.y0 + r - out_y0;
-        if (j < 0 || j >= out_height) continue;
+    parallel_for(-R, (b.y1 - b.y0) + R, threads, [&](int64_t r64) {
+        const int r = int(r64), j = b.y0 + r - out_y0;
+        if (j < 0 || j >= out_height) return;
         for (int s = -R; s < (b.x1 - b.x0) + R; ++s) {
             const int i = b.x0 + s - out_x0;
             if (i < 0 || i >= out_width) continue;
             xyz[3 * (size_t(j) * out_width + i) + q] += norm * image[size_t((r + Ny) % Ny) * Nx + (s + Nx) % Nx];
         }
-    }
+    });
 }
 
 }  // namespace
@@ -276,12 +274,13 @@ std::vector<AnchoredConvolution::KernelGroup> AnchoredConvolution::groups_of(con
 void AnchoredConvolution::light_spectrum(const DomainSources& src, const TileBounds& b, int first, int last, int p,
                                          TileScratch& s, std::complex<float>* in) const {
     const int Nx = fft_width_, T = b.x1 - b.x0;
-#pragma omp parallel for num_threads(s.threads) if (s.threads > 1)
-    for (int j = b.y0; j < b.y1; ++j)
+    parallel_for(b.y0, b.y1, s.threads, [&](int64_t j64) {
+        const int j = int(j64);
         for (int i = b.x0; i < b.x1; ++i) {
             const float w = s.weight[size_t(j - b.y0) * T + (i - b.x0)];
             s.image[size_t(j - b.y0) * Nx + (i - b.x0)] = w == 0.0f ? 0.0f : w * src.light(i, j, p);
         }
+    });
     s.fft.forward(s.image.data(), in, first, last);
 }
 
@@ -318,9 +317,9 @@ void AnchoredConvolution::add_group(const DomainSources& src, const TileBounds& 
             lit_anchors.push_back(anchor);
         }
         if (lit_anchors.empty()) return;
-#pragma omp parallel for num_threads(s.threads) if (s.threads > 1)
-        for (int j = 0; j < b.y1 - b.y0; ++j)  // the kernels go through the image: zero but for the tile
+        parallel_for(0, b.y1 - b.y0, s.threads, [&](int64_t j) {  // the kernels go through the image: zero but for the tile
             std::fill_n(&s.image[size_t(j) * Nx], b.x1 - b.x0, 0.0f);
+        });
         for (int q = 0; q < 3; ++q) {
             transform_kernel(t.kernel_index(g.layer, g.source, 3 * p + q), s.fft, s.image.data(), s.own.data(), s.threads);
             for (size_t k = 0; k < lit_anchors.size(); ++k) {
@@ -369,20 +368,18 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
                     tiles.push_back(b);
             }
         if (int(tiles.size()) >= nthreads_) {  // a tile a thread
-#pragma omp parallel num_threads(nthreads_)
-            {
+            parallel_team(nthreads_, [&](Team& team) {
                 TileScratch s(Nx, Ny, tile_pixels, spec, inputs, own_kernels);
-#pragma omp for schedule(dynamic, 1)
-                for (long k = 0; k < long(tiles.size()); ++k) {
-                    if (ticker.cancelled()) continue;
+                team.for_dynamic(0, int64_t(tiles.size()), 1, [&](int64_t k) {
+                    if (ticker.cancelled()) return;
                     const std::vector<KernelGroup> groups = groups_of(src, tiles[k]);
                     std::fill_n(s.acc.data(), s.acc.size(), std::complex<float>(0));
                     std::fill_n(s.image.data(), s.image.size(), 0.0f);  // (the last tile's inverse)
                     for (const KernelGroup& g : groups) add_group(src, tiles[k], g, s);
                     for (int q = 0; q < 3 && !groups.empty(); ++q) add_tile_light(tiles[k], s.acc.data(), q, out, xyz, s);
-                    ticker.advance(1, omp_get_thread_num() == 0);
-                }
-            }
+                    ticker.advance(1, team.rank() == 0);
+                });
+            });
             continue;
         }
         // Fewer tiles than threads (kernels wide against the frame: one whole-domain tile).
@@ -407,22 +404,21 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
             // the same thread every run), their sums added in the threads' order into the first
             // thread's, the three channels' inverse transforms spread too: the same image every run.
             std::vector<TileScratch*> scratch(nthreads_, nullptr);
-#pragma omp parallel num_threads(nthreads_)
-            {
+            parallel_team(nthreads_, [&](Team& team) {
                 TileScratch s(Nx, Ny, tile_pixels, spec, inputs, own_kernels);
-                const int threads = omp_get_num_threads();
-                scratch[omp_get_thread_num()] = &s;
-#pragma omp for schedule(static, 1)
-                for (long k = 0; k < long(groups.size()); ++k)
+                const int threads = team.size();
+                scratch[size_t(team.rank())] = &s;
+                team.for_strided(0, int64_t(groups.size()), 1, [&](int64_t k) {
                     if (!ticker.cancelled()) add_group(src, b, groups[k], s);
+                });
                 std::complex<float>* acc = scratch[0]->acc.data();
-#pragma omp for schedule(static)
-                for (size_t e = 0; e < 3 * spec; ++e)
+                team.for_blocks(0, int64_t(3 * spec), [&](int64_t e) {
                     for (int other = 1; other < threads; ++other) acc[e] += scratch[other]->acc[e];
-#pragma omp for schedule(static, 1)
-                for (int q = 0; q < 3; ++q)
-                    if (!groups.empty()) add_tile_light(b, acc, q, out, xyz, s);
-            }
+                });
+                team.for_strided(0, 3, 1, [&](int64_t q) {
+                    if (!groups.empty()) add_tile_light(b, acc, int(q), out, xyz, s);
+                });
+            });
             ticker.advance(1, true);
         }
     }

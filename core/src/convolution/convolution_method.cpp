@@ -1,11 +1,11 @@
 #include "wavecam/convolution_method.h"
 
-#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
+#include "base/parallel.h"
 #include "convolution/anchored_convolution.h"
 #include "convolution/far_tail.h"
 #include "fft/column_fft.h"  // fft_friendly_size
@@ -151,7 +151,7 @@ Result<detail::KernelTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
                 t = o;
             }
     }
-    t.nthreads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
+    t.nthreads = detail::thread_count(spec.settings.nthreads);
     return R::success(t);
 }
 
@@ -271,9 +271,9 @@ Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting,
     const size_t n = size_t(src.width) * src.height;
     src.lower.resize(n);
     src.upper_share.resize(n);
-    const int threads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
-#pragma omp parallel for num_threads(threads)
-    for (int j = 0; j < src.height; ++j) {
+    const int threads = detail::thread_count(spec.settings.nthreads);
+    detail::parallel_for(0, src.height, threads, [&](int64_t row) {
+        const int j = int(row);
         const int cj = std::clamp(j - origin, 0, c.height - 1);
         for (int i = 0; i < src.width; ++i) {
             const int ci = std::clamp(i - origin, 0, c.width - 1);
@@ -284,7 +284,7 @@ Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting,
             table.layers.locate(w, lower, src.upper_share[p]);
             src.lower[p] = uint8_t(lower);
         }
-    }
+    });
     std::fill(xyz, xyz + 3 * size_t(out_w) * out_h, 0.0f);
     if (auto r = impl_->convolution.apply(src, {R, R, out_w, out_h}, xyz, progress); !r.ok()) return r;
     detail::add_far_tail(table, scene, origin, {R, R, out_w, out_h}, xyz, threads);

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdint>
 #include <complex>
-#include <omp.h>
 #include <vector>
 
+#include "base/parallel.h"
 #include "fft/complex_fft2d.h"
 
 namespace wavecam::detail {
@@ -117,12 +117,11 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
     const int threads = int(std::clamp<size_t>(fit, 1, size_t(std::max(1, nthreads))));
     std::vector<std::vector<double>> part(threads, std::vector<double>(3 * cells, 0.0));
     const EdgeContinuation edge(scene.rgb, 3, W, H);  // a lone bright edge pixel is not copied beyond
-#pragma omp parallel num_threads(threads)
-    {
-        std::vector<double>& mine = part[size_t(omp_get_thread_num())];
+    parallel_team(threads, [&](Team& team) {
+        std::vector<double>& mine = part[size_t(team.rank())];
         // the frame's pixels, each at its centre
-#pragma omp for schedule(static)
-        for (int j = 0; j < H; ++j)
+        team.for_blocks(0, H, [&](int64_t j64) {
+            const int j = int(j64);
             for (int i = 0; i < W; ++i) {
                 double u, v, ax, ay;
                 c.tangent(i + 0.5, j + 0.5, u, v);
@@ -131,10 +130,10 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
                 add_missing(i + 0.5, j + 0.5, inverse_depth(i, j), &scene.rgb[3 * (size_t(j) * W + i)], c2 * c2, ax, ay,
                             mine.data());
             }
+        });
         // beyond them, the edge continued
         const double sub = g.cell / 4.0;
-#pragma omp for schedule(static)
-        for (int J = 0; J < g.ch; ++J)
+        team.for_blocks(0, g.ch, [&](int64_t J) {
             for (int I = 0; I < g.cw; ++I)
                 for (int q = 0; q < 16; ++q) {
                     const double ax = g.a0 + I * g.cell + (q % 4 + 0.5) * sub;
@@ -147,7 +146,8 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
                     const int cj = std::clamp(int(std::floor(y)), 0, H - 1);
                     add_missing(x, y, inverse_depth(ci, cj), edge.at(ci, cj), sub * sub, ax, ay, mine.data());
                 }
-    }
+        });
+    });
     std::vector<float> missing(3 * cells, 0.0f);
     for (size_t q = 0; q < missing.size(); ++q) {
         double sum = 0;
@@ -252,8 +252,7 @@ void add_far_tail(const KernelTable& t, const SpectralScene& scene, int origin, 
     // back to pixels: each pixel takes the cells' light at its direction (bilinearly) over its
     // share of a cell, cos^4 of an axis pixel over the cell's cell^2
     const double per_area = 1.0 / (double(cell) * cell);
-#pragma omp parallel for num_threads(nthreads)
-    for (int j = 0; j < out_h; ++j)
+    parallel_for(0, out_h, thread_count(nthreads), [&](int64_t j) {
         for (int i = 0; i < out_w; ++i) {
             double u, v, ax, ay;
             c.tangent(out.x0 - origin + i + 0.5, out.y0 - origin + j + 0.5, u, v);
@@ -270,6 +269,7 @@ void add_far_tail(const KernelTable& t, const SpectralScene& scene, int origin, 
                 xyz[3 * (size_t(j) * out_w + i) + q] += float(value * share);
             }
         }
+    });
 }
 
 }  // namespace wavecam::detail

@@ -1,10 +1,10 @@
 #include "convolution/kernel_table.h"
 
-#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 
+#include "base/parallel.h"
 #include "base/progress_ticker.h"
 #include "wavecam/fresnel_psf.h"
 
@@ -155,9 +155,8 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
         if (t.source[g % anchors] == g % anchors) computed.push_back(g);
     const long grid = long(computed.size());
     ProgressTicker ticker(progress, double(grid) * S);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(spec.nthreads)
-    for (long i = 0; i < grid; ++i) {
-        if (ticker.cancelled()) continue;
+    parallel_for_dynamic(0, grid, 1, thread_count(spec.nthreads), [&](int64_t i) {
+        if (ticker.cancelled()) return;
         const long g = computed[size_t(i)];
         const int l = int(g / anchors), a = int(g % anchors);
         const int kx = a % nkx, ky = a / nkx;
@@ -197,9 +196,9 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
                             dst[size_t(b + inset) * tw + (e + inset)] += w * psf.weight[size_t(b) * pw + e];
                 }
             }
-            ticker.advance(1, omp_get_thread_num() == 0);
+            ticker.advance(1, on_calling_thread());
         }
-    }
+    });
     if (ticker.cancelled()) return Result<KernelTable>::failure("cancelled", ErrorKind::Cancelled);
     for (int l = 0; l < t.layers.count; ++l)
         for (int a = 0; a < anchors; ++a) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "base/parallel.h"
+
 namespace wavecam::detail {
 namespace {
 
@@ -162,8 +164,7 @@ void ColumnFft::transform(std::complex<float>* data, std::complex<float>* work, 
             }
         };
         if (parts > 1) {
-#pragma omp parallel for num_threads(threads)
-            for (long task = 0; task < runs * parts; ++task) run(task);
+            parallel_for(0, runs * parts, threads, run);
         } else {  // (no parallel construct at all: the psf summation takes thousands of small transforms)
             for (long task = 0; task < runs; ++task) run(task);
         }

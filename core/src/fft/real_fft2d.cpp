@@ -3,19 +3,22 @@
 #include <algorithm>
 #include <cstring>
 
+#include "base/parallel.h"
+
 namespace wavecam::detail {
 namespace {
 
 // dst (columns x rows) = the transpose of src (rows x columns), in tiles that stay in cache.
 void transpose(const std::complex<float>* src, std::complex<float>* dst, int rows, int columns, int threads) {
     constexpr int kTile = 32;
-#pragma omp parallel for num_threads(threads) if (threads > 1)
-    for (int r0 = 0; r0 < rows; r0 += kTile)
+    parallel_for(0, (rows + kTile - 1) / kTile, threads, [&](int64_t tile) {
+        const int r0 = int(tile) * kTile;
         for (int c0 = 0; c0 < columns; c0 += kTile) {
             const int r1 = std::min(r0 + kTile, rows), c1 = std::min(c0 + kTile, columns);
             for (int r = r0; r < r1; ++r)
                 for (int c = c0; c < c1; ++c) dst[size_t(c) * rows + r] = src[size_t(r) * columns + c];
         }
+    });
 }
 
 }  // namespace
@@ -39,9 +42,10 @@ RealFft2D::RealFft2D(int width, int height)
 void RealFft2D::forward(const float* image, std::complex<float>* spectrum, int first, int last) {
     // 1. column pairs: packed c is zero where both its columns are
     const int T = threads_;
-#pragma omp parallel for num_threads(T) if (T > 1)
-    for (int y = 0; y < h_; ++y)
+    parallel_for(0, h_, T, [&](int64_t y_) {
+        const int y = int(y_);
         std::memcpy(static_cast<void*>(&packed_[size_t(y) * pairs_]), image + size_t(y) * w_, sizeof(float) * w_);
+    });
     if (last < 0) last = w_;
     const int p0 = std::max(0, first) / 2, count = std::min(pairs_, (last + 1) / 2 - p0);
     if (count > 0) {
@@ -51,8 +55,8 @@ void RealFft2D::forward(const float* image, std::complex<float>* spectrum, int f
             column_forward_.transform(packed_.data(), work_.data(), pairs_, 0, a + count - pairs_, T);
     }
     // 2. each column's transform, rows ky = 0 .. height/2
-#pragma omp parallel for num_threads(T) if (T > 1)
-    for (int ky = 0; ky < half_; ++ky) {
+    parallel_for(0, half_, T, [&](int64_t ky_) {
+        const int ky = int(ky_);
         const std::complex<float>* z = &packed_[size_t(ky) * pairs_];
         const std::complex<float>* zm = &packed_[size_t((h_ - ky) % h_) * pairs_];
         float* out = reinterpret_cast<float*>(&rows_[size_t(ky) * w_]);
@@ -64,7 +68,7 @@ void RealFft2D::forward(const float* image, std::complex<float>* spectrum, int f
             out[4 * c + 2] = 0.5f * (ai - bi);  // O = (a - b) / 2i
             out[4 * c + 3] = -0.5f * (ar - br);
         }
-    }
+    });
     // 3. across: the transposed rows' columns
     transpose(rows_.data(), spectrum, half_, w_, T);
     row_forward_.transform(spectrum, work_.data(), half_, 0, half_, T);
@@ -76,8 +80,8 @@ void RealFft2D::inverse(std::complex<float>* spectrum, float* image) {
     transpose(spectrum, rows_.data(), w_, half_, T);
     // the column pairs, the negative ky rows as conjugates: z = E + i O
     std::complex<float>* packed = reinterpret_cast<std::complex<float>*>(image);
-#pragma omp parallel for num_threads(T) if (T > 1)
-    for (int ky = 0; ky < h_; ++ky) {
+    parallel_for(0, h_, T, [&](int64_t ky_) {
+        const int ky = int(ky_);
         const bool mirrored = ky >= half_;
         const float* in = reinterpret_cast<const float*>(&rows_[size_t(mirrored ? h_ - ky : ky) * w_]);
         const float sign = mirrored ? -1.0f : 1.0f;  // conjugated
@@ -88,7 +92,7 @@ void RealFft2D::inverse(std::complex<float>* spectrum, float* image) {
             out[2 * c] = er - oi;
             out[2 * c + 1] = ei + orr;
         }
-    }
+    });
     column_inverse_.transform(packed, work_.data(), pairs_, 0, pairs_, T);
 }
 

@@ -2,11 +2,11 @@
 // same phasor sum (phasor_sum.h) over path lengths taken as differences from a reference path,
 // r - r0 = (r^2 - r0^2) / (r + r0), which float arithmetic keeps exact to a fraction of a
 // wavelength over 10^6 wavelengths (docs/physics.md).
-#include <omp.h>
 
 #include <cmath>
 
 #include "optics/phasor_sum.h"
+#include "base/parallel.h"
 #include "base/progress_ticker.h"
 #include "wavecam/propagation.h"
 
@@ -95,8 +95,6 @@ void field_at_film_point(const ApertureSamples& smp, const PinholeField& field, 
     }, re, im);
 }
 
-int threads(int nthreads) { return nthreads > 0 ? nthreads : omp_get_max_threads(); }
-
 }  // namespace
 
 bool illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointSource>& sources,
@@ -108,10 +106,9 @@ bool illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointS
     const float inv_lambda = static_cast<float>(1.0 / wavelength);
     detail::ProgressTicker ticker(progress, double(n));
     constexpr long kChunk = 256;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads(nthreads))
-    for (long c = 0; c < n; c += kChunk) {
-        if (ticker.cancelled()) continue;
-        const long e = std::min(n, c + kChunk);
+    detail::parallel_for_dynamic(0, (n + kChunk - 1) / kChunk, 1, detail::thread_count(nthreads), [&](int64_t chunk) {
+        if (ticker.cancelled()) return;
+        const long c = chunk * kChunk, e = std::min(n, c + kChunk);
         for (long j = c; j < e; ++j) {
             double re, im;
             field_at_sample(a, samples.x[j], samples.y[j], inv_lambda, re, im);
@@ -119,8 +116,8 @@ bool illuminate_pinhole(const ApertureSamples& samples, const std::vector<PointS
             field.re[j] = static_cast<float>(re * w);
             field.im[j] = static_cast<float>(im * w);
         }
-        ticker.advance(e - c, omp_get_thread_num() == 0);
-    }
+        ticker.advance(e - c, detail::on_calling_thread());
+    });
     return !ticker.cancelled();
 }
 
@@ -134,17 +131,16 @@ bool add_film_field(const FilmPropagation& propagation, std::complex<double>* fi
     const double f = film.film_distance;
     const float inv_lambda = static_cast<float>(1.0 / wavelength);
     detail::ProgressTicker ticker(progress, double(n));
-#pragma omp parallel for schedule(dynamic, 4) num_threads(threads(nthreads))
-    for (long t = 0; t < n; ++t) {
-        if (ticker.cancelled()) continue;
+    detail::parallel_for_dynamic(0, n, 4, detail::thread_count(nthreads), [&](int64_t t) {
+        if (ticker.cancelled()) return;
         const double tx = film.x[t], ty = film.y[t];
         double re, im;
         field_at_film_point(samples, field,
                             {film.x[t], film.y[t], static_cast<float>(f), static_cast<float>(tx * tx + ty * ty + f * f)},
                             inv_lambda, re, im);
         film_field[t] += std::complex<double>(re, im);
-        ticker.advance(1, omp_get_thread_num() == 0);
-    }
+        ticker.advance(1, detail::on_calling_thread());
+    });
     return !ticker.cancelled();
 }
 

@@ -1,6 +1,5 @@
 #include "wavecam/term_rate.h"
 
-#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -8,6 +7,7 @@
 #include <map>
 #include <mutex>
 
+#include "base/parallel.h"
 #include "wavecam/compute_device.h"
 #include "wavecam/propagation.h"
 #include "wavecam/summation_plan.h"
@@ -33,7 +33,7 @@ FilmPoints probe_film(int side) {
 double measured_term_rate(int nthreads, double seconds) {
     static std::mutex lock;
     static std::map<int, double> measured;
-    const int threads = nthreads > 0 ? nthreads : omp_get_max_threads();
+    const int threads = detail::thread_count(nthreads);
     std::lock_guard<std::mutex> guard(lock);
     if (auto it = measured.find(threads); it != measured.end()) return it->second;
 

@@ -1,10 +1,10 @@
 // The chirps' remainder interpolated over the points' parameters (chirp_interpolation.h).
 #include "summation/nufft/chirp_interpolation.h"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
+
+#include "base/parallel.h"
 
 namespace wavecam::detail {
 
@@ -48,8 +48,7 @@ AxisWeights::AxisWeights(const ChebyshevBox& b, const std::vector<Parameter>& p,
         stride += n[d];
     }
     w.resize(points.size() * stride);
-#pragma omp parallel for schedule(static) num_threads(nthreads > 0 ? nthreads : omp_get_max_threads())
-    for (long i = 0; i < long(points.size()); ++i) {
+    parallel_for(0, long(points.size()), thread_count(nthreads), [&](int64_t i) {
         // the axis values from a one-axis box each (barycentric form, chebyshev_box.cpp)
         for (int d = 0; d < b.dims; ++d) {
             ChebyshevBox axis;
@@ -61,7 +60,7 @@ AxisWeights::AxisWeights(const ChebyshevBox& b, const std::vector<Parameter>& p,
             axis.weights({p[points[i]][d], 0, 0}, v);
             for (int q = 0; q < n[d]; ++q) w[i * stride + offset[d] + q] = float(v[q]);
         }
-    }
+    });
 }
 
 std::vector<std::vector<size_t>> group(const std::vector<ChebyshevBox>& boxes, const std::vector<Parameter>& p) {

@@ -8,18 +8,15 @@
 // Modes are centred (k = m - nx/2), the offset is a phase per point.
 #include "summation/nufft/lattice_nufft.h"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
 
+#include "base/parallel.h"
 #include "fft/column_fft.h"
 #include "fft/line_fft.h"
 
 namespace wavecam::detail {
 namespace {
-
-int threads(int n) { return n > 0 ? n : omp_get_max_threads(); }
 
 // This thread's line transform of length n, kept between calls (its buffers fault in once).
 LineFft& kept_line_fft(int n, bool inverse) {
@@ -114,19 +111,18 @@ void LatticeNufft::fft2d(std::vector<cfloat>& grid, const std::vector<int>& rows
             runs.emplace_back(c, c + 1);
     const ColumnFft column_fft(my_, false);
     column_work_.resize(size_t(my_) * stride);
-#pragma omp parallel num_threads(threads(nthreads_))
-    {
-        const int team = omp_get_num_threads(), me = omp_get_thread_num();
+    parallel_team(thread_count(nthreads_), [&](Team& t) {
+        const int team = t.size(), me = t.rank();
         const int per = (int(rows.size()) + team - 1) / team, a = std::min(int(rows.size()), me * per),
                   b = std::min(int(rows.size()), a + per);
         kept_line_fft(mx_, false).transform(b - a, [&](int k) { return grid.data() + size_t(rows[a + k]) * stride; });
-#pragma omp barrier
+        t.barrier();
         for (const auto& [first, last] : runs) {
             const int share = std::max(16, (last - first + team - 1) / team);
             const int x0 = std::min(last, first + me * share), x1 = std::min(last, x0 + share);
             if (x0 < x1) column_fft.transform(grid.data(), column_work_.data(), int(stride), x0, x1);
         }
-    }
+    });
 }
 
 std::vector<int> LatticeNufft::mode_lines(int n, int m) {
@@ -155,8 +151,9 @@ std::vector<std::vector<cfloat>>& LatticeNufft::workspace(int batch, size_t plan
     for (int q = 0; q < batch; ++q) {
         grids_[q].resize(plane);
         cfloat* g = grids_[q].data();
-#pragma omp parallel for schedule(static) num_threads(threads(nthreads_))
-        for (long i = 0; i < long(plane); ++i) g[i] = cfloat(0);
+        parallel_for(0, long(plane), thread_count(nthreads_), [&](int64_t i) {
+            g[i] = cfloat(0);
+        });
     }
     return grids_;
 }
@@ -181,8 +178,8 @@ void LatticeNufft::to_lattice(const LatticePoints& points, const cfloat* a, int 
         bucket[std::min(stripes - 1, int(wrapped / stripe_height))].push_back(s);
     }
     for (int parity = 0; parity < 2; ++parity) {
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads(nthreads_))
-        for (int b = parity; b < stripes; b += 2) {
+        parallel_for_dynamic(0, (stripes - parity + 1) / 2, 1, thread_count(nthreads_), [&](int64_t k) {
+            const int b = parity + 2 * int(k);
             float wx[kMaxWidth], wy[kMaxWidth];
             for (size_t s : bucket[b]) {
                 // a point's kernel weights once for the whole batch
@@ -197,7 +194,7 @@ void LatticeNufft::to_lattice(const LatticePoints& points, const cfloat* a, int 
                     }
                 }
             }
-        }
+        });
     }
     const int cx = nx_ / 2, cy = ny_ / 2;
     // transformed: the rows the points' kernels touch, then the columns of the modes wanted
@@ -212,12 +209,13 @@ void LatticeNufft::to_lattice(const LatticePoints& points, const cfloat* a, int 
             for (int c = 0; c < mx_; ++c) one[size_t(r - my_) * stride + c] += one[size_t(r) * stride + c];
         fft2d(one, rows, columns);
         cfloat* lattice = lattices[q];
-#pragma omp parallel for schedule(static) num_threads(threads(nthreads_))
-        for (int n = 0; n < ny_; ++n)
+        parallel_for(0, ny_, thread_count(nthreads_), [&](int64_t n_) {
+            const int n = int(n_);
             for (int m = 0; m < nx_; ++m) {
                 const size_t bin = size_t(wrap(n - cy, my_)) * stride + wrap(m - cx, mx_);
                 lattice[size_t(n) * nx_ + m] = one[bin] * float(deconvolve_x_[m] * deconvolve_y_[n]);
             }
+        });
     }
 }
 
@@ -233,12 +231,13 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
     for (int q = 0; q < batch; ++q) {
         std::vector<cfloat>& one = grid[q];
         const cfloat* lattice = lattices[q];
-#pragma omp parallel for schedule(static) num_threads(threads(nthreads_))
-        for (int n = 0; n < ny_; ++n)
+        parallel_for(0, ny_, thread_count(nthreads_), [&](int64_t n_) {
+            const int n = int(n_);
             for (int m = 0; m < nx_; ++m) {
                 const size_t bin = size_t(wrap(n - cy, my_)) * stride + wrap(m - cx, mx_);
                 one[bin] = lattice[size_t(n) * nx_ + m] * float(deconvolve_x_[m] * deconvolve_y_[n]);
             }
+        });
         fft2d(one, rows, columns);
         // periodic padding: w columns beyond each row, then w rows beyond the last, repeat the start
         for (int r = 0; r < my_; ++r)
@@ -248,8 +247,7 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
                       one.begin() + size_t(r) * stride);
     }
     const double to_gx = mx_ / (2 * M_PI), to_gy = my_ / (2 * M_PI);
-#pragma omp parallel for schedule(static, 256) num_threads(threads(nthreads_))
-    for (long s = 0; s < long(count); ++s) {
+    parallel_for(0, long(count), thread_count(nthreads_), [&](int64_t s) {
         float wx[kMaxWidth], wy[kMaxWidth];
         const long fx = wrap(kernel_weights(x[s] * to_gx, w_, table_.data(), wx), mx_);
         const long fy = wrap(kernel_weights(y[s] * to_gy, w_, table_.data(), wy), my_);
@@ -269,7 +267,7 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
             total += c[size_t(s) * batch + q] * cfloat(re, im);
         }
         out[s] = total;
-    }
+    });
 }
 
 }  // namespace wavecam::detail

@@ -4,10 +4,10 @@
 // the band-limited stencil), which points the stencil serves, the sub-apertures, the parameter
 // boxes, each point's Lagrange weights, each box's skeleton on each sub-aperture and the NUFFTs.
 // Each execute computes the points' frequencies and phases per sub-aperture and the transforms.
-#include <omp.h>
 
 #include <cmath>
 
+#include "base/parallel.h"
 #include "summation/nufft/chirp_interpolation.h"
 #include "summation/nufft/lattice_layout.h"
 #include "summation/nufft/lattice_nufft.h"
@@ -19,8 +19,6 @@ namespace wavecam::detail {
 namespace {
 
 using cdouble = std::complex<double>;
-
-int threads(int n) { return n > 0 ? n : omp_get_max_threads(); }
 
 // One pass over the lattice for a subset of the points (those the stencil serves, or the rest):
 // its layout, and the chirp interpolation built for its points.
@@ -53,15 +51,14 @@ struct SubApertureFrequencies {
         const std::vector<Parameter>& p = pass.p;
         const LatticeNufft& nufft = *pass.nufft;
         const double k = geo.k;
-#pragma omp parallel for schedule(static) num_threads(threads(nthreads))
-        for (long i = 0; i < long(in.size()); ++i) {
+        parallel_for(0, long(in.size()), thread_count(nthreads), [&](int64_t i) {
             const Parameter& q = p[in[i]];
             const ChirpAtCentre c = geo.at(q, a.cx, a.cy);
             fx[i] = k * h * (q[0] - c.gx);
             fy[i] = k * h * (q[1] - c.gy);
             shift[i] = std::polar(1.0, k * (c.psi - c.gx * a.cx - c.gy * a.cy) - (fx[i] * a.i0 + fy[i] * a.j0) +
                                            nufft.centring_phase(fx[i], fy[i]));
-        }
+        });
     }
 };
 
@@ -234,11 +231,11 @@ bool NufftEvaluator::pass_to_pinhole(const LatticePass& pass, const std::vector<
             for (int q = 0; q < batch; ++q) {
                 const ChirpAtCentre node = geo_.at(bx.node(sk.rows[j0 + q]), part.cx, part.cy);
                 const cfloat* F = lattice[q].data();
-#pragma omp parallel for schedule(static) num_threads(threads(nthreads))
-                for (long c = 0; c < long(cells); ++c)
+                parallel_for(0, long(cells), thread_count(nthreads), [&](int64_t c) {
                     if (part.cells[c] >= 0)
                         U[part.cells[c]] +=
                             cdouble(node.remainder(cell_x(part, S, c, h_), cell_y(part, S, c, h_), 1 / wavelength, 1) * F[c]);
+                });
             }
         });
         if (!done) return false;
@@ -311,20 +308,19 @@ bool NufftEvaluator::pass_to_film(const LatticePass& pass, const PinholeField& f
         for (int q = 0; q < batch; ++q) {
             const ChirpAtCentre node = geo_.at(bx.node(sk.rows[j0 + q]), part.cx, part.cy);
             cfloat* gq = g[q].data();
-#pragma omp parallel for schedule(static) num_threads(threads(nthreads))
-            for (long c = 0; c < long(cells); ++c)
+            parallel_for(0, long(cells), thread_count(nthreads), [&](int64_t c) {
                 gq[c] = part.cells[c] >= 0
                             ? w[part.cells[c]] * node.remainder(cell_x(part, S, c, h_), cell_y(part, S, c, h_), 1 / wavelength, 2)
                             : cfloat(0);
+            });
         }
         skeleton_coefficients({pass.weights[bi], 2, in.size(), bx.rank()}, {sk, j0, batch}, nullptr, coeff, nthreads);
         G.resize(in.size());
         pass.nufft->from_lattice(lattices.data(), batch, fr.points(), coeff.data(), G.data());
-#pragma omp parallel for schedule(static) num_threads(threads(nthreads))
-        for (long i = 0; i < long(in.size()); ++i) {
+        parallel_for(0, long(in.size()), thread_count(nthreads), [&](int64_t i) {
             const double tx = pass.film.x[in[i]], ty = pass.film.y[in[i]];
             out[in[i]] += f / (tx * tx + ty * ty + f * f) * fr.shift[i] * cdouble(G[i]);  // f / R_t^2
-        }
+        });
     });
 }
 

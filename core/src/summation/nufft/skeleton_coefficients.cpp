@@ -1,7 +1,8 @@
 // Points' coefficients on skeleton nodes (skeleton_coefficients.h).
 #include "summation/nufft/skeleton_coefficients.h"
 
-#include <omp.h>
+#include "base/parallel.h"
+
 
 namespace wavecam::detail {
 namespace {
@@ -44,12 +45,10 @@ void skeleton_coefficients(const BoxPointWeights& points, const SkeletonBatch& s
         }
     out.resize(count * batch);
     const int n0 = aw.n[0], n1 = dims > 1 ? aw.n[1] : 1, n2 = dims > 2 ? aw.n[2] : 1;
-#pragma omp parallel num_threads(nthreads > 0 ? nthreads : omp_get_max_threads())
-    {
+    parallel_team(thread_count(nthreads), [&](Team& team) {
         std::vector<float> L(nodes);
         Eight sr, si;
-#pragma omp for schedule(static)
-        for (long i = 0; i < long(count); ++i) {
+        team.for_blocks(0, int64_t(count), [&](int64_t i) {
             const float* w = aw.w.data() + size_t(i) * aw.stride;
             int q = 0;
             for (int c = 0; c < n2; ++c)
@@ -63,8 +62,8 @@ void skeleton_coefficients(const BoxPointWeights& points, const SkeletonBatch& s
                 for (int j = 0; j < batch; ++j) o[j] = cfloat(factor[i] * cdouble(sr[j], si[j]));
             else
                 for (int j = 0; j < batch; ++j) o[j] = cfloat(sr[j], si[j]);
-        }
-    }
+        });
+    });
 }
 
 }  // namespace wavecam::detail

@@ -1,10 +1,11 @@
 #include "summation/psf/psf_error_check.h"
 
-#include <omp.h>
 
 #include <algorithm>
 #include <array>
+#include <mutex>
 
+#include "base/parallel.h"
 #include "summation/psf/psf_kernel.h"
 
 namespace wavecam::detail {
@@ -106,18 +107,19 @@ Result<bool> probe_kernels(const PsfSummationSpec& spec, const KernelSetup& setu
     const bool on_cpu = !spec.settings.device.gpu();
     SummationSettings one_thread = kernel_settings;
     one_thread.nthreads = on_cpu ? 1 : spec.settings.nthreads;
-    const int threads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
+    const int threads = thread_count(spec.settings.nthreads);
     Result<bool> failed = Result<bool>::success(true);
-#pragma omp parallel for num_threads(on_cpu ? threads : 1) schedule(dynamic)
-    for (size_t i = 1; i < probes.size(); ++i) {
+    std::mutex failure;
+    parallel_for_dynamic(1, probes.size(), 1, on_cpu ? threads : 1, [&](int64_t i_) {
+        const size_t i = size_t(i_);
         PlanScope scope = film_scope;
         auto r = source_kernels(setup, probes[i].x - g.origin, probes[i].y - g.origin, probes[i].depths, one_thread,
                                 scope, fields[i]);
         if (!r.ok()) {
-#pragma omp critical(psf_error_check)
+            std::lock_guard<std::mutex> lock(failure);
             failed = r;
         }
-    }
+    });
     return failed;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <mutex>
 
+#include "base/parallel.h"
 #include "summation/psf/psf_summation_impl.h"
 
 namespace wavecam::detail {
@@ -28,15 +29,15 @@ void weigh_sources(const Impl& m, const PsfSummationSources& sources, size_t P) 
     std::vector<std::complex<float>>& image = m.image;
     image.resize(size_t(runs) * B * P);
     const std::complex<float> zero(0);
-#pragma omp parallel for num_threads(m.threads)
-    for (int j = 0; j < g.ny; ++j) {
+    parallel_for(0, g.ny, m.threads, [&](int64_t j_) {
+        const int j = int(j_);
         std::vector<std::complex<double>> share(B);
         for (int kr = 0; kr < runs * B; ++kr) {
             std::complex<float>* row = image.data() + size_t(kr) * P + size_t(j) * g.nx;
             std::fill(row + (j < g.height ? g.width : 0), row + g.nx, zero);
             if (j == g.ny - 1) std::fill(row + g.nx, image.data() + size_t(kr + 1) * P, zero);
         }
-        if (j >= g.height) continue;
+        if (j >= g.height) return;
         for (int i = 0; i < g.width; ++i) {
             size_t index[8];
             double weight[8];
@@ -51,7 +52,7 @@ void weigh_sources(const Impl& m, const PsfSummationSources& sources, size_t P) 
                         w == zero ? zero : std::complex<float>(share[r]) * w;
             }
         }
-    }
+    });
 }
 
 // Per run and domain point of the transform's grid, the sum over sub-points of |u|^2 (or Re u),
@@ -87,26 +88,29 @@ Result<bool> film_on_cpu(const Impl& m, int runs, size_t P, const ProgressFn& pr
     // A large grid's transforms are spread over the threads one at a time; a small one's
     // (complex_fft2d.h: one thread each) go to the threads whole.
     const bool whole = N < ComplexFft2D::kParallelPoints;
-#pragma omp parallel for num_threads(m.threads) schedule(dynamic) if (whole)
-    for (int kr = 0; kr < runs * B; ++kr) m.fft->forward(image.data() + size_t(kr) * P, g.height);
+    parallel_for_dynamic(0, runs * B, 1, whole ? m.threads : 1, [&](int64_t kr_) {
+        const int kr = int(kr_);
+        m.fft->forward(image.data() + size_t(kr) * P, g.height);
+    });
     if (progress && !progress(0.4)) return cancelled();
     // the products, summed over the basis per run and mode (basis_spectra.h): a chunk of
     // points at a time, its spectra read once for all the runs at once
     std::vector<std::complex<float>>& total = m.total;
     total.resize(size_t(runs) * M * P);
     const long chunks = long(m.spectra.chunks());
-#pragma omp parallel for num_threads(m.threads) schedule(static)
-    for (long c = 0; c < chunks; ++c)
+    parallel_for(0, chunks, m.threads, [&](int64_t c) {
         for (int k = 0; k < runs; ++k)
             m.spectra.mix(size_t(c), image.data() + size_t(k) * B * P, total.data() + size_t(k) * M * P);
+    });
     if (progress && !progress(0.7)) return cancelled();
-#pragma omp parallel for num_threads(m.threads) schedule(dynamic) if (whole)
-    for (int km = 0; km < runs * M; ++km) m.fft->inverse(total.data() + size_t(km) * P);
+    parallel_for_dynamic(0, runs * M, 1, whole ? m.threads : 1, [&](int64_t km_) {
+        const int km = int(km_);
+        m.fft->inverse(total.data() + size_t(km) * P);
+    });
     const bool incoherent = m.spec.incoherent;
     const size_t block = 4096;
     const long blocks = long((N + block - 1) / block);
-#pragma omp parallel for num_threads(m.threads) schedule(static)
-    for (long b = 0; b < blocks; ++b) {
+    parallel_for(0, blocks, m.threads, [&](int64_t b) {
         const size_t q0 = size_t(b) * block, q1 = std::min(N, q0 + block);
         for (int k = 0; k < runs; ++k)
             for (int mode = 0; mode < M; ++mode) {
@@ -114,7 +118,7 @@ Result<bool> film_on_cpu(const Impl& m, int runs, size_t P, const ProgressFn& pr
                 double* f = film.data() + size_t(k) * N;
                 for (size_t q = q0; q < q1; ++q) f[q] += incoherent ? u[q].real() : std::norm(u[q]);
             }
-    }
+    });
     return Result<bool>::success(true);
 }
 

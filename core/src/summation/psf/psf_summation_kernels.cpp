@@ -1,12 +1,13 @@
 // The psf summation's kernels (psf_summation.h, PsfSummation::create): the exact sums at the
 // anchors and layers, their Gram matrix and pixel images, their basis and its spectra.
-#include <omp.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <mutex>
 #include <utility>
 
+#include "base/parallel.h"
 #include "gpu/compute_device_impl.h"
 #include "summation/choose.h"
 #include "summation/psf/psf_kernel.h"
@@ -113,19 +114,20 @@ Result<bool> sum_kernels(Impl& m, const KernelSources& sources, double lattice_p
     std::atomic<int> done{1};
     std::atomic<bool> stop{false};
     Result<bool> failed = Result<bool>::success(true);
-#pragma omp parallel for num_threads(on_cpu ? m.threads : 1) schedule(dynamic)
-    for (int i = 0; i < C; ++i) {
+    std::mutex failure;
+    parallel_for_dynamic(0, C, 1, on_cpu ? m.threads : 1, [&](int64_t i_) {
+        const int i = int(i_);
         const int a = computed[size_t(i)];
-        if (stop || a == first) continue;
+        if (stop || a == first) return;
         PlanScope scope = film_scope;
         if (auto r = anchor_kernels(m, setup, depths, a, one_thread, scope, kernel); !r.ok()) {
-#pragma omp critical(psf_summation_kernels)
+            std::lock_guard<std::mutex> lock(failure);
             if (!stop.exchange(true)) failed = r;
-            continue;
+            return;
         }
         const int finished = ++done;
-        if (progress && omp_get_thread_num() == 0 && !progress(double(finished) / C)) stop = true;
-    }
+        if (progress && on_calling_thread() && !progress(double(finished) / C)) stop = true;
+    });
     if (stop) return failed.ok() ? cancelled() : failed;
     return Result<bool>::success(true);
 }
@@ -178,8 +180,8 @@ std::vector<std::complex<double>> kernel_gram(const Impl& m, const std::vector<F
     const int K = int(kernel.size()), nax = int(g.ax.knots.size());
     const bool whole = K <= kMaxBasisKernels;
     std::vector<std::complex<double>> gram(size_t(K) * K, 0.0);
-#pragma omp parallel for num_threads(m.threads) schedule(dynamic)
-    for (int i = 0; i < K; ++i)
+    parallel_for_dynamic(0, K, 1, m.threads, [&](int64_t i_) {
+        const int i = int(i_);
         for (int j = i; j < K; ++j) {
             const int ai = i % A, aj = j % A;
             if (!whole && (std::abs(i / A - j / A) > 1 || std::abs(ai % nax - aj % nax) > 1 ||
@@ -190,6 +192,7 @@ std::vector<std::complex<double>> kernel_gram(const Impl& m, const std::vector<F
             gram[size_t(i) * K + j] = dot / double(S);
             gram[size_t(j) * K + i] = std::conj(dot) / double(S);
         }
+    });
     return gram;
 }
 
@@ -205,8 +208,8 @@ void blend_mean_images(Impl& m, const std::vector<Field>& kernel, const std::vec
     m.pixel_image.assign(size_t(K) * P, 0.0f);
     m.difference_image.assign(size_t(K) * N9 * P, 0.0f);
     const int nay = int(g.ay.knots.size());
-#pragma omp parallel for num_threads(m.threads) schedule(dynamic)
-    for (int k = 0; k < K; ++k) {
+    parallel_for_dynamic(0, K, 1, m.threads, [&](int64_t k_) {
+        const int k = int(k_);
         const int l = k / A, ax = (k % A) % nax, ay = (k % A) / nax;
         for (int sub = 0; sub < S; ++sub)
             for (size_t t = 0; t < P; ++t)
@@ -219,7 +222,7 @@ void blend_mean_images(Impl& m, const std::vector<Field>& kernel, const std::vec
             for (int sub = 0; sub < S; ++sub)
                 for (size_t t = 0; t < P; ++t) j[t] += float(std::norm(kernel[k][sub * P + t] - other[sub * P + t]) / S);
         }
-    }
+    });
 }
 
 // The runs' transforms: on the device where one is asked for (its transforms take powers of
@@ -250,14 +253,15 @@ std::vector<std::complex<double>> basis_kernels(const Impl& m, const std::vector
     const KernelBasis& basis = m.basis;
     const size_t length = size_t(m.points()) * side * side;
     std::vector<std::complex<double>> based(size_t(basis.rank) * length, 0.0);
-#pragma omp parallel for num_threads(m.threads)
-    for (int r = 0; r < basis.rank; ++r)
+    parallel_for(0, basis.rank, m.threads, [&](int64_t r_) {
+        const int r = int(r_);
         for (int k = 0; k < K; ++k) {
             const std::complex<double> c = basis.mix[size_t(r) * K + k];
             if (c == 0.0) continue;
             std::complex<double>* u = based.data() + size_t(r) * length;
             for (size_t t = 0; t < length; ++t) u[t] += c * kernel[k][t];
         }
+    });
     return based;
 }
 
@@ -293,16 +297,15 @@ Result<bool> set_spectra(Impl& m, const std::vector<std::complex<double>>& based
             }
     } else {
         // small transforms one per thread (complex_fft2d.h), large ones spread over the threads
-#pragma omp parallel num_threads(m.threads) if (N < ComplexFft2D::kParallelPoints)
-        {
+        parallel_team(N < ComplexFft2D::kParallelPoints ? m.threads : 1, [&](Team& team) {
             std::vector<std::complex<float>> spectrum(N);
-#pragma omp for schedule(dynamic)
-            for (int rm = 0; rm < B * M; ++rm) {
+            team.for_dynamic(0, B * M, 1, [&](int64_t rm_) {
+                const int rm = int(rm_);
                 std::fill(spectrum.begin(), spectrum.end(), std::complex<float>(0));
                 spectrum_of(m, based, rm / M, rm % M, spectrum.data());
                 m.spectra.set(rm / M, rm % M, spectrum.data());
-            }
-        }
+            });
+        });
     }
     return Result<bool>::success(true);
 }
@@ -317,7 +320,7 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
     m.spec = spec;
     const PsfSummationGeometry& g = m.g = psf_summation_geometry(spec);
     if (g.layers.count > kMaxPsfLayers) return R::failure(too_many_layers());
-    m.threads = spec.settings.nthreads > 0 ? spec.settings.nthreads : omp_get_max_threads();
+    m.threads = thread_count(spec.settings.nthreads);
     m.tail.radius = g.radius;
     m.tail.layers = g.layers;
     m.tail.ax = g.ax;

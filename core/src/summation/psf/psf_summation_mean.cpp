@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "base/parallel.h"
 #include "convolution/far_tail.h"
 #include "summation/psf/psf_summation_impl.h"
 #include "wavecam/spectral_diffraction.h"
@@ -19,8 +20,8 @@ std::vector<float> layer_balances(const PsfSummation::Impl& m, const PsfSummatio
     const size_t n = size_t(g.width) * g.height;
     const size_t A = size_t(g.anchors()), K = size_t(g.layers.count) * A;
     std::vector<float> beta(n * 8, 1.0f);
-#pragma omp parallel for num_threads(m.threads) schedule(static)
-    for (int j = 0; j < g.height; ++j)
+    parallel_for(0, g.height, m.threads, [&](int64_t j_) {
+        const int j = int(j_);
         for (int i = 0; i < g.width; ++i) {
             const size_t p = size_t(j) * g.width + i;
             if (power[p] == 0) continue;
@@ -38,6 +39,7 @@ std::vector<float> layer_balances(const PsfSummation::Impl& m, const PsfSummatio
                 if (blended > 0) beta[p * 8 + u] = float(target / blended);
             }
         }
+    });
     return beta;
 }
 
@@ -49,8 +51,8 @@ std::vector<float> PsfSummation::power_balance(const PsfSummationSources& source
     const size_t n = size_t(g.width) * g.height, K = size_t(g.layers.count) * g.anchors();
     std::vector<float> factor(n, 1.0f);
     if (m.spec.incoherent) return factor;
-#pragma omp parallel for num_threads(m.threads)
-    for (int j = 0; j < g.height; ++j)
+    parallel_for(0, g.height, m.threads, [&](int64_t j_) {
+        const int j = int(j_);
         for (int i = 0; i < g.width; ++i) {
             size_t index[8];
             double weight[8];
@@ -62,6 +64,7 @@ std::vector<float> PsfSummation::power_balance(const PsfSummationSources& source
             }
             if (blended > 0 && target > 0) factor[size_t(j) * g.width + i] = float(std::sqrt(target / blended));
         }
+    });
     return factor;
 }
 
@@ -77,8 +80,8 @@ void PsfSummation::add_blend_mean(const PsfSummationSources& sources, const std:
     // Each camera row of the share, within the overscan, from every source whose kernel reaches
     // it, in one order whatever the threads and the share (a job is the sum of its shares to the
     // bit): only that row of each source's image is formed.
-#pragma omp parallel for num_threads(m.threads) schedule(dynamic)
-    for (int cj = std::max(rows.begin, o); cj < std::min(rows.end, c.height - o); ++cj) {
+    parallel_for_dynamic(std::max(rows.begin, o), std::min(rows.end, c.height - o), 1, m.threads, [&](int64_t cj_) {
+        const int cj = int(cj_);
         std::vector<float> line(size_t(c.width), 0.0f), add(static_cast<size_t>(side));
         for (int j = std::max(0, cj + g.origin - R); j <= std::min(g.height - 1, cj + g.origin + R); ++j) {
             const size_t row = size_t(cj + g.origin - j + R) * side;  // the row of the kernels: dy + R
@@ -117,7 +120,7 @@ void PsfSummation::add_blend_mean(const PsfSummationSources& sources, const std:
             }
         }
         for (int ci = 0; ci < c.width; ++ci) each[size_t(cj) * c.width + ci] += line[size_t(ci)];
-    }
+    });
 }
 
 void PsfSummation::add_far_tail(const float* radiance, const float* depth, DepthMeaning meaning, double scale,
