@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -306,4 +307,48 @@ TEST(SummationPlan, AutoStopsPlanningWhereThePlanOutweighsTheDirectTerms) {
     for (float& y : film.y) y *= 0.1f;
     ASSERT_TRUE(narrow.set_points(film).ok());
     EXPECT_TRUE(std::isfinite(narrow.choice().nufft_work)) << narrow.choice().nufft_work;
+}
+
+// A job decides once (decide_summation): each exact sum's evaluator at each wavelength, from the
+// same counts the estimate prices, and every wavelength's sums follow it; nothing below decides
+// again. Shown by a decision that differs from what the frame alone would take: a 4 x 4 frame
+// takes the direct terms for both sums, and the job's sums follow a decision of nufft for the
+// film, whose image then matches the direct one within the nufft's tolerance.
+TEST(SummationDecision, TheJobDecidesOnceAndItsSumsFollow) {
+    const Scene scene(4, 20 * M_PI / 180, 50e-3, {2.0});
+    const double lambda = 550e-9;
+    SceneSumSettings s;
+    s.aperture = {ApertureShape::Circle, 0.2e-3};
+    s.runs = 1;
+    s.film_subsamples = 1;
+    s.nearest_depth = 2.0;
+    s.jitter = true;  // (the psf summation does not apply: the exact sums' choices are the decision)
+    const SummationDecision d = decide_summation(s, scene.camera, {450e-9, lambda, 650e-9});
+    ASSERT_EQ(d.summation, Summation::Auto);
+    ASSERT_EQ(d.wavelengths.size(), 3u);
+    for (const double w : {450e-9, lambda, 650e-9}) {
+        ASSERT_NE(d.to_pinhole_at(w), nullptr);
+        // the decision is the estimate's: the same counts through the same chooser
+        const EvaluatorSet e = scene_evaluators(s, scene.camera, w);
+        EXPECT_EQ(d.to_pinhole_at(w)->evaluator == Evaluator::Nufft, e.nufft_to_pinhole);
+        EXPECT_EQ(d.to_film_at(w)->evaluator == Evaluator::Nufft, e.nufft_to_film);
+    }
+    EXPECT_EQ(d.to_pinhole_at(500e-9), nullptr);  // a wavelength it did not decide
+    ASSERT_EQ(d.to_film_at(lambda)->evaluator, Evaluator::Direct);
+
+    // alone, the frame takes what the decision says; told nufft for the film, its sums take that
+    const ComputeDevice alone = ComputeDevice::create(Device::Cpu);
+    s.device = alone;
+    const std::vector<float> direct = scene.diffract(s, Summation::Auto, lambda);
+    EXPECT_EQ(evaluators_run(alone).words(), "direct");
+    SummationDecision told = d;
+    told.to_film[1].evaluator = Evaluator::Nufft;
+    told.to_film[1].blocks = 1;
+    const ComputeDevice followed = ComputeDevice::create(Device::Cpu);
+    s.device = followed;
+    s.decision = std::make_shared<SummationDecision>(told);
+    const std::vector<float> decided = scene.diffract(s, Summation::Auto, lambda);
+    EXPECT_EQ(evaluators_run(followed).words(), "direct to the pinhole, nufft to the film");
+    const Difference diff = compare(decided, direct);
+    EXPECT_LE(diff.worst_over_peak, 1e-3);
 }

@@ -176,6 +176,16 @@ TEST(Shares, BadSetsAreRefusedNamingTheShareAndNothingIsWritten) {
         ASSERT_TRUE(p.write(f.path("edited2.exr")));
     }
     std::ofstream(f.path("text.exr")) << "not an image";
+    {  // decided otherwise: share 2 as another device would have made it
+        OIIO::ImageBuf p(f.path("p2.exr"));
+        ASSERT_TRUE(p.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+        const std::string decided = p.spec().get_string_attribute("wavecam.share.decision");
+        // psf, or each wavelength's two sums ("550nm nufft/direct"), and the device
+        EXPECT_TRUE(decided == "psf on cpu" || decided.find("nm ") != std::string::npos) << decided;
+        EXPECT_NE(decided.find(" on cpu"), std::string::npos) << decided;
+        p.specmod().attribute("wavecam.share.decision", "550nm direct/direct on gpu");
+        ASSERT_TRUE(p.write(f.path("decided2.exr")));
+    }
 
     struct Case {
         std::string shares, expected;
@@ -190,6 +200,8 @@ TEST(Shares, BadSetsAreRefusedNamingTheShareAndNothingIsWritten) {
         {"p1.exr cut2.exr p3.exr", "cut2.exr: cannot be read as an image ("},
         {"p1.exr edited2.exr p3.exr", "edited2.exr: corrupt: its pixels do not match the checksum in its header"},
         {"p1.exr text.exr p3.exr", "text.exr: cannot be read as an image ("},
+        {"p1.exr decided2.exr p3.exr",
+         "share 2/3 (decided2.exr): decided otherwise: 550nm direct/direct on gpu (the other shares: "},
         {"p1.exr " + f.input + " p3.exr", f.input + ": not a wavecam share file"},
         {"'none*.exr'", "none*.exr: no share files match this pattern"},
     };

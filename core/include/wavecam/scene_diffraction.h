@@ -4,7 +4,9 @@
 #pragma once
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <vector>
 #include "wavecam/aperture.h"
 #include "wavecam/summation_plan.h"
 #include "wavecam/pinhole_camera.h"
@@ -12,6 +14,19 @@
 #include "wavecam/result.h"
 
 namespace wavecam {
+
+// A job's one decision of how its scene sums are evaluated (decide_summation, made before any
+// work): psf, or the exact sums with each sum's evaluator at each wavelength. Every wavelength's
+// sums read it; nothing below decides again, so the job line, the header and what runs agree,
+// and every share of the job evaluates as the job.
+struct SummationDecision {
+    Summation summation = Summation::Auto;  // Psf, or the exact sums
+    std::vector<double> wavelengths;         // (m) the exact sums' wavelengths, with their sums' choices
+    std::vector<SumChoice> to_pinhole, to_film;
+    // The choice at `wavelength` (null where the decision holds none: that frame decides alone).
+    const SumChoice* to_pinhole_at(double wavelength) const;
+    const SumChoice* to_film_at(double wavelength) const;
+};
 
 enum class CoherenceMethod {
     RandomPhase,  // the seed paper: random phase per source, coherent sum, K runs averaged
@@ -55,6 +70,9 @@ struct SceneSumSettings {
     // The scene's nearest planar depth (m; inf: all sky), found once per job (nearest_depth()) so
     // that the estimate and every wavelength's sum derive the same lattice; NaN: each call finds it.
     double nearest_depth = NAN;
+    // The job's decision (decide_summation), which every wavelength's sums follow; null: each
+    // wavelength's frame decides its sums' evaluators as it starts (a frame diffracted alone).
+    std::shared_ptr<const SummationDecision> decision;
 };
 
 // Per-pixel inputs at one wavelength, row-major width x height.
@@ -103,6 +121,12 @@ double scene_sample_pitch(const SceneSumSettings& s, const PinholeCamera& camera
 // s.nearest_depth (NaN counts as all sky). A summation asked by name is returned as it is.
 Summation chosen_summation(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength);
 
+// The job's decision for its wavelengths (m): chosen_summation's psf or exact sums at the middle
+// one, then each exact sum's evaluator at each wavelength from the same counts (the whole job,
+// every pixel lit, s.nearest_depth), the lowest estimate among those the settings' device allows.
+SummationDecision decide_summation(const SceneSumSettings& s, const PinholeCamera& camera,
+                                   const std::vector<double>& wavelengths);
+
 // What the chooser (core/src/summation/choose.h, the one place evaluators and devices are chosen
 // and priced) makes of the settings' share of a frame at `wavelength`, every pixel lit, for
 // s.nearest_depth (NaN counts as all sky): `auto` weighs psf where it applies against the exact
@@ -120,8 +144,8 @@ SummationEstimate estimate_summation(const SceneSumSettings& s, const PinholeCam
                                      double term_rate = 0);
 
 // The evaluators the two sums take at `wavelength` (s.summation auto, direct or nufft), as the
-// estimate counts the frame (every pixel lit, s.nearest_depth): the job's sums take these where
-// the frame is lit; a darker frame's fewer sources can tip a sum to the other evaluator.
+// estimate counts the frame (every pixel lit, s.nearest_depth): what decide_summation records for
+// a job, and so what its sums take.
 EvaluatorSet scene_evaluators(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength);
 
 // Work estimate in direct terms (the time of one term of the direct sums, so that --max-terms

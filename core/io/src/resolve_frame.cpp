@@ -3,6 +3,7 @@
 // fronts make from the same settings.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <sstream>
 
 #include <OpenImageIO/strutil.h>
@@ -69,9 +70,10 @@ RunCount frame_run_count(const SceneSumSettings& s, const PinholeCamera& camera,
     return runs_for_convergence(camera, s.aperture, longest_wavelength(basis), wavelength_count(basis), s.nearest_depth);
 }
 
-// The job's settings for the scene-sum methods, `auto` summation decided once for the whole job
-// (chosen_summation) at the middle of its wavelengths: both ways' work scales alike with the
-// wavelength, and every wavelength then runs the same way.
+// The job's settings for the scene-sum methods with the job's one decision (decide_summation):
+// psf or the exact sums at the middle of its wavelengths (both ways' work scales alike with the
+// wavelength, and every wavelength then runs the same way), and each exact sum's evaluator at
+// each wavelength, which the sums then follow.
 SceneSumSettings scene_sum_settings(const DiffractOptions& opt, const PinholeCamera& camera,
                                     const std::vector<float>& depth, const SpectralBasis& basis, int nthreads = 0,
                                     const ComputeDevice& device = {}) {
@@ -84,7 +86,12 @@ SceneSumSettings scene_sum_settings(const DiffractOptions& opt, const PinholeCam
     s.nearest_depth = nearest_depth(camera, depth.data(), opt.depth_meaning);
     if (opt.runs_from_psf && s.method == CoherenceMethod::RandomPhase && basis.size() > 0)
         s.runs = frame_run_count(s, camera, basis).runs;
-    if (basis.size() > 0) s.summation = chosen_summation(s, camera, basis.wavelength(basis.size() / 2));
+    // the job's one decision: psf or the exact sums, and each sum's evaluator at each wavelength
+    std::vector<double> wavelengths;
+    for (int k = 0; k < basis.size(); ++k) wavelengths.push_back(basis.wavelength(k));
+    auto decision = std::make_shared<SummationDecision>(decide_summation(s, camera, wavelengths));
+    s.summation = decision->summation;
+    s.decision = std::move(decision);
     return s;
 }
 
@@ -171,9 +178,30 @@ Result<bool> check_camera(const ResolvedFrame& f, const std::string& name, const
 std::string detail::auto_choice(const SceneSumSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
     if (s.summation == Summation::Psf) return "psf";
     EvaluatorSet e = evaluators_run(s.device);
-    if (e.words().empty())
-        for (int k = 0; k < basis.size(); ++k) e.add(scene_evaluators(s, camera, basis.wavelength(k)));
+    if (!e.words().empty()) return e.words();
+    for (int k = 0; k < basis.size(); ++k) {
+        const double wavelength = basis.wavelength(k);
+        const SumChoice* in = s.decision ? s.decision->to_pinhole_at(wavelength) : nullptr;
+        const SumChoice* out = s.decision ? s.decision->to_film_at(wavelength) : nullptr;
+        if (!in || !out) {
+            e.add(scene_evaluators(s, camera, wavelength));
+            continue;
+        }
+        const bool in_nufft = in->evaluator == Evaluator::Nufft, out_nufft = out->evaluator == Evaluator::Nufft;
+        e.add({!in_nufft, in_nufft, !out_nufft, out_nufft});
+    }
     return e.words();
+}
+
+std::string detail::decision_text(const SceneSumSettings& s) {
+    const std::string device = s.device.gpu() ? " on gpu" : " on cpu";
+    if (s.summation == Summation::Psf || !s.decision) return std::string(summation_word(s.summation)) + device;
+    const SummationDecision& d = *s.decision;
+    std::string text;
+    for (size_t k = 0; k < d.wavelengths.size(); ++k)
+        text += (k ? ", " : "") + std::to_string(std::lround(d.wavelengths[k] * 1e9)) + "nm " +
+                evaluator_word(d.to_pinhole[k].evaluator) + "/" + evaluator_word(d.to_film[k].evaluator);
+    return text + device;
 }
 
 Aperture resolved_aperture(const DiffractOptions& opt) {

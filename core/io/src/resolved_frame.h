@@ -43,6 +43,11 @@ constexpr double kDesignWavelength = 550e-9;
 // the job's device (the header's), or, before they ran, those the estimate gives each sum.
 std::string auto_choice(const SceneSumSettings& s, const PinholeCamera& camera, const SpectralBasis& basis);
 
+// The job's decision (SceneSumSettings::decision) and device in words, as a share file records it
+// so that a merge refuses shares that decided otherwise (another device, another build):
+// "psf on cpu", or each wavelength's sums "450nm direct/nufft, 550nm nufft/nufft on gpu".
+std::string decision_text(const SceneSumSettings& s);
+
 // The frame's estimate (diffract_image.h's JobEstimate) but for its bytes and refusal: its job
 // line, terms, and their time at the rate measured on the job's device.
 JobEstimate job_estimate(const DiffractOptions& opt, const ResolvedFrame& f, int nthreads);

@@ -235,6 +235,7 @@ OIIO::ImageSpec share_spec(OIIO::ImageSpec spec, const Share& j, const std::vect
     spec.attribute(record_name("input"), input_path);
     spec.attribute(record_name("input-fingerprint"), j.fingerprint);
     spec.attribute(record_name("job"), job_fingerprint(j.fingerprint, settings));
+    spec.attribute(record_name("decision"), detail::decision_text(j.s));
     for (const auto& [k, v] : settings) spec.attribute(record_name(kSettingPrefix + k), v);
     return spec;
 }
@@ -306,6 +307,7 @@ Result<ShareFile> read_share(const std::string& path) {
     p.input = share_record(spec, "input", old);
     p.input_fingerprint = share_record(spec, "input-fingerprint", old);
     p.job = share_record(spec, "job", old);
+    p.decision = share_record(spec, "decision", old);
     if (!k.ok() || !parse_range(share_record(spec, "units", old), ub, ue) ||
         !parse_range(share_record(spec, "rows", old), rb, re) || p.wavelengths < 1 || p.runs < 1 ||
         (per != 1 && per != 3) || p.input.empty() || p.input_fingerprint.empty() || p.job.empty())
@@ -340,6 +342,7 @@ Result<bool> check_share_set(const std::vector<ShareFile>& shares) {
     const std::string input = majority<std::string>(shares, [](const ShareFile& p) { return p.input_fingerprint; });
     const SettingsText settings = majority<SettingsText>(shares, [](const ShareFile& p) { return p.settings; });
     const int count = majority<int>(shares, [](const ShareFile& p) { return p.share.count; });
+    const std::string decision = majority<std::string>(shares, [](const ShareFile& p) { return p.decision; });
     std::map<int, const ShareFile*> seen;
     for (const auto& p : shares) {
         const size_t before = problems.size();
@@ -361,6 +364,10 @@ Result<bool> check_share_set(const std::vector<ShareFile>& shares) {
             problems.push_back(share_name(p) + ": " + (key == "seed" ? "another seed" : "another setting") + ": " +
                                key + " " + a + " (the other shares: " + b + ")");
         }
+        // shares that decided otherwise (on another device) would not add up to the job bit for bit
+        if (!p.decision.empty() && !decision.empty() && p.decision != decision)
+            problems.push_back(share_name(p) + ": decided otherwise: " + p.decision + " (the other shares: " +
+                               decision + ")");
         if (p.share.count != count)
             problems.push_back(share_name(p) + ": from a split into " + std::to_string(p.share.count) +
                                " shares; the other shares are of " + std::to_string(count));

@@ -334,8 +334,9 @@ SummationChoice choose_summation(const FrameSums& f, const ChoiceSettings& cs) {
     double exact = 0, all_direct = 0, all_nufft = 0;
     if (cs.asked != Summation::Psf) {
         const Summation asked = exact_asked(cs.asked, f.single);
-        c.in = choose_sum(f.in, asked, gpu);
-        c.out = choose_sum(f.out, asked, gpu);
+        // the job's decision where it holds one (read, not made again), else the chooser's
+        c.in = cs.decided_in ? *cs.decided_in : choose_sum(f.in, asked, gpu);
+        c.out = cs.decided_out ? *cs.decided_out : choose_sum(f.out, asked, gpu);
         exact = (c.in.work + c.out.work * f.film_share) * f.repeats;
         all_direct = (c.in.direct_work + c.out.direct_work * f.film_share) * f.repeats;
         all_nufft = (c.in.nufft_work + c.out.nufft_work * f.film_share) * f.repeats;
@@ -373,16 +374,6 @@ SummationChoice choose_summation(const FrameSums& f, const ChoiceSettings& cs) {
                    amount(nufft ? all_direct : all_nufft, rate);
     }
     return c;
-}
-
-double direct_cost(const FrameSums& f, const ChoiceSettings&) {
-    return (choose_sum(f.in, Summation::Direct).work + choose_sum(f.out, Summation::Direct).work * f.film_share) *
-           f.repeats;
-}
-
-double nufft_cost(const FrameSums& f, const ChoiceSettings&) {
-    const Summation asked = exact_asked(Summation::Nufft, f.single);
-    return (choose_sum(f.in, asked).work + choose_sum(f.out, asked).work * f.film_share) * f.repeats;
 }
 
 double psf_cost(const FrameSums& f, const ChoiceSettings&) {

@@ -125,6 +125,10 @@ struct ChoiceSettings {
     bool weigh_psf = false;
     const ComputeDevice* device = nullptr;  // null: the CPU
     double term_rate = 0;
+    // the job's decision of the exact sums' evaluators at this wavelength (SummationDecision),
+    // priced as decided instead of chosen again; null: chosen here
+    const SumChoice* decided_in = nullptr;
+    const SumChoice* decided_out = nullptr;
 };
 
 // The choice: psf, or the exact sums with each sum's evaluator (`in`, `out`); the device; the
@@ -140,11 +144,10 @@ struct SummationChoice {
 };
 SummationChoice choose_summation(const FrameSums& frame, const ChoiceSettings& settings);
 
-// Each evaluator's work for the whole frame in direct terms, every sum by it (the evaluators'
-// table's cost column, summation_evaluator.h): direct; nufft (one source at a time the cheaper,
-// exact_asked); psf (infinite where the frame's psf counts are not set).
-double direct_cost(const FrameSums& frame, const ChoiceSettings& settings);
-double nufft_cost(const FrameSums& frame, const ChoiceSettings& settings);
+// The psf summation's work for the whole frame in direct terms (the evaluators' table's frame
+// estimate for the rows that take whole runs, summation_evaluator.h): its kernels, then every
+// run; infinite where the frame's psf counts are not set. (The rows of one sum are priced by
+// their sums: choose_sum.)
 double psf_cost(const FrameSums& frame, const ChoiceSettings& settings);
 
 }  // namespace wavecam::detail

@@ -16,9 +16,9 @@ std::unique_ptr<SumEvaluator> direct_sum(const SumGeometry& g, const SumChoice&)
 
 const EvaluatorRow kEvaluators[kEvaluatorCount] = {
     // summation, word, device, on the frame's lattice, a frame's runs, one sum, estimates (one sum, a frame)
-    {Summation::Direct, "direct", Device::Cpu, true, make_exact_runs, direct_sum, direct_sum_work, direct_cost},
-    {Summation::Direct, "direct", Device::Gpu, true, make_exact_runs, gpu_direct_sum, direct_sum_work, direct_cost},
-    {Summation::Nufft, "nufft", Device::Cpu, true, make_exact_runs, make_nufft_evaluator, nufft_sum_work, nufft_cost},
+    {Summation::Direct, "direct", Device::Cpu, true, make_exact_runs, direct_sum, direct_sum_work, nullptr},
+    {Summation::Direct, "direct", Device::Gpu, true, make_exact_runs, gpu_direct_sum, direct_sum_work, nullptr},
+    {Summation::Nufft, "nufft", Device::Cpu, true, make_exact_runs, make_nufft_evaluator, nufft_sum_work, nullptr},
     {Summation::Psf, "psf", Device::Cpu, false, make_psf_runs, nullptr, nullptr, psf_cost},
     {Summation::Psf, "psf", Device::Gpu, false, make_psf_runs, nullptr, nullptr, psf_cost},
 };

@@ -27,8 +27,9 @@ Result<bool> detail::diffract_monochrome(const MonochromeScene& scene, double wa
     // auto here: the exact sums, each sum's evaluator the chooser's (a job has weighed psf before)
     const EvaluatorRow& row = evaluator_row(s.summation, s.device.gpu() ? Device::Gpu : Device::Cpu);
     const SceneSum sum = scene_sum(scene, wavelength, s, nearest, range, row.frame_lattice);
-    // the frame's one decision below the job's: each exact sum's evaluator, from the whole frame's
-    // counts, so that every share evaluates its part as the job would (nothing below decides again)
+    // each exact sum's evaluator: the job's decision (SceneSumSettings::decision), or, for a frame
+    // diffracted alone, its own from the whole frame's counts; either way every share evaluates its
+    // part as the job would, and nothing below decides again
     const SumChoices sums = row.create_sum ? decide_sums(s, sum, c, wavelength, nearest,
                                                        s.method == CoherenceMethod::Incoherent)
                                            : SumChoices{};

@@ -61,16 +61,23 @@ FrameCounts frame_counts(const SceneSumSettings& s, const SceneSum& sum, const W
 SumChoices decide_sums(const SceneSumSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
                   double nearest, bool single) {
     const FrameCounts n = frame_counts(s, sum, {c, wavelength, nearest}, sum.samples.pitch, single);
-    FrameSums frame;
-    frame.in = n.in;
-    frame.out = n.out;
-    frame.single = single;
-    const SummationChoice chosen = choose_summation(frame, {s.summation, false, &s.device, 0});
     SumChoices sums;
     sums.settings = {exact_asked(s.summation, single), s.summation_tolerance, s.nthreads, s.device};
     sums.in.fixed_choice = sums.out.fixed_choice = true;
-    sums.in.choice = chosen.in;
-    sums.out.choice = chosen.out;
+    const SumChoice* in = s.decision ? s.decision->to_pinhole_at(wavelength) : nullptr;
+    const SumChoice* out = s.decision ? s.decision->to_film_at(wavelength) : nullptr;
+    if (in && out) {  // the job's decision
+        sums.in.choice = *in;
+        sums.out.choice = *out;
+    } else {  // a frame diffracted alone decides for itself
+        FrameSums frame;
+        frame.in = n.in;
+        frame.out = n.out;
+        frame.single = single;
+        const SummationChoice chosen = choose_summation(frame, {s.summation, false, &s.device, 0});
+        sums.in.choice = chosen.in;
+        sums.out.choice = chosen.out;
+    }
     sums.out.fixed_range = true;
     sums.out.range = n.out.range;
     sums.in_work = sums.in.choice.work;
@@ -159,7 +166,13 @@ SummationChoice scene_choice(const SceneSumSettings& s, const PinholeCamera& c, 
         frame.psf_out = n.out;
         frame.psf_runs = incoherent ? 1.0 : runs;
     }
-    return choose_summation(frame, asked);
+    ChoiceSettings priced = asked;  // the job's decision priced, where it holds this wavelength
+    if (s.decision && s.summation != Summation::Psf) {
+        priced.decided_in = s.decision->to_pinhole_at(wavelength);
+        priced.decided_out = s.decision->to_film_at(wavelength);
+        if (!priced.decided_in || !priced.decided_out) priced.decided_in = priced.decided_out = nullptr;
+    }
+    return choose_summation(frame, priced);
 }
 
 }  // namespace
@@ -170,6 +183,44 @@ using detail::psf_summation_spec;
 using detail::film_subsamples;
 using detail::scene_choice;
 using detail::SummationChoice;
+
+namespace {
+
+const SumChoice* choice_at(const std::vector<double>& wavelengths, const std::vector<SumChoice>& choices,
+                           double wavelength) {
+    for (size_t k = 0; k < wavelengths.size(); ++k)
+        if (wavelengths[k] == wavelength) return &choices[k];
+    return nullptr;
+}
+
+}  // namespace
+
+const SumChoice* SummationDecision::to_pinhole_at(double wavelength) const {
+    return choice_at(wavelengths, to_pinhole, wavelength);
+}
+const SumChoice* SummationDecision::to_film_at(double wavelength) const {
+    return choice_at(wavelengths, to_film, wavelength);
+}
+
+SummationDecision decide_summation(const SceneSumSettings& asked, const PinholeCamera& camera,
+                                   const std::vector<double>& wavelengths) {
+    SummationDecision d;
+    if (wavelengths.empty()) return d;
+    d.summation = chosen_summation(asked, camera, wavelengths[wavelengths.size() / 2]);
+    if (d.summation == Summation::Psf) return d;
+    SceneSumSettings s = asked;  // the whole job, as chosen_summation weighs it: every share decides alike
+    s.summation = d.summation;
+    s.decision = nullptr;
+    s.row_begin = s.run_begin = 0;
+    s.row_end = s.run_end = -1;
+    for (const double wavelength : wavelengths) {
+        const SummationChoice c = scene_choice(s, camera, wavelength, {s.summation, false, &s.device, 0});
+        d.wavelengths.push_back(wavelength);
+        d.to_pinhole.push_back(c.in);
+        d.to_film.push_back(c.out);
+    }
+    return d;
+}
 
 Summation chosen_summation(const SceneSumSettings& asked, const PinholeCamera& c, double wavelength) {
     if (asked.summation != Summation::Auto) return asked.summation;

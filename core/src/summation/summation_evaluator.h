@@ -67,8 +67,9 @@ struct EvaluatorRow {
     // one sum through it, for the exact sums' plans (summation_plan.h); null where the evaluator
     // takes whole runs (psf)
     std::unique_ptr<SumEvaluator> (*create_sum)(const SumGeometry& g, const SumChoice& choice);
-    // its estimate of one sum in direct terms (choose.h; `bounded`: auto's, whose tiling may
-    // stop early), null where it takes whole runs; and of a frame's runs, every sum by it
+    // its estimate in direct terms: of one sum (choose.h; `bounded`: auto's, whose tiling may
+    // stop early) for a row of sums, whose frames are priced by their sums (choose_summation);
+    // of a frame's runs for a row that takes whole runs (psf); null where the other is set
     SumChoice (*estimate_sum)(const SumCounts& counts, bool bounded);
     double (*estimate)(const FrameSums& frame, const ChoiceSettings& settings);
 };

@@ -43,6 +43,7 @@ struct ShareFile {
     WorkShare share;
     int wavelengths = 0, runs = 0, width = 0, height = 0;
     std::string input, input_fingerprint, job;
+    std::string decision;  // the job's decision as this share made it (decision_text); "" in older files
     SettingsText settings;
     OIIO::ImageBuf image;
     bool old_spelling = false;  // its header spells the records wavecam.part.* (kOldShareRecordNote)
