@@ -56,6 +56,13 @@ struct Scene {
     }
 };
 
+// Settings asking for `summation`, the rest their defaults.
+SummationSettings asking(Summation summation) {
+    SummationSettings s;
+    s.summation = summation;
+    return s;
+}
+
 void expect_agreement(const Difference& d, const char* what) {
     std::printf("%s: fast vs direct relative RMS %.3g of the mean, worst %.3g of the peak\n", what, d.rms_over_mean,
                 d.worst_over_peak);
@@ -209,14 +216,14 @@ TEST(SummationPlan, ExecutesManyTimesAsFreshPlansDo) {
     for (int t = 0; t < 300; ++t) film.x.push_back(float(f * u(rng))), film.y.push_back(float(f * u(rng)));
     const ApertureSamples samples = sample_aperture({ApertureShape::Circle, 0.25e-3}, sample_pitch(lambda, 0.5));
     for (Summation asked : {Summation::Direct, Summation::Nufft}) {
-        SummationPlan kept = SummationPlan::create(SumKind::SourcesToPinhole, samples, lambda, {asked});
+        SummationPlan kept = SummationPlan::create(SumKind::SourcesToPinhole, samples, lambda, asking(asked));
         kept.set_points(sources);
-        SummationPlan to_film = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, {asked});
+        SummationPlan to_film = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, asking(asked));
         to_film.set_points(film);
         EXPECT_EQ(kept.choice().evaluator, asked == Summation::Nufft ? Evaluator::Nufft : Evaluator::Direct);
         for (int run = 0; run < 3; ++run) {
             for (PointSource& p : sources) p.phase = ph(rng);
-            SummationPlan fresh = SummationPlan::create(SumKind::SourcesToPinhole, samples, lambda, {asked});
+            SummationPlan fresh = SummationPlan::create(SumKind::SourcesToPinhole, samples, lambda, asking(asked));
             fresh.set_points(sources);
             PinholeField a, b;
             ASSERT_TRUE(kept.execute(source_weights(sources), a).ok());
@@ -224,7 +231,7 @@ TEST(SummationPlan, ExecutesManyTimesAsFreshPlansDo) {
             EXPECT_EQ(a.re, b.re) << summation_word(asked) << " run " << run;
             EXPECT_EQ(a.im, b.im) << summation_word(asked) << " run " << run;
             std::vector<std::complex<double>> ua(film.size()), ub(film.size());
-            SummationPlan fresh_film = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, {asked});
+            SummationPlan fresh_film = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, asking(asked));
             fresh_film.set_points(film);
             ASSERT_TRUE(to_film.execute(a, ua.data()).ok());
             ASSERT_TRUE(fresh_film.execute(a, ub.data()).ok());
@@ -232,7 +239,7 @@ TEST(SummationPlan, ExecutesManyTimesAsFreshPlansDo) {
         }
     }
     // auto: the cheaper by the cost model, recorded in the plan's choice
-    SummationPlan chosen = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, {Summation::Auto});
+    SummationPlan chosen = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, asking(Summation::Auto));
     chosen.set_points(film);
     const SumChoice& c = chosen.choice();
     EXPECT_EQ(c.evaluator, c.nufft_work < c.direct_work ? Evaluator::Nufft : Evaluator::Direct);
@@ -295,13 +302,13 @@ TEST(SummationPlan, AutoStopsPlanningWhereThePlanOutweighsTheDirectTerms) {
             }
         return film;
     };
-    SummationPlan few = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, {Summation::Auto});
+    SummationPlan few = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, asking(Summation::Auto));
     ASSERT_TRUE(few.set_points(film_of(8)).ok());
     EXPECT_EQ(few.choice().evaluator, Evaluator::Direct);
     EXPECT_TRUE(std::isinf(few.choice().nufft_work)) << few.choice().nufft_work;
     EXPECT_EQ(few.choice().work, few.choice().direct_work);
     // a narrow field's many points: the plan costs little beside their direct terms, and is weighed
-    SummationPlan narrow = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, {Summation::Auto});
+    SummationPlan narrow = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, asking(Summation::Auto));
     FilmPoints film = film_of(64);
     for (float& x : film.x) x *= 0.1f;
     for (float& y : film.y) y *= 0.1f;

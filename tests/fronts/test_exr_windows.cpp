@@ -217,7 +217,9 @@ void write_parts(const std::string& path, const std::vector<std::pair<std::strin
     auto out = OIIO::ImageOutput::create(path);
     ASSERT_TRUE(out && out->open(path, int(specs.size()), specs.data())) << OIIO::geterror();
     for (size_t s = 0; s < specs.size(); ++s) {
-        if (s > 0) ASSERT_TRUE(out->open(path, specs[s], OIIO::ImageOutput::AppendSubimage));
+        if (s > 0) {
+            ASSERT_TRUE(out->open(path, specs[s], OIIO::ImageOutput::AppendSubimage));
+        }
         std::vector<float> px;
         for (int y = 0; y < 20; ++y)
             for (int x = 0; x < 24; ++x) {
