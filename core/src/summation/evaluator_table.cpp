@@ -12,9 +12,7 @@ std::unique_ptr<SumEvaluator> gpu_direct_sum(const SumGeometry& g, const SumChoi
 }
 std::unique_ptr<SumEvaluator> direct_sum(const SumGeometry& g, const SumChoice&) { return make_direct_evaluator(g); }
 
-}  // namespace
-
-const EvaluatorRow kEvaluators[kEvaluatorCount] = {
+const EvaluatorRow kRows[] = {
     // summation, word, device, on the frame's lattice, a frame's runs, one sum, estimates (one sum, a frame)
     {Summation::Direct, "direct", Device::Cpu, true, make_exact_runs, direct_sum, direct_sum_work, nullptr},
     {Summation::Direct, "direct", Device::Gpu, true, make_exact_runs, gpu_direct_sum, direct_sum_work, nullptr},
@@ -23,13 +21,17 @@ const EvaluatorRow kEvaluators[kEvaluatorCount] = {
     {Summation::Psf, "psf", Device::Gpu, false, make_psf_runs, nullptr, nullptr, psf_cost},
 };
 
+}  // namespace
+
+const EvaluatorRows kEvaluators{kRows, kRows + sizeof(kRows) / sizeof(kRows[0])};
+
 const EvaluatorRow& evaluator_row(Summation s, Device device) {
     const Summation wanted = s == Summation::Auto ? Summation::Direct : s;  // auto: the exact sums
     for (const EvaluatorRow& row : kEvaluators)
         if (serves(row, wanted, device)) return row;
     for (const EvaluatorRow& row : kEvaluators)
         if (serves(row, wanted, Device::Cpu)) return row;
-    return kEvaluators[0];
+    return kRows[0];
 }
 
 }  // namespace detail

@@ -74,8 +74,14 @@ struct EvaluatorRow {
     double (*estimate)(const FrameSums& frame, const ChoiceSettings& settings);
 };
 
-constexpr int kEvaluatorCount = 5;
-extern const EvaluatorRow kEvaluators[kEvaluatorCount];
+// The table's rows, for range-for (evaluator_table.cpp lists them: a row added there is counted).
+struct EvaluatorRows {
+    const EvaluatorRow* first;
+    const EvaluatorRow* last;
+    const EvaluatorRow* begin() const { return first; }
+    const EvaluatorRow* end() const { return last; }
+};
+extern const EvaluatorRows kEvaluators;
 
 // Whether `row` serves `asked` (auto: every row) on `device` (Cpu or Gpu).
 inline bool serves(const EvaluatorRow& row, Summation asked, Device device) {
