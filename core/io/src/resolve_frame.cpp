@@ -178,18 +178,9 @@ Result<bool> check_camera(const ResolvedFrame& f, const std::string& name, const
 std::string detail::auto_choice(const SceneSumSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
     if (s.summation == Summation::Psf) return "psf";
     EvaluatorSet e = evaluators_run(s.device);
-    if (!e.words().empty()) return e.words();
-    for (int k = 0; k < basis.size(); ++k) {
-        const double wavelength = basis.wavelength(k);
-        const SumChoice* in = s.decision ? s.decision->to_pinhole_at(wavelength) : nullptr;
-        const SumChoice* out = s.decision ? s.decision->to_film_at(wavelength) : nullptr;
-        if (!in || !out) {
-            e.add(scene_evaluators(s, camera, wavelength));
-            continue;
-        }
-        const bool in_nufft = in->evaluator == Evaluator::Nufft, out_nufft = out->evaluator == Evaluator::Nufft;
-        e.add({!in_nufft, in_nufft, !out_nufft, out_nufft});
-    }
+    // (before they ran: the job's decision, which scene_evaluators reads where it holds one)
+    if (e.words().empty())
+        for (int k = 0; k < basis.size(); ++k) e.add(scene_evaluators(s, camera, basis.wavelength(k)));
     return e.words();
 }
 

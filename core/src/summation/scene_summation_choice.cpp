@@ -214,6 +214,7 @@ SummationDecision decide_summation(const SceneSumSettings& asked, const PinholeC
     s.row_begin = s.run_begin = 0;
     s.row_end = s.run_end = -1;
     for (const double wavelength : wavelengths) {
+        if (d.to_pinhole_at(wavelength)) continue;  // (monochrome light: three samples of one wavelength)
         const SummationChoice c = scene_choice(s, camera, wavelength, {s.summation, false, &s.device, 0});
         d.wavelengths.push_back(wavelength);
         d.to_pinhole.push_back(c.in);
