@@ -17,7 +17,7 @@ PACKAGES=(
   dpkg-dev file help2man
   # tests and benchmarks
   libgtest-dev libbenchmark-dev
-  # the Vulkan evaluator of the exact sums: the loader and headers, glslc for its shaders, and
+  # the Vulkan evaluator of the point sums: the loader and headers, glslc for its shaders, and
   # Mesa's lavapipe, the Vulkan device on the CPU its tests run on (vulkaninfo to look at devices)
   libvulkan-dev glslc mesa-vulkan-drivers vulkan-tools
   # labels on contact sheets (OIIO render_text)

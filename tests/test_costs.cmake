@@ -4,20 +4,20 @@
 # once it has one; a name not in the directory is ignored.
 foreach(cost_and_test
     100 OneSourceModel.AllThreeMethodsConvergeToOneImage
-    180 WideField.PsfRunsMatchTheExactSumsWithTheSamePhases
+    180 WideField.KernelRunsMatchThePointSumsWithTheSamePhases
     113 WideField.ConvolutionMethodMatchesTheRayleighSommerfeldIntegral
-    90 WideField.PsfSummationAndExactSumsAtTheWidestFieldsMatchTheRayleighSommerfeldIntegral
-    30 GpuSums.PsfSummationRunsMatchTheCpu
+    90 WideField.KernelSummationAndPointSumsAtTheWidestFieldsMatchTheRayleighSommerfeldIntegral
+    30 GpuSums.KernelSummationRunsMatchTheCpu
     87 ApplyCommand.TheEnvironmentChangesNoImageAndNoWordMeansTwoThings
     72 PhaseCode.RunsFromThePsfKeepEveryChannelWithinTwoPercentWhereThePsfIsWide
-    64 PsfSummation.IncoherentMatchesTheExactIncoherentSum
+    64 KernelSummation.IncoherentMatchesTheExactIncoherentSum
     61 ApplyHostile.EveryTerminatingSignalDuringTheWriteKeepsTheOldOutput
-    55 ExactNoise.PerChannelVarianceIsTheWavelengthSumAndFallsAsOneOverK
+    55 RandomPhaseNoise.PerChannelVarianceIsTheWavelengthSumAndFallsAsOneOverK
     45 Shares.EverySplitOfEveryJobShapeMergesToTheSingleRun
     45 Plugin.OiiotoolMatchesWavecamApply
     35 Shares.MergeEqualsTheSingleMachineRun
     32 nufft.FresnelZones.OnAxisIrradianceFollowsTheZoneCount
-    28 WideField.ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral)
+    28 WideField.PointSumsAndKernelSummationMatchTheRayleighSommerfeldIntegral)
   string(REGEX MATCH "^[0-9]+" cost "${cost_and_test}")
   if(cost)
     set(test_cost ${cost})

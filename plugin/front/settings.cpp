@@ -142,15 +142,15 @@ const std::vector<SettingKey> kKeys = {
                               {"incoherent", DiffractMethod::Incoherent}},
                              o.method);
      }},
-    {"summation", "direct", "how the random-phase and incoherent methods evaluate their two sums: auto (default: psf where "
+    {"summation", "direct", "how the random-phase and incoherent methods evaluate their two sums: auto (default: kernel where "
      "it applies and is cheaper, else the cheaper of direct and nufft by the work estimate), direct (term by term, the reference), nufft (NUFFTs "
-     "over the pinhole lattice, relative error ~3e-4) or psf (each run a convolution with amplitude PSFs that the "
+     "over the pinhole lattice, relative error ~3e-4) or kernel (each run a convolution with amplitude PSFs that the "
      "sums compute at field anchors and depth layers; sources at pixel centres)",
      true,
      [](const std::string& v, const std::string& n, DiffractOptions& o) {
          return parse_choice(n, v, summation_choices(), o.scene_sum.summation);  // the evaluators' table's words
      }},
-    {"device", "gpu", "where the random-phase and incoherent methods run their direct sums and psf runs: cpu (default), gpu "
+    {"device", "gpu", "where the random-phase and incoherent methods run their direct sums and kernel runs: cpu (default), gpu "
      "(a Vulkan device, a discrete GPU first, running every sum; an error if there is none, and for summation nufft, "
      "which has no GPU evaluator) or auto (a discrete GPU when there is one, else the CPU, said in the job line); "
      "the machine's choice, never a source's metadata",
@@ -268,6 +268,7 @@ constexpr OldSpelling kOldSpellings[] = {
     {"method", "fast", "convolution"},
     {"method", "exact", "random-phase"},
     {"summation", "fast", "auto"},
+    {"summation", "psf", "kernel"},
 };
 
 // The present word for `text`, and a note when it is an old spelling.

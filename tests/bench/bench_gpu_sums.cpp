@@ -1,8 +1,8 @@
-// Direct terms per second of the exact sums on every device found: the CPU's direct kernel
+// Direct terms per second of the point sums on every device found: the CPU's direct kernel
 // (propagation.cpp, all cores) and the Vulkan evaluator (gpu_sums.h) on the device `gpu` picks
 // (set VK_ICD_FILENAMES to choose a driver, e.g. Mesa's lavapipe). One term = one pinhole sample
 // contributing to one film point (sum 2) or one source to one pinhole sample (sum 1).
-// And the psf summation's frames (psf_summation.h) on each device: 1 and 16 runs of a
+// And the kernel summation's frames (kernel_summation.h) on each device: 1 and 16 runs of a
 // 96 x 96 frame, so that the script can take one run's time as the difference over 15.
 // Run: tests/bench/run_gpu_bench.sh [build-dir]
 #include <benchmark/benchmark.h>
@@ -112,7 +112,7 @@ void BM_PinholeSumGpu(benchmark::State& state) {
             state.SkipWithError(r.error.c_str());
     rate(state, c.pinhole_terms());
 }
-// A textured 96 x 96 frame at 30 deg, f = 2 mm, a 0.05 mm pinhole, 550 nm, two depths: the psf
+// A textured 96 x 96 frame at 30 deg, f = 2 mm, a 0.05 mm pinhole, 550 nm, two depths: the kernel
 // summation with state.range(0) runs on `device`.
 void psf_frame(benchmark::State& state, const ComputeDevice& device) {
     PinholeCamera c{96, 96, 30 * M_PI / 180, 2e-3};
@@ -124,7 +124,7 @@ void psf_frame(benchmark::State& state, const ComputeDevice& device) {
     SceneSumSettings s;
     s.aperture = {ApertureShape::Circle, 0.05e-3};
     s.runs = int(state.range(0));
-    s.summation = Summation::Psf;
+    s.summation = Summation::Kernel;
     s.device = device;
     const MonochromeScene scene{c, power.data(), depth.data(), DepthMeaning::Planar};
     for (auto _ : state)

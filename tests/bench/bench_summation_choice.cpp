@@ -53,7 +53,7 @@ void run_case(benchmark::State& state, const Case& k) {
     s.runs = k.runs;
     s.nearest_depth = nearest_depth(frame.camera, frame.depth.data(), DepthMeaning::Planar);
     s.summation = k.summation;
-    // (auto: the estimate weighs psf against the exact sums; the run takes what the job would)
+    // (auto: the estimate weighs the kernel summation against the point sums; the run takes what the job would)
     const double rate = measured_term_rate(0);
     const SummationEstimate e = estimate_summation(s, frame.camera, lambda, rate);
     s.summation = chosen_summation(s, frame.camera, lambda);
@@ -94,11 +94,11 @@ void BM_Part6_64px_incoherent(benchmark::State& state) {
 }
 
 constexpr int kAuto = int(Summation::Auto), kDirect = int(Summation::Direct), kNufft = int(Summation::Nufft),
-              kPsf = int(Summation::Psf);
+              kPsf = int(Summation::Kernel);
 
 }  // namespace
 
-// (Arg: the summation, 0 auto, 1 direct, 2 nufft, 3 psf)
+// (Arg: the summation, 0 auto, 1 direct, 2 nufft, 3 kernel)
 BENCHMARK(BM_Part1_40px_1run)->Arg(kDirect)->Arg(kNufft)->Arg(kPsf)->Arg(kAuto)
     ->Unit(benchmark::kSecond)->UseManualTime()->Iterations(1);
 BENCHMARK(BM_Part2_96px_4runs)->Arg(kNufft)->Arg(kPsf)->Arg(kAuto)

@@ -13,7 +13,7 @@ python3 - "$out" <<'PY'
 import json, sys
 runs = json.load(open(sys.argv[1]))["benchmarks"]
 print(f"term rate measured at the start: {runs[0].get('term_rate', 0):.3g} terms/s")
-words = {"0": "auto", "1": "direct", "2": "nufft", "3": "psf"}
+words = {"0": "auto", "1": "direct", "2": "nufft", "3": "kernel"}
 print(f"{'case':28} {'summation':9} {'estimated s':>11} {'measured s':>10} {'ratio':>6}  reason")
 for b in runs:
     name, arg = b["name"].split("/")[0][3:], b["name"].split("/")[1]

@@ -60,5 +60,5 @@ print(f'{\"$label\":44} {$est:10d}s {m:9.1f}s {m / e:6.2f}{flag}')"
 run "48x32 60deg random-phase 16 runs, auto" small --method random-phase --runs 16 --wavelengths 3
 run "48x32 60deg random-phase 1 run, direct" small --method random-phase --runs 1 --wavelengths 3 --summation direct
 run "64x48 50deg random-phase 8 runs, nufft" medium --method random-phase --runs 8 --wavelengths 3 --summation nufft
-run "64x48 50deg random-phase 16 runs, psf" medium --method random-phase --runs 16 --wavelengths 3 --summation psf
+run "64x48 50deg random-phase 16 runs, kernel" medium --method random-phase --runs 16 --wavelengths 3 --summation kernel
 run "48x32 60deg incoherent, auto" small --method incoherent --wavelengths 3

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Direct terms per second of the exact sums on the CPU and on the Vulkan device, and the psf
+# Direct terms per second of the point sums on the CPU and on the Vulkan device, and the kernel
 # summation's time per run on each (16 runs less 1 run, over 15), with the device's ratio to the
 # CPU: once with the drivers the loader finds, and once on Mesa's lavapipe (the GPU code on the
 # CPU) when installed.
@@ -8,7 +8,7 @@ set -euo pipefail
 build=${1:-build}
 out=$(mktemp)
 trap 'rm -f "$out"' EXIT
-per_run() {  # the psf frames' time per run, from the JSON of one bench run
+per_run() {  # the kernel frames' time per run, from the JSON of one bench run
   python3 - "$out" <<'PY'
 import json, sys
 t = {b["name"]: b["real_time"] for b in json.load(open(sys.argv[1]))["benchmarks"] if "error_occurred" not in b}
@@ -20,7 +20,7 @@ for dev in ("Cpu", "Gpu"):
     run = (b - a) / 15
     cpu = run if dev == "Cpu" else cpu
     ratio = f", {cpu / run:.2f}x the CPU" if dev == "Gpu" and cpu else ""
-    print(f"psf summation, 96x96 frame: {dev}: one run {run:.1f} ms (1 run {a:.0f} ms, 16 runs {b:.0f} ms){ratio}")
+    print(f"kernel summation, 96x96 frame: {dev}: one run {run:.1f} ms (1 run {a:.0f} ms, 16 runs {b:.0f} ms){ratio}")
 PY
 }
 date -u +"%Y-%m-%d %H:%M UTC, $(nproc) cores"

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The random-phase method's summation measured, whole process, each
 # figure from this run:
-# Parts 1 to 5 measure the exact sums (--summation nufft, the lattice evaluator; part 1 against
-# direct), parts 6 and 7 the psf summation and the defaults (64 runs, auto: psf where it applies).
+# Parts 1 to 5 measure the point sums (--summation nufft, the lattice evaluator; part 1 against
+# direct), parts 6 and 7 the kernel summation and the defaults (64 runs, auto: the kernel summation where it applies).
 #   1. 96x96, 1 wavelength, 1 run, 50deg: --summation direct against nufft (goal: direct / nufft >= 80);
 #   2. 256x256, 3 wavelengths, 16 runs, default pinhole, 50deg: nufft (goal <= 300 s);
 #   3. 1920x1080, 16 wavelengths, 16 runs, 50deg: nufft, the whole job (about 30 minutes here),
@@ -14,11 +14,11 @@
 #   5. the converged random-phase method against the default: 128x128, 3 wavelengths, 50deg,
 #      --method convolution, then random-phase at 16 and 64 runs (64 brings the wall's every channel
 #      under 2%); prints each time and 64 runs / convolution (goal <= 30).
-#   6. the same frame through --summation psf (the runs as convolutions with amplitude PSFs):
+#   6. the same frame through --summation kernel (the runs as convolutions with amplitude PSFs):
 #      random-phase at 16 and 64 runs, and --method incoherent; then random-phase with every
 #      other setting at its default (64 runs, auto); prints each time, the estimate printed before
 #      work, and 64 runs / convolution and the default / convolution (goal <= 30).
-#   7. part 3's frame and job through --summation psf (about 5 minutes here; goal 5 minutes), with
+#   7. part 3's frame and job through --summation kernel (about 5 minutes here; goal 5 minutes), with
 #      the convolution method's time on the same frame and the estimate printed before work.
 # Frames: uniform noise x a checker (radiance), depth from 0.3 m to 20 m (top to bottom).
 # Usage: tests/bench/run_summation_bench.sh [build-dir] [part...]
@@ -92,20 +92,20 @@ case $part in
   echo "5. 128x128, 3 wavelengths, 50deg: convolution ${t_conv} s; random-phase 16 runs ${t16} s, 64 runs ${t64} s; 64 runs / convolution $(ratio "$t64" "$t_conv") (goal <= 30)" ;;
 6)
   frame 128 128 50.0 f128.exr
-  psf="--method random-phase --summation psf --wavelengths 3"
+  kernel="--method random-phase --summation kernel --wavelengths 3"
   t_conv=$(seconds "$wavecam" apply f128.exr -o conv.exr --method convolution --wavelengths 3)
-  t16=$(seconds "$wavecam" apply f128.exr -o p16.exr $psf --runs 16)
-  t64=$(seconds "$wavecam" apply f128.exr -o p64.exr $psf --runs 64)
-  t_inc=$(seconds "$wavecam" apply f128.exr -o pinc.exr --method incoherent --summation psf --wavelengths 3)
+  t16=$(seconds "$wavecam" apply f128.exr -o p16.exr $kernel --runs 16)
+  t64=$(seconds "$wavecam" apply f128.exr -o p64.exr $kernel --runs 64)
+  t_inc=$(seconds "$wavecam" apply f128.exr -o pinc.exr --method incoherent --summation kernel --wavelengths 3)
   t_default=$(seconds "$wavecam" apply f128.exr -o pdef.exr --method random-phase --wavelengths 3)
-  estimate=$("$wavecam" apply f128.exr -o p64.exr $psf --runs 64 --max-terms 1 2>&1 | sed -n 's/.*, about \([^,]*\) at .*/\1/p' || true)
-  echo "6. 128x128, 3 wavelengths, 50deg, psf summation: convolution ${t_conv} s; random-phase 16 runs ${t16} s, 64 runs ${t64} s (estimated ${estimate:-?}); incoherent ${t_inc} s; 64 runs / convolution $(ratio "$t64" "$t_conv") (goal <= 30); random-phase at its defaults (64 runs, auto) ${t_default} s, / convolution $(ratio "$t_default" "$t_conv")" ;;
+  estimate=$("$wavecam" apply f128.exr -o p64.exr $kernel --runs 64 --max-terms 1 2>&1 | sed -n 's/.*, about \([^,]*\) at .*/\1/p' || true)
+  echo "6. 128x128, 3 wavelengths, 50deg, kernel summation: convolution ${t_conv} s; random-phase 16 runs ${t16} s, 64 runs ${t64} s (estimated ${estimate:-?}); incoherent ${t_inc} s; 64 runs / convolution $(ratio "$t64" "$t_conv") (goal <= 30); random-phase at its defaults (64 runs, auto) ${t_default} s, / convolution $(ratio "$t_default" "$t_conv")" ;;
 7)
   frame 1920 1080 50.0 f1080.exr
-  psf="--method random-phase --summation psf --wavelengths 16 --runs 16"
+  kernel="--method random-phase --summation kernel --wavelengths 16 --runs 16"
   t_conv=$(seconds "$wavecam" apply f1080.exr -o conv.exr --method convolution --wavelengths 16)
-  t=$(seconds "$wavecam" apply f1080.exr -o p1080.exr $psf)
-  estimate=$("$wavecam" apply f1080.exr -o p1080.exr $psf --max-terms 1 2>&1 | sed -n 's/.*, about \([^,]*\) at .*/\1/p' || true)
-  echo "7. 1920x1080, 16 wavelengths, 16 runs, 50deg, psf summation: the job ${t} s, $(python3 -c "print(f'{$t / 60:.1f}')") min (goal 5 min; estimated ${estimate:-?}); convolution ${t_conv} s; job / convolution $(ratio "$t" "$t_conv")" ;;
+  t=$(seconds "$wavecam" apply f1080.exr -o p1080.exr $kernel)
+  estimate=$("$wavecam" apply f1080.exr -o p1080.exr $kernel --max-terms 1 2>&1 | sed -n 's/.*, about \([^,]*\) at .*/\1/p' || true)
+  echo "7. 1920x1080, 16 wavelengths, 16 runs, 50deg, kernel summation: the job ${t} s, $(python3 -c "print(f'{$t / 60:.1f}')") min (goal 5 min; estimated ${estimate:-?}); convolution ${t_conv} s; job / convolution $(ratio "$t" "$t_conv")" ;;
 esac
 done

@@ -402,13 +402,13 @@ def settings():
           flush=True)
     w.device = 'cpu'
     w.max_terms_text = "4e12"
-    # the psf summation, and the device
-    w.summation = 'psf'
+    # the kernel summation, and the device
+    w.summation = 'kernel'
     w.device = 'cpu'
-    out = render("random_phase_psf")
+    out = render("random_phase_kernel")
     spec = oiio.ImageInput.open(out).spec() if os.path.exists(out) else None
-    expect(spec is not None and spec.getattribute("wavecam.summation") == "psf", "psf: wavecam.summation psf")
-    expect(spec is not None and str(spec.getattribute("wavecam.device")).startswith("cpu"), "psf: wavecam.device cpu")
+    expect(spec is not None and spec.getattribute("wavecam.summation") == "kernel", "kernel: wavecam.summation kernel")
+    expect(spec is not None and str(spec.getattribute("wavecam.device")).startswith("cpu"), "kernel: wavecam.device cpu")
     if spec is not None:
         print(f"summation: {spec.getattribute('wavecam.summation')} on {spec.getattribute('wavecam.device')}",
               flush=True)

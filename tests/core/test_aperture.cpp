@@ -100,7 +100,7 @@ TEST(Aperture, RegularPolygonHasAVertexOnPlusXAtZeroRotation) {
 
 // even_in_x / even_in_y (which let the convolution method mirror one anchor's kernels into its
 // mirror image's) say yes exactly where the transmission reads the same at (-x, y) / (x, -y);
-// even_across_antidiagonal (which lets the psf summation transpose them on a square frame), where
+// even_across_antidiagonal (which lets the kernel summation transpose them on a square frame), where
 // it reads the same at (-y, -x).
 TEST(Aperture, EvenInXOrYOrAcrossTheAntidiagonalExactlyWhereTheTransmissionIs) {
     auto parsed = [](const char* text) { return parse_aperture(text, "aperture").value; };

@@ -1,7 +1,7 @@
 // The convolution method's PSFs (fresnel_psf.cpp) against the exact Rayleigh-Sommerfeld sum of
 // `wavecam psf` and the Airy pattern: shapes and absolute shares of the transmitted power, on
 // and off axis, near and far. Pinholes of 1.26 and 2.5 mm at f = 50 mm are in
-// test_fresnel_psf_large.cpp (heavy: their exact sums take minutes).
+// test_fresnel_psf_large.cpp (heavy: their point sums take minutes).
 #include <gtest/gtest.h>
 
 #include <cmath>

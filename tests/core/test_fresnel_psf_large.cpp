@@ -1,6 +1,6 @@
 // The convolution method's PSFs for large pinholes (many Fresnel zones, the transfer-function
 // evaluation) against the exact Rayleigh-Sommerfeld sum: 1.26 and 2.5 mm at f = 50 mm, 4 and 8
-// times the optimum, on axis and at 20deg. Heavy: the exact sums take about a minute each.
+// times the optimum, on axis and at 20deg. Heavy: the point sums take about a minute each.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -30,7 +30,7 @@ TEST(FresnelPsfLarge, LargePinholesAt50mmMatchTheExactImage) {
             const double window = (1.5 * (q.radius + 1) * q.pixel_pitch + 0.5 * d) / q.film_distance;
             const auto exact = exact_kernel(q, 3, window);
             const std::string what = std::to_string(d * 1e3) + " mm, " + std::to_string(deg) + " deg";
-            // Inside the shadow the exact sum's 3 x 3 film points per pixel sample Fresnel ripples
+            // Inside the shadow the point sum's 3 x 3 film points per pixel sample Fresnel ripples
             // finer than themselves (11 um at 2.5 mm), so its inner radii carry ~1% of noise.
             const int R = q.radius;
             for (double r : {0.25, 0.5, 0.75, 1.0})

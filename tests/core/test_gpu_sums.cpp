@@ -1,4 +1,4 @@
-// The Vulkan evaluators (wavecam/gpu_sums.h, the psf summation's runs) and the device handle that
+// The Vulkan evaluators (wavecam/gpu_sums.h, the kernel summation's runs) and the device handle that
 // holds them (wavecam/compute_device.h), run on whatever Vulkan device the environment gives:
 // ctest points VK_ICD_FILENAMES at Mesa's lavapipe, so the GPU code runs on the CPU in CI.
 // Checked against the CPU's direct sums (relative RMS <= 1e-4, both float), against analytic
@@ -13,7 +13,7 @@
 #include <cstdlib>
 #include <random>
 
-#include "gpu/gpu_psf_summation.h"
+#include "gpu/gpu_kernel_summation.h"
 #include "vulkan_test.h"
 #include "wavecam/compute_device.h"
 #include "wavecam/gpu_sums.h"
@@ -295,11 +295,11 @@ TEST(GpuSums, SceneFrameMatchesTheCpu) {
     }
 }
 
-// The psf summation's runs on the device (transforms, products and film powers in its shaders,
+// The kernel summation's runs on the device (transforms, products and film powers in its shaders,
 // the kernels' one-source sums through its direct terms) against the same runs on the CPU: a
 // textured 12 x 10 frame at 30 deg over two depths (two layers), random-phase and incoherent; `auto`
 // without a discrete GPU gives the CPU's image bit for bit.
-TEST(GpuSums, PsfSummationRunsMatchTheCpu) {
+TEST(GpuSums, KernelSummationRunsMatchTheCpu) {
     REQUIRE_VULKAN();
     PinholeCamera c{12, 10, 30 * M_PI / 180, 2e-3};
     std::vector<float> power(size_t(c.width) * c.height), depth(power.size());
@@ -314,7 +314,7 @@ TEST(GpuSums, PsfSummationRunsMatchTheCpu) {
         s.aperture = {ApertureShape::Circle, 0.04e-3};
         s.method = method;
         s.runs = 3;
-        s.summation = Summation::Psf;
+        s.summation = Summation::Kernel;
         std::vector<float> cpu(power.size(), 0.0f), gpu(power.size(), 0.0f), fallback(power.size(), 0.0f);
         const MonochromeScene scene{c, power.data(), depth.data(), DepthMeaning::Planar};
         auto r = diffract_monochrome(scene, 550e-9, s, cpu.data());
@@ -328,7 +328,7 @@ TEST(GpuSums, PsfSummationRunsMatchTheCpu) {
         EXPECT_GT(light, 0);
         const double rms = relative_rms(gpu, cpu);
         EXPECT_LE(rms, 1e-4) << (method == CoherenceMethod::Incoherent ? "incoherent" : "runs");
-        std::printf("psf on the device vs the CPU (%s): relative RMS %.2e\n",
+        std::printf("the kernel summation on the device vs the CPU (%s): relative RMS %.2e\n",
                     method == CoherenceMethod::Incoherent ? "incoherent" : "3 runs", rms);
         s.device = ComputeDevice::create(Device::Auto);
         ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, fallback.data()).ok());
@@ -342,12 +342,12 @@ TEST(GpuSums, PsfSummationRunsMatchTheCpu) {
 // as a large pinhole's Fresnel structure gives): every sub-point's product reaches the film.
 // With every spectrum 1 each sub-point's film is the sources transformed there and back, N x the
 // sources, so a pixel's sum over the sub-points is points x N^2 x |source|^2.
-TEST(GpuSums, PsfSummationTakesMoreSubPointsThanOneSubmission) {
+TEST(GpuSums, KernelSummationTakesMoreSubPointsThanOneSubmission) {
     REQUIRE_VULKAN();
     const int n = 8, points = 300;
-    auto made = detail::GpuPsfSummation::create(gpu_device(), n, n, 1, points);
+    auto made = detail::GpuKernelSummation::create(gpu_device(), n, n, 1, points);
     ASSERT_TRUE(made.ok()) << made.error;
-    detail::GpuPsfSummation& gpu = *made.value;
+    detail::GpuKernelSummation& gpu = *made.value;
     const std::vector<std::complex<float>> ones(size_t(n) * n, 1.0f);
     for (int p = 0; p < points; ++p) ASSERT_TRUE(gpu.set_spectrum(0, p, ones.data()).ok());
     gpu.begin_run();

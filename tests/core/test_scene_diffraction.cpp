@@ -205,7 +205,7 @@ TEST(SceneDiffraction, RandomPhaseAverageConvergesAsOneOverRootK) {
     TestScene scene(test::small_camera(8, f, 40e-6));
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> uni(0.0f, 1.0f);
-    // a dark frame edge: no scene beyond it (test_exact_frame.cpp tests that), whose margin
+    // a dark frame edge: no scene beyond it (test_point_sum_frame.cpp tests that), whose margin
     // would cost 9 times the frame's sources here, where the PSF is wider than the frame
     for (size_t p = 0; p < scene.power.size(); ++p) {
         const size_t i = p % 8, j = p / 8;

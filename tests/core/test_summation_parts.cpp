@@ -1,10 +1,10 @@
-// Parts of the exact sums' evaluation checked on their own against independent math
+// Parts of the point sums' evaluation checked on their own against independent math
 // (docs/summation.md): the interpolative decomposition of node functions
 // (core/src/node_skeleton.h), the band-limited stencil that reads and spreads off-lattice
 // samples (core/src/band_limited_stencil.h), the film points' average of a pixel
-// (core/src/pixel_average.h), the few kernels and sub-point modes the psf summation's runs
+// (core/src/pixel_average.h), the few kernels and sub-point modes the kernel summation's runs
 // transform (core/src/kernel_basis.h), its kernels' own pinhole lattice and the memo that keeps
-// them for a wavelength's two parts (core/src/psf_summation.h); and that the exact sums' tests
+// them for a wavelength's two parts (core/src/summation/kernel/kernel_summation.h); and that the point sums' tests
 // re-run through every row of the evaluators' table (tests/CMakeLists.txt).
 #include <gtest/gtest.h>
 
@@ -19,8 +19,8 @@
 #include <vector>
 
 #include "summation/nufft/band_limited_stencil.h"
-#include "summation/psf/psf_summation.h"
-#include "summation/psf/kernel_basis.h"
+#include "summation/kernel/kernel_summation.h"
+#include "summation/kernel/kernel_basis.h"
 #include "summation/nufft/node_skeleton.h"
 #include "summation/pixel_average.h"
 #include "summation/summation_evaluator.h"
@@ -315,7 +315,7 @@ TEST(SubPointModes, KeepTheSubPointsPowerInFewerModes) {
     for (const cdouble w : one.weight) EXPECT_EQ(w, cdouble(1.0));
 }
 
-// The psf kernels' own pinhole lattice gives the kernel the frame's lattice gives: one source at
+// The kernel summation's kernels' own pinhole lattice gives the kernel the frame's lattice gives: one source at
 // the corner of a 50 degree frame (f = 50 mm, 0.3 mm pinhole, 64 x 64, planar depth 1 m), direct
 // sums to the film points of the 9 x 9 pixels round its image, on the frame's lambda / 2 lattice
 // and on kernel_lattice_pitch's, many times coarser. Powers within 1e-3 of the peak everywhere,
@@ -323,7 +323,7 @@ TEST(SubPointModes, KeepTheSubPointsPowerInFewerModes) {
 TEST(KernelLattice, GivesTheKernelTheFramesLatticeGives) {
     using namespace wavecam;
     const double lambda = 550e-9;
-    detail::PsfSummationSpec spec;
+    detail::KernelSummationSpec spec;
     spec.camera = {64, 64, 50 * M_PI / 180, 50e-3};
     spec.aperture = {ApertureShape::Circle, 0.3e-3};
     spec.wavelength = lambda;
@@ -376,7 +376,7 @@ TEST(KernelLattice, GivesTheKernelTheFramesLatticeGives) {
 // A job's memo makes a convolution once for the calls that ask for the same one (a wavelength's
 // positive and negative parts) and again when the wavelength changes; a call through it gives
 // the image a call without it gives, bit for bit.
-TEST(PsfSummationMemo, KeepsTheConvolutionForTheSameWavelength) {
+TEST(KernelSummationMemo, KeepsTheConvolutionForTheSameWavelength) {
     using namespace wavecam;
     const PinholeCamera camera{12, 12, 30 * M_PI / 180, 2e-3};
     std::vector<float> depth(144, 1.0f), first(144), second(144);
@@ -386,11 +386,11 @@ TEST(PsfSummationMemo, KeepsTheConvolutionForTheSameWavelength) {
     }
     SceneSumSettings s;
     s.aperture = {ApertureShape::Circle, 0.05e-3};
-    s.summation = Summation::Psf;
+    s.summation = Summation::Kernel;
     s.runs = 2;
-    detail::PsfSummationMemo memo;
+    detail::KernelSummationMemo memo;
     int made = 0;
-    detail::PsfSummationSpec spec;
+    detail::KernelSummationSpec spec;
     spec.camera = camera;
     spec.aperture = s.aperture;
     spec.wavelength = 550e-9;
@@ -407,7 +407,7 @@ TEST(PsfSummationMemo, KeepsTheConvolutionForTheSameWavelength) {
     };
     auto make = [&] {
         ++made;
-        return detail::PsfSummation::create(spec, pitch, unit, {});
+        return detail::KernelSummation::create(spec, pitch, unit, {});
     };
     auto a = memo.get(spec, pitch, make), b = memo.get(spec, pitch, make);
     ASSERT_TRUE(a.ok() && b.ok());
@@ -417,7 +417,7 @@ TEST(PsfSummationMemo, KeepsTheConvolutionForTheSameWavelength) {
     ASSERT_TRUE(memo.get(spec, pitch, make).ok());
     EXPECT_EQ(made, 2);
 
-    detail::PsfSummationMemo job;
+    detail::KernelSummationMemo job;
     for (const std::vector<float>* power : {&first, &second}) {
         const MonochromeScene scene{camera, power->data(), depth.data(), DepthMeaning::Planar};
         std::vector<float> with(144, 0.0f), without(144, 0.0f);
@@ -427,10 +427,10 @@ TEST(PsfSummationMemo, KeepsTheConvolutionForTheSameWavelength) {
     }
 }
 
-// Every row of the evaluators' table re-runs the exact sums' tests through its word
+// Every row of the evaluators' table re-runs the point sums' tests through its word
 // (tests/CMakeLists.txt: WAVECAM_EVALUATOR_RERUNS), and every row that runs on a device there too
-// where the Vulkan evaluator is built (WAVECAM_GPU_RERUNS), but psf: its runs on the device are
-// checked against the CPU's by GpuSums.PsfSummationRunsMatchTheCpu. A row added to the table
+// where the Vulkan evaluator is built (WAVECAM_GPU_RERUNS), but the kernel summation: its runs on the device are
+// checked against the CPU's by GpuSums.KernelSummationRunsMatchTheCpu. A row added to the table
 // without its re-runs fails here.
 TEST(EvaluatorReruns, EveryRowOfTheTable) {
     auto words = [](const char* list) {
@@ -442,8 +442,8 @@ TEST(EvaluatorReruns, EveryRowOfTheTable) {
     std::set<std::string> rows;
     for (const wavecam::detail::EvaluatorRow& row : wavecam::detail::kEvaluators) {
         rows.insert(row.word);
-        EXPECT_EQ(reruns.count(row.word), 1u) << row.word << " has no re-run of the exact sums' tests";
-        if (vulkan_built && row.device == wavecam::Device::Gpu && row.summation != wavecam::Summation::Psf) {
+        EXPECT_EQ(reruns.count(row.word), 1u) << row.word << " has no re-run of the point sums' tests";
+        if (vulkan_built && row.device == wavecam::Device::Gpu && row.summation != wavecam::Summation::Kernel) {
             EXPECT_EQ(gpu_reruns.count(row.word), 1u) << row.word << " has no re-run on the device";
         }
     }

@@ -316,7 +316,7 @@ TEST(SummationPlan, AutoStopsPlanningWhereThePlanOutweighsTheDirectTerms) {
     EXPECT_TRUE(std::isfinite(narrow.choice().nufft_work)) << narrow.choice().nufft_work;
 }
 
-// A job decides once (decide_summation): each exact sum's evaluator at each wavelength, from the
+// A job decides once (decide_summation): each point sum's evaluator at each wavelength, from the
 // same counts the estimate prices, and every wavelength's sums follow it; nothing below decides
 // again. Shown by a decision that differs from what the frame alone would take: a 4 x 4 frame
 // takes the direct terms for both sums, and the job's sums follow a decision of nufft for the
@@ -329,7 +329,7 @@ TEST(SummationDecision, TheJobDecidesOnceAndItsSumsFollow) {
     s.runs = 1;
     s.film_subsamples = 1;
     s.nearest_depth = 2.0;
-    s.jitter = true;  // (the psf summation does not apply: the exact sums' choices are the decision)
+    s.jitter = true;  // (the kernel summation does not apply: the point sums' choices are the decision)
     const SummationDecision d = decide_summation(s, scene.camera, {450e-9, lambda, 650e-9});
     ASSERT_EQ(d.summation, Summation::Auto);
     ASSERT_EQ(d.wavelengths.size(), 3u);

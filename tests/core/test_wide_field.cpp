@@ -27,7 +27,7 @@ const Matrix3 kXyzTo709{{{3.2406, -1.5372, -0.4986}, {-0.9689, 1.8758, 0.0415}, 
 // A square frame of `side` pixels across `fov_deg` at film distance f, a pinhole of diameter d,
 // and a star at planar depth `depth` (inf: sky) at the pixel a fraction `along` of the way from
 // the centre to the top-left corner (negative: to the bottom-right, where the convolution
-// method's and the psf summation's anchors take the top-left ones' kernels mirrored); 550 nm.
+// method's and the kernel summation's anchors take the top-left ones' kernels mirrored); 550 nm.
 struct Case {
     int side;
     double fov_deg, f_mm, d_mm, depth, along;
@@ -176,7 +176,7 @@ void expect_stars_within(const Case* cases, size_t first, size_t last, Summation
                          CodedRuns coded_runs) {
     std::vector<test::RsStar> stars;
     for (size_t k = first; k < last; ++k) stars.push_back(cases[k].star());
-    const std::string by = summation == Summation::Psf ? "psf" : "exact sums";
+    const std::string by = summation == Summation::Kernel ? "kernel summation" : "point sums";
     const auto out = exact_image(stars, summation, n);
     for (size_t k = first; k < last; ++k) {
         const test::RsStar& s = stars[k - first];
@@ -220,13 +220,13 @@ TEST(WideField, ConvolutionMethodMatchesTheRayleighSommerfeldIntegral) {
     }
 }
 
-// The exact sums (direct or nufft: the test binary's --summation) and the psf summation, which
+// The point sums (direct or nufft: the test binary's --summation) and the kernel summation, which
 // convolves with amplitude kernels that those sums compute at field anchors: small frames (the
-// exact sums' cost grows with the frame), stars on the anchors and between them, the psf
+// point sums' cost grows with the frame), stars on the anchors and between them, the kernel
 // summation up to 60 deg (90 and 120 deg: the next test). Incoherent sums, and for the star between anchors at 60 deg and the
 // 10 deg star also the random-phase method's coded runs (one source: every run is its image,
 // whatever its phase).
-TEST(WideField, ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral) {
+TEST(WideField, PointSumsAndKernelSummationMatchTheRayleighSommerfeldIntegral) {
     // (a PSF of two pixels on a frame of 32 at 90 deg takes a 5 um pinhole: few samples, cheap sums)
     const Case cases[] = {
         {64, 60, 10, 0.04, INFINITY, 0},   {64, 60, 10, 0.04, INFINITY, 0.45}, {64, 60, 10, 0.04, INFINITY, 0.9},
@@ -236,22 +236,22 @@ TEST(WideField, ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral) {
     };
     for (const auto& [first, last] : frames(cases, sizeof cases / sizeof cases[0], true)) {
         const Case& c = cases[first];
-        // (at most 4 x 4 film points: the psf summation's kernels sum to every one of them)
+        // (at most 4 x 4 film points: the kernel summation's kernels sum to every one of them)
         const int n = std::min(4, film_points(c));
-        for (const Summation summation : {test_summation(), Summation::Psf}) {
-            // (the psf summation's kernels for this 2 px PSF at 90 deg: 138 x 138 anchors over a
+        for (const Summation summation : {test_summation(), Summation::Kernel}) {
+            // (the kernel summation's kernels for this 2 px PSF at 90 deg: 138 x 138 anchors over a
             // margin that reaches 78 deg, each summed to (2R + 1)^2 film points, R = 62: hours here;
             // the next test takes a PSF of half a pixel there)
-            if (summation == Summation::Psf && c.fov_deg > 60) continue;
-            // (the psf summation's own runs at 60 deg: PsfRunsMatchTheExactSumsWithTheSamePhases)
+            if (summation == Summation::Kernel && c.fov_deg > 60) continue;
+            // (the kernel summation's own runs at 60 deg: KernelRunsMatchThePointSumsWithTheSamePhases)
             expect_stars_within(cases, first, last, summation, n, [&](size_t k) {
-                return (c.fov_deg == 60 && cases[k].along == 0.45 && summation != Summation::Psf) || c.fov_deg == 10;
+                return (c.fov_deg == 60 && cases[k].along == 0.45 && summation != Summation::Kernel) || c.fov_deg == 10;
             });
         }
     }
 }
 
-// The psf summation at the widest fields, 90 and 120 deg, and the exact sums at 120 deg (at 90
+// The kernel summation at the widest fields, 90 and 120 deg, and the point sums at 120 deg (at 90
 // deg: above).
 // There a kernel's radius is set by the PSF at the frame's corner, stretched 1/cos^3 (5.2 times
 // the axis' at 90 deg, 18.5 times at 120), and the anchors follow the field's change over the
@@ -261,7 +261,7 @@ TEST(WideField, ExactAndPsfSummationsMatchTheRayleighSommerfeldIntegral) {
 // to about a minute here, with 2 x 2 film points per pixel at 90 deg and the pixel's centre at
 // 120, in the image and the reference alike. At 90 deg also the random-phase method's coded runs
 // for the mid-field star (one source: every run is its image).
-TEST(WideField, PsfSummationAndExactSumsAtTheWidestFieldsMatchTheRayleighSommerfeldIntegral) {
+TEST(WideField, KernelSummationAndPointSumsAtTheWidestFieldsMatchTheRayleighSommerfeldIntegral) {
     const Case cases[] = {
         {128, 90, 10, 0.086, INFINITY, 0},  {128, 90, 10, 0.086, INFINITY, 0.5}, {128, 90, 10, 0.086, INFINITY, 0.93},
         {128, 90, 10, 0.086, INFINITY, -0.37},
@@ -270,25 +270,25 @@ TEST(WideField, PsfSummationAndExactSumsAtTheWidestFieldsMatchTheRayleighSommerf
     for (const auto& [first, last] : frames(cases, sizeof cases / sizeof cases[0], true)) {
         const Case& c = cases[first];
         const int n = c.fov_deg > 100 ? 1 : 2;
-        // (the exact sums at 120 deg too: a second; at 90 deg they are above, on 32 px)
-        std::vector<Summation> summations{Summation::Psf};
+        // (the point sums at 120 deg too: a second; at 90 deg they are above, on 32 px)
+        std::vector<Summation> summations{Summation::Kernel};
         if (c.fov_deg > 100) summations.push_back(test_summation());
         for (const Summation summation : summations)
             expect_stars_within(cases, first, last, summation, n, [&](size_t k) {
-                return summation == Summation::Psf && c.fov_deg == 90 && cases[k].along == 0.5;
+                return summation == Summation::Kernel && c.fov_deg == 90 && cases[k].along == 0.5;
             });
     }
 }
 
-// Coded runs through psf against the exact sums with the same phases: a textured frame at two
-// depths, a PSF about two pixels wide, relative RMS over the frame within 1.5%. A run through psf
+// Coded runs through the kernel summation against the point sums with the same phases: a textured frame at two
+// depths, a PSF about two pixels wide, relative RMS over the frame within 1.5%. A run through the kernel summation
 // lacks the cross terms of its kernels' far tails (docs/summation.md), about 0.8 sqrt(t / K) of
 // the mean for a share t left out over K runs, so jobs of 64 runs or fewer take kernels holding
 // more (t = 1.5%): 64 runs at 10 deg, measured 1.37% (1.75% with t = 3%). At 60 deg such kernels
 // would take about nine times the kernels' work on this 32 px frame (nearly all of it margin),
-// where auto takes the exact sums; 128 runs there keep t = 3%: 1.15% (1.53% at 64 runs; 2.7% when
+// where auto takes the point sums; 128 runs there keep t = 3%: 1.15% (1.53% at 64 runs; 2.7% when
 // the margin took the edge anchors' kernels, 8% when the anchors ignored the field).
-TEST(WideField, PsfRunsMatchTheExactSumsWithTheSamePhases) {
+TEST(WideField, KernelRunsMatchThePointSumsWithTheSamePhases) {
     for (const auto& [fov, runs] : {std::pair{10.0, 64}, std::pair{60.0, 128}}) {
         const int side = 32;
         const PinholeCamera camera{side, side, fov * M_PI / 180, 2e-3};
@@ -310,7 +310,7 @@ TEST(WideField, PsfRunsMatchTheExactSumsWithTheSamePhases) {
         e.runs = runs;
         e.device = test_device();
         const MonochromeScene view{camera, power.data(), depth.data(), DepthMeaning::Planar};
-        e.summation = Summation::Psf;
+        e.summation = Summation::Kernel;
         ASSERT_TRUE(diffract_monochrome(view, 550e-9, e, psf.data()).ok());
         e.summation = test_summation();
         ASSERT_TRUE(diffract_monochrome(view, 550e-9, e, exact.data()).ok());
@@ -320,7 +320,7 @@ TEST(WideField, PsfRunsMatchTheExactSumsWithTheSamePhases) {
             mean += exact[p];
         }
         const double rms = std::sqrt(diff / psf.size()) / (mean / psf.size());
-        std::printf("%g deg, pinhole %.4f mm, %d coded runs: psf against the exact sums %.2f%% RMS\n", fov, d * 1e3, e.runs,
+        std::printf("%g deg, pinhole %.4f mm, %d coded runs: the kernel summation against the point sums %.2f%% RMS\n", fov, d * 1e3, e.runs,
                     100 * rms);
         EXPECT_LT(rms, 0.015) << fov << " deg";
     }

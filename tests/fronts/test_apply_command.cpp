@@ -389,7 +389,7 @@ TEST(ApplyCommand, TheThreadsComeFromTheFlagElseOmpNumThreads) {
 TEST(ApplyCommand, TheEnvironmentChangesNoImageAndNoWordMeansTwoThings) {
     const fs::path dir = scratch("apply_environment");
     write_render((dir / "in.exr").string(), 16, 12, 2.0f, 30.0f);
-    for (const std::string summation : {"auto", "direct", "nufft", "psf"}) {
+    for (const std::string summation : {"auto", "direct", "nufft", "kernel"}) {
         const std::string args = small_random_phase_job(dir / "in.exr", summation);
         const auto plain = run_command(kWavecam + args + (dir / "plain.exr").string());
         ASSERT_EQ(plain.status, 0) << plain.output;
@@ -418,6 +418,11 @@ TEST(ApplyCommand, TheEnvironmentChangesNoImageAndNoWordMeansTwoThings) {
     };
     const std::set<std::string> methods = words("method"), summations = words("summation");
     EXPECT_EQ(methods, (std::set<std::string>{"convolution", "random-phase", "incoherent"}));
-    EXPECT_EQ(summations, (std::set<std::string>{"auto", "direct", "nufft", "psf"}));
+    EXPECT_EQ(summations, (std::set<std::string>{"auto", "direct", "nufft", "kernel"}));
+    // the kernel summation's old word is still taken, with a note naming the new one
+    const auto old = run_command(kWavecam + small_random_phase_job(dir / "in.exr", "psf") + (dir / "old.exr").string());
+    ASSERT_EQ(old.status, 0) << old.output;
+    EXPECT_NE(old.output.find("'psf' is now called 'kernel'"), std::string::npos) << old.output;
+    EXPECT_EQ(OIIO::ImageBuf((dir / "old.exr").string()).spec().get_string_attribute("wavecam.summation"), "kernel");
     fs::remove_all(dir);
 }

@@ -113,9 +113,9 @@ TEST(ApplyHostile, AbortsAndHangsBecomeOneLineBeforeTheWork) {
         // the convolution method's estimate counts each thread's PSF working memory (a 0.7 um pinhole's
         // PSF spans the frame: ~200 MiB a thread), before any of it is allocated
         {good, "--pinhole 0.7um --max-memory 100MiB", "good.exr: 16x16 pixels need about "},
-        // the psf summation's estimate counts its kernels' spectra (hundreds of MiB at 1080p), before
+        // the kernel summation's estimate counts its kernels' spectra (hundreds of MiB at 1080p), before
         // any of them is computed
-        {good, "--method random-phase --summation psf --max-memory 3MiB", "MiB of them the psf summation's kernels)"},
+        {good, "--method random-phase --summation kernel --max-memory 3MiB", "MiB of them the kernel summation's kernels)"},
         // found by fuzz_job: a NaN estimate passed the limits (std::length_error)
         {good, "--wavelengths 1e-40nm", "--wavelengths: expected wavelengths from 100nm to 10um, got '1e-40nm'"},
         {"/dev/zero", "", "/dev/zero: cannot be read as an image (a character device; expected an image file)"},
@@ -152,7 +152,7 @@ TEST(ApplyHostile, AbortsAndHangsBecomeOneLineBeforeTheWork) {
     fs::remove_all(dir);
 }
 
-// SIGINT and SIGTERM mid-run: the exact sums stop through their progress callback, a fast-path
+// SIGINT and SIGTERM mid-run: the point sums stop through their progress callback, a fast-path
 // PSF that takes seconds by the watchdog; either way 130 or 143, the old output untouched, no
 // temporary.
 TEST(ApplyHostile, SignalsExit130Or143AndWriteNothing) {

@@ -16,7 +16,7 @@ using namespace wavecam;
 using namespace wavecam::test;
 namespace fs = std::filesystem;
 
-// The command line with `--device gpu` and every summation: direct, psf and auto run on the device
+// The command line with `--device gpu` and every summation: direct, kernel and auto run on the device
 // (the CPU's image within float rounding, but not its bits) and the header names the device and
 // the one evaluator that ran; nufft is refused before any work, named. On the CPU, `auto` names
 // what it chose and why in the job line. With no Vulkan driver
@@ -43,7 +43,7 @@ TEST(GpuDevice, CommandLineDeviceKey) {
     };
     const std::string gpu = gpu_device().description();
     ASSERT_FALSE(gpu.empty());
-    for (const std::string summation : {"direct", "psf", "auto"}) {
+    for (const std::string summation : {"direct", "kernel", "auto"}) {
         const auto on_gpu = apply(summation + "_gpu.exr", "--summation " + summation + " --device gpu");
         ASSERT_EQ(on_gpu.status, 0) << on_gpu.output;
         EXPECT_NE(on_gpu.output.find("summation" + std::string(summation == "auto" ? " (" : " on ")),
@@ -52,10 +52,10 @@ TEST(GpuDevice, CommandLineDeviceKey) {
         std::string device, chosen;
         const auto g = pixels(summation + "_gpu.exr", &device, &chosen);
         EXPECT_EQ(device, gpu) << summation;
-        // auto on the device: direct or psf, named; the CPU then runs what the header names
+        // auto on the device: direct or kernel, named; the CPU then runs what the header names
         std::string ran = summation;
         if (summation == "auto") {
-            EXPECT_TRUE(chosen == "direct" || chosen == "psf") << chosen;
+            EXPECT_TRUE(chosen == "direct" || chosen == "kernel") << chosen;
             ran = chosen;
         }
         const auto on_cpu = apply(summation + "_cpu.exr", "--summation " + ran + " --device cpu");
@@ -81,7 +81,7 @@ TEST(GpuDevice, CommandLineDeviceKey) {
     // the job line names it and says why: the chooser's estimate beside the one it weighed against
     EXPECT_NE(cpu_auto.output.find("auto summation (" + chosen + "; at "), std::string::npos) << cpu_auto.output;
     EXPECT_NE(cpu_auto.output.find(" terms estimated against "), std::string::npos) << cpu_auto.output;
-    if (chosen == "direct" || chosen == "nufft" || chosen == "psf") {
+    if (chosen == "direct" || chosen == "nufft" || chosen == "kernel") {
         const auto named = apply("named_cpu.exr", "--summation " + chosen + " --device cpu");
         ASSERT_EQ(named.status, 0) << named.output;
         EXPECT_EQ(pixels("named_cpu.exr"), a) << chosen;

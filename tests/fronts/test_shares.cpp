@@ -180,8 +180,8 @@ TEST(Shares, BadSetsAreRefusedNamingTheShareAndNothingIsWritten) {
         OIIO::ImageBuf p(f.path("p2.exr"));
         ASSERT_TRUE(p.read(0, 0, true, OIIO::TypeDesc::FLOAT));
         const std::string decided = p.spec().get_string_attribute("wavecam.share.decision");
-        // psf, or each wavelength's two sums ("550nm nufft/direct"), and the device
-        EXPECT_TRUE(decided == "psf on cpu" || decided.find("nm ") != std::string::npos) << decided;
+        // kernel, or each wavelength's two sums ("550nm nufft/direct"), and the device
+        EXPECT_TRUE(decided == "kernel on cpu" || decided.find("nm ") != std::string::npos) << decided;
         EXPECT_NE(decided.find(" on cpu"), std::string::npos) << decided;
         p.specmod().attribute("wavecam.share.decision", "550nm direct/direct on gpu");
         ASSERT_TRUE(p.write(f.path("decided2.exr")));

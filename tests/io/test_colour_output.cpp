@@ -155,14 +155,14 @@ TEST(OutOfGamut, InGamutUniformFieldsRoundTripThroughOcio) {
     }
 }
 
-// Per-channel noise of the random-phase method (its exact sums) on a uniform grey field, over
+// Per-channel noise of the random-phase method (its point sums) on a uniform grey field, over
 // independent seeds: (1) each output channel is a fixed linear mix of the wavelengths' irradiances,
 // and the wavelengths carry independent random phases, so Var(channel) = sum_s a_s^2 Var(I_s) (a_s:
 // the wavelength's weight in that channel) - the single-channel prediction, with no cross terms;
 // (2) K runs average K independent runs: the variance falls as 1/K. Printed: each wavelength's
 // speckle contrast (std/mean, 1 for fully developed speckle) and each channel's relative noise in
 // Rec.709, in XYZ, and for an observer with non-negative channels.
-TEST(ExactNoise, PerChannelVarianceIsTheWavelengthSumAndFallsAsOneOverK) {
+TEST(RandomPhaseNoise, PerChannelVarianceIsTheWavelengthSumAndFallsAsOneOverK) {
     // film pixels of 60 um, about the Airy radius: neighbouring pixels' speckle nearly independent
     const double f = 20e-3;
     const int w = 16, S = 8;

@@ -5,8 +5,8 @@
 // pair within 1.5% RMS per channel, at 10 deg on 32 px and at 60 deg on 24 px (the same field on
 // fewer pixels, the PSF as wide in pixels: the exact incoherent sum there took 97 s on 32 px).
 // Measured: 0.02-0.7% at 10 deg; 0.2-0.74% at 60 deg (0.2-1.0% on 32 px), where the convolution
-// method's level sits 0.1-0.7% off the exact sums' (a uniform wall, docs/physics.md). At 60 deg the incoherent reference is summed exactly (nufft), not by the
-// psf summation, whose own error there (up to its 1.5%) would add to the models' differences.
+// method's level sits 0.1-0.7% off the point sums' (a uniform wall, docs/physics.md). At 60 deg the incoherent reference is summed exactly (nufft), not by the
+// kernel summation, whose own error there (up to its 1.5%) would add to the models' differences.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imagebuf.h>
@@ -78,9 +78,9 @@ TEST(OneSourceModel, AllThreeMethodsConvergeToOneImage) {
         const double pinhole = 1.22 * 550e-9 * 50e-3 / (2 * pitch);
         const OIIO::ImageBuf src = textured_frame(side, fov);
         const auto convolution = diffracted(src, DiffractMethod::Convolution, pinhole, 1, Summation::Auto);
-        // the reference: at 60 deg, where `auto` would take the psf summation, the exact sums (the
-        // NUFFTs, 3e-4) by name; at 10 deg `auto` (psf, as for the runs: that pair then differs by
-        // the runs' noise alone; psf against the exact sums has its own tests)
+        // the reference: at 60 deg, where `auto` would take the kernel summation, the point sums (the
+        // NUFFTs, 3e-4) by name; at 10 deg `auto` (the kernel summation, as for the runs: that pair then differs by
+        // the runs' noise alone; the kernel summation against the point sums has its own tests)
         const auto incoherent = diffracted(src, DiffractMethod::Incoherent, pinhole, 1,
                                            fov > 30 ? Summation::Nufft : Summation::Auto);
         // (1024 coded runs: the PSF spans about 30 pixels at the longest wavelength, so the runs'

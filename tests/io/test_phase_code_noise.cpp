@@ -128,15 +128,15 @@ TEST(PhaseCode, UniformWallAtSixteenRunsIsWithinTwoPercent) {
 
 // Noise as a user sees it, with every setting but the method at its default: each channel of the
 // uniform wall within 2% of the convolution method's (the K -> infinity limit), interior pixels.
-// The default run count is 64, and `auto` runs them through psf here (the runs as convolutions
+// The default run count is 64, and `auto` runs them through the kernel summation here (the runs as convolutions
 // with amplitude PSFs; docs/summation.md). Measured 1.05%, 0.39%, 0.26% (R, G, B); through the
-// exact sums 64 runs measured 1.7%, 1.7%, 1.2%, and 4 runs, the default before, 12-15%.
+// point sums 64 runs measured 1.7%, 1.7%, 1.2%, and 4 runs, the default before, 12-15%.
 TEST(PhaseCode, UniformWallAtTheDefaultRunsIsWithinTwoPercentInEveryChannel) {
     const OIIO::ImageBuf src = wall(48, [](int, int) { return 0.5f; });
     const auto fast = diffracted(src, DiffractMethod::Convolution, true, 1);
     std::string chosen;
     const auto image = diffracted(src, DiffractMethod::RandomPhase, true, 1, 0, &chosen);
-    EXPECT_EQ(chosen, "psf");
+    EXPECT_EQ(chosen, "kernel");
     EXPECT_EQ(SceneSumSettings{}.runs, 64);
     for (int c = 0; c < 3; ++c) {
         const Deviation d = against_fast(image, fast, 4, c);
@@ -153,7 +153,7 @@ TEST(PhaseCode, UniformWallAtTheDefaultRunsIsWithinTwoPercentInEveryChannel) {
 // measured 4.1%, 3.4%, 2.8% (R, G, B), the 240 the count takes 1.0%, 0.6%, 0.5%. At 60 degrees a
 // 12.4 um pinhole's Airy radius is 3 pixels on the axis and 1/cos^3 wider radially at the
 // corners (the count takes the corner's): 64 runs 3.1%, 2.8%, 2.6%, the 208 taken 1.7%, 1.2%,
-// 1.5%. Noise is the RMS about the frame's mean; the mean itself stays within 2% (the exact sums
+// 1.5%. Noise is the RMS about the frame's mean; the mean itself stays within 2% (the point sums
 // at 60 deg sit 0.8-1.5% above the convolution method: docs/physics.md).
 TEST(PhaseCode, RunsFromThePsfKeepEveryChannelWithinTwoPercentWhereThePsfIsWide) {
     struct Frame {

@@ -12,7 +12,7 @@ namespace wavecam::test {
 
 // The exact PSF on the kernel's pixel grid (each pixel the sum over n x n points), as shares of
 // the power through the pinhole (docs/physics.md, result 3, with the units below). The field lies in the x-z
-// plane (v = 0). sin_theta_max: the exact sum's pinhole sampling, lambda / (2 sin_theta_max);
+// plane (v = 0). sin_theta_max: the point sum's pinhole sampling, lambda / (2 sin_theta_max);
 // it must cover the largest angle between a pinhole point and a film point of the window.
 inline std::vector<double> exact_kernel(const FieldPsfRequest& q, int n, double sin_theta_max) {
     const double theta = std::atan(q.u);

@@ -1,5 +1,5 @@
 // One lit pixel (a star) at depth z in a tiny square render, through the random-phase method's
-// exact sums with one run, no jitter and one film point per pixel; and the image the point-source
+// point sums with one run, no jitter and one film point per pixel; and the image the point-source
 // computation (compute_psf) says each wavelength must give it. Shared by the scene and the
 // monochrome tests, which light the star in colour and in grey.
 #pragma once

@@ -1,4 +1,4 @@
-// main() for the exact sums' tests: GoogleTest's, --summation=WORD (any of the evaluators' table) and --device=cpu|gpu
+// main() for the point sums' tests: GoogleTest's, --summation=WORD (any of the evaluators' table) and --device=cpu|gpu
 // (summation_flag.h).
 #include <gtest/gtest.h>
 
@@ -15,7 +15,7 @@ wavecam::ComputeDevice g_device;  // the CPU unless --device=gpu
 wavecam::Summation test_summation() { return g_summation; }
 const wavecam::ComputeDevice& test_device() { return g_device; }
 
-double one_source_bound() { return g_summation == wavecam::Summation::Psf ? 3e-3 : 1e-3; }
+double one_source_bound() { return g_summation == wavecam::Summation::Kernel ? 3e-3 : 1e-3; }
 
 std::string test_summation_flag() {
     std::string flags;

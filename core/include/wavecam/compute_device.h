@@ -1,11 +1,11 @@
-// Where a job's exact sums run (docs/gpu.md): a handle on the CPU or on one Vulkan device,
+// Where a job's point sums run (docs/gpu.md): a handle on the CPU or on one Vulkan device,
 // created for a job (or for as long as a host runs) from the `device` setting and passed down
 // to every evaluator, as Embree passes its RTCDevice:
 //   cpu   the CPU;
 //   gpu   any Vulkan device, a discrete GPU first; none is a failed handle (ok() false, error());
 //   auto  a discrete GPU, else the CPU, the reason kept (error()).
 // A GPU handle holds one Vulkan context that both GPU evaluators share: the direct sums
-// (gpu_sums.h) and the psf summation's runs. The context lives while a handle, or an evaluator
+// (gpu_sums.h) and the kernel summation's runs. The context lives while a handle, or an evaluator
 // made from one, holds it; release() lets this handle's hold go. Nothing outlives the handles:
 // a failure belongs to the handle that met it, and the next create() tries afresh.
 // The handle also keeps what ran on it (summation_plan.h, evaluators_run), for the output's header.

@@ -16,12 +16,12 @@
 namespace wavecam {
 
 // A job's one decision of how its scene sums are evaluated (decide_summation, made before any
-// work): psf, or the exact sums with each sum's evaluator at each wavelength. Every wavelength's
+// work): the kernel summation, or the point sums with each sum's evaluator at each wavelength. Every wavelength's
 // sums read it; nothing below decides again, so the job line, the header and what runs agree,
 // and every share of the job evaluates as the job.
 struct SummationDecision {
-    Summation summation = Summation::Auto;  // Psf, or the exact sums
-    std::vector<double> wavelengths;         // (m) the exact sums' wavelengths, with their sums' choices
+    Summation summation = Summation::Auto;  // Psf, or the point sums
+    std::vector<double> wavelengths;         // (m) the point sums' wavelengths, with their sums' choices
     std::vector<SumChoice> to_pinhole, to_film;
     // The choice at `wavelength` (null where the decision holds none: that frame decides alone).
     const SumChoice* to_pinhole_at(double wavelength) const;
@@ -51,12 +51,12 @@ struct SceneSumSettings {
     int film_subsamples = 0;   // n: each film pixel averages n x n points; 0 = auto_film_subsamples
     int nthreads = 0;
     // How the two sums are evaluated (summation_plan.h): direct and nufft evaluate the same terms;
-    // psf, convolutions with the amplitude PSFs they compute. `auto` here: each sum the cheaper of
-    // direct and nufft; a job first weighs psf against them (chosen_summation).
+    // kernel, convolutions with the amplitude PSFs they compute. `auto` here: each sum the cheaper of
+    // direct and nufft; a job first weighs the kernel summation against them (chosen_summation).
     Summation summation = Summation::Auto;
     double summation_tolerance = kSummationTolerance;
     // Where the sums run (compute_device.h): the CPU (the default handle), or the GPU of a handle
-    // the job created, which runs the direct terms and the psf summation's runs (`auto` there
+    // the job created, which runs the direct terms and the kernel summation's runs (`auto` there
     // takes them; nufft is refused).
     ComputeDevice device;
     // One share of the work (work_share.h): runs [run_begin, run_end) of the `runs` averaged, each
@@ -110,35 +110,35 @@ constexpr double kMinSamplesAcross = 128;
 double scene_sample_pitch(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength,
                           double nearest_depth);
 
-// What a job runs for `auto` summation (diffract_image decides it once per job): `psf` where it
+// What a job runs for `auto` summation (diffract_image decides it once per job): `kernel` where it
 // applies — sources at their pixels' centres (no jitter), an opening of one piece (circle, square,
-// polygon), the scene's depths within kMaxPsfLayers amplitude layers — its work at this
-// wavelength (kernels, then every run) is below the exact sums', and a check at plan time finds it
-// within 1.5% of the exact sums' same runs (probe stars against the exact sums' kernels, and the
+// polygon), the scene's depths within kMaxKernelLayers amplitude layers — its work at this
+// wavelength (kernels, then every run) is below the point sums', and a check at plan time finds it
+// within 1.5% of the point sums' same runs (probe stars against the point sums' kernels, and the
 // far tail's cross terms; docs/summation.md); else `auto`, each of the two sums
 // the cheaper of direct and nufft (estimate_summation's chooser), as diffract_monochrome reads `auto`. Counted for
 // the whole job (every run and row, the frame as lit), so every share decides as its job; for
 // s.nearest_depth (NaN counts as all sky). A summation asked by name is returned as it is.
 Summation chosen_summation(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength);
 
-// The job's decision for its wavelengths (m): chosen_summation's psf or exact sums at the middle
-// one, then each exact sum's evaluator at each wavelength from the same counts (the whole job,
+// The job's decision for its wavelengths (m): chosen_summation's kernel summation or point sums at the middle
+// one, then each point sum's evaluator at each wavelength from the same counts (the whole job,
 // every pixel lit, s.nearest_depth), the lowest estimate among those the settings' device allows.
 SummationDecision decide_summation(const SceneSumSettings& s, const PinholeCamera& camera,
                                    const std::vector<double>& wavelengths);
 
 // What the chooser (core/src/summation/choose.h, the one place evaluators and devices are chosen
 // and priced) makes of the settings' share of a frame at `wavelength`, every pixel lit, for
-// s.nearest_depth (NaN counts as all sky): `auto` weighs psf where it applies against the exact
+// s.nearest_depth (NaN counts as all sky): `auto` weighs the kernel summation where it applies against the exact
 // sums (chosen_summation's choice, for the settings' rows and runs). `term_rate` (terms/s,
 // term_rate.h) gives `seconds`; 0 leaves them 0 and says the reason in terms.
 struct SummationEstimate {
-    Summation summation = Summation::Auto;  // psf, direct, nufft, or auto: the two sums differ
-    EvaluatorSet sums;                      // the exact sums' evaluators (none for psf)
+    Summation summation = Summation::Auto;  // kernel, direct, nufft, or auto: the two sums differ
+    EvaluatorSet sums;                      // the point sums' evaluators (none for kernel)
     bool gpu = false;                       // on the settings' device's GPU
     double terms = 0, seconds = 0;          // work in direct terms, and at term_rate
-    double bytes = 0;                       // what the psf summation holds at once (0 for the exact sums)
-    std::string reason;                     // e.g. "psf: 1.9 s estimated against nufft 6.3 s"
+    double bytes = 0;                       // what the kernel summation holds at once (0 for the point sums)
+    std::string reason;                     // e.g. "kernel: 1.9 s estimated against nufft 6.3 s"
 };
 SummationEstimate estimate_summation(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength,
                                      double term_rate = 0);
@@ -151,11 +151,11 @@ EvaluatorSet scene_evaluators(const SceneSumSettings& s, const PinholeCamera& ca
 // Work estimate in direct terms (the time of one term of the direct sums, so that --max-terms
 // and the time printed mean the same for either evaluator): direct, pinhole samples x (sources +
 // film points); nufft, the NUFFTs' and chirps' work (the chooser's cost model), each sum by
-// the evaluator s.summation picks for it (psf: its kernels and runs); over the runs and rows set,
+// the evaluator s.summation picks for it (kernel: its kernels and runs); over the runs and rows set,
 // the margin beyond the frame counted as lit, for s.nearest_depth (NaN counts as all sky).
 double scene_terms(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength);
 
-// Bytes the psf summation holds at once for one wavelength (its kernels' spectra: layers x
+// Bytes the kernel summation holds at once for one wavelength (its kernels' spectra: layers x
 // anchors x film points per pixel transforms of the frame; the runs' sums), for
 // s.nearest_depth (NaN counts as all sky); 0 for the other summations.
 double scene_summation_bytes(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength);

@@ -33,7 +33,7 @@ MonochromePropagator wave_propagator(const SceneSumSettings& settings);
 
 // One run of `settings` at a time, each into an image of its own (a share's units, work_share.h):
 // adds run `run`'s film irradiance, weighted 1/settings.runs, for `scene` to `irradiance`. Its
-// calls share a wavelength's psf kernels, as one wave_propagator's runs do.
+// calls share a wavelength's kernel summation's kernels, as one wave_propagator's runs do.
 using RunPropagator = std::function<Result<bool>(const MonochromeScene& scene, double wavelength, int run,
                                                  float* irradiance, const ProgressFn& progress)>;
 RunPropagator run_propagator(const SceneSumSettings& settings);

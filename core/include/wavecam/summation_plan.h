@@ -29,10 +29,10 @@
 namespace wavecam {
 
 // What a user asks for: `auto` the cheaper evaluator by the cost model (default), or one of them;
-// or `psf`: a scene's runs as convolutions with amplitude PSFs that the sums compute at field
+// or `kernel`: a scene's runs as convolutions with amplitude PSFs that the sums compute at field
 // anchors and depth layers (scene_diffraction.h; its plans then take `auto`).
-enum class Summation { Auto, Direct, Nufft, Psf };
-const char* summation_word(Summation s);  // "auto", "direct", "nufft", "psf"
+enum class Summation { Auto, Direct, Nufft, Kernel };
+const char* summation_word(Summation s);  // "auto", "direct", "nufft", "kernel"
 // Every word the `summation` setting takes with its value: `auto`, then each evaluator's, from
 // the evaluators' table (core/src/summation/evaluator_table.cpp).
 std::vector<std::pair<const char*, Summation>> summation_choices();

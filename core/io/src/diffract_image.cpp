@@ -52,7 +52,7 @@ bool alpha_is_diffracted(const RenderInput& in) {
     return !(*lo == *hi && (*lo == 0.0f || *lo == 1.0f));
 }
 
-// Bytes the job needs at its peak, `summation` of them the psf summation's kernels (the largest
+// Bytes the job needs at its peak, `summation` of them the kernel summation's kernels (the largest
 // wavelength's: one at a time).
 double job_bytes(const DiffractOptions& opt, const ResolvedFrame& f, double& summation) {
     summation = 0;
@@ -83,7 +83,7 @@ Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, co
         std::ostringstream m;
         m << name << ": " << f.in.width << "x" << f.in.height << " pixels need about " << bytes / (1 << 20)
           << " MiB";
-        if (summation > 0) m << " (" << summation / (1 << 20) << " MiB of them the psf summation's kernels)";
+        if (summation > 0) m << " (" << summation / (1 << 20) << " MiB of them the kernel summation's kernels)";
         m << ", beyond the max-memory limit of " << opt.max_memory / (1 << 20) << " MiB";
         return Result<bool>::failure(m.str(), ErrorKind::TooLarge, "max-memory");
     }
@@ -106,7 +106,7 @@ JobEstimate detail::job_estimate(const DiffractOptions& opt, const ResolvedFrame
 
 namespace {
 
-// The exact sums light the film within the overscan from every input pixel and the scene beyond
+// The point sums light the film within the overscan from every input pixel and the scene beyond
 // the input (frame_margin.h); the output frame is then moved to the front of the same buffer.
 Result<bool> run_scene_sum(const DiffractOptions& opt, const ResolvedFrame& f, std::vector<float>& xyz) {
     const int width = f.in.width, o = f.overscan;

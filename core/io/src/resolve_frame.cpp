@@ -71,8 +71,8 @@ RunCount frame_run_count(const SceneSumSettings& s, const PinholeCamera& camera,
 }
 
 // The job's settings for the scene-sum methods with the job's one decision (decide_summation):
-// psf or the exact sums at the middle of its wavelengths (both ways' work scales alike with the
-// wavelength, and every wavelength then runs the same way), and each exact sum's evaluator at
+// the kernel summation or the point sums at the middle of its wavelengths (both ways' work scales alike with the
+// wavelength, and every wavelength then runs the same way), and each point sum's evaluator at
 // each wavelength, which the sums then follow.
 SceneSumSettings scene_sum_settings(const DiffractOptions& opt, const PinholeCamera& camera,
                                     const std::vector<float>& depth, const SpectralBasis& basis, int nthreads = 0,
@@ -86,7 +86,7 @@ SceneSumSettings scene_sum_settings(const DiffractOptions& opt, const PinholeCam
     s.nearest_depth = nearest_depth(camera, depth.data(), opt.depth_meaning);
     if (opt.runs_from_psf && s.method == CoherenceMethod::RandomPhase && basis.size() > 0)
         s.runs = frame_run_count(s, camera, basis).runs;
-    // the job's one decision: psf or the exact sums, and each sum's evaluator at each wavelength
+    // the job's one decision: the kernel summation or the point sums, and each sum's evaluator at each wavelength
     std::vector<double> wavelengths;
     for (int k = 0; k < basis.size(); ++k) wavelengths.push_back(basis.wavelength(k));
     auto decision = std::make_shared<SummationDecision>(decide_summation(s, camera, wavelengths));
@@ -173,10 +173,10 @@ Result<bool> check_camera(const ResolvedFrame& f, const std::string& name, const
 
 }  // namespace
 
-// What `auto` chose for the job's sums: psf, else the evaluators that ran on the job's device
+// What `auto` chose for the job's sums: kernel, else the evaluators that ran on the job's device
 // (the header's), or, before they ran, those the estimate gives each sum (the job line's).
 std::string detail::auto_choice(const SceneSumSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
-    if (s.summation == Summation::Psf) return "psf";
+    if (s.summation == Summation::Kernel) return "kernel";
     EvaluatorSet e = evaluators_run(s.device);
     // (before they ran: the job's decision, which scene_evaluators reads where it holds one)
     if (e.words().empty())
@@ -186,7 +186,7 @@ std::string detail::auto_choice(const SceneSumSettings& s, const PinholeCamera& 
 
 std::string detail::decision_text(const SceneSumSettings& s) {
     const std::string device = s.device.gpu() ? " on gpu" : " on cpu";
-    if (s.summation == Summation::Psf || !s.decision) return std::string(summation_word(s.summation)) + device;
+    if (s.summation == Summation::Kernel || !s.decision) return std::string(summation_word(s.summation)) + device;
     const SummationDecision& d = *s.decision;
     std::string text;
     for (size_t k = 0; k < d.wavelengths.size(); ++k)
@@ -286,7 +286,7 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
     }
     job << ", " << summation_word(opt.scene_sum.summation) << " summation";
     if (opt.scene_sum.summation == Summation::Auto && f.colour.basis.size() > 0) {
-        // what ran, and why at the middle wavelength, where the job weighed psf (the chooser's reason)
+        // what ran, and why at the middle wavelength, where the job weighed the kernel summation (the chooser's reason)
         SceneSumSettings asked = f.scene_sum;
         asked.summation = Summation::Auto;
         const double middle = f.colour.basis.wavelength(f.colour.basis.size() / 2);

@@ -39,13 +39,13 @@ struct ResolvedFrame {
 // The wavelength the pinhole formulas are designed at: Rayleigh's optimum, the Fresnel number.
 constexpr double kDesignWavelength = 550e-9;
 
-// What `auto` chose for the job's sums (resolve_frame.cpp): psf, else the evaluators that ran on
+// What `auto` chose for the job's sums (resolve_frame.cpp): kernel, else the evaluators that ran on
 // the job's device (the header's), or, before they ran, those the estimate gives each sum.
 std::string auto_choice(const SceneSumSettings& s, const PinholeCamera& camera, const SpectralBasis& basis);
 
 // The job's decision (SceneSumSettings::decision) and device in words, as a share file records it
 // so that a merge refuses shares that decided otherwise (another device, another build):
-// "psf on cpu", or each wavelength's sums "450nm direct/nufft, 550nm nufft/nufft on gpu".
+// "kernel on cpu", or each wavelength's sums "450nm direct/nufft, 550nm nufft/nufft on gpu".
 std::string decision_text(const SceneSumSettings& s);
 
 // The frame's estimate (diffract_image.h's JobEstimate) but for its bytes and refusal: its job

@@ -185,7 +185,7 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
 // each unit's share of the estimated terms.
 MonochromePropagator unit_propagator(const Share& j, const ProgressFn& progress,
                                      std::map<std::string, std::vector<float>>& units, double& done) {
-    const RunPropagator run = run_propagator(j.s);  // the runs of a wavelength share its psf kernels
+    const RunPropagator run = run_propagator(j.s);  // the runs of a wavelength share its kernel summation's kernels
     return [&j, progress, &units, &done, run](const MonochromeScene& mono, double wavelength, float*,
                                               const ProgressFn&) {
         for (int r = 0; r < j.R; ++r) {

@@ -16,7 +16,7 @@
 // wall at 60 deg came back 1-1.6% low. The paraxial 1/r^3 profile reaches beyond the disc of directions where R is wide
 // against the frame (R is sized for the corners; at 90-120 deg 16 R outruns every direction):
 // no film point lies there (the angular spectrum beyond it is evanescent), and that part is
-// dropped. The exact sums agree: on a 32 px frame at 60 deg with R = 24, the psf summation's
+// dropped. The point sums agree: on a 32 px frame at 60 deg with R = 24, the kernel summation's
 // incoherent image is 0.7% above theirs so, 3.5% above when that part was folded back in. The
 // far tail is smooth, so it is summed on a grid of cells about R/3 axis pixels wide (the
 // sources' light per cell) and interpolated back bilinearly.

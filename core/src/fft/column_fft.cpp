@@ -165,7 +165,7 @@ void ColumnFft::transform(std::complex<float>* data, std::complex<float>* work, 
         };
         if (parts > 1) {
             parallel_for(0, runs * parts, threads, run);
-        } else {  // (no parallel construct at all: the psf summation takes thousands of small transforms)
+        } else {  // (no parallel construct at all: the kernel summation takes thousands of small transforms)
             for (long task = 0; task < runs; ++task) run(task);
         }
         std::swap(x, y);

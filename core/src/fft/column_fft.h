@@ -1,7 +1,7 @@
 // Complex 1D FFTs down the columns of a row-major array, every column at once: a mixed-radix
 // Stockham transform (radices 4, 2, 3, 5; self-sorting, one work array of the same size), each
 // butterfly applied to a whole run of columns, so the inner loops are long, contiguous and
-// vectorised. The psf summation's runs take thousands of 2D transforms of one size; down the
+// vectorised. The kernel summation's runs take thousands of 2D transforms of one size; down the
 // columns of a row-major image every butterfly has hundreds of independent lanes, where a 1D
 // library works one scalar sequence at a time. Internal to core.
 //

@@ -55,7 +55,7 @@ Result<bool> cancelled() { return Result<bool>::failure("cancelled", ErrorKind::
 }  // namespace
 
 struct GpuSums::Impl {
-    std::shared_ptr<gpu::Context> ctx;  // the device's, shared with the psf summation's runs
+    std::shared_ptr<gpu::Context> ctx;  // the device's, shared with the kernel summation's runs
     gpu::Pipeline illuminate, film;
     std::string description;
     bool f64 = false;  // blocks added in double (else the compensated float pair)

@@ -1,5 +1,5 @@
 // A small create/use/release layer over Vulkan compute for the GPU evaluators (gpu_sums.cpp,
-// gpu_psf_summation.cpp), which share one context through a device handle (compute_device.h): one
+// gpu_kernel_summation.cpp), which share one context through a device handle (compute_device.h): one
 // device and queue, host-visible buffers, compute pipelines from embedded SPIR-V, one submission
 // at a time (serialised here) waited for. Failures are values naming the Vulkan call and its
 // result. Internal to core.

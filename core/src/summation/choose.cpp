@@ -1,4 +1,4 @@
-// The one chooser (choose.h): the exact sums' cost model, the psf summation's cost and memory,
+// The one chooser (choose.h): the point sums' cost model, the kernel summation's cost and memory,
 // the devices, and the frame's choice between them.
 #include "summation/choose.h"
 
@@ -8,7 +8,7 @@
 
 #include "convolution/kernel_table.h"
 #include "summation/nufft/chirp_interpolation.h"
-#include "summation/psf/psf_summation_geometry.h"
+#include "summation/kernel/kernel_summation_geometry.h"
 #include "summation/nufft/lattice_nufft.h"
 #include "summation/nufft/stencil_choice.h"
 #include "summation/summation_evaluator.h"
@@ -197,7 +197,7 @@ SumChoice nufft_sum_work(const SumCounts& c, bool bounded) {
     return w;
 }
 
-KernelSums kernel_sums(const PsfSummationSpec& spec, const PsfSummationGeometry& g) {
+KernelSums kernel_sums(const KernelSummationSpec& spec, const KernelSummationGeometry& g) {
     KernelSums k;
     k.to_pinhole = k.to_film = spec.settings;
     k.to_pinhole.summation = Summation::Direct;
@@ -209,35 +209,35 @@ KernelSums kernel_sums(const PsfSummationSpec& spec, const PsfSummationGeometry&
     return k;
 }
 
-PsfSummationWork psf_summation_work(const PsfSummationSpec& spec, SumCounts in, SumCounts out) {
-    const PsfSummationGeometry g = psf_summation_geometry(spec);
+KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCounts in, SumCounts out) {
+    const KernelSummationGeometry g = kernel_summation_geometry(spec);
     const double side = 2.0 * g.radius + 1, S = double(spec.subsamples) * spec.subsamples;
-    const int layers = std::min(g.layers.count, kMaxPsfLayers + 1);
+    const int layers = std::min(g.layers.count, kMaxKernelLayers + 1);
     const double kernels = double(g.anchors()) * layers;
-    // the kernels summed: one of each mirror pair (psf_summation_kernels.cpp), a quarter of the
+    // the kernels summed: one of each mirror pair (kernel_summation_kernels.cpp), a quarter of the
     // anchors for a circle or a square, about an eighth on a square frame (kernel_sources)
     const double computed = double(kernel_sources(spec, g).count()) * layers;
     in.points = 1;
     out.points = side * side * S;
     const double N = double(g.nx) * g.ny, transform = kFftCost * N * std::log2(N);
     const KernelSums sums = kernel_sums(spec, g);
-    PsfSummationWork w;
+    KernelSummationWork w;
     w.kernels = computed * (choose_sum(in, sums.to_pinhole.summation).work +
                             choose_sum(out, sums.to_film.summation, spec.settings.device.gpu()).work + S * transform);
     w.per_run = kernels * transform + (kernels + 1) * S * N * kMacCost + S * transform;
     return w;
 }
 
-double psf_summation_bytes(const PsfSummationSpec& spec) {
-    const PsfSummationGeometry g = psf_summation_geometry(spec);
+double kernel_summation_bytes(const KernelSummationSpec& spec) {
+    const KernelSummationGeometry g = kernel_summation_geometry(spec);
     const double N = double(g.nx) * g.ny, S = double(spec.subsamples) * spec.subsamples;
-    const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxPsfLayers + 1);
+    const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxKernelLayers + 1);
     const double complex_float = 8;
     // (upper bounds: the basis holds at most every kernel) spectra, and the runs at once' images,
     // sums and film (runs_at_once: within the spectra's size, one run at least)
     const double spectra = complex_float * N * kernels * S, run = N * (complex_float * (kernels + S) + sizeof(double));
     // coherent runs: each kernel's pixel image and those of its differences with its 27
-    // neighbours, floats (the blend's mean, psf_summation.h)
+    // neighbours, floats (the blend's mean, kernel_summation.h)
     const double side = 2.0 * g.radius + 1, images = spec.incoherent ? 0 : sizeof(float) * kernels * 28 * side * side;
     return spectra + images + std::max(run, std::min(spectra, kMaxRunsAtOnce * run));
 }
@@ -296,7 +296,7 @@ Result<SumChoice> choose_plan_sum(const PlanSumQuery& q, const ComputeDevice& de
     return R::success(c);
 }
 
-Result<bool> psf_runs_off_device(const ComputeDevice& device, const std::string& why, ErrorKind kind) {
+Result<bool> kernel_runs_off_device(const ComputeDevice& device, const std::string& why, ErrorKind kind) {
     if (device.setting() == Device::Gpu) return Result<bool>::failure("device gpu: " + why, kind, "device");
     return Result<bool>::success(true);  // auto: the runs on the CPU (the device notes both)
 }
@@ -311,15 +311,15 @@ std::string amount(double work, double rate) {
     return s;
 }
 
-// The exact sums' evaluators in words, as the header names them (summation_plan.h).
-std::string exact_words(const SumChoice& in, const SumChoice& out) {
+// The point sums' evaluators in words, as the header names them (summation_plan.h).
+std::string point_sum_words(const SumChoice& in, const SumChoice& out) {
     const bool nin = in.evaluator == Evaluator::Nufft, nout = out.evaluator == Evaluator::Nufft;
     return EvaluatorSet{!nin, nin, !nout, nout}.words();
 }
 
 }  // namespace
 
-Summation exact_asked(Summation asked, bool single) {
+Summation point_sum_asked(Summation asked, bool single) {
     return single && asked == Summation::Nufft ? Summation::Auto : asked;
 }
 
@@ -330,56 +330,56 @@ SummationChoice choose_summation(const FrameSums& f, const ChoiceSettings& cs) {
     SummationChoice c;
     c.gpu = gpu;
     const double rate = cs.term_rate;
-    // the exact sums, each the cheaper where auto (direct on a GPU)
-    double exact = 0, all_direct = 0, all_nufft = 0;
-    if (cs.asked != Summation::Psf) {
-        const Summation asked = exact_asked(cs.asked, f.single);
+    // the point sums, each the cheaper where auto (direct on a GPU)
+    double points = 0, all_direct = 0, all_nufft = 0;
+    if (cs.asked != Summation::Kernel) {
+        const Summation asked = point_sum_asked(cs.asked, f.single);
         // the job's decision where it holds one (read, not made again), else the chooser's
         c.in = cs.decided_in ? *cs.decided_in : choose_sum(f.in, asked, gpu);
         c.out = cs.decided_out ? *cs.decided_out : choose_sum(f.out, asked, gpu);
-        exact = (c.in.work + c.out.work * f.film_share) * f.repeats;
+        points = (c.in.work + c.out.work * f.film_share) * f.repeats;
         all_direct = (c.in.direct_work + c.out.direct_work * f.film_share) * f.repeats;
         all_nufft = (c.in.nufft_work + c.out.nufft_work * f.film_share) * f.repeats;
     }
-    // the psf summation: its kernels, then every run
-    if (f.psf_counted) c.psf = psf_summation_work(f.psf, f.psf_in, f.psf_out);
-    // (the psf row on the device: its estimate, the table's)
-    const double psf = f.psf_counted ? evaluator_row(Summation::Psf, gpu ? Device::Gpu : Device::Cpu).estimate(f, cs) : 0;
-    const bool weighed = cs.asked == Summation::Auto && cs.weigh_psf && f.psf_applies && f.psf_counted;
-    const bool take_psf = cs.asked == Summation::Psf || (weighed && psf < exact);
-    const std::string words = exact_words(c.in, c.out);
-    if (take_psf) {
-        c.summation = Summation::Psf;
-        c.work = psf;
-        c.bytes = psf_summation_bytes(f.psf);
+    // the kernel summation: its kernels, then every run
+    if (f.kernel_counted) c.kernel = kernel_summation_work(f.kernel, f.kernel_in, f.kernel_out);
+    // (the kernel row on the device: its estimate, the table's)
+    const double kernel = f.kernel_counted ? evaluator_row(Summation::Kernel, gpu ? Device::Gpu : Device::Cpu).estimate(f, cs) : 0;
+    const bool weighed = cs.asked == Summation::Auto && cs.weigh_kernel && f.kernel_applies && f.kernel_counted;
+    const bool take_kernel = cs.asked == Summation::Kernel || (weighed && kernel < points);
+    const std::string words = point_sum_words(c.in, c.out);
+    if (take_kernel) {
+        c.summation = Summation::Kernel;
+        c.work = kernel;
+        c.bytes = kernel_summation_bytes(f.kernel);
     } else {
         c.summation = c.in.evaluator != c.out.evaluator ? Summation::Auto
                       : c.in.evaluator == Evaluator::Nufft ? Summation::Nufft
                                                            : Summation::Direct;
-        c.work = exact;
+        c.work = points;
     }
     c.seconds = rate > 0 ? c.work / rate : 0;
     const std::string on = gpu ? " on the GPU" : "";
     if (cs.asked != Summation::Auto) {
-        c.reason = std::string(take_psf ? "psf" : words) + on + ": asked, " + amount(c.work, rate) + " estimated";
+        c.reason = std::string(take_kernel ? "kernel" : words) + on + ": asked, " + amount(c.work, rate) + " estimated";
     } else if (weighed) {
-        c.reason = take_psf ? "psf" + on + ": " + amount(psf, rate) + " estimated against " + words + " " +
-                                  amount(exact, rate)
-                            : words + on + ": " + amount(exact, rate) + " estimated against psf " + amount(psf, rate);
+        c.reason = take_kernel ? "kernel" + on + ": " + amount(kernel, rate) + " estimated against " + words + " " +
+                                  amount(points, rate)
+                            : words + on + ": " + amount(points, rate) + " estimated against kernel " + amount(kernel, rate);
     } else if (gpu) {
-        c.reason = "direct on the GPU (its one exact evaluator): " + amount(exact, rate) + " estimated";
+        c.reason = "direct on the GPU (its one evaluator of the point sums): " + amount(points, rate) + " estimated";
     } else {
         const bool nufft = c.summation == Summation::Nufft;
-        c.reason = words + ": " + amount(exact, rate) + " estimated against " + (nufft ? "direct " : "nufft ") +
+        c.reason = words + ": " + amount(points, rate) + " estimated against " + (nufft ? "direct " : "nufft ") +
                    amount(nufft ? all_direct : all_nufft, rate);
     }
     return c;
 }
 
-double psf_cost(const FrameSums& f, const ChoiceSettings&) {
-    if (!f.psf_counted) return INFINITY;
-    const PsfSummationWork w = psf_summation_work(f.psf, f.psf_in, f.psf_out);
-    return w.kernels + w.per_run * f.psf_runs;
+double kernel_cost(const FrameSums& f, const ChoiceSettings&) {
+    if (!f.kernel_counted) return INFINITY;
+    const KernelSummationWork w = kernel_summation_work(f.kernel, f.kernel_in, f.kernel_out);
+    return w.kernels + w.per_run * f.kernel_runs;
 }
 
 }  // namespace detail

@@ -1,7 +1,7 @@
 // Which evaluator and which device run the scene-sum methods' sums, and what each costs: every cost
 // model, memory model and tuning constant that decides between the evaluators (direct, nufft,
-// psf) and between the devices, in one place, as FINUFFT keeps its choices in heuristics.hpp.
-// The evaluators' own physics (the psf summation's layers and anchors, the NUFFT's kernel) stays
+// kernel) and between the devices, in one place, as FINUFFT keeps its choices in heuristics.hpp.
+// The evaluators' own physics (the kernel summation's layers and anchors, the NUFFT's kernel) stays
 // with them; what only decides WHICH of them runs, and where, is here. Internal to core.
 //
 // Costs are in direct terms: the time of one term of the direct kernel (propagation.cpp), so
@@ -11,8 +11,8 @@
 #include <cmath>
 #include <string>
 
-#include "summation/psf/psf_summation.h"
-#include "summation/psf/psf_summation_geometry.h"
+#include "summation/kernel/kernel_summation.h"
+#include "summation/kernel/kernel_summation_geometry.h"
 #include "wavecam/summation_plan.h"
 
 namespace wavecam::detail {
@@ -28,7 +28,7 @@ constexpr double kFftCost = 1.33, kTapCost = 2.9, kChirpCost = 15.0;
 constexpr double kMacCost = 0.35;
 // One evaluation of the chirp's remainder while the boxes are tiled (ChirpGeometry::tiling): the
 // chirp at the box's parameter and at the probe point, two chirps. The tiling is a fixed cost
-// per sum: nothing beside a frame's millions of points, but all of a psf kernel's sum where its
+// per sum: nothing beside a frame's millions of points, but all of a kernel summation's kernel's sum where its
 // chirp needs many boxes (kMaxNufftKernelField).
 constexpr double kTilingProbeCost = 2 * kChirpCost;
 
@@ -48,7 +48,7 @@ SumChoice sum_work(const SumCounts& counts, bool bounded);
 SumChoice direct_sum_work(const SumCounts& counts, bool bounded);
 SumChoice nufft_sum_work(const SumCounts& counts, bool bounded);
 
-// ---- the psf summation's cost and memory ----
+// ---- the kernel summation's cost and memory ----
 
 // Frames whose kernels' anchors (the frame and its margin, R beyond it) reach beyond this field
 // angle (radians, 45 deg) sum every kernel directly: there the nufft evaluator's chirp tilings for
@@ -59,26 +59,26 @@ SumChoice nufft_sum_work(const SumCounts& counts, bool bounded);
 // chooses for all of them, sees none of that: its own tiling is one box.
 constexpr double kMaxNufftKernelField = M_PI / 4;
 
-// How the psf summation's kernels are summed: one source to the pinhole directly (a lattice of
+// How the kernel summation's kernels are summed: one source to the pinhole directly (a lattice of
 // transforms for one source never pays), the film as `spec.settings` ask, directly beyond
 // kMaxNufftKernelField.
 struct KernelSums {
     SummationSettings to_pinhole, to_film;
 };
-// (`g`: the spec's psf_summation_geometry, which the callers hold)
-KernelSums kernel_sums(const PsfSummationSpec& spec, const PsfSummationGeometry& g);
+// (`g`: the spec's kernel_summation_geometry, which the callers hold)
+KernelSums kernel_sums(const KernelSummationSpec& spec, const KernelSummationGeometry& g);
 
 // Work of one convolution in direct terms: the kernels' sums (`in` and `out`: the frame's two
 // sums' counts on the kernels' lattice, their points replaced by one source and a kernel's film
 // points), and per run the transforms and products (counted for every kernel: an upper bound,
 // the basis being known only once the kernels are).
-struct PsfSummationWork {
+struct KernelSummationWork {
     double kernels = 0, per_run = 0;
 };
-PsfSummationWork psf_summation_work(const PsfSummationSpec& spec, SumCounts in, SumCounts out);
+KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCounts in, SumCounts out);
 // Bytes a convolution holds at once: the kernels' spectra and a run's sums (on the CPU; a GPU
 // holds the same in its memory, padded to powers of two).
-double psf_summation_bytes(const PsfSummationSpec& spec);
+double kernel_summation_bytes(const KernelSummationSpec& spec);
 
 // ---- the devices ----
 
@@ -94,60 +94,60 @@ struct PlanSumQuery {
 };
 Result<SumChoice> choose_plan_sum(const PlanSumQuery& q, const ComputeDevice& device);
 
-// The psf summation's runs where the device cannot take its transforms (`why`): under `gpu` the
+// The kernel summation's runs where the device cannot take its transforms (`why`): under `gpu` the
 // job fails, under `auto` they run on the CPU (success: the CPU).
-Result<bool> psf_runs_off_device(const ComputeDevice& device, const std::string& why, ErrorKind kind);
+Result<bool> kernel_runs_off_device(const ComputeDevice& device, const std::string& why, ErrorKind kind);
 
 // ---- the one entry point: a frame's sums at one wavelength ----
 
-// What the exact sums' plans take for `asked`: nufft for one source at a time (the incoherent
+// What the point sums' plans take for `asked`: nufft for one source at a time (the incoherent
 // method, `single`) would pay a lattice of FFTs per source, so there the cheaper stands.
-Summation exact_asked(Summation asked, bool single);
+Summation point_sum_asked(Summation asked, bool single);
 
-// What the chooser weighs: the two exact sums' counts on the frame's lattice and how often a
-// wavelength executes them; the psf summation's counts on its kernels' lattice where it applies.
+// What the chooser weighs: the two point sums' counts on the frame's lattice and how often a
+// wavelength executes them; the kernel summation's counts on its kernels' lattice where it applies.
 struct FrameSums {
     SumCounts in, out;       // sources -> pinhole (one source where `single`), pinhole -> film
     bool single = false;     // the incoherent method: each source through the pinhole alone
     double repeats = 1;      // executions of both sums: the runs, or (single) the sources
     double film_share = 1;   // the share of the film's rows counted (a share of a job)
-    bool psf_counted = false;  // psf's counts below are set (asked for, or weighed by `auto`)
-    bool psf_applies = false;  // sources at pixel centres, an opening of one piece, layers within reach
-    PsfSummationSpec psf;
-    SumCounts psf_in, psf_out;  // the frame's sums on the kernels' lattice
-    double psf_runs = 1;        // runs (1 for the incoherent method: one pass of powers)
+    bool kernel_counted = false;  // the kernel summation's counts below are set (asked for, or weighed by `auto`)
+    bool kernel_applies = false;  // sources at pixel centres, an opening of one piece, layers within reach
+    KernelSummationSpec kernel;
+    SumCounts kernel_in, kernel_out;  // the frame's sums on the kernels' lattice
+    double kernel_runs = 1;        // runs (1 for the incoherent method: one pass of powers)
 };
 
-// What a job asks: the summation (auto weighs psf where `weigh_psf`, else the exact sums alone),
+// What a job asks: the summation (auto weighs the kernel summation where `weigh_kernel`, else the point sums alone),
 // the device handle, and the term rate measured here (0: no seconds, the reason in terms).
 struct ChoiceSettings {
     Summation asked = Summation::Auto;
-    bool weigh_psf = false;
+    bool weigh_kernel = false;
     const ComputeDevice* device = nullptr;  // null: the CPU
     double term_rate = 0;
-    // the job's decision of the exact sums' evaluators at this wavelength (SummationDecision),
+    // the job's decision of the point sums' evaluators at this wavelength (SummationDecision),
     // priced as decided instead of chosen again; null: chosen here
     const SumChoice* decided_in = nullptr;
     const SumChoice* decided_out = nullptr;
 };
 
-// The choice: psf, or the exact sums with each sum's evaluator (`in`, `out`); the device; the
+// The choice: the kernel summation, or the point sums with each sum's evaluator (`in`, `out`); the device; the
 // estimated work (direct terms), seconds (0 without a rate) and bytes the evaluator holds at once
-// beyond the frame's own arrays; and why, in a few words ("psf: 1.9 s estimated against nufft 6.3 s").
+// beyond the frame's own arrays; and why, in a few words ("kernel: 1.9 s estimated against nufft 6.3 s").
 struct SummationChoice {
-    Summation summation = Summation::Auto;  // Psf, or the exact sums: Direct, Nufft, or Auto where they differ
+    Summation summation = Summation::Auto;  // Psf, or the point sums: Direct, Nufft, or Auto where they differ
     SumChoice in, out;
-    PsfSummationWork psf;
+    KernelSummationWork kernel;
     bool gpu = false;
     double work = 0, seconds = 0, bytes = 0;
     std::string reason;
 };
 SummationChoice choose_summation(const FrameSums& frame, const ChoiceSettings& settings);
 
-// The psf summation's work for the whole frame in direct terms (the evaluators' table's frame
+// The kernel summation's work for the whole frame in direct terms (the evaluators' table's frame
 // estimate for the rows that take whole runs, summation_evaluator.h): its kernels, then every
-// run; infinite where the frame's psf counts are not set. (The rows of one sum are priced by
+// run; infinite where the frame's kernel-summation counts are not set. (The rows of one sum are priced by
 // their sums: choose_sum.)
-double psf_cost(const FrameSums& frame, const ChoiceSettings& settings);
+double kernel_cost(const FrameSums& frame, const ChoiceSettings& settings);
 
 }  // namespace wavecam::detail

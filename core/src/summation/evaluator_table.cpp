@@ -14,11 +14,11 @@ std::unique_ptr<SumEvaluator> direct_sum(const SumGeometry& g, const SumChoice&)
 
 const EvaluatorRow kRows[] = {
     // summation, word, device, on the frame's lattice, a frame's runs, one sum, estimates (one sum, a frame)
-    {Summation::Direct, "direct", Device::Cpu, true, make_exact_runs, direct_sum, direct_sum_work, nullptr},
-    {Summation::Direct, "direct", Device::Gpu, true, make_exact_runs, gpu_direct_sum, direct_sum_work, nullptr},
-    {Summation::Nufft, "nufft", Device::Cpu, true, make_exact_runs, make_nufft_evaluator, nufft_sum_work, nullptr},
-    {Summation::Psf, "psf", Device::Cpu, false, make_psf_runs, nullptr, nullptr, psf_cost},
-    {Summation::Psf, "psf", Device::Gpu, false, make_psf_runs, nullptr, nullptr, psf_cost},
+    {Summation::Direct, "direct", Device::Cpu, true, make_point_sum_runs, direct_sum, direct_sum_work, nullptr},
+    {Summation::Direct, "direct", Device::Gpu, true, make_point_sum_runs, gpu_direct_sum, direct_sum_work, nullptr},
+    {Summation::Nufft, "nufft", Device::Cpu, true, make_point_sum_runs, make_nufft_evaluator, nufft_sum_work, nullptr},
+    {Summation::Kernel, "kernel", Device::Cpu, false, make_kernel_runs, nullptr, nullptr, kernel_cost},
+    {Summation::Kernel, "kernel", Device::Gpu, false, make_kernel_runs, nullptr, nullptr, kernel_cost},
 };
 
 }  // namespace
@@ -26,7 +26,7 @@ const EvaluatorRow kRows[] = {
 const EvaluatorRows kEvaluators{kRows, kRows + sizeof(kRows) / sizeof(kRows[0])};
 
 const EvaluatorRow& evaluator_row(Summation s, Device device) {
-    const Summation wanted = s == Summation::Auto ? Summation::Direct : s;  // auto: the exact sums
+    const Summation wanted = s == Summation::Auto ? Summation::Direct : s;  // auto: the point sums
     for (const EvaluatorRow& row : kEvaluators)
         if (serves(row, wanted, device)) return row;
     for (const EvaluatorRow& row : kEvaluators)

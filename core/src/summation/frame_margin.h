@@ -1,4 +1,4 @@
-// The scene beyond the frame, for the exact sums. Internal to core.
+// The scene beyond the frame, for the point sums. Internal to core.
 //
 // Film pixels near the border receive light from scene points outside the frame. As the fast
 // path does (convolution_method.h), the scene beyond the input is its edge continued: a point

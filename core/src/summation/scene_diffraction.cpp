@@ -1,5 +1,5 @@
 // Diffracting a scene at one wavelength (scene_diffraction.h): the frame's sums built once
-// (scene_sum.h), each exact sum's evaluator decided, then its runs through the row of the
+// (scene_sum.h), each point sum's evaluator decided, then its runs through the row of the
 // evaluators' table (summation_evaluator.h) that the settings and device name: created, its
 // points set, its runs executed, released.
 #include "wavecam/scene_diffraction.h"
@@ -16,7 +16,7 @@ Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength
 }
 
 Result<bool> detail::diffract_monochrome(const MonochromeScene& scene, double wavelength, const SceneSumSettings& s,
-                                         float* irradiance, const ProgressFn& progress, PsfSummationMemo* memo) {
+                                         float* irradiance, const ProgressFn& progress, KernelSummationMemo* memo) {
     const PinholeCamera& c = scene.camera;
     if (auto v = check_settings(c, wavelength, s); !v.ok()) return v;
     if (!scene.checked)
@@ -24,10 +24,10 @@ Result<bool> detail::diffract_monochrome(const MonochromeScene& scene, double wa
     const WorkRange range = work_range(s, c.height);
     const double nearest =
         std::isnan(s.nearest_depth) ? nearest_depth(c, scene.depth, scene.depth_meaning) : s.nearest_depth;
-    // auto here: the exact sums, each sum's evaluator the chooser's (a job has weighed psf before)
+    // auto here: the point sums, each sum's evaluator the chooser's (a job has weighed the kernel summation before)
     const EvaluatorRow& row = evaluator_row(s.summation, s.device.gpu() ? Device::Gpu : Device::Cpu);
     const SceneSum sum = scene_sum(scene, wavelength, s, nearest, range, row.frame_lattice);
-    // each exact sum's evaluator: the job's decision (SceneSumSettings::decision), or, for a frame
+    // each point sum's evaluator: the job's decision (SceneSumSettings::decision), or, for a frame
     // diffracted alone, its own from the whole frame's counts; either way every share evaluates its
     // part as the job would, and nothing below decides again
     const SumChoices sums = row.create_sum ? decide_sums(s, sum, c, wavelength, nearest,

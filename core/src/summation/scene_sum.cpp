@@ -19,8 +19,8 @@ Result<bool> check_settings(const PinholeCamera& c, double wavelength, const Sce
     if (!(c.fov_h > 0 && c.fov_h < M_PI * 0.999)) return fail("fov: expected a field of view in (0deg, 180deg)");
     if (!(wavelength > 0)) return fail("wavelengths: expected wavelengths > 0");
     if (s.runs < 1) return fail("runs: expected at least 1 run");
-    if (s.summation == Summation::Psf && s.jitter)
-        return fail("jitter: the psf summation places every source at its pixel's centre; expected no jitter, or "
+    if (s.summation == Summation::Kernel && s.jitter)
+        return fail("jitter: the kernel summation places every source at its pixel's centre; expected no jitter, or "
                     "summation auto, direct or nufft");
     return check_frame(c, s.overscan);
 }

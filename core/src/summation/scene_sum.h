@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "summation/psf/psf_summation.h"
+#include "summation/kernel/kernel_summation.h"
 #include "summation/choose.h"
 #include "wavecam/scene_diffraction.h"
 #include "wavecam/summation_plan.h"
@@ -95,16 +95,16 @@ SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const SceneS
 SumChoices decide_sums(const SceneSumSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
                   double nearest, bool single);
 
-// The runs as convolutions with amplitude PSFs (psf_summation.h) for this wavelength.
-PsfSummationSpec psf_summation_spec(const SceneSumSettings& s, const PinholeCamera& c, double wavelength,
+// The runs as convolutions with amplitude PSFs (kernel_summation.h) for this wavelength.
+KernelSummationSpec kernel_summation_spec(const SceneSumSettings& s, const PinholeCamera& c, double wavelength,
                                     double nearest, int subsamples);
 
-// Whether the scene's depths, nearest at `nearest`, need more amplitude layers than the psf
-// summation takes (psf_summation.h).
-bool too_deep_for_psf(double nearest, const Aperture& aperture, double wavelength);
+// Whether the scene's depths, nearest at `nearest`, need more amplitude layers than the kernel
+// summation takes (kernel_summation.h).
+bool too_deep_for_kernel(double nearest, const Aperture& aperture, double wavelength);
 
-// The psf summation's work: its kernels' sums counted on their own lattice of `pitch`.
-PsfSummationWork psf_work(const SceneSumSettings& s, const SceneSum& sum, const PsfSummationSpec& spec, double nearest,
+// The kernel summation's work: its kernels' sums counted on their own lattice of `pitch`.
+KernelSummationWork kernel_work(const SceneSumSettings& s, const SceneSum& sum, const KernelSummationSpec& spec, double nearest,
                           double pitch);
 
 }  // namespace wavecam::detail

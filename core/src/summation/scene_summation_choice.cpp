@@ -1,11 +1,11 @@
 // A frame's sums counted for the chooser (summation/choose.h, which decides and prices them):
-// the exact sums' sources, pinhole samples and film points, and the psf summation's kernels on
+// the point sums' sources, pinhole samples and film points, and the kernel summation's kernels on
 // their own lattice; and the estimates the jobs read from its choice.
 #include <algorithm>
 #include <cmath>
 
-#include "summation/psf/psf_error_check.h"
-#include "summation/psf/psf_kernel.h"
+#include "summation/kernel/kernel_error_check.h"
+#include "summation/kernel/source_kernels.h"
 #include "summation/scene_sum.h"
 #include "summation/choose.h"
 
@@ -27,7 +27,7 @@ struct WavelengthFrame {
 };
 
 // The two sums' counts for the cost model (the film's for the whole frame), on a pinhole lattice of
-// `pitch` (the frame's, or the psf kernels' own), for one source at a time where `single`.
+// `pitch` (the frame's, or the kernel summation's kernels' own), for one source at a time where `single`.
 struct FrameCounts {
     SumCounts in, out;
 };
@@ -62,7 +62,7 @@ SumChoices decide_sums(const SceneSumSettings& s, const SceneSum& sum, const Pin
                   double nearest, bool single) {
     const FrameCounts n = frame_counts(s, sum, {c, wavelength, nearest}, sum.samples.pitch, single);
     SumChoices sums;
-    sums.settings = {exact_asked(s.summation, single), s.summation_tolerance, s.nthreads, s.device};
+    sums.settings = {point_sum_asked(s.summation, single), s.summation_tolerance, s.nthreads, s.device};
     sums.in.fixed_choice = sums.out.fixed_choice = true;
     const SumChoice* in = s.decision ? s.decision->to_pinhole_at(wavelength) : nullptr;
     const SumChoice* out = s.decision ? s.decision->to_film_at(wavelength) : nullptr;
@@ -85,10 +85,10 @@ SumChoices decide_sums(const SceneSumSettings& s, const SceneSum& sum, const Pin
     return sums;
 }
 
-// The runs as convolutions with amplitude PSFs (psf_summation.h) for this wavelength.
-detail::PsfSummationSpec psf_summation_spec(const SceneSumSettings& s, const PinholeCamera& c, double wavelength,
+// The runs as convolutions with amplitude PSFs (kernel_summation.h) for this wavelength.
+detail::KernelSummationSpec kernel_summation_spec(const SceneSumSettings& s, const PinholeCamera& c, double wavelength,
                                             double nearest, int subsamples) {
-    detail::PsfSummationSpec spec;
+    detail::KernelSummationSpec spec;
     spec.camera = c;
     spec.overscan = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);
     spec.aperture = s.aperture;
@@ -101,42 +101,42 @@ detail::PsfSummationSpec psf_summation_spec(const SceneSumSettings& s, const Pin
     return spec;
 }
 
-// Whether the scene's depths, nearest at `nearest`, need more amplitude layers than the psf
-// summation takes (psf_summation.h).
-bool too_deep_for_psf(double nearest, const Aperture& aperture, double wavelength) {
+// Whether the scene's depths, nearest at `nearest`, need more amplitude layers than the kernel
+// summation takes (kernel_summation.h).
+bool too_deep_for_kernel(double nearest, const Aperture& aperture, double wavelength) {
     const double rho = std::isinf(nearest) ? 0.0 : 1.0 / nearest;
-    return detail::amplitude_layers(rho, aperture.bounding_radius(), wavelength).count > detail::kMaxPsfLayers;
+    return detail::amplitude_layers(rho, aperture.bounding_radius(), wavelength).count > detail::kMaxKernelLayers;
 }
 
-// The psf summation's work: its kernels' sums counted on their own lattice of `pitch`.
-detail::PsfSummationWork psf_work(const SceneSumSettings& s, const SceneSum& sum, const detail::PsfSummationSpec& spec,
+// The kernel summation's work: its kernels' sums counted on their own lattice of `pitch`.
+detail::KernelSummationWork kernel_work(const SceneSumSettings& s, const SceneSum& sum, const detail::KernelSummationSpec& spec,
                                   double nearest, double pitch) {
     const FrameCounts n = frame_counts(s, sum, {spec.camera, spec.wavelength, nearest}, pitch, false);
-    return detail::psf_summation_work(spec, n.in, n.out);
+    return detail::kernel_summation_work(spec, n.in, n.out);
 }
 
-// The psf summation's plan-time check (psf_error_check.h) for the settings' frame at `wavelength`.
-Result<PsfErrorCheck> psf_error_check(const SceneSumSettings& s, const PinholeCamera& c, double wavelength) {
+// The kernel summation's plan-time check (kernel_error_check.h) for the settings' frame at `wavelength`.
+Result<KernelErrorCheck> kernel_error_check(const SceneSumSettings& s, const PinholeCamera& c, double wavelength) {
     const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
     const SceneSum sum = scene_sum({c, nullptr, nullptr}, wavelength, s, nearest, work_range(s, c.height), false);
-    const PsfSummationSpec spec = psf_summation_spec(s, c, wavelength, nearest, sum.subsamples);
-    return check_psf_error(spec, kernel_lattice_pitch(spec, sum.samples.pitch), unit_sources(c));
+    const KernelSummationSpec spec = kernel_summation_spec(s, c, wavelength, nearest, sum.subsamples);
+    return check_kernel_error(spec, kernel_lattice_pitch(spec, sum.samples.pitch), unit_sources(c));
 }
 
 namespace {
 
-// Where the psf summation applies: sources at their pixels' centres (no jitter), an opening of one
+// Where the kernel summation applies: sources at their pixels' centres (no jitter), an opening of one
 // piece (masks, zone plates and sieves have structure finer than the kernels' lattice), the
 // scene's depths within its layers.
-bool psf_applies(const SceneSumSettings& s, double nearest, double wavelength) {
+bool kernel_applies(const SceneSumSettings& s, double nearest, double wavelength) {
     const ApertureShape shape = s.aperture.shape;
     const bool one_opening =
         shape == ApertureShape::Circle || shape == ApertureShape::Square || shape == ApertureShape::Polygon;
-    return !s.jitter && one_opening && !too_deep_for_psf(nearest, s.aperture, wavelength);
+    return !s.jitter && one_opening && !too_deep_for_kernel(nearest, s.aperture, wavelength);
 }
 
 // The chooser's view of the settings' share of a frame at `wavelength`, every pixel lit, for
-// s.nearest_depth (NaN counts as all sky): the exact sums (but where psf is asked), psf where
+// s.nearest_depth (NaN counts as all sky): the point sums (but where the kernel summation is asked), the kernel summation where
 // asked, or weighed by `auto` where it applies.
 SummationChoice scene_choice(const SceneSumSettings& s, const PinholeCamera& c, double wavelength,
                              const ChoiceSettings& asked) {
@@ -146,7 +146,7 @@ SummationChoice scene_choice(const SceneSumSettings& s, const PinholeCamera& c, 
     const bool incoherent = s.method == CoherenceMethod::Incoherent;
     const double runs = w.run_end - w.run_begin;
     FrameSums frame;
-    if (s.summation != Summation::Psf) {
+    if (s.summation != Summation::Kernel) {
         const FrameCounts n = frame_counts(s, sum, {c, wavelength, nearest}, sum.samples.pitch, incoherent);
         frame.in = n.in;
         frame.out = n.out;
@@ -156,18 +156,18 @@ SummationChoice scene_choice(const SceneSumSettings& s, const PinholeCamera& c, 
     // this share's rows: their part of the film's work
     const int o = std::clamp(s.overscan, 0, std::min(c.width, c.height) / 2);
     frame.film_share = double(w.row_end - w.row_begin) / std::max(1, c.height - 2 * o);
-    frame.psf_applies = psf_applies(s, nearest, wavelength);
-    frame.psf_counted = s.summation == Summation::Psf || (asked.weigh_psf && frame.psf_applies);
-    if (frame.psf_counted) {
-        frame.psf = psf_summation_spec(s, c, wavelength, nearest, sum.subsamples);
-        const double pitch = kernel_lattice_pitch(frame.psf, sum.samples.pitch);
+    frame.kernel_applies = kernel_applies(s, nearest, wavelength);
+    frame.kernel_counted = s.summation == Summation::Kernel || (asked.weigh_kernel && frame.kernel_applies);
+    if (frame.kernel_counted) {
+        frame.kernel = kernel_summation_spec(s, c, wavelength, nearest, sum.subsamples);
+        const double pitch = kernel_lattice_pitch(frame.kernel, sum.samples.pitch);
         const FrameCounts n = frame_counts(s, sum, {c, wavelength, nearest}, pitch, false);
-        frame.psf_in = n.in;
-        frame.psf_out = n.out;
-        frame.psf_runs = incoherent ? 1.0 : runs;
+        frame.kernel_in = n.in;
+        frame.kernel_out = n.out;
+        frame.kernel_runs = incoherent ? 1.0 : runs;
     }
     ChoiceSettings priced = asked;  // the job's decision priced, where it holds this wavelength
-    if (s.decision && s.summation != Summation::Psf) {
+    if (s.decision && s.summation != Summation::Kernel) {
         priced.decided_in = s.decision->to_pinhole_at(wavelength);
         priced.decided_out = s.decision->to_film_at(wavelength);
         if (!priced.decided_in || !priced.decided_out) priced.decided_in = priced.decided_out = nullptr;
@@ -179,7 +179,7 @@ SummationChoice scene_choice(const SceneSumSettings& s, const PinholeCamera& c, 
 }  // namespace detail
 
 using detail::ChoiceSettings;
-using detail::psf_summation_spec;
+using detail::kernel_summation_spec;
 using detail::film_subsamples;
 using detail::scene_choice;
 using detail::SummationChoice;
@@ -207,7 +207,7 @@ SummationDecision decide_summation(const SceneSumSettings& asked, const PinholeC
     SummationDecision d;
     if (wavelengths.empty()) return d;
     d.summation = chosen_summation(asked, camera, wavelengths[wavelengths.size() / 2]);
-    if (d.summation == Summation::Psf) return d;
+    if (d.summation == Summation::Kernel) return d;
     SceneSumSettings s = asked;  // the whole job, as chosen_summation weighs it: every share decides alike
     s.summation = d.summation;
     s.decision = nullptr;
@@ -226,15 +226,15 @@ SummationDecision decide_summation(const SceneSumSettings& asked, const PinholeC
 Summation chosen_summation(const SceneSumSettings& asked, const PinholeCamera& c, double wavelength) {
     if (asked.summation != Summation::Auto) return asked.summation;
     const double nearest = std::isnan(asked.nearest_depth) ? INFINITY : asked.nearest_depth;
-    if (!detail::psf_applies(asked, nearest, wavelength)) return Summation::Auto;
+    if (!detail::kernel_applies(asked, nearest, wavelength)) return Summation::Auto;
     SceneSumSettings s = asked;  // the whole job: every row and run
     s.row_begin = s.run_begin = 0;
     s.row_end = s.run_end = -1;
     const SummationChoice chosen = scene_choice(s, c, wavelength, {Summation::Auto, true, &s.device, 0});
-    if (chosen.summation != Summation::Psf) return Summation::Auto;
-    // cheaper: psf where its plan-time check finds it within its stated error (psf_error_check.h)
-    const auto check = detail::psf_error_check(s, c, wavelength);
-    return check.ok() && check.value.within() ? Summation::Psf : Summation::Auto;
+    if (chosen.summation != Summation::Kernel) return Summation::Auto;
+    // cheaper: the kernel summation where its plan-time check finds it within its stated error (kernel_error_check.h)
+    const auto check = detail::kernel_error_check(s, c, wavelength);
+    return check.ok() && check.value.within() ? Summation::Kernel : Summation::Auto;
 }
 
 SummationEstimate estimate_summation(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength,
@@ -242,7 +242,7 @@ SummationEstimate estimate_summation(const SceneSumSettings& s, const PinholeCam
     const SummationChoice c = scene_choice(s, camera, wavelength, {s.summation, true, &s.device, term_rate});
     SummationEstimate e;
     e.summation = c.summation;
-    if (c.summation != Summation::Psf) {
+    if (c.summation != Summation::Kernel) {
         const bool in = c.in.evaluator == Evaluator::Nufft, out = c.out.evaluator == Evaluator::Nufft;
         e.sums = {!in, in, !out, out};
     }
@@ -265,10 +265,10 @@ double scene_terms(const SceneSumSettings& s, const PinholeCamera& camera, doubl
 }
 
 double scene_summation_bytes(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength) {
-    if (s.summation != Summation::Psf) return 0;
+    if (s.summation != Summation::Kernel) return 0;
     const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
     const int subsamples = film_subsamples(s, camera, wavelength);
-    return detail::psf_summation_bytes(psf_summation_spec(s, camera, wavelength, nearest, subsamples));
+    return detail::kernel_summation_bytes(kernel_summation_spec(s, camera, wavelength, nearest, subsamples));
 }
 
 }  // namespace wavecam

@@ -3,13 +3,13 @@
 #include <cmath>
 #include <memory>
 
-#include "summation/psf/psf_summation.h"
+#include "summation/kernel/kernel_summation.h"
 
 namespace wavecam {
 
 MonochromePropagator wave_propagator(const SceneSumSettings& settings) {
     // one memo per propagator: a wavelength's negative part reuses its positive part's kernels
-    auto memo = std::make_shared<detail::PsfSummationMemo>();
+    auto memo = std::make_shared<detail::KernelSummationMemo>();
     return [settings, memo](const MonochromeScene& scene, double wavelength, float* irradiance,
                             const ProgressFn& progress) {
         return detail::diffract_monochrome(scene, wavelength, settings, irradiance, progress, memo.get());
@@ -17,7 +17,7 @@ MonochromePropagator wave_propagator(const SceneSumSettings& settings) {
 }
 
 RunPropagator run_propagator(const SceneSumSettings& settings) {
-    auto memo = std::make_shared<detail::PsfSummationMemo>();
+    auto memo = std::make_shared<detail::KernelSummationMemo>();
     return [settings, memo](const MonochromeScene& scene, double wavelength, int run, float* irradiance,
                             const ProgressFn& progress) {
         SceneSumSettings one = settings;

@@ -5,13 +5,13 @@
 //   create      a row's `create`, for the frame (scene, its sources and film points, settings,
 //               the share's rows and runs);
 //   set_points  the frame's sources and film points fixed: the plans committed (direct, nufft)
-//               or the kernels computed (psf);
+//               or the kernels computed (kernel);
 //   execute     a batch of runs, each added to the output on its own (a job is the sum of its
 //               shares to the bit);
 //   release     destroying it (`reset()` of its unique_ptr).
 //
 // The creation table, kEvaluators, is the one list of evaluators: one row per evaluator and
-// device (direct on the CPU, direct on a GPU, nufft on the CPU, psf on the CPU, psf on a GPU),
+// device (direct on the CPU, direct on a GPU, nufft on the CPU, kernel on the CPU, kernel on a GPU),
 // each with its word (the `summation` setting's value), its create functions and its estimates;
 // the chooser (choose.h) takes the row of lowest estimate among those the job's device and
 // setting allow. Adding an evaluator (a CUDA one, say) is one new file that implements
@@ -35,7 +35,7 @@ struct EvaluatorSetup {
     const SceneSumSettings* settings = nullptr;
     WorkRange range{};
     double nearest = INFINITY;       // the scene's nearest planar depth
-    PsfSummationMemo* memo = nullptr;    // psf: the job's kept kernels, or none
+    KernelSummationMemo* memo = nullptr;    // kernel: the job's kept kernels, or none
     const SumChoices* sums = nullptr;    // the exact rows: each sum's evaluator, decided for the frame
 };
 
@@ -50,7 +50,7 @@ public:
     // The share of the frame's work that set_points does (for progress), from the cost model.
     virtual double setup_share() const { return 0; }
     // Fails when cancelled through `progress`, on the device, or where the frame is beyond the
-    // evaluator (psf: depths beyond its layers).
+    // evaluator (kernel: depths beyond its layers).
     virtual Result<bool> set_points(const ProgressFn& progress) = 0;
     // Adds the batch's runs (each weighted 1/runs) to irradiance (camera width x height).
     virtual Result<bool> execute(const RunBatch& batch, float* irradiance, const ProgressFn& progress) = 0;
@@ -61,15 +61,15 @@ struct EvaluatorRow {
     Summation summation;
     const char* word;       // the `summation` setting's value
     Device device;          // Device::Cpu or Device::Gpu
-    bool frame_lattice;     // runs on the frame's pinhole lattice and film points (psf samples its kernels' own)
+    bool frame_lattice;     // runs on the frame's pinhole lattice and film points (kernel samples its kernels' own)
     // a frame's runs through it
     std::unique_ptr<SummationEvaluator> (*create)(const EvaluatorSetup& setup);
-    // one sum through it, for the exact sums' plans (summation_plan.h); null where the evaluator
-    // takes whole runs (psf)
+    // one sum through it, for the point sums' plans (summation_plan.h); null where the evaluator
+    // takes whole runs (kernel)
     std::unique_ptr<SumEvaluator> (*create_sum)(const SumGeometry& g, const SumChoice& choice);
     // its estimate in direct terms: of one sum (choose.h; `bounded`: auto's, whose tiling may
     // stop early) for a row of sums, whose frames are priced by their sums (choose_summation);
-    // of a frame's runs for a row that takes whole runs (psf); null where the other is set
+    // of a frame's runs for a row that takes whole runs (kernel); null where the other is set
     SumChoice (*estimate_sum)(const SumCounts& counts, bool bounded);
     double (*estimate)(const FrameSums& frame, const ChoiceSettings& settings);
 };
@@ -92,12 +92,12 @@ inline bool serves(const EvaluatorRow& row, Summation asked, Device device) {
 inline Summation summation_of(Evaluator e) { return e == Evaluator::Nufft ? Summation::Nufft : Summation::Direct; }
 
 // The row of `s` on `device` (Cpu or Gpu; the CPU's where the device has none); `auto` (the exact
-// sums, each sum's evaluator the chooser's, after a job has weighed psf) is direct's, whose runs
-// are the exact sums' whichever evaluates each sum.
+// sums, each sum's evaluator the chooser's, after a job has weighed the kernel summation) is direct's, whose runs
+// are the point sums' whichever evaluates each sum.
 const EvaluatorRow& evaluator_row(Summation s, Device device = Device::Cpu);
 
 // The rows' create functions (one file each).
-std::unique_ptr<SummationEvaluator> make_exact_runs(const EvaluatorSetup& setup);  // exact_runs.cpp
-std::unique_ptr<SummationEvaluator> make_psf_runs(const EvaluatorSetup& setup);    // psf_runs.cpp
+std::unique_ptr<SummationEvaluator> make_point_sum_runs(const EvaluatorSetup& setup);  // point_sum_runs.cpp
+std::unique_ptr<SummationEvaluator> make_kernel_runs(const EvaluatorSetup& setup);    // kernel_runs.cpp
 
 }  // namespace wavecam::detail

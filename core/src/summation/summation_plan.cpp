@@ -1,4 +1,4 @@
-// The exact sums' plans (summation_plan.h): committed to the evaluator the chooser (choose.h) picks.
+// The point sums' plans (summation_plan.h): committed to the evaluator the chooser (choose.h) picks.
 #include "wavecam/summation_plan.h"
 
 #include <cmath>

@@ -65,7 +65,8 @@ def _set_max_terms_text(self, text):
         self["max_terms_typed"] = text
 
 # The numbers are what a .blend file stores for an enum (not the identifiers): files saved when
-# these were called 'fast' (0) and 'exact' (1) load as convolution and random-phase.
+# these were called 'fast' (0) and 'exact' (1) load as convolution and random-phase, and a summation
+# saved as 'psf' (3) as kernel.
 METHODS = [
     ('convolution', "Convolution", "PSF grid and FFT convolution (the default)", 0),
     ('random-phase', "Random phase", "The seed paper's random-phase sum, averaged over runs (slow; small frames)", 1),
@@ -73,10 +74,10 @@ METHODS = [
 ]
 
 SUMMATIONS = [
-    ('auto', "Auto", "The exact sums through the cheaper of their two evaluators (the default)", 0),
-    ('direct', "Direct", "The exact sums term by term: the reference (slowest)", 1),
-    ('nufft', "NUFFT", "The exact sums through NUFFTs over the pinhole lattice", 2),
-    ('psf', "PSF", "Each run as a convolution with amplitude PSFs from the exact sums: within a few percent of "
+    ('auto', "Auto", "The point sums through the cheaper of their two evaluators (the default)", 0),
+    ('direct', "Direct", "The point sums term by term: the reference (slowest)", 1),
+    ('nufft', "NUFFT", "The point sums through NUFFTs over the pinhole lattice", 2),
+    ('kernel', "Kernel", "Each run as a convolution with amplitude kernels from the point sums: within a few percent of "
      "them, far cheaper", 3),
 ]
 DEVICES = [
@@ -119,7 +120,7 @@ class WavecamCameraSettings(bpy.types.PropertyGroup):
     method: bpy.props.EnumProperty(
         name="Method", default='convolution', items=METHODS,
         description="How the diffracted image is formed: Convolution in seconds; Random phase and Incoherent "
-                    "through the exact sums, minutes to hours")
+                    "through the point sums, minutes to hours")
     auto_runs: bpy.props.BoolProperty(
         name="Runs from the PSF", default=True,
         description="As many random-phase runs as the PSF's size in pixels needs for every colour channel's "
@@ -132,7 +133,7 @@ class WavecamCameraSettings(bpy.types.PropertyGroup):
         description="How the random-phase and incoherent methods evaluate their sums")
     device: bpy.props.EnumProperty(
         name="Device", default='cpu', items=DEVICES,
-        description="Where the exact sums' direct terms and the psf summation's runs run")
+        description="Where the point sums' direct terms and the kernel summation's runs run")
     max_terms: bpy.props.FloatProperty(
         name="Max terms", default=DEFAULT_MAX_TERMS, min=1.0, soft_min=1e9, soft_max=1e14,
         description="Random-phase and incoherent: refuse a frame whose sums need more terms")

@@ -1,5 +1,5 @@
 # What `wavecam apply` prints on stderr when it is not on a terminal, read for Blender's UI:
-#   apply: 48x32 pixels x 8 wavelengths x 64 runs, auto summation (psf; at 569 nm, psf: ...) = 4.72e+10 terms, about 1m35s on 2 threads ...
+#   apply: 48x32 pixels x 8 wavelengths x 64 runs, auto summation (kernel; at 569 nm, kernel: ...) = 4.72e+10 terms, about 1m35s on 2 threads ...
 #   apply: 42% after 30s, about 40s left
 #   wavecam apply: frame.exr: ... beyond the max-terms limit of 1e+09; lower --runs, ...
 # and what a refusal means in the panel's words.
@@ -28,7 +28,7 @@ def progress(line):
 
 def software_device(line):
     """The device's name where a line names the job's device as a software Vulkan driver
-    ("... summation (psf) on llvmpipe (LLVM 15.0.6, 256 bits) (...) = ..."), else None."""
+    ("... summation (kernel) on llvmpipe (LLVM 15.0.6, 256 bits) (...) = ..."), else None."""
     m = re.search(r" on ((?:%s)[^(=]*?) \(" % "|".join(SOFTWARE_VULKAN), line, re.IGNORECASE)
     return m.group(1) if m else None
 

@@ -79,7 +79,7 @@ struct DiffractOptions {
 Aperture resolved_aperture(const DiffractOptions& opt);
 
 // Terms the job costs for an image of this size, field of view and depth (for refusing and
-// reporting): the exact sums' terms with the job's spectral basis (three propagations per
+// reporting): the point sums' terms with the job's spectral basis (three propagations per
 // wavelength for monochrome light); 0 for the convolution method or when that basis cannot be made.
 double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
                       const FileColour& file_colour = {});

@@ -1,5 +1,5 @@
 #version 450
-// A film point's share of its pixel after the inverse transform (psf_summation.h):
+// A film point's share of its pixel after the inverse transform (kernel_summation.h):
 //   pixel[q] += |u[q]|^2   (amplitudes), or  u[q].x  (the incoherent case: powers convolved).
 
 layout(local_size_x = 256) in;

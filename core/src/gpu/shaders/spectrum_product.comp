@@ -1,5 +1,5 @@
 #version 450
-// One kernel's share of a run in the frequency domain (psf_summation.h):
+// One kernel's share of a run in the frequency domain (kernel_summation.h):
 //   total[q] += image[q] * spectrum[q]
 // for the n points of a transform; the spectrum at an offset in its buffer (several spectra share
 // one buffer).

@@ -79,7 +79,7 @@ void BandLimitedStencil::design(double nu_max, double tolerance) {
 BandLimitedStencil::BandLimitedStencil(double nu_max, double tolerance) {
     nu_max = std::fabs(nu_max);
     if (!(nu_max < M_PI) || !(tolerance > 0)) return;
-    // Every sum's plan asks for a stencil (the psf summation's kernels: two plans per anchor and
+    // Every sum's plan asks for a stencil (the kernel summation's kernels: two plans per anchor and
     // layer), and each design checks its error over the band, milliseconds each. A stencil serves
     // any band within its own at any tolerance above its own, so designs are kept for bands
     // rounded up to pi / 256 and tolerances rounded down to powers of 2^(1/4), and shared.

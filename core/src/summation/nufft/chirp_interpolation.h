@@ -27,7 +27,7 @@ struct ChirpGeometry {
     // The boxes tiling `r`, split only where an axis needs more than kMaxNodes: the nodes' count
     // costs only per-point arithmetic, the transforms are the skeleton's. `probed` (where given)
     // is set to the kernel's evaluations the tiling took: a fixed cost per sum that small sums
-    // (a psf kernel's few film points) feel. No boxes once the evaluations pass `max_evaluations`.
+    // (a kernel summation's kernel's few film points) feel. No boxes once the evaluations pass `max_evaluations`.
     std::vector<ChebyshevBox> tiling(const DirectionRange& r, const std::vector<ProbeDisc>& discs,
                                    double* probed = nullptr, double max_evaluations = INFINITY) const;
     static constexpr int kMaxRank = 4096, kMaxNodes = 12;

@@ -1,4 +1,4 @@
-// The scene-sum methods' frames at their edge, through the exact sums: the scene beyond the frame
+// The scene-sum methods' frames at their edge, through the point sums: the scene beyond the frame
 // is its edge continued (frame_margin.h), so a uniform wall through the incoherent sum comes back
 // uniform to the last pixel, the random-phase method's border agrees with its interior within its
 // own noise, border pixels agree with the convolution method's, and an overscan margin's light
@@ -73,7 +73,7 @@ SceneSumSettings settings(CoherenceMethod method) {
 // Wolf 8.5.2), 1.5% at s = 1.15 mm, and a 1/r tail puts 1/pi of that across a straight edge:
 // 0.5% on an edge, twice that in a corner, bounds the loss (the 1/r law overstates it near the
 // core). Without the margin the border pixels lose about half their light.
-TEST(ExactFrame, UniformWallThroughTheIncoherentSumIsUniformToTheLastPixel) {
+TEST(PointSumFrame, UniformWallThroughTheIncoherentSumIsUniformToTheLastPixel) {
     const PinholeCamera c = wall_camera(kSide);
     const std::vector<float> power(kSide * kSide, 1.0f);
     const SceneSumSettings s = settings(CoherenceMethod::Incoherent);
@@ -98,7 +98,7 @@ TEST(ExactFrame, UniformWallThroughTheIncoherentSumIsUniformToTheLastPixel) {
 // The seed paper's random phases make every film point a speckle sample: the border's mean
 // must agree with the interior's within their standard errors (estimated here from the pixels'
 // own scatter), where a missing margin would take about half of the border's light.
-TEST(ExactFrame, RandomPhaseBorderMeanIsTheInteriorsWithinItsNoise) {
+TEST(PointSumFrame, RandomPhaseBorderMeanIsTheInteriorsWithinItsNoise) {
     const PinholeCamera c = wall_camera(kSide);
     const std::vector<float> power(kSide * kSide, 1.0f);
     SceneSumSettings s = settings(CoherenceMethod::RandomPhase);
@@ -130,7 +130,7 @@ TEST(ExactFrame, RandomPhaseBorderMeanIsTheInteriorsWithinItsNoise) {
 // Border pixels of a wall whose radiance ramps along x and steps in depth along y (so the
 // continued edge differs from side to side): the exact incoherent sum against the convolution method,
 // which continues the edge the same way, within the 2% the two agree to inside the frame.
-TEST(ExactFrame, BorderPixelsAgreeWithTheConvolutionMethod) {
+TEST(PointSumFrame, BorderPixelsAgreeWithTheConvolutionMethod) {
     const PinholeCamera c = wall_camera(kSide);
     std::vector<float> rgb(3 * kSide * kSide), depth(kSide * kSide);
     for (int j = 0; j < kSide; ++j)
@@ -164,7 +164,7 @@ TEST(ExactFrame, BorderPixelsAgreeWithTheConvolutionMethod) {
 // A bright patch in the left margin lights the frame's left column beside it (its PSF's 97%
 // radius is 9 pixels); the same rows of the right column, as far from anything bright, stay at
 // the dim wall's level; the margin's own film pixels are not computed.
-TEST(ExactFrame, OverscanMarginLightsTheFrameAndIsNotFilm) {
+TEST(PointSumFrame, OverscanMarginLightsTheFrameAndIsNotFilm) {
     const int o = 4;
     const PinholeCamera c = wall_camera(kSide);
     std::vector<float> power(kSide * kSide, 0.05f);

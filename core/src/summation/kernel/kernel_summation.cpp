@@ -1,19 +1,19 @@
-// The psf summation's runs (psf_summation.h, PsfSummation::run): the sources' weighted images per
+// The kernel summation's runs (kernel_summation.h, KernelSummation::run): the sources' weighted images per
 // basis kernel, their convolutions with the kernels' spectra, and each pixel's film; the memo.
-#include "summation/psf/psf_summation.h"
+#include "summation/kernel/kernel_summation.h"
 
 #include <algorithm>
 #include <cmath>
 #include <mutex>
 
 #include "base/parallel.h"
-#include "summation/psf/psf_summation_impl.h"
+#include "summation/kernel/kernel_summation_impl.h"
 
 namespace wavecam::detail {
 
 namespace {
 
-using Impl = PsfSummation::Impl;
+using Impl = KernelSummation::Impl;
 
 Result<bool> cancelled() { return Result<bool>::failure("cancelled", ErrorKind::Cancelled); }
 
@@ -21,8 +21,8 @@ Result<bool> cancelled() { return Result<bool>::failure("cancelled", ErrorKind::
 // kernel, sum over the blend of weight x coefficient[k][r], on the transform's grid (every
 // point written, the padding's zeros too: hundreds of MiB at 1080p, not cleared first), in
 // planes P apart (the spectra's whole chunks; the GPU's transforms take N), into m.image.
-void weigh_sources(const Impl& m, const PsfSummationSources& sources, size_t P) {
-    const PsfSummationGeometry& g = m.g;
+void weigh_sources(const Impl& m, const KernelSummationSources& sources, size_t P) {
+    const KernelSummationGeometry& g = m.g;
     const KernelBasis& basis = m.basis;
     const int B = basis.rank, runs = sources.runs;
     const size_t n = size_t(g.width) * g.height;
@@ -80,7 +80,7 @@ Result<bool> film_on_device(const Impl& m, int runs, const ProgressFn& progress)
 // The same here: the images' transforms, their products with the spectra and the inverse
 // transforms, in planes P apart.
 Result<bool> film_on_cpu(const Impl& m, int runs, size_t P, const ProgressFn& progress) {
-    const PsfSummationGeometry& g = m.g;
+    const KernelSummationGeometry& g = m.g;
     const int M = m.modes.count, B = m.basis.rank;
     const size_t N = m.fft->size();
     std::vector<std::complex<float>>& image = m.image;
@@ -125,14 +125,14 @@ Result<bool> film_on_cpu(const Impl& m, int runs, size_t P, const ProgressFn& pr
 // Run by run, each pixel's mean over its points, then `each`, added to `irradiance` (camera
 // rows `rows`, columns within the overscan).
 void add_film(const Impl& m, int runs, double scale, const RowRange& rows, const float* each, float* irradiance) {
-    const PsfSummationGeometry& g = m.g;
+    const KernelSummationGeometry& g = m.g;
     const size_t N = m.fft->size();
     const std::vector<double>& film = m.film;
     const PinholeCamera& c = m.spec.camera;
     const int o = m.spec.overscan;
     const double coherent = 1.0 / (double(N) * N), incoherent = 1.0 / double(N);
     const double norm = scale / m.points() * (m.spec.incoherent ? incoherent : coherent);
-    // (each run one addition per pixel, as the exact sums' runs: a job is then the sum of its
+    // (each run one addition per pixel, as the point sums' runs: a job is then the sum of its
     // shares' runs to the bit)
     for (int k = 0; k < runs; ++k) {
         const double* f = film.data() + size_t(k) * N;
@@ -149,17 +149,17 @@ void add_film(const Impl& m, int runs, double scale, const RowRange& rows, const
 
 }  // namespace
 
-PsfSummation::PsfSummation() = default;
-PsfSummation::~PsfSummation() = default;
-PsfSummation::PsfSummation(PsfSummation&&) noexcept = default;
-PsfSummation& PsfSummation::operator=(PsfSummation&&) noexcept = default;
-int PsfSummation::radius() const { return impl_->g.radius; }
-int PsfSummation::domain_width() const { return impl_->g.width; }
-int PsfSummation::domain_height() const { return impl_->g.height; }
-int PsfSummation::origin() const { return impl_->g.origin; }
-const DepthLayers& PsfSummation::layers() const { return impl_->g.layers; }
+KernelSummation::KernelSummation() = default;
+KernelSummation::~KernelSummation() = default;
+KernelSummation::KernelSummation(KernelSummation&&) noexcept = default;
+KernelSummation& KernelSummation::operator=(KernelSummation&&) noexcept = default;
+int KernelSummation::radius() const { return impl_->g.radius; }
+int KernelSummation::domain_width() const { return impl_->g.width; }
+int KernelSummation::domain_height() const { return impl_->g.height; }
+int KernelSummation::origin() const { return impl_->g.origin; }
+const DepthLayers& KernelSummation::layers() const { return impl_->g.layers; }
 
-Result<bool> PsfSummation::run(const PsfSummationSources& sources, double scale, const RowRange& rows,
+Result<bool> KernelSummation::run(const KernelSummationSources& sources, double scale, const RowRange& rows,
                                const float* each, float* irradiance, const ProgressFn& progress) const {
     const Impl& m = *impl_;
     const int runs = sources.runs;
@@ -175,7 +175,7 @@ Result<bool> PsfSummation::run(const PsfSummationSources& sources, double scale,
     return Result<bool>::success(true);
 }
 
-int PsfSummation::runs_at_once() const {
+int KernelSummation::runs_at_once() const {
     const Impl& m = *impl_;
     const double N = double(m.fft->size()), B = m.basis.rank, M = m.modes.count;
     // a run's images, sums and film against the kernels' spectra (none kept here on a GPU)
@@ -183,9 +183,9 @@ int PsfSummation::runs_at_once() const {
     return int(std::clamp(std::floor(spectra / run), 1.0, double(kMaxRunsAtOnce)));
 }
 
-Result<std::shared_ptr<const PsfSummation>> PsfSummationMemo::get(const PsfSummationSpec& spec, double pitch,
+Result<std::shared_ptr<const KernelSummation>> KernelSummationMemo::get(const KernelSummationSpec& spec, double pitch,
                                                                   const Make& make) {
-    using R = Result<std::shared_ptr<const PsfSummation>>;
+    using R = Result<std::shared_ptr<const KernelSummation>>;
     std::lock_guard<std::mutex> lock(busy_);
     const PinholeCamera &a = spec.camera, &b = spec_.camera;
     const bool same = kept_ && a.width == b.width && a.height == b.height && a.fov_h == b.fov_h &&
@@ -197,7 +197,7 @@ Result<std::shared_ptr<const PsfSummation>> PsfSummationMemo::get(const PsfSumma
         kept_.reset();  // (its memory free before the next is made)
         auto made = make();
         if (!made.ok()) return R::failure(made);
-        kept_ = std::make_shared<const PsfSummation>(std::move(made.value));
+        kept_ = std::make_shared<const KernelSummation>(std::move(made.value));
         spec_ = spec;
         pitch_ = pitch;
     }

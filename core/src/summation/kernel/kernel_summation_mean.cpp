@@ -1,11 +1,11 @@
-// The psf summation's power balance per source, and what its runs' mean adds: the blend's mean
-// and the far tail (psf_summation.h: energy, the blend's mean, the far tail).
+// The kernel summation's power balance per source, and what its runs' mean adds: the blend's mean
+// and the far tail (kernel_summation.h: energy, the blend's mean, the far tail).
 #include <algorithm>
 #include <cmath>
 
 #include "base/parallel.h"
 #include "convolution/far_tail.h"
-#include "summation/psf/psf_summation_impl.h"
+#include "summation/kernel/kernel_summation_impl.h"
 #include "wavecam/spectral_diffraction.h"
 
 namespace wavecam::detail {
@@ -14,9 +14,9 @@ namespace {
 
 // Per source and blended kernel u, its anchor's layer balance beta_a (the power the layers'
 // blend L_a lacks, phi_a times it: the anchor's weights sum to phi_a); 8 per domain pixel.
-std::vector<float> layer_balances(const PsfSummation::Impl& m, const PsfSummationSources& sources,
+std::vector<float> layer_balances(const KernelSummation::Impl& m, const KernelSummationSources& sources,
                                   const std::vector<float>& power) {
-    const PsfSummationGeometry& g = m.g;
+    const KernelSummationGeometry& g = m.g;
     const size_t n = size_t(g.width) * g.height;
     const size_t A = size_t(g.anchors()), K = size_t(g.layers.count) * A;
     std::vector<float> beta(n * 8, 1.0f);
@@ -45,9 +45,9 @@ std::vector<float> layer_balances(const PsfSummation::Impl& m, const PsfSummatio
 
 }  // namespace
 
-std::vector<float> PsfSummation::power_balance(const PsfSummationSources& sources) const {
+std::vector<float> KernelSummation::power_balance(const KernelSummationSources& sources) const {
     const Impl& m = *impl_;
-    const PsfSummationGeometry& g = m.g;
+    const KernelSummationGeometry& g = m.g;
     const size_t n = size_t(g.width) * g.height, K = size_t(g.layers.count) * g.anchors();
     std::vector<float> factor(n, 1.0f);
     if (m.spec.incoherent) return factor;
@@ -68,11 +68,11 @@ std::vector<float> PsfSummation::power_balance(const PsfSummationSources& source
     return factor;
 }
 
-void PsfSummation::add_blend_mean(const PsfSummationSources& sources, const std::vector<float>& power,
+void KernelSummation::add_blend_mean(const KernelSummationSources& sources, const std::vector<float>& power,
                                   const std::vector<float>& balance, const RowRange& rows, float* each) const {
     const Impl& m = *impl_;
     if (m.spec.incoherent) return;  // (its powers are blended as they are)
-    const PsfSummationGeometry& g = m.g;
+    const KernelSummationGeometry& g = m.g;
     const PinholeCamera& c = m.spec.camera;
     const int R = g.radius, side = 2 * R + 1, o = m.spec.overscan;
     const size_t P = size_t(side) * side, N9 = Impl::kNeighbours, A = size_t(g.anchors());
@@ -123,7 +123,7 @@ void PsfSummation::add_blend_mean(const PsfSummationSources& sources, const std:
     });
 }
 
-void PsfSummation::add_far_tail(const float* radiance, const float* depth, DepthMeaning meaning, double scale,
+void KernelSummation::add_far_tail(const float* radiance, const float* depth, DepthMeaning meaning, double scale,
                                 const RowRange& rows, float* irradiance) const {
     const Impl& m = *impl_;
     const PinholeCamera& c = m.spec.camera;

@@ -1,5 +1,5 @@
-// The psf summation's runs on a Vulkan device (gpu_psf_summation.h).
-#include "gpu/gpu_psf_summation.h"
+// The kernel summation's runs on a Vulkan device (gpu_kernel_summation.h).
+#include "gpu/gpu_kernel_summation.h"
 
 #include <cmath>
 #include <cstring>
@@ -41,7 +41,7 @@ gpu::Context::Step step(const gpu::Pipeline& p, std::vector<const gpu::Buffer*> 
 
 }  // namespace
 
-struct GpuPsfSummation::Impl {
+struct GpuKernelSummation::Impl {
     std::shared_ptr<gpu::Context> ctx;  // the device's, shared with its direct sums
     gpu::Pipeline fft, product, power;
     int nx = 0, ny = 0, points = 0;
@@ -63,20 +63,20 @@ struct GpuPsfSummation::Impl {
     uint32_t groups() const { return uint32_t((size() + kGroup - 1) / kGroup); }
 };
 
-GpuPsfSummation::GpuPsfSummation(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-GpuPsfSummation::~GpuPsfSummation() = default;
+GpuKernelSummation::GpuKernelSummation(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+GpuKernelSummation::~GpuKernelSummation() = default;
 
-Result<std::unique_ptr<GpuPsfSummation>> GpuPsfSummation::create(const ComputeDevice& device, int nx, int ny,
+Result<std::unique_ptr<GpuKernelSummation>> GpuKernelSummation::create(const ComputeDevice& device, int nx, int ny,
                                                                  int kernels, int points) {
-    using R = Result<std::unique_ptr<GpuPsfSummation>>;
+    using R = Result<std::unique_ptr<GpuKernelSummation>>;
     const auto power_of_two = [](int n) { return n >= 2 && n <= kMaxSide && (n & (n - 1)) == 0; };
     if (!power_of_two(nx) || !power_of_two(ny))
-        return R::failure("GPU psf summation: transforms of " + std::to_string(nx) + " x " + std::to_string(ny) +
+        return R::failure("GPU kernel summation: transforms of " + std::to_string(nx) + " x " + std::to_string(ny) +
                               " points; the device's take powers of two up to " + std::to_string(kMaxSide) + " a side",
                           ErrorKind::Invalid, "device");
     if (!device.gpu()) {
         const std::string why = device.error().empty() ? "the device `cpu` is no GPU" : device.error();
-        return R::failure("GPU psf summation: " + why, ErrorKind::Invalid, "device");
+        return R::failure("GPU kernel summation: " + why, ErrorKind::Invalid, "device");
     }
     auto m = std::make_unique<Impl>();
     m->ctx = device.impl()->context;
@@ -85,7 +85,7 @@ Result<std::unique_ptr<GpuPsfSummation>> GpuPsfSummation::create(const ComputeDe
     m->points = points;
     const size_t bytes = m->size() * 8, max = m->ctx->max_buffer_bytes();
     if (m->ctx->shared_memory_bytes() < size_t(kMaxSide) * 8 || bytes > max)
-        return R::failure("GPU psf summation: " + m->ctx->name() + " holds too little for transforms of " +
+        return R::failure("GPU kernel summation: " + m->ctx->name() + " holds too little for transforms of " +
                               std::to_string(nx) + " x " + std::to_string(ny) + " points",
                           ErrorKind::Failed, "device");
     auto fft = m->ctx->pipeline(gpu::spirv::fft_lines, sizeof gpu::spirv::fft_lines, 2, sizeof(FftPush));
@@ -124,10 +124,10 @@ Result<std::unique_ptr<GpuPsfSummation>> GpuPsfSummation::create(const ComputeDe
     for (size_t k = 0; k < m->slabs.size(); ++k)
         if (auto r = buffer(std::min(m->per_slab, spectra - k * m->per_slab) * bytes, m->slabs[k]); !r.ok())
             return R::failure(r);
-    return R::success(std::unique_ptr<GpuPsfSummation>(new GpuPsfSummation(std::move(m))));
+    return R::success(std::unique_ptr<GpuKernelSummation>(new GpuKernelSummation(std::move(m))));
 }
 
-Result<bool> GpuPsfSummation::set_spectrum(int kernel, int point, const std::complex<float>* spectrum) {
+Result<bool> GpuKernelSummation::set_spectrum(int kernel, int point, const std::complex<float>* spectrum) {
     const Impl& m = *impl_;
     const size_t index = size_t(kernel) * m.points + point;
     std::memcpy(static_cast<std::complex<float>*>(m.slabs[index / m.per_slab].data()) + (index % m.per_slab) * m.size(),
@@ -135,13 +135,13 @@ Result<bool> GpuPsfSummation::set_spectrum(int kernel, int point, const std::com
     return Result<bool>::success(true);
 }
 
-void GpuPsfSummation::begin_run() {
+void GpuKernelSummation::begin_run() {
     for (auto& t : impl_->totals) std::memset(t.data(), 0, t.bytes());
 }
 
-std::complex<float>* GpuPsfSummation::sources() { return static_cast<std::complex<float>*>(impl_->image.data()); }
+std::complex<float>* GpuKernelSummation::sources() { return static_cast<std::complex<float>*>(impl_->image.data()); }
 
-Result<bool> GpuPsfSummation::add_sources(int kernel) {
+Result<bool> GpuKernelSummation::add_sources(int kernel) {
     const Impl& m = *impl_;
     std::vector<gpu::Context::Step> steps;
     m.transform(m.image, false, steps);
@@ -159,7 +159,7 @@ Result<bool> GpuPsfSummation::add_sources(int kernel) {
     return steps.empty() ? Result<bool>::success(true) : m.ctx->submit(steps);
 }
 
-Result<bool> GpuPsfSummation::finish_run(bool powers, std::vector<float>& sum) {
+Result<bool> GpuKernelSummation::finish_run(bool powers, std::vector<float>& sum) {
     const Impl& m = *impl_;
     std::memset(m.pixel.data(), 0, m.pixel.bytes());
     std::vector<gpu::Context::Step> steps;

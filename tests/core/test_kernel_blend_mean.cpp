@@ -1,8 +1,8 @@
-// The psf summation's blend between anchors (core/src/psf_summation.h, "The blend's mean"): a
+// The kernel summation's blend between anchors (core/src/summation/kernel/kernel_summation.h, "The blend's mean"): a
 // star between the outermost anchors of a wide frame, where neighbouring kernels' rings meet out
-// of phase, through the psf runs against the exact sums' image of it. One run: a single source
+// of phase, through the kernel runs against the point sums' image of it. One run: a single source
 // has no cross terms, so its run is its blended kernel's image plus the mean's correction. And the
-// plan-time check that `auto` consults (core/src/psf_error_check.h): its probes are those stars,
+// plan-time check that `auto` consults (core/src/summation/kernel/kernel_error_check.h): its probes are those stars,
 // and it foresees their errors.
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "summation/psf/psf_error_check.h"
+#include "summation/kernel/kernel_error_check.h"
 #include "wavecam/scene_diffraction.h"
 
 using namespace wavecam;
@@ -46,21 +46,21 @@ std::vector<float> star_image(const PinholeCamera& c, double wavelength, int x, 
 // on the horizontal axis (the check's probes) came out 5.5% and 4.3% too bright in its pixel
 // (relative L2 over its kernel 5.6% and 4.4%) with the amplitudes' blend alone; with the
 // intensity blend's mean 0.14% and 0.26%, as the check foresaw.
-TEST(PsfBlendMean, AStarBetweenTheOutermostAnchorsMatchesTheExactSumsAsTheCheckForesaw) {
+TEST(KernelBlendMean, AStarBetweenTheOutermostAnchorsMatchesThePointSumsAsTheCheckForesaw) {
     const PinholeCamera camera{128, 128, 50 * M_PI / 180, 0.05};
     const double wavelength = 550e-9;
-    const auto check = detail::psf_error_check(bench_settings(), camera, wavelength);
+    const auto check = detail::kernel_error_check(bench_settings(), camera, wavelength);
     ASSERT_TRUE(check.ok());
     EXPECT_TRUE(check.value.within()) << check.value.total();
-    EXPECT_EQ(chosen_summation(bench_settings(), camera, wavelength), Summation::Psf);
+    EXPECT_EQ(chosen_summation(bench_settings(), camera, wavelength), Summation::Kernel);
     // the probes: the axis cell's, the outermost on the horizontal axis, the corner's (all sky: no
     // layers' probe)
     ASSERT_EQ(check.value.probes.size(), 3u);
     for (size_t k = 1; k < 3; ++k) {
-        const detail::PsfProbe& p = check.value.probes[k];
+        const detail::KernelProbe& p = check.value.probes[k];
         ASSERT_GE(p.x, 0);  // (in the frame: it has a pixel to compare)
         const int x = p.x, y = p.y;
-        const std::vector<float> psf = star_image(camera, wavelength, x, y, Summation::Psf);
+        const std::vector<float> psf = star_image(camera, wavelength, x, y, Summation::Kernel);
         const std::vector<float> exact = star_image(camera, wavelength, x, y, Summation::Nufft);
         double diff = 0, norm = 0, peak_psf = 0, peak_exact = 0;
         const int r = 4;
@@ -73,7 +73,7 @@ TEST(PsfBlendMean, AStarBetweenTheOutermostAnchorsMatchesTheExactSumsAsTheCheckF
                 peak_exact = std::max(peak_exact, double(exact[q]));
             }
         const double l2 = std::sqrt(diff / norm), peak = peak_psf / peak_exact - 1;
-        std::printf("star (%d, %d): psf against the exact sums %.2f%% L2 (foreseen %.2f%%), peak %+.2f%%\n", x, y,
+        std::printf("star (%d, %d): the kernel summation against the point sums %.2f%% L2 (foreseen %.2f%%), peak %+.2f%%\n", x, y,
                     100 * l2, 100 * p.error, 100 * peak);
         EXPECT_LT(l2, 0.01) << x << ", " << y;
         EXPECT_LT(std::abs(peak), 0.01) << x << ", " << y;
@@ -84,7 +84,7 @@ TEST(PsfBlendMean, AStarBetweenTheOutermostAnchorsMatchesTheExactSumsAsTheCheckF
 // Where the far tail's cross terms would not average out within the bound, `auto` takes the exact
 // sums: a PSF two pixels wide at 16 coded runs leaves 0.8 sqrt(1.5% / 16) = 2.4% of the mean in
 // them; at 64 runs 1.2%.
-TEST(PsfBlendMean, FewRunsOfAWidePsfAreLeftToTheExactSums) {
+TEST(KernelBlendMean, FewRunsOfAWidePsfAreLeftToThePointSums) {
     const PinholeCamera camera{32, 32, 10 * M_PI / 180, 2e-3};
     SceneSumSettings s;
     s.aperture = {ApertureShape::Circle, 1.22 * 550e-9 * camera.film_distance / (2 * camera.pixel_pitch())};
@@ -92,7 +92,7 @@ TEST(PsfBlendMean, FewRunsOfAWidePsfAreLeftToTheExactSums) {
     s.nearest_depth = 3;
     for (const int runs : {16, 64}) {
         s.runs = runs;
-        const auto check = detail::psf_error_check(s, camera, 550e-9);
+        const auto check = detail::kernel_error_check(s, camera, 550e-9);
         ASSERT_TRUE(check.ok());
         std::printf("%d runs: blend %.2f%%, tail %.2f%%\n", runs, 100 * check.value.blend, 100 * check.value.tail);
         EXPECT_NEAR(check.value.tail, 0.8 * std::sqrt(0.015 / runs), 1e-9);

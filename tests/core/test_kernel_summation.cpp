@@ -1,6 +1,6 @@
-// The `psf` summation: the scene-sum methods' runs as convolutions with amplitude PSFs that the
-// direct or nufft sums compute at field anchors and depth layers (psf_summation.h),
-// against the exact sums themselves (direct, incoherent: no noise) and the random phases' own
+// The `kernel` summation: the scene-sum methods' runs as convolutions with amplitude PSFs that the
+// direct or nufft sums compute at field anchors and depth layers (kernel_summation.h),
+// against the point sums themselves (direct, incoherent: no noise) and the random phases' own
 // limit. Started with --device=gpu (tests/core/CMakeLists.txt), the same checks with the
 // kernels' direct sums and the runs' transforms on the Vulkan device.
 #include <gtest/gtest.h>
@@ -75,15 +75,15 @@ double total(const std::vector<float>& a) {
 
 }  // namespace
 
-// One source on black, one run: its image is the exact sums' (the kernels are those sums; a
+// One source on black, one run: its image is the point sums' (the kernels are those sums; a
 // source between anchors gets their blend with its power kept), its light within 1%, its
 // brightest pixel within 2%.
-TEST(PsfSummation, OneSourceIsItsExactImage) {
+TEST(KernelSummation, OneSourceIsItsExactImage) {
     Frame frame(40, 30, 2.0);
     for (const int i0 : {20, 27, 33}) {
         std::fill(frame.power.begin(), frame.power.end(), 0.0f);
         frame.power[size_t(17) * 40 + i0] = 1.0f;
-        const auto psf = frame.diffract(settings(Summation::Psf, CoherenceMethod::RandomPhase));
+        const auto psf = frame.diffract(settings(Summation::Kernel, CoherenceMethod::RandomPhase));
         const auto direct = frame.diffract(settings(Summation::Direct, CoherenceMethod::RandomPhase));
         const size_t peak = size_t(17) * 40 + i0;
         std::printf("source at column %d: light %.4f of the direct sums', peak %.4f\n", i0, total(psf) / total(direct),
@@ -96,13 +96,13 @@ TEST(PsfSummation, OneSourceIsItsExactImage) {
 // The incoherent sum through |kernel|^2 against the exact incoherent sum (every source through
 // the pinhole alone, no noise on either side): a textured frame at 30 degrees, RMS over every
 // pixel relative to the mean within 1.5% (1.0% measured).
-TEST(PsfSummation, IncoherentMatchesTheExactIncoherentSum) {
+TEST(KernelSummation, IncoherentMatchesTheExactIncoherentSum) {
     Frame frame(16, 30, 1.0);
     frame.texture(4);
-    const auto psf = frame.diffract(settings(Summation::Psf, CoherenceMethod::Incoherent));
+    const auto psf = frame.diffract(settings(Summation::Kernel, CoherenceMethod::Incoherent));
     const auto exact = frame.diffract(settings(Summation::Auto, CoherenceMethod::Incoherent));
     const double rms = relative_rms(psf, exact);
-    std::printf("incoherent psf vs exact: %.3f%% RMS\n", 100 * rms);
+    std::printf("incoherent kernel summation vs point sums: %.3f%% RMS\n", 100 * rms);
     EXPECT_LT(rms, 0.015);
 }
 
@@ -111,11 +111,11 @@ TEST(PsfSummation, IncoherentMatchesTheExactIncoherentSum) {
 // differ most (1/cos^3 radially). What remains is the amplitudes' blend against the powers'
 // (3.9% RMS measured, the same at 256 runs; 9.9% with anchors 6 R apart, without the power balance
 // more).
-TEST(PsfSummation, RunsConvergeToTheIncoherentSum) {
+TEST(KernelSummation, RunsConvergeToTheIncoherentSum) {
     Frame frame(24, 50, 1.0);
     frame.texture(4);
-    const auto runs = frame.diffract(settings(Summation::Psf, CoherenceMethod::RandomPhase, 64));
-    const auto limit = frame.diffract(settings(Summation::Psf, CoherenceMethod::Incoherent));
+    const auto runs = frame.diffract(settings(Summation::Kernel, CoherenceMethod::RandomPhase, 64));
+    const auto limit = frame.diffract(settings(Summation::Kernel, CoherenceMethod::Incoherent));
     const double rms = relative_rms(runs, limit);
     std::printf("64 runs vs their incoherent limit: %.3f%% RMS\n", 100 * rms);
     EXPECT_LT(rms, 0.05);
@@ -125,11 +125,11 @@ TEST(PsfSummation, RunsConvergeToTheIncoherentSum) {
 // anchors' blends): 64 runs at 50 degrees against the wall's incoherent image through the same
 // kernels (which holds its cos^4 fall-off), every pixel within 4%, RMS within 1% (2.0% and 0.69%
 // measured, the runs' noise included).
-TEST(PsfSummation, UniformWallIsUniform) {
+TEST(KernelSummation, UniformWallIsUniform) {
     Frame frame(32, 50, 2.0);
     std::fill(frame.power.begin(), frame.power.end(), 1.0f);
-    const auto img = frame.diffract(settings(Summation::Psf, CoherenceMethod::RandomPhase, 64));
-    const auto limit = frame.diffract(settings(Summation::Psf, CoherenceMethod::Incoherent));
+    const auto img = frame.diffract(settings(Summation::Kernel, CoherenceMethod::RandomPhase, 64));
+    const auto limit = frame.diffract(settings(Summation::Kernel, CoherenceMethod::Incoherent));
     double worst = 0, s = 0;
     for (size_t p = 0; p < img.size(); ++p) {
         worst = std::max(worst, std::abs(double(img[p]) / limit[p] - 1));
@@ -142,10 +142,10 @@ TEST(PsfSummation, UniformWallIsUniform) {
 }
 
 // A job is the sum of its shares: runs [0, 2) and [2, 4) add up to the 4-run job bit for bit.
-TEST(PsfSummation, SharesAddUpToTheJob) {
+TEST(KernelSummation, SharesAddUpToTheJob) {
     Frame frame(16, 30, 1.0);
     frame.texture(4);
-    SceneSumSettings s = settings(Summation::Psf, CoherenceMethod::RandomPhase, 4);
+    SceneSumSettings s = settings(Summation::Kernel, CoherenceMethod::RandomPhase, 4);
     const auto job = frame.diffract(s);
     std::vector<float> shares(job.size(), 0.0f);
     for (const int first : {0, 2}) {
@@ -159,12 +159,12 @@ TEST(PsfSummation, SharesAddUpToTheJob) {
 
 // What it cannot serve is refused, naming the setting: jittered sources (off their pixel
 // centres), and depth ranges beyond its layers.
-TEST(PsfSummation, RefusesWhatItCannotServe) {
+TEST(KernelSummation, RefusesWhatItCannotServe) {
     Frame frame(8, 30, 1.0);
     std::fill(frame.power.begin(), frame.power.end(), 1.0f);
     const MonochromeScene view{frame.camera, frame.power.data(), frame.depth.data(), DepthMeaning::Planar};
     std::vector<float> out(frame.power.size(), 0.0f);
-    SceneSumSettings s = settings(Summation::Psf, CoherenceMethod::RandomPhase);
+    SceneSumSettings s = settings(Summation::Kernel, CoherenceMethod::RandomPhase);
     s.jitter = true;
     auto r = diffract_monochrome(view, 550e-9, s, out.data());
     ASSERT_FALSE(r.ok());
@@ -178,22 +178,22 @@ TEST(PsfSummation, RefusesWhatItCannotServe) {
 }
 
 
-// What a job's `auto` runs (chosen_summation): psf for the wall-sized frames a user diffracts at
-// the default 64 runs, where it applies; the exact sums' own choice wherever psf does not apply
+// What a job's `auto` runs (chosen_summation): the kernel summation for the wall-sized frames a user diffracts at
+// the default 64 runs, where it applies; the point sums' own choice wherever the kernel summation does not apply
 // (sources moved off their pixels' centres, a sieve's or zone plate's structure finer than the
 // kernels' lattice) and for a single run of a tiny frame, whose few sources cost less than the
 // kernels; a summation asked by name as it is.
-TEST(AutoSummation, TakesPsfWhereItAppliesAndCostsLess) {
+TEST(AutoSummation, TakesTheKernelSummationWhereItAppliesAndCostsLess) {
     const PinholeCamera camera{128, 128, 50 * M_PI / 180, 50e-3};
     SceneSumSettings s;
     s.aperture = {ApertureShape::Circle, 0.3e-3};
     s.nearest_depth = 0.3;
     EXPECT_EQ(s.runs, 64);
-    EXPECT_EQ(chosen_summation(s, camera, 550e-9), Summation::Psf);
+    EXPECT_EQ(chosen_summation(s, camera, 550e-9), Summation::Kernel);
     s.method = CoherenceMethod::Incoherent;
-    EXPECT_EQ(chosen_summation(s, camera, 550e-9), Summation::Psf);
+    EXPECT_EQ(chosen_summation(s, camera, 550e-9), Summation::Kernel);
     s.method = CoherenceMethod::RandomPhase;
-    for (Summation asked : {Summation::Direct, Summation::Nufft, Summation::Psf}) {
+    for (Summation asked : {Summation::Direct, Summation::Nufft, Summation::Kernel}) {
         SceneSumSettings named = s;
         named.summation = asked;
         EXPECT_EQ(chosen_summation(named, camera, 550e-9), asked);

@@ -1,4 +1,4 @@
-#include "summation/psf/kernel_basis.h"
+#include "summation/kernel/kernel_basis.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-// The psf summation's runs (psf_summation.h) on a Vulkan device (docs/gpu.md): the
+// The kernel summation's runs (kernel_summation.h) on a Vulkan device (docs/gpu.md): the
 // kernels' spectra kept on the device; per run, each kernel's share of the sources transformed
 // there, multiplied by its spectra and summed per film sub-point, then transformed back and
 // squared (or, for powers, taken as they are) into one value per domain point. Transforms are
@@ -14,18 +14,18 @@
 
 namespace wavecam::detail {
 
-class GpuPsfSummation {
+class GpuKernelSummation {
 public:
     // The largest transform side the device's shaders take.
     static constexpr int kMaxSide = 4096;
     // On `device`'s Vulkan context (the one its direct sums use) for transforms of nx x ny points
     // (powers of two), `kernels` kernels of `points` sub-points each. Fails naming what is
     // missing or what the device cannot hold.
-    static Result<std::unique_ptr<GpuPsfSummation>> create(const ComputeDevice& device, int nx, int ny, int kernels,
+    static Result<std::unique_ptr<GpuKernelSummation>> create(const ComputeDevice& device, int nx, int ny, int kernels,
                                                            int points);
-    ~GpuPsfSummation();
-    GpuPsfSummation(const GpuPsfSummation&) = delete;
-    GpuPsfSummation& operator=(const GpuPsfSummation&) = delete;
+    ~GpuKernelSummation();
+    GpuKernelSummation(const GpuKernelSummation&) = delete;
+    GpuKernelSummation& operator=(const GpuKernelSummation&) = delete;
 
     // The spectrum (nx x ny, row-major) of kernel `kernel`'s sub-point `point`.
     Result<bool> set_spectrum(int kernel, int point, const std::complex<float>* spectrum);
@@ -41,7 +41,7 @@ public:
     struct Impl;
 
 private:
-    explicit GpuPsfSummation(std::unique_ptr<Impl> impl);
+    explicit GpuKernelSummation(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl_;
 };
 

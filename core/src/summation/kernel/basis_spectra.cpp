@@ -1,4 +1,4 @@
-#include "summation/psf/basis_spectra.h"
+#include "summation/kernel/basis_spectra.h"
 
 namespace wavecam::detail {
 namespace {

@@ -1,6 +1,6 @@
-// A few kernels whose combinations give every kernel of a set within a tolerance: the psf
+// A few kernels whose combinations give every kernel of a set within a tolerance: the kernel
 // summation's runs transform one image per basis kernel instead of one per anchor and layer
-// (psf_summation.h). Internal to core.
+// (kernel_summation.h). Internal to core.
 //
 // With the kernels as the rows of M (K x P) and their Gram matrix G = M M^H = V L V^H
 // (eigenvectors v_r, eigenvalues l_r, largest first), the kernels are
@@ -36,7 +36,7 @@ struct KernelBasis {
 KernelBasis kernel_basis(const std::vector<std::complex<double>>& gram, int kernels,
                          double tolerance = kBasisTolerance);
 
-// The film's n x n sub-point fields U_sub, as the psf runs sum their powers: sum_sub |U_sub|^2 is
+// The film's n x n sub-point fields U_sub, as the kernel runs sum their powers: sum_sub |U_sub|^2 is
 // unchanged by a unitary mix of them, U_m = sum_sub weight[m][sub] U_sub, and the sub-points of a
 // pixel many fringes wide sample one band-limited field, so neighbouring sub-points' fields are
 // much alike. With the sub-points' Gram matrix over every kernel, G = F F^H = V L V^H (F's rows:

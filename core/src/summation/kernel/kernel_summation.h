@@ -1,4 +1,4 @@
-// The scene-sum methods' runs as convolutions with amplitude PSFs: the `psf` summation
+// The scene-sum methods' runs as convolutions with amplitude PSFs: the `kernel` summation
 // (docs/summation.md, "The runs as convolutions"). Internal to core.
 //
 // The two sums composed carry a source s to a film point t through
@@ -12,14 +12,14 @@
 // random phases leave alone: the convolution method's machinery (anchored_convolution.h) with
 // amplitudes instead of powers, |U|^2 taken after the sum.
 //
-// Kernels. Each is the exact sums themselves (summation_plan.h, `auto`) from one source at a
+// Kernels. Each is the point sums themselves (summation_plan.h, `auto`) from one source at a
 // field anchor and a depth layer to the film points of the (2 R + 1)^2 pixels round its image:
 // the same lattice, film points, amplitudes and obliquity as the direct sums, so a source at an
 // anchor on a layer gets its exact image; elsewhere the kernel is blended, as the convolution
 // method blends its intensities, per source: bilinearly over the four anchors round it,
 // linearly in 1/z between its two layers. Layers lie evenly in 1/z with the defocus phase
 // pi a^2 dw / lambda at most kMaxLayerPhase between neighbours, so a blend of two amplitudes
-// stays within (0.3)^2 / 8 of the kernel between them; beyond kMaxPsfLayers the scene's depth
+// stays within (0.3)^2 / 8 of the kernel between them; beyond kMaxKernelLayers the scene's depth
 // range is refused (large pinholes over deep scenes: the direct or nufft sums serve them).
 //
 // Energy. Amplitudes blended over anchors whose kernels differ (wider off axis, 1/cos^3
@@ -49,19 +49,19 @@
 // difference added to every run's mean (as the far tail is) is, per source,
 //   P [sum_u w_u (beta_a(u) - b^2) I_u + sum_{u<v} (b^2 w_u w_v - [a(u) = a(v)] beta_a w_u w_v / phi_a) J_uv].
 // Each run keeps the amplitudes' blend (its speckle); the job's mean is T: the star above 0.14%
-// from the exact sums' image.
+// from the point sums' image.
 //
 // The far tail. A kernel holds kPsfKernelEnergy of its PSF's power; what lies beyond it is added
 // to the runs' mean as the convolution method adds it (far_tail.h): each source's missing share,
 // from the Fresnel PSF of the same radius (fresnel_psf.h), spread over the annulus beyond the
 // kernel. Its cross terms with other sources have random phases and average out over the runs,
-// but slowly: the runs then differ from the exact sums' same runs by about 0.8 sqrt(t / K) RMS
+// but slowly: the runs then differ from the point sums' same runs by about 0.8 sqrt(t / K) RMS
 // of the mean, t the share left out, K the coded runs (a textured two-depth frame, a 2 px PSF,
 // t = 3%: 3.3%, 1.75%, 0.96% at K = 16, 64, 256 at 10 deg, 1.53% at 64 at 60 deg; the incoherent
 // sums, the runs' limit, 0.25%). So coherent runs of a job of few runs take kernels that hold
 // more (kernel_energy): t = kFewRunsDeficit up to 64 runs, rising to kPsfKernelEnergy's 3% at
 // 128; 1.37% then at 64 runs at 10 deg. Not where the Airy radius is under a pixel: on a uniform
-// wall at 50 deg with a PSF of half a pixel the runs differed from the exact sums' by 1.03% with
+// wall at 50 deg with a PSF of half a pixel the runs differed from the point sums' by 1.03% with
 // t = 3% and 1.10% with 1.5%, at five times the kernels' work.
 //
 // A few transforms per run. The kernels of neighbouring anchors and layers are much alike: as
@@ -91,19 +91,19 @@ constexpr double kMaxLayerPhase = 0.3;
 // source between the corner anchors of a 24 px frame at 50 deg (f = 2 mm, 0.05 mm, R = 9) got 95%
 // of its exact peak at cells of 6 R, 99-101% at 2 R.
 constexpr int kMinAmplitudeCellRadii = 2;
-constexpr int kMaxPsfLayers = 32;
+constexpr int kMaxKernelLayers = 32;
 constexpr int kMaxRunsAtOnce = 8;
 // What a coherent run's kernels leave out of their PSF at 64 runs or fewer (the far tail above).
 constexpr double kFewRunsDeficit = 0.015;
 
 // Depth layers for amplitude kernels at one wavelength: even in 1/z from the sky (0) to the
 // nearest source, kMaxLayerPhase apart in defocus phase (one layer where the whole range is
-// within it). count > kMaxPsfLayers: the range needs more than the evaluator takes.
+// within it). count > kMaxKernelLayers: the range needs more than the evaluator takes.
 DepthLayers amplitude_layers(double max_inverse_depth, double aperture_radius, double wavelength);
 // The refusal when they are more: names the setting `summation`.
 Result<bool> too_many_layers();
 
-struct PsfSummationSpec {
+struct KernelSummationSpec {
     PinholeCamera camera;
     int overscan = 0;
     Aperture aperture{ApertureShape::Circle, 0.0};
@@ -117,13 +117,13 @@ struct PsfSummationSpec {
 };
 
 // The source a kernel starts from: unit power at image position (x, y) (camera pixels), at planar
-// inverse depth w (0: a plane wave), as the exact sums place a source.
+// inverse depth w (0: a plane wave), as the point sums place a source.
 using UnitSource = std::function<PointSource(double x, double y, double inverse_depth)>;
 
 // The sources on the convolution's domain (the output frame widened by the kernel radius on
 // every side), row-major: complex weights (coherent) or powers in .real() (incoherent), and each
 // pixel's layer and the share of it that goes to the layer above.
-struct PsfSummationSources {
+struct KernelSummationSources {
     int runs = 1;  // runs at once: `weight` holds runs x the domain's pixels, run by run
     std::vector<std::complex<float>> weight;
     std::vector<uint8_t> lower;
@@ -135,17 +135,17 @@ struct RowRange {
     int begin, end;
 };
 
-class PsfSummation {
+class KernelSummation {
 public:
-    PsfSummation();
-    ~PsfSummation();
-    PsfSummation(PsfSummation&&) noexcept;
-    PsfSummation& operator=(PsfSummation&&) noexcept;
+    KernelSummation();
+    ~KernelSummation();
+    KernelSummation(KernelSummation&&) noexcept;
+    KernelSummation& operator=(KernelSummation&&) noexcept;
 
-    // Kernels from the exact sums on the pinhole lattice of `lattice_pitch` (kernel_lattice_pitch)
+    // Kernels from the point sums on the pinhole lattice of `lattice_pitch` (kernel_lattice_pitch)
     // and their spectra; fails when cancelled, or where the depth range needs more than
-    // kMaxPsfLayers layers.
-    static Result<PsfSummation> create(const PsfSummationSpec& spec, double lattice_pitch,
+    // kMaxKernelLayers layers.
+    static Result<KernelSummation> create(const KernelSummationSpec& spec, double lattice_pitch,
                                        const UnitSource& unit_source, const ProgressFn& progress);
 
     int radius() const;
@@ -160,7 +160,7 @@ public:
     // scale x `each` (camera width x height; may be null) to irradiance (camera width x height).
     // The runs at once share each pass over the kernels' spectra. Fails only when cancelled
     // through `progress`, or on the device.
-    Result<bool> run(const PsfSummationSources& sources, double scale, const RowRange& rows, const float* each,
+    Result<bool> run(const KernelSummationSources& sources, double scale, const RowRange& rows, const float* each,
                      float* irradiance, const ProgressFn& progress) const;
     // How many runs to give run() at once: as many as keep their work buffers within the
     // spectra's size (a run's pass over them streams them all), at least 1, at most
@@ -169,12 +169,12 @@ public:
 
     // Per domain pixel, the factor on its weight that gives its blended kernel the blend of its
     // kernels' powers (1 for the incoherent case).
-    std::vector<float> power_balance(const PsfSummationSources& sources) const;
+    std::vector<float> power_balance(const KernelSummationSources& sources) const;
 
     // Adds to `each` (camera width x height; rows `rows`, columns within the overscan) what the
     // runs' mean lacks of T (the blend's mean, above), per domain pixel round it. `power` (before
     // the balance) and `balance` (power_balance's factors) per domain pixel.
-    void add_blend_mean(const PsfSummationSources& sources, const std::vector<float>& power,
+    void add_blend_mean(const KernelSummationSources& sources, const std::vector<float>& power,
                         const std::vector<float>& balance, const RowRange& rows, float* each) const;
 
     // Adds scale x the far tail of the scene (radiance and depth per camera pixel, the edge
@@ -201,28 +201,28 @@ private:
 // than d / kMinSamplesAcross (the rim resolved as a quadrature), never finer than
 // `frame_pitch`, the frame's sums' own.
 constexpr double kKernelLatticeMargin = 4;
-double kernel_lattice_pitch(const PsfSummationSpec& spec, double frame_pitch);
+double kernel_lattice_pitch(const KernelSummationSpec& spec, double frame_pitch);
 
-// The last psf summation made (its kernels and their spectra), kept for the next call of the
+// The last kernel summation made (its kernels and their spectra), kept for the next call of the
 // same job that asks for the same one: a wavelength's positive and negative parts are two calls
 // (spectral_diffraction.cpp), and its kernels are the same for both. A job's settings are
 // fixed; what may change between calls is the camera, the wavelength, the depth range and the
 // lattice, and they are the key.
-class PsfSummationMemo {
+class KernelSummationMemo {
 public:
-    using Make = std::function<Result<PsfSummation>()>;
+    using Make = std::function<Result<KernelSummation>()>;
     // The kept one where `spec` and `pitch` match it, else `make`'s (then kept instead).
-    Result<std::shared_ptr<const PsfSummation>> get(const PsfSummationSpec& spec, double pitch, const Make& make);
+    Result<std::shared_ptr<const KernelSummation>> get(const KernelSummationSpec& spec, double pitch, const Make& make);
 
 private:
     std::mutex busy_;
-    PsfSummationSpec spec_;
+    KernelSummationSpec spec_;
     double pitch_ = 0;
-    std::shared_ptr<const PsfSummation> kept_;
+    std::shared_ptr<const KernelSummation> kept_;
 };
 
 // diffract_monochrome (scene_diffraction.h) with the job's memo: one job's calls, one at a time.
 Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const SceneSumSettings& s,
-                                 float* irradiance, const ProgressFn& progress, PsfSummationMemo* memo);
+                                 float* irradiance, const ProgressFn& progress, KernelSummationMemo* memo);
 
 }  // namespace wavecam::detail

@@ -1,4 +1,4 @@
-#include "summation/psf/psf_error_check.h"
+#include "summation/kernel/kernel_error_check.h"
 
 
 #include <algorithm>
@@ -6,7 +6,7 @@
 #include <mutex>
 
 #include "base/parallel.h"
-#include "summation/psf/psf_kernel.h"
+#include "summation/kernel/source_kernels.h"
 
 namespace wavecam::detail {
 namespace {
@@ -28,7 +28,7 @@ double power(const Field& k) {
     return p;
 }
 
-// The blend of `parts` with `share`s as the runs' mean takes it (psf_summation.h, the blend's
+// The blend of `parts` with `share`s as the runs' mean takes it (kernel_summation.h, the blend's
 // mean): their pixel images blended (anchors; a layer pair of the incoherent sums), or their
 // amplitudes blended with the power balanced (a layer pair of coherent runs); against `exact`:
 // relative L2 of the pixel images.
@@ -73,7 +73,7 @@ using ProbeCells = std::array<std::array<int, 2>, 3>;
 
 // Every source the probes need: a cell's corners and centre at the nearest layer, the axis cell's
 // centre also at the two nearest layers' middle (axis_x, axis_y: the axis cell).
-std::vector<Probe> place_probes(const PsfSummationGeometry& g, const ProbeCells& cells, int axis_x, int axis_y) {
+std::vector<Probe> place_probes(const KernelSummationGeometry& g, const ProbeCells& cells, int axis_x, int axis_y) {
     const int L = g.layers.count;
     const double nearest = g.layers.inverse_depth(L - 1);
     std::vector<Probe> probes;
@@ -95,10 +95,10 @@ std::vector<Probe> place_probes(const PsfSummationGeometry& g, const ProbeCells&
 
 // The probes' exact kernels, probe by probe into `fields`: the first fixes the film sums'
 // evaluator (`kernel_settings`), the others follow, one per thread on the CPU.
-Result<bool> probe_kernels(const PsfSummationSpec& spec, const KernelSetup& setup,
+Result<bool> probe_kernels(const KernelSummationSpec& spec, const KernelSetup& setup,
                            const SummationSettings& kernel_settings, const std::vector<Probe>& probes,
                            std::vector<std::vector<Field>>& fields) {
-    const PsfSummationGeometry& g = *setup.g;
+    const KernelSummationGeometry& g = *setup.g;
     PlanScope film_scope;
     if (auto r = source_kernels(setup, probes[0].x - g.origin, probes[0].y - g.origin, probes[0].depths,
                                 kernel_settings, film_scope, fields[0]);
@@ -125,8 +125,8 @@ Result<bool> probe_kernels(const PsfSummationSpec& spec, const KernelSetup& setu
 
 // The probes' blend errors into `check`: the cells' blends, bilinear at their centres, then the
 // layers' where there is one.
-void check_blends(const PsfSummationGeometry& g, const ProbeCells& cells, const std::vector<Probe>& probes,
-                  const std::vector<std::vector<Field>>& fields, int points, bool incoherent, PsfErrorCheck& check) {
+void check_blends(const KernelSummationGeometry& g, const ProbeCells& cells, const std::vector<Probe>& probes,
+                  const std::vector<std::vector<Field>>& fields, int points, bool incoherent, KernelErrorCheck& check) {
     size_t at = 0;
     for (const auto& cell : cells) {
         const int cx = std::min(cell[0], int(g.ax.knots.size()) - 2), cy = std::min(cell[1], int(g.ay.knots.size()) - 2);
@@ -151,10 +151,10 @@ void check_blends(const PsfSummationGeometry& g, const ProbeCells& cells, const 
 
 }  // namespace
 
-Result<PsfErrorCheck> check_psf_error(const PsfSummationSpec& spec, double lattice_pitch, const UnitSource& unit) {
-    using R = Result<PsfErrorCheck>;
-    const PsfSummationGeometry g = psf_summation_geometry(spec);
-    PsfErrorCheck check;
+Result<KernelErrorCheck> check_kernel_error(const KernelSummationSpec& spec, double lattice_pitch, const UnitSource& unit) {
+    using R = Result<KernelErrorCheck>;
+    const KernelSummationGeometry g = kernel_summation_geometry(spec);
+    KernelErrorCheck check;
     const PinholeCamera& c = spec.camera;
     if (!spec.incoherent && airy_spans_a_pixel(spec))
         check.tail = 0.8 * std::sqrt((1 - kernel_energy(spec)) / std::max(1, spec.runs));

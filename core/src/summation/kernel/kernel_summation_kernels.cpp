@@ -1,4 +1,4 @@
-// The psf summation's kernels (psf_summation.h, PsfSummation::create): the exact sums at the
+// The kernel summation's kernels (kernel_summation.h, KernelSummation::create): the point sums at the
 // anchors and layers, their Gram matrix and pixel images, their basis and its spectra.
 
 #include <algorithm>
@@ -10,18 +10,18 @@
 #include "base/parallel.h"
 #include "gpu/compute_device_impl.h"
 #include "summation/choose.h"
-#include "summation/psf/psf_kernel.h"
-#include "summation/psf/psf_summation_impl.h"
+#include "summation/kernel/source_kernels.h"
+#include "summation/kernel/kernel_summation_impl.h"
 #include "wavecam/fresnel_psf.h"
 
 namespace wavecam::detail {
 namespace {
 
-using Impl = PsfSummation::Impl;
+using Impl = KernelSummation::Impl;
 // A kernel, sub-point by sub-point ((2R + 1)^2 film points each): amplitudes, or powers in .real().
 using Field = std::vector<std::complex<double>>;
 
-// A transform side the GPU's FFTs take (gpu_psf_summation.h): the next power of two.
+// A transform side the GPU's FFTs take (gpu_kernel_summation.h): the next power of two.
 int gpu_side(int n) {
     int p = 2;
     while (p < n) p *= 2;
@@ -40,8 +40,8 @@ Result<bool> cancelled() { return Result<bool>::failure("cancelled", ErrorKind::
 // 0.15 px PSF on the axis of a 120 deg frame: 1.5% of its light, against 0.16% beyond its 16 px
 // kernel).
 float light_beyond(const Impl& m, int l, int px, int py, const Field& film_field) {
-    const PsfSummationSpec& spec = m.spec;
-    const PsfSummationGeometry& g = m.g;
+    const KernelSummationSpec& spec = m.spec;
+    const KernelSummationGeometry& g = m.g;
     const PinholeCamera& c = spec.camera;
     FieldPsfRequest q;
     q.aperture = spec.aperture;
@@ -62,10 +62,10 @@ float light_beyond(const Impl& m, int l, int px, int py, const Field& film_field
     return float(missing * c.tan_pitch() * c.tan_pitch() * std::sqrt(1 + q.u * q.u + q.v * q.v));
 }
 
-// The kernels of anchor a, every layer (psf_kernel.h), and the light beyond each.
+// The kernels of anchor a, every layer (source_kernels.h), and the light beyond each.
 Result<bool> anchor_kernels(Impl& m, const KernelSetup& setup, const std::vector<double>& depths, int a,
                             const SummationSettings& settings, PlanScope& film_scope, std::vector<Field>& kernel) {
-    const PsfSummationGeometry& g = m.g;
+    const KernelSummationGeometry& g = m.g;
     const int A = g.anchors();
     const int px = g.ax.knots[a % g.ax.knots.size()] - g.origin, py = g.ay.knots[a / g.ax.knots.size()] - g.origin;
     std::vector<Field> fields;
@@ -83,8 +83,8 @@ Result<bool> anchor_kernels(Impl& m, const KernelSetup& setup, const std::vector
 // Every anchor's kernels that are computed (one of each mirror or transposed pair, `sources`), into `kernel`.
 Result<bool> sum_kernels(Impl& m, const KernelSources& sources, double lattice_pitch, const UnitSource& unit_source,
                          const ProgressFn& progress, std::vector<Field>& kernel) {
-    const PsfSummationSpec& spec = m.spec;
-    const PsfSummationGeometry& g = m.g;
+    const KernelSummationSpec& spec = m.spec;
+    const KernelSummationGeometry& g = m.g;
     // how the kernels' sums are evaluated (choose.h: one source's directly)
     const KernelSums sums = kernel_sums(spec, g);
     const ApertureSamples samples = sample_aperture(spec.aperture, lattice_pitch);
@@ -136,7 +136,7 @@ Result<bool> sum_kernels(Impl& m, const KernelSources& sources, double lattice_p
 // sub-point (sa, sb) from (y, x) and (sb, sa); mirrored along x, from side - 1 - x and n - 1 - sa,
 // likewise along y; and the light beyond them (entries m = 3p + q, transposed likewise).
 void read_kernels(Impl& m, int a, int from, bool transpose, bool flip_x, bool flip_y, std::vector<Field>& kernel) {
-    const PsfSummationGeometry& g = m.g;
+    const KernelSummationGeometry& g = m.g;
     const int n = m.spec.subsamples, side = 2 * g.radius + 1, A = g.anchors();
     for (int l = 0; l < g.layers.count; ++l) {
         const Field& source = kernel[m.kernel_index(l, from)];
@@ -175,7 +175,7 @@ void read_other_kernels(Impl& m, const KernelSources& sources, std::vector<Field
 // The kernels' Gram matrix, the pixel-mean over sub-points: whole up to kMaxBasisKernels, else
 // only each kernel's neighbours in layer and both anchor axes (0 elsewhere).
 std::vector<std::complex<double>> kernel_gram(const Impl& m, const std::vector<Field>& kernel) {
-    const PsfSummationGeometry& g = m.g;
+    const KernelSummationGeometry& g = m.g;
     const int S = m.points(), A = g.anchors();
     const int K = int(kernel.size()), nax = int(g.ax.knots.size());
     const bool whole = K <= kMaxBasisKernels;
@@ -199,7 +199,7 @@ std::vector<std::complex<double>> kernel_gram(const Impl& m, const std::vector<F
 // Coherent runs: the Gram matrix's real part, and the pixel images the runs' mean is brought to
 // the intensity blend with (add_blend_mean).
 void blend_mean_images(Impl& m, const std::vector<Field>& kernel, const std::vector<std::complex<double>>& gram) {
-    const PsfSummationGeometry& g = m.g;
+    const KernelSummationGeometry& g = m.g;
     const int S = m.points(), side = 2 * g.radius + 1, A = g.anchors();
     const int K = int(kernel.size()), nax = int(g.ax.knots.size());
     m.gram.resize(gram.size());
@@ -228,16 +228,16 @@ void blend_mean_images(Impl& m, const std::vector<Field>& kernel, const std::vec
 // The runs' transforms: on the device where one is asked for (its transforms take powers of
 // two), else here; the CPU's spectra made room for.
 Result<bool> open_transforms(Impl& m) {
-    PsfSummationGeometry& g = m.g;
+    KernelSummationGeometry& g = m.g;
     const ComputeDevice& device = m.spec.settings.device;
     if (device.gpu()) {
         const int nx = gpu_side(g.width), ny = gpu_side(g.height);
-        auto made = GpuPsfSummation::create(device, nx, ny, m.basis.rank, m.modes.count);
+        auto made = GpuKernelSummation::create(device, nx, ny, m.basis.rank, m.modes.count);
         if (made.ok()) {
             m.gpu = std::move(made.value);
             g.nx = nx;
             g.ny = ny;
-        } else if (auto off = psf_runs_off_device(device, made.error, made.kind); !off.ok()) {
+        } else if (auto off = kernel_runs_off_device(device, made.error, made.kind); !off.ok()) {
             return off;
         }  // else the runs on the CPU, noted on the device (the output's header names both)
     }
@@ -269,7 +269,7 @@ std::vector<std::complex<double>> basis_kernels(const Impl& m, const std::vector
 // transform's period, and its transform.
 void spectrum_of(const Impl& m, const std::vector<std::complex<double>>& based, int r, int mode,
                  std::complex<float>* spectrum) {
-    const PsfSummationGeometry& g = m.g;
+    const KernelSummationGeometry& g = m.g;
     const int S = m.points(), side = 2 * g.radius + 1;
     const size_t length = size_t(S) * side * side;
     const std::complex<double>* u = based.data() + size_t(r) * length;
@@ -312,14 +312,14 @@ Result<bool> set_spectra(Impl& m, const std::vector<std::complex<double>>& based
 
 }  // namespace
 
-Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double lattice_pitch,
+Result<KernelSummation> KernelSummation::create(const KernelSummationSpec& spec, double lattice_pitch,
                                           const UnitSource& unit_source, const ProgressFn& progress) {
-    using R = Result<PsfSummation>;
+    using R = Result<KernelSummation>;
     auto impl = std::make_unique<Impl>();
     Impl& m = *impl;
     m.spec = spec;
-    const PsfSummationGeometry& g = m.g = psf_summation_geometry(spec);
-    if (g.layers.count > kMaxPsfLayers) return R::failure(too_many_layers());
+    const KernelSummationGeometry& g = m.g = kernel_summation_geometry(spec);
+    if (g.layers.count > kMaxKernelLayers) return R::failure(too_many_layers());
     m.threads = thread_count(spec.settings.nthreads);
     m.tail.radius = g.radius;
     m.tail.layers = g.layers;
@@ -340,7 +340,7 @@ Result<PsfSummation> PsfSummation::create(const PsfSummationSpec& spec, double l
     m.modes = sub_point_modes(kernel, m.points(), spec.incoherent);
     if (auto r = open_transforms(m); !r.ok()) return R::failure(r);
     if (auto r = set_spectra(m, basis_kernels(m, kernel)); !r.ok()) return R::failure(r);
-    PsfSummation conv;
+    KernelSummation conv;
     conv.impl_ = std::move(impl);
     return R::success(std::move(conv));
 }

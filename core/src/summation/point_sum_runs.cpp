@@ -1,4 +1,4 @@
-// The exact sums' runs (summation_evaluator.h; the direct and nufft rows): each run's two sums
+// The point sums' runs (summation_evaluator.h; the direct and nufft rows): each run's two sums
 // through two plans (summation_plan.h), each sum by the evaluator decided for the frame
 // (decide_sums, in diffract_monochrome), so that every share evaluates its part as the job would.
 #include <algorithm>
@@ -9,9 +9,9 @@
 namespace wavecam::detail {
 namespace {
 
-class ExactRuns final : public SummationEvaluator {
+class PointSumRuns final : public SummationEvaluator {
 public:
-    explicit ExactRuns(const EvaluatorSetup& setup) : setup_(setup) {
+    explicit PointSumRuns(const EvaluatorSetup& setup) : setup_(setup) {
         const SceneSumSettings& s = *setup.settings;
         incoherent_ = s.method == CoherenceMethod::Incoherent;
         sums_ = *setup.sums;
@@ -98,8 +98,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<SummationEvaluator> make_exact_runs(const EvaluatorSetup& setup) {
-    return std::make_unique<ExactRuns>(setup);
+std::unique_ptr<SummationEvaluator> make_point_sum_runs(const EvaluatorSetup& setup) {
+    return std::make_unique<PointSumRuns>(setup);
 }
 
 }  // namespace wavecam::detail

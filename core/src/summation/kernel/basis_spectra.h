@@ -1,5 +1,5 @@
-// The psf summation's kernel spectra and the product its runs take with them
-// (psf_summation.h): per run, mode m's sum over the basis kernels r,
+// The kernel summation's kernel spectra and the product its runs take with them
+// (kernel_summation.h): per run, mode m's sum over the basis kernels r,
 //   total_m(q) = sum_r image_r(q) spectrum_rm(q),
 // at every point q of the transform's grid. The spectra are kept in chunks of kLanes points, each
 // chunk holding every (r, m) pair's real and imaginary lanes side by side, so that one pass over

@@ -1,4 +1,4 @@
-// What a psf summation holds (psf_summation.h): the state its kernels' creation leaves for the
+// What a kernel summation holds (kernel_summation.h): the state its kernels' creation leaves for the
 // runs and for the runs' mean, and the blend each source takes of the kernels. Internal to core.
 #pragma once
 #include <algorithm>
@@ -9,23 +9,23 @@
 
 #include "convolution/kernel_table.h"
 #include "fft/complex_fft2d.h"
-#include "gpu/gpu_psf_summation.h"
-#include "summation/psf/basis_spectra.h"
-#include "summation/psf/kernel_basis.h"
-#include "summation/psf/psf_summation.h"
-#include "summation/psf/psf_summation_geometry.h"
+#include "gpu/gpu_kernel_summation.h"
+#include "summation/kernel/basis_spectra.h"
+#include "summation/kernel/kernel_basis.h"
+#include "summation/kernel/kernel_summation.h"
+#include "summation/kernel/kernel_summation_geometry.h"
 
 namespace wavecam::detail {
 
-struct PsfSummation::Impl {
-    PsfSummationSpec spec;
-    PsfSummationGeometry g;
+struct KernelSummation::Impl {
+    KernelSummationSpec spec;
+    KernelSummationGeometry g;
     int threads = 1;
     std::unique_ptr<ComplexFft2D> fft;
     KernelBasis basis;  // the kernels (layer x anchors + anchor) as combinations of a few
     BasisSpectra spectra;  // the basis kernels' spectra per mode (none on a GPU)
     // the runs on a Vulkan device (the spectra kept there), or none: on the CPU
-    std::unique_ptr<GpuPsfSummation> gpu;
+    std::unique_ptr<GpuKernelSummation> gpu;
     // a run's images (one per basis kernel), sums (one per sub-point) and film values, kept from
     // run to run (hundreds of MiB at 1080p: allocated once, not every run); one run at a time
     mutable std::mutex busy;
@@ -63,7 +63,7 @@ struct PsfSummation::Impl {
     }
     // The kernels that domain pixel (i, j)'s source blends, and their weights (at most 8): bilinear
     // over the anchors round it, linear between its two layers.
-    int blend_of(const PsfSummationSources& s, int i, int j, size_t* index, double* weight) const {
+    int blend_of(const KernelSummationSources& s, int i, int j, size_t* index, double* weight) const {
         const size_t p = size_t(j) * g.width + i;
         const int cx = g.ax.cell_of(i), cy = g.ay.cell_of(j), lower = s.lower[p], nax = int(g.ax.knots.size());
         int used = 0;

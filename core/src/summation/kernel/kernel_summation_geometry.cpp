@@ -1,4 +1,4 @@
-#include "summation/psf/psf_summation_geometry.h"
+#include "summation/kernel/kernel_summation_geometry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,36 +15,36 @@ DepthLayers amplitude_layers(double max_inverse_depth, double aperture_radius, d
     if (!(max_inverse_depth > 0)) return d;
     d.step = kMaxLayerPhase * wavelength / (M_PI * aperture_radius * aperture_radius);
     const double steps = std::ceil(max_inverse_depth / d.step);  // (a double: no overflow)
-    d.count = int(std::min(steps, double(kMaxPsfLayers))) + 1;
+    d.count = int(std::min(steps, double(kMaxKernelLayers))) + 1;
     return d;
 }
 
 Result<bool> too_many_layers() {
     char m[200];
     std::snprintf(m, sizeof m,
-                  "summation: psf serves depths to %d layers at this pinhole and wavelength, this scene needs more "
+                  "summation: kernel serves depths to %d layers at this pinhole and wavelength, this scene needs more "
                   "(its nearest source is too near for the pinhole's defocus); expected auto, direct or nufft",
-                  kMaxPsfLayers);
+                  kMaxKernelLayers);
     return Result<bool>::failure(m, ErrorKind::Invalid, "summation");
 }
 
-bool airy_spans_a_pixel(const PsfSummationSpec& s) {
+bool airy_spans_a_pixel(const KernelSummationSpec& s) {
     return 1.22 * s.wavelength * s.camera.film_distance / (2 * s.aperture.bounding_radius()) >= s.camera.pixel_pitch();
 }
 
-double kernel_energy(const PsfSummationSpec& s) {
+double kernel_energy(const KernelSummationSpec& s) {
     // (a PSF narrower than a pixel on the axis: the film pixels average its tail's cross terms,
-    // and kernels holding more changed nothing there, psf_summation.h)
+    // and kernels holding more changed nothing there, kernel_summation.h)
     if (s.incoherent || !airy_spans_a_pixel(s)) return kPsfKernelEnergy;
     const double deficit = std::clamp(kFewRunsDeficit * s.runs / 64.0, kFewRunsDeficit, 1 - kPsfKernelEnergy);
     return 1 - deficit;
 }
 
-PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s) {
+KernelSummationGeometry kernel_summation_geometry(const KernelSummationSpec& s) {
     const PinholeCamera& c = s.camera;
     const int o = s.overscan, out_w = c.width - 2 * o, out_h = c.height - 2 * o;
     const double nearest = s.max_inverse_depth > 0 ? 1.0 / s.max_inverse_depth : INFINITY;
-    PsfSummationGeometry g;
+    KernelSummationGeometry g;
     // the radius is the widest PSF's at the output frame's corners
     const WidestPsf widest{s.aperture, c.film_distance, nearest, s.wavelength,
                            c.cos_widest(o, o, o + out_w, o + out_h), kernel_energy(s)};
@@ -66,16 +66,16 @@ PsfSummationGeometry psf_summation_geometry(const PsfSummationSpec& s) {
     // The anchors span the whole domain, the margin too: a margin source's PSF is its own
     // field's, stretched as 1/cos^3 radially (docs/physics.md, wide fields), wider than the frame
     // edge's. Taking the edge anchors' kernels for the margin made a 32 px frame at 60 deg (R =
-    // 24: the margin reaches 55 deg and more, the frame's corner 39) differ from the exact sums'
+    // 24: the margin reaches 55 deg and more, the frame's corner 39) differ from the point sums'
     // same runs by 2.2% RMS in its interior at 64 runs; anchors over the margin, 1.3%. Their
     // cells are as wide as that allows, and close enough that the field's stretch of the PSF
     // changes little between them (kernel_table.h). Even cells, mirror-symmetric about the
     // optical axis: a knot is a source pixel (its centre), so knots k and width - 1 - k are
     // mirror images, and where the aperture is even their kernels are each other's mirror images
-    // (psf_summation_kernels.cpp computes one of each pair).
+    // (kernel_summation_kernels.cpp computes one of each pair).
     // The cells are 1/sqrt(2) of the convolution method's: its kernels blend powers, these
     // amplitudes, whose runs carry the cross terms of neighbouring anchors' kernels. Measured on
-    // PsfSummation.UniformWallIsUniform (32 px, 50 deg): RMS 1.02% against the incoherent image at
+    // KernelSummation.UniformWallIsUniform (32 px, 50 deg): RMS 1.02% against the incoherent image at
     // cells of anchor_step, 0.69% at 0.8 or 0.7 of it.
     const double step = anchor_step(s.aperture, s.wavelength, c.film_distance, c.pixel_pitch()) / std::sqrt(2.0);
     auto axis = [&](int length) {
@@ -96,7 +96,7 @@ int KernelSources::count() const {
     return n;
 }
 
-KernelSources kernel_sources(const PsfSummationSpec& s, const PsfSummationGeometry& g) {
+KernelSources kernel_sources(const KernelSummationSpec& s, const KernelSummationGeometry& g) {
     KernelSources k;
     k.mirror = mirror_sources(g.ax, g.ay, g.width - 1, g.height - 1, s.aperture.even_in_x(), s.aperture.even_in_y());
     k.transpose.assign(k.mirror.size(), -1);
@@ -116,7 +116,7 @@ namespace {
 // The widest turn, in direction sines along either axis, of any kernel's sum over the pinhole
 // (kernel_lattice_pitch): from each anchor's source at the nearest layer to its kernel's film
 // points' corners, the wavefronts' curvature at the rim added.
-double widest_kernel_turn(const PsfSummationSpec& s, const PsfSummationGeometry& g) {
+double widest_kernel_turn(const KernelSummationSpec& s, const KernelSummationGeometry& g) {
     const PinholeCamera& c = s.camera;
     const double a = s.aperture.bounding_radius(), w = g.layers.inverse_depth(std::max(0, g.layers.count - 1));
     double widest = 0;
@@ -142,8 +142,8 @@ double widest_kernel_turn(const PsfSummationSpec& s, const PsfSummationGeometry&
 
 }  // namespace
 
-double kernel_lattice_pitch(const PsfSummationSpec& spec, double frame_pitch) {
-    const PsfSummationGeometry g = psf_summation_geometry(spec);
+double kernel_lattice_pitch(const KernelSummationSpec& spec, double frame_pitch) {
+    const KernelSummationGeometry g = kernel_summation_geometry(spec);
     const double need = widest_kernel_turn(spec, g) + spec.wavelength / spec.aperture.diameter;
     const double pitch = std::min(spec.wavelength / (kKernelLatticeMargin * need),
                                   spec.aperture.diameter / kMinSamplesAcross);

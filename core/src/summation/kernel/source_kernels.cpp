@@ -1,4 +1,4 @@
-#include "summation/psf/psf_kernel.h"
+#include "summation/kernel/source_kernels.h"
 
 #include <cmath>
 
@@ -15,8 +15,8 @@ UnitSource unit_sources(const PinholeCamera& c) {
 Result<bool> source_kernels(const KernelSetup& k, int px, int py, const std::vector<double>& inverse_depths,
                             const SummationSettings& settings, PlanScope& film_scope,
                             std::vector<std::vector<std::complex<double>>>& fields) {
-    const PsfSummationSpec& spec = *k.spec;
-    const PsfSummationGeometry& g = *k.g;
+    const KernelSummationSpec& spec = *k.spec;
+    const KernelSummationGeometry& g = *k.g;
     const PinholeCamera& c = spec.camera;
     const int n = spec.subsamples;
     FilmPoints film;

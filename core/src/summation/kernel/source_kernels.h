@@ -1,4 +1,4 @@
-// One source's amplitude kernels for the psf summation (psf_summation.h): the exact sums from a
+// One source's amplitude kernels for the kernel summation (kernel_summation.h): the point sums from a
 // unit source at a pixel's centre, at given inverse depths, to the film points of the
 // (2R + 1)^2 pixels round its image, n x n per pixel, sub-point by sub-point; the same lattice,
 // film points, amplitudes and obliquity as the direct sums. Internal to core.
@@ -6,20 +6,20 @@
 #include <complex>
 #include <vector>
 
-#include "summation/psf/psf_summation_geometry.h"
+#include "summation/kernel/kernel_summation_geometry.h"
 #include "summation/choose.h"
 
 namespace wavecam::detail {
 
 struct KernelSetup {
-    const PsfSummationSpec* spec = nullptr;
-    const PsfSummationGeometry* g = nullptr;
+    const KernelSummationSpec* spec = nullptr;
+    const KernelSummationGeometry* g = nullptr;
     const ApertureSamples* samples = nullptr;  // the kernels' pinhole lattice
     SummationSettings to_pinhole;             // how the source's sum is evaluated (kernel_sums)
     UnitSource unit;
 };
 
-// Unit sources as the exact sums place them in camera c: (x, y) in camera pixels, at planar
+// Unit sources as the point sums place them in camera c: (x, y) in camera pixels, at planar
 // inverse depth w.
 UnitSource unit_sources(const PinholeCamera& c);
 

@@ -1,5 +1,5 @@
-// The psf summation's runs (summation_evaluator.h; the psf row): each run a convolution of the
-// sources' complex weights with amplitude PSFs (psf_summation.h). The sources are every
+// The kernel summation's runs (summation_evaluator.h; the kernel row): each run a convolution of the
+// sources' complex weights with amplitude PSFs (kernel_summation.h). The sources are every
 // pixel of the convolution's domain at its centre: the input's, and beyond it the edge continued
 // pixel by pixel (each with the edge pixel's radiance and planar depth at its own field
 // position), each with the phases the direct sums give it (scene_runs.h): an input pixel keeps
@@ -10,25 +10,25 @@
 #include <cmath>
 
 #include "wavecam/edge_continuation.h"
-#include "summation/psf/psf_kernel.h"
+#include "summation/kernel/source_kernels.h"
 #include "summation/scene_runs.h"
 #include "summation/summation_evaluator.h"
 
 namespace wavecam::detail {
 namespace {
 
-class PsfRuns final : public SummationEvaluator {
+class KernelRuns final : public SummationEvaluator {
 public:
-    explicit PsfRuns(const EvaluatorSetup& setup) : setup_(setup) {
+    explicit KernelRuns(const EvaluatorSetup& setup) : setup_(setup) {
         const SceneSumSettings& s = *setup.settings;
         const SceneSum& sum = *setup.sum;
-        too_deep_ = too_deep_for_psf(setup.nearest, s.aperture, setup.wavelength);
+        too_deep_ = too_deep_for_kernel(setup.nearest, s.aperture, setup.wavelength);
         if (too_deep_) return;  // refused by set_points, before any work
-        spec_ = psf_summation_spec(s, setup.scene->camera, setup.wavelength, setup.nearest, sum.subsamples);
+        spec_ = kernel_summation_spec(s, setup.scene->camera, setup.wavelength, setup.nearest, sum.subsamples);
         // progress: the kernels and the runs by their work
         const int runs = spec_.incoherent ? 1 : setup.range.run_end - setup.range.run_begin;
         pitch_ = kernel_lattice_pitch(spec_, sum.samples.pitch);
-        const PsfSummationWork work = psf_work(s, sum, spec_, setup.nearest, pitch_);
+        const KernelSummationWork work = kernel_work(s, sum, spec_, setup.nearest, pitch_);
         kernels_ = work.kernels / (work.kernels + runs * work.per_run);
     }
 
@@ -37,8 +37,8 @@ public:
     Result<bool> set_points(const ProgressFn& progress) override {
         const PinholeCamera& c = setup_.scene->camera;
         if (too_deep_) return too_many_layers();
-        auto make = [&] { return PsfSummation::create(spec_, pitch_, unit_sources(c), progress); };
-        PsfSummationMemo none;
+        auto make = [&] { return KernelSummation::create(spec_, pitch_, unit_sources(c), progress); };
+        KernelSummationMemo none;
         auto made = (setup_.memo ? setup_.memo : &none)->get(spec_, pitch_, make);
         if (!made.ok()) return Result<bool>::failure(made);
         conv_ = made.value;
@@ -47,14 +47,14 @@ public:
         const MonochromeScene& scene = *setup_.scene;
         tail_.assign(size_t(c.width) * c.height, 0.0f);
         conv_->add_far_tail(scene.power, scene.depth, scene.depth_meaning, 1.0, rows(), tail_.data());
-        // and what the runs' mean lacks of the kernels' intensity blend (psf_summation.h)
+        // and what the runs' mean lacks of the kernels' intensity blend (kernel_summation.h)
         conv_->add_blend_mean(sources_, power_, balance_, rows(), tail_.data());
         return Result<bool>::success(true);
     }
 
     Result<bool> execute(const RunBatch& batch, float* irradiance, const ProgressFn& progress) override {
         const SceneSumSettings& s = *setup_.settings;
-        const PsfSummation& conv = *conv_;
+        const KernelSummation& conv = *conv_;
         const bool incoherent = spec_.incoherent;
         const int W = conv.domain_width(), origin = conv.origin();
         const size_t n = size_t(W) * conv.domain_height();
@@ -86,12 +86,12 @@ public:
 private:
     RowRange rows() const { return {setup_.range.row_begin, setup_.range.row_end}; }  // the share's film rows
 
-    // Every domain pixel's layer, amplitude (its power balanced, psf_summation.h) and
+    // Every domain pixel's layer, amplitude (its power balanced, kernel_summation.h) and
     // random numbers' key.
     void place_sources() {
         const MonochromeScene& scene = *setup_.scene;
         const PinholeCamera& c = scene.camera;
-        const PsfSummation& conv = *conv_;
+        const KernelSummation& conv = *conv_;
         const int W = conv.domain_width(), H = conv.domain_height(), origin = conv.origin();
         const size_t n = size_t(W) * H;
         sources_.weight.resize(n);
@@ -123,10 +123,10 @@ private:
 
     EvaluatorSetup setup_;
     bool too_deep_ = false;  // the scene's depths need more layers than the kernels take
-    PsfSummationSpec spec_;
+    KernelSummationSpec spec_;
     double pitch_ = 0, kernels_ = 0;
-    std::shared_ptr<const PsfSummation> conv_;
-    PsfSummationSources sources_;
+    std::shared_ptr<const KernelSummation> conv_;
+    KernelSummationSources sources_;
     std::vector<float> amplitude_, tail_;
     std::vector<float> power_, balance_;  // each domain pixel's power, and its weight's balance
     std::vector<uint64_t> key_;
@@ -134,8 +134,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<SummationEvaluator> make_psf_runs(const EvaluatorSetup& setup) {
-    return std::make_unique<PsfRuns>(setup);
+std::unique_ptr<SummationEvaluator> make_kernel_runs(const EvaluatorSetup& setup) {
+    return std::make_unique<KernelRuns>(setup);
 }
 
 }  // namespace wavecam::detail
