@@ -147,7 +147,7 @@ int run(const PsfFlags& flags) {
     const double samples = estimate_sample_count(p.aperture, sample_pitch(p.wavelength, p.sin_theta_max));
     std::fprintf(stderr, "psf: %s x %d x %d film points = %.3g terms\n", aperture_work(p.aperture, samples).c_str(),
                  p.resolution, p.resolution, samples * p.resolution * p.resolution);
-    auto img = compute_psf(p, terminal_progress("psf"));
+    auto img = compute_psf(p, ComputeDevice{}, terminal_progress("psf"));  // on the CPU
     finish_progress();
     if (!img.ok()) return fail(img.error, interrupted() ? interrupted_status() : 1);
     const OIIO::ImageBuf buf = to_imagebuf(img.value, p);

@@ -125,10 +125,10 @@ void psf_frame(benchmark::State& state, const ComputeDevice& device) {
     s.aperture = {ApertureShape::Circle, 0.05e-3};
     s.runs = int(state.range(0));
     s.summation = Summation::Kernel;
-    s.device = device;
     const MonochromeScene scene{c, power.data(), depth.data(), DepthMeaning::Planar};
     for (auto _ : state)
-        if (auto r = diffract_monochrome(scene, 550e-9, s, out.data()); !r.ok()) state.SkipWithError(r.error.c_str());
+        if (auto r = diffract_monochrome(scene, 550e-9, s, device, out.data()); !r.ok())
+            state.SkipWithError(r.error.c_str());
 }
 
 void BM_PsfFrameCpu(benchmark::State& state) {

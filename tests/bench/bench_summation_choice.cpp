@@ -55,15 +55,16 @@ void run_case(benchmark::State& state, const Case& k) {
     s.summation = k.summation;
     // (auto: the estimate weighs the kernel summation against the point sums; the run takes what the job would)
     const double rate = measured_term_rate(0);
-    const SummationEstimate e = estimate_summation(s, frame.camera, lambda, rate);
-    s.summation = chosen_summation(s, frame.camera, lambda);
+    const ComputeDevice cpu;
+    const SummationEstimate e = estimate_summation(s, cpu, frame.camera, lambda, rate);
+    s.summation = chosen_summation(s, cpu, frame.camera, lambda);
     const MonochromeScene scene{frame.camera, frame.power.data(), frame.depth.data(), DepthMeaning::Planar};
     std::vector<float> out(frame.power.size());
     double measured = 0;
     for (auto _ : state) {
         std::fill(out.begin(), out.end(), 0.0f);
         const auto start = std::chrono::steady_clock::now();
-        const auto r = diffract_monochrome(scene, lambda, s, out.data());
+        const auto r = diffract_monochrome(scene, lambda, s, cpu, out.data());
         measured = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!r.ok()) state.SkipWithError(r.error.c_str());
         state.SetIterationTime(measured);

@@ -3,7 +3,8 @@
 # `wavecam estimate` (the time printed before work, the same line apply prints) and the wall time
 # of `wavecam apply` on the same frame, and their ratio (measured / estimated; goal: within 2
 # either way). --busy runs every job beside two CPU-bound loops (the estimate's rate is measured
-# as it starts, so it should follow the machine). About 5 minutes quiet on 2 cores, 10 busy.
+# as it starts, so it should follow the machine); the GPU rows on lavapipe where it is installed.
+# About 8 minutes quiet on 2 cores, 15 busy.
 # Usage: tests/bench/run_estimate_bench.sh [build-dir] [--busy]
 set -euo pipefail
 build=${1:-build}
@@ -40,8 +41,10 @@ if [ "$busy" = --busy ]; then
   for _ in 1 2; do (while :; do :; done) & loops+=($!); done
   echo "beside two CPU-bound loops"
 fi
+frame tiny 16 12 60
 frame small 48 32 60
 frame medium 64 48 50
+lavapipe=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json
 printf "%-44s %11s %10s %6s\n" job estimated measured ratio
 run() {  # LABEL FRAME FLAGS...
   local label=$1 input="$work/$2.exr"; shift 2
@@ -62,3 +65,12 @@ run "48x32 60deg random-phase 1 run, direct" small --method random-phase --runs 
 run "64x48 50deg random-phase 8 runs, nufft" medium --method random-phase --runs 8 --wavelengths 3 --summation nufft
 run "64x48 50deg random-phase 16 runs, kernel" medium --method random-phase --runs 16 --wavelengths 3 --summation kernel
 run "48x32 60deg incoherent, auto" small --method incoherent --wavelengths 3
+# the GPU rows on Mesa's lavapipe (the Vulkan device on the CPU; a GPU's own rate is measured the same way)
+if [ -f "$lavapipe" ]; then
+  export VK_ICD_FILENAMES="$lavapipe"
+  run "16x12 60deg random-phase 1 run, direct, gpu" tiny --method random-phase --runs 1 --wavelengths 3 --summation direct --device gpu
+  run "48x32 60deg random-phase 16 runs, kernel, gpu" small --method random-phase --runs 16 --wavelengths 3 --summation kernel --device gpu
+  unset VK_ICD_FILENAMES
+else
+  echo "no lavapipe ($lavapipe): the GPU rows left out"
+fi

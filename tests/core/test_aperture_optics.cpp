@@ -34,7 +34,6 @@ double fraunhofer(double f_abs2, double x, double y, double f, double lambda) {
 PsfParams far_field(const Aperture& ap) {
     PsfParams p;
     p.summation = test_summation();
-    p.device = test_device();
     p.aperture = ap;
     p.film_distance = 5e-3;
     p.wavelength = 500e-9;
@@ -48,7 +47,7 @@ PsfParams far_field(const Aperture& ap) {
 TEST(ApertureOptics, SquareFarFieldIsSincSquared) {
     const double d = 10e-6;  // N = (d/2)^2 / (lambda f) = 0.01: Fraunhofer
     const PsfParams p = far_field({ApertureShape::Square, d});
-    auto img = compute_psf(p);
+    auto img = compute_psf(p, test_device());
     ASSERT_TRUE(img.ok()) << img.error;
     double worst = 0, peak = 0;
     for (int j = 0; j < p.resolution; ++j)
@@ -71,7 +70,7 @@ TEST(ApertureOptics, PolygonFarFieldMatchesADirectFourierSumOfItsShape) {
     const double d = 12e-6, R = d / 2, rot = 10 * M_PI / 180;
     const int n = 5;
     const PsfParams p = far_field({ApertureShape::Polygon, d, n, rot});
-    auto img = compute_psf(p);
+    auto img = compute_psf(p, test_device());
     ASSERT_TRUE(img.ok()) << img.error;
     // The pentagon rasterised independently: a point is inside when it lies left of every
     // edge from vertex k to vertex k+1 (vertices at rot + 2 pi k / n, counter-clockwise).
@@ -117,7 +116,6 @@ TEST(ApertureOptics, RasterisedDiscMaskMatchesTheCircleInEncircledEnergy) {
     const double d = 0.2e-3;
     PsfParams p;
     p.summation = test_summation();
-    p.device = test_device();
     p.film_distance = 20e-3;  // N ~ 0.9
     p.wavelength = 550e-9;
     p.film_size = 0.4e-3;
@@ -132,9 +130,9 @@ TEST(ApertureOptics, RasterisedDiscMaskMatchesTheCircleInEncircledEnergy) {
     mask.mask_file = "disc";
     ASSERT_TRUE(set_aperture_mask(mask, w, w, disc, "aperture").ok());
     p.aperture = mask;
-    auto from_mask = compute_psf(p);
+    auto from_mask = compute_psf(p, test_device());
     p.aperture = {ApertureShape::Circle, d};
-    auto from_circle = compute_psf(p);
+    auto from_circle = compute_psf(p, test_device());
     ASSERT_TRUE(from_mask.ok() && from_circle.ok());
     const double airy = 1.22 * p.wavelength * p.film_distance / d;
     const double total = M_PI * d * d / 4;
@@ -158,7 +156,6 @@ TEST(ApertureOptics, LShapedMaskBlursAStarIntoAnLRotatedLikeAPrint) {
     ASSERT_TRUE(set_aperture_mask(ell, 2, 2, {1, 0, 1, 1}, "aperture").ok());
     PsfParams p;
     p.summation = test_summation();
-    p.device = test_device();
     p.aperture = ell;
     p.film_distance = f;
     p.source_distance = z;
@@ -166,7 +163,7 @@ TEST(ApertureOptics, LShapedMaskBlursAStarIntoAnLRotatedLikeAPrint) {
     p.film_size = 0.8e-3;
     p.resolution = 61;
     p.sin_theta_max = 0.2;
-    auto img = compute_psf(p);
+    auto img = compute_psf(p, test_device());
     ASSERT_TRUE(img.ok()) << img.error;
     const int n = p.resolution;
     const double c = 0.5 * (n - 1), half = 0.5 * d * (1 + f / z) / img.value.pixel_pitch;  // shadow half-width, px
@@ -216,14 +213,13 @@ double zone_plate_on_axis(double outer_radius, int zones, double f, double lambd
 double on_axis(const Aperture& ap, double f, double lambda, double sin_theta_max = 1.0) {
     PsfParams p;
     p.summation = test_summation();
-    p.device = test_device();
     p.aperture = ap;
     p.film_distance = f;
     p.wavelength = lambda;
     p.film_size = 1e-7;
     p.resolution = 1;
     p.sin_theta_max = sin_theta_max;  // 1: cells of lambda / 2, little phase across one (midpoint rule)
-    auto img = compute_psf(p);
+    auto img = compute_psf(p, test_device());
     return img.ok() ? img.value.irradiance[0] : NAN;
 }
 

@@ -57,7 +57,7 @@ TEST(ConvolutionMethod, AgreesWithTheExactIncoherentSum) {
     exact.method = CoherenceMethod::Incoherent;
     exact.film_subsamples = 3;  // film pixels averaged over their area, as the convolution kernels are
     std::vector<float> reference(3 * w * w), fast(3 * w * w);
-    ASSERT_TRUE(diffract_spectral(scene, basis, ap, wave_propagator(exact), {true, reference.data()}).ok());
+    ASSERT_TRUE(diffract_spectral(scene, basis, ap, wave_propagator(exact, ComputeDevice{}), {true, reference.data()}).ok());
     ConvolutionSettings fs;
     fs.tile = 4;           // several tiles and anchor cells, so overlap-add and interpolation are exercised
     fs.anchor_cells = 3;

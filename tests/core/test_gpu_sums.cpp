@@ -280,16 +280,20 @@ TEST(GpuSums, SceneFrameMatchesTheCpu) {
         s.sin_theta_max = 550e-9 * 36 / 0.1e-3;
         std::vector<float> cpu(power.size(), 0.0f), gpu(power.size(), 0.0f), fallback(power.size(), 0.0f);
         const MonochromeScene scene{c, power.data(), depth.data(), DepthMeaning::Planar};
-        ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, cpu.data()).ok());
-        s.device = gpu_device();
-        auto r = diffract_monochrome(scene, 550e-9, s, gpu.data());
+        SumReport on_cpu, on_gpu;  // what ran, as the job's report has it
+        ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, ComputeDevice{}, cpu.data(), {}, &on_cpu).ok());
+        auto r = diffract_monochrome(scene, 550e-9, s, gpu_device(), gpu.data(), {}, &on_gpu);
         ASSERT_TRUE(r.ok()) << r.error;
+        EXPECT_EQ(on_cpu.evaluators().words(), "direct");
+        EXPECT_EQ(on_cpu.ran_on(gpu_device()), "cpu");
+        EXPECT_EQ(on_gpu.evaluators().words(), "direct");
+        EXPECT_EQ(on_gpu.ran_on(gpu_device()), gpu_device().description());
         EXPECT_LE(relative_rms(gpu, cpu), 1e-4);
         EXPECT_NE(gpu, cpu);  // the device's own float sums, not the CPU's
         // `auto` with no discrete GPU (lavapipe is a CPU device): the CPU's image, bit for bit
-        s.device = ComputeDevice::create(Device::Auto);
-        ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, fallback.data()).ok());
-        if (!s.device.gpu()) {
+        const ComputeDevice automatic = ComputeDevice::create(Device::Auto);
+        ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, automatic, fallback.data()).ok());
+        if (!automatic.gpu()) {
             EXPECT_EQ(fallback, cpu);
         }
     }
@@ -317,11 +321,13 @@ TEST(GpuSums, KernelSummationRunsMatchTheCpu) {
         s.summation = Summation::Kernel;
         std::vector<float> cpu(power.size(), 0.0f), gpu(power.size(), 0.0f), fallback(power.size(), 0.0f);
         const MonochromeScene scene{c, power.data(), depth.data(), DepthMeaning::Planar};
-        auto r = diffract_monochrome(scene, 550e-9, s, cpu.data());
+        auto r = diffract_monochrome(scene, 550e-9, s, ComputeDevice{}, cpu.data());
         ASSERT_TRUE(r.ok()) << r.error;
-        s.device = gpu_device();
-        r = diffract_monochrome(scene, 550e-9, s, gpu.data());
+        SumReport report;  // the runs' device, as the job's report has it
+        r = diffract_monochrome(scene, 550e-9, s, gpu_device(), gpu.data(), {}, &report);
         ASSERT_TRUE(r.ok()) << r.error;
+        EXPECT_EQ(report.ran_on(gpu_device()), gpu_device().description());
+        EXPECT_EQ(report.evaluators().words(), "");  // the kernels' own sums are no sum of the frame's
         EXPECT_NE(gpu, cpu);  // the runs on the device
         double light = 0;
         for (const float x : cpu) light += x;
@@ -330,9 +336,9 @@ TEST(GpuSums, KernelSummationRunsMatchTheCpu) {
         EXPECT_LE(rms, 1e-4) << (method == CoherenceMethod::Incoherent ? "incoherent" : "runs");
         std::printf("the kernel summation on the device vs the CPU (%s): relative RMS %.2e\n",
                     method == CoherenceMethod::Incoherent ? "incoherent" : "3 runs", rms);
-        s.device = ComputeDevice::create(Device::Auto);
-        ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, fallback.data()).ok());
-        if (!s.device.gpu()) {
+        const ComputeDevice automatic = ComputeDevice::create(Device::Auto);
+        ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, automatic, fallback.data()).ok());
+        if (!automatic.gpu()) {
             EXPECT_EQ(fallback, cpu);
         }
     }
@@ -415,8 +421,8 @@ TEST(ComputeDevice, AFailedCreationIsHeldAndTheNextTriesAgain) {
     EXPECT_FALSE(fallback.gpu());
     EXPECT_NE(fallback.error().find("Vulkan"), std::string::npos) << fallback.error();
     const double lambda = 550e-9;
-    SummationPlan plan = SummationPlan::create(SumKind::SourcesToPinhole, pinhole(lambda), lambda,
-                                               {Summation::Direct, kSummationTolerance, 0, failed});
+    SummationPlan plan = SummationPlan::create(failed, SumKind::SourcesToPinhole, pinhole(lambda), lambda,
+                                               {Summation::Direct, kSummationTolerance, 0});
     auto refused = plan.set_points(random_sources(3, 1, 5));
     ASSERT_FALSE(refused.ok());
     EXPECT_EQ(refused.field, "device");
@@ -426,30 +432,28 @@ TEST(ComputeDevice, AFailedCreationIsHeldAndTheNextTriesAgain) {
 }
 
 // On a GPU a plan takes the direct terms where `auto` on the CPU takes the NUFFTs (many sources),
-// refuses nufft naming it, and the device records what ran.
+// and refuses nufft naming it.
 TEST(ComputeDevice, AGpuRunsTheDirectTermsAndRefusesTheNufft) {
     REQUIRE_VULKAN();
     const double lambda = 550e-9;
     const ApertureSamples samples = pinhole(lambda);
     const std::vector<PointSource> many = random_sources(20000, 0, 9);
     const ComputeDevice cpu = ComputeDevice::create(Device::Cpu), gpu = gpu_device();
-    SummationPlan on_cpu = SummationPlan::create(SumKind::SourcesToPinhole, samples, lambda,
-                                                 {Summation::Auto, kSummationTolerance, 0, cpu});
+    SummationPlan on_cpu = SummationPlan::create(cpu, SumKind::SourcesToPinhole, samples, lambda,
+                                                 {Summation::Auto, kSummationTolerance, 0});
     ASSERT_TRUE(on_cpu.set_points(many).ok());
     EXPECT_EQ(on_cpu.choice().evaluator, Evaluator::Nufft);  // the case this test is about
-    EXPECT_EQ(evaluators_run(cpu).words(), "nufft");
-    SummationPlan on_gpu = SummationPlan::create(SumKind::SourcesToPinhole, samples, lambda,
-                                                 {Summation::Auto, kSummationTolerance, 0, gpu});
+    EXPECT_FALSE(on_cpu.choice().gpu);
+    SummationPlan on_gpu = SummationPlan::create(gpu, SumKind::SourcesToPinhole, samples, lambda,
+                                                 {Summation::Auto, kSummationTolerance, 0});
     ASSERT_TRUE(on_gpu.set_points(many).ok());
     EXPECT_EQ(on_gpu.choice().evaluator, Evaluator::Direct);
     EXPECT_TRUE(on_gpu.choice().gpu);
-    SummationPlan nufft = SummationPlan::create(SumKind::SourcesToPinhole, samples, lambda,
-                                                {Summation::Nufft, kSummationTolerance, 0, gpu});
+    SummationPlan nufft = SummationPlan::create(gpu, SumKind::SourcesToPinhole, samples, lambda,
+                                                {Summation::Nufft, kSummationTolerance, 0});
     auto refused = nufft.set_points(many);
     ASSERT_FALSE(refused.ok());
     EXPECT_EQ(refused.field, "summation");
     EXPECT_NE(refused.error.find("device gpu: the nufft summation has no GPU evaluator"), std::string::npos)
         << refused.error;
-    EXPECT_EQ(evaluators_run(gpu).words(), "direct");
-    EXPECT_EQ(gpu.ran_on(), gpu.description());
 }

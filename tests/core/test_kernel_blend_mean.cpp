@@ -35,7 +35,7 @@ std::vector<float> star_image(const PinholeCamera& c, double wavelength, int x, 
     s.runs = 1;
     s.summation = summation;
     const MonochromeScene scene{c, power.data(), depth.data(), DepthMeaning::Planar};
-    EXPECT_TRUE(diffract_monochrome(scene, wavelength, s, image.data()).ok());
+    EXPECT_TRUE(diffract_monochrome(scene, wavelength, s, ComputeDevice{}, image.data()).ok());
     return image;
 }
 
@@ -49,10 +49,10 @@ std::vector<float> star_image(const PinholeCamera& c, double wavelength, int x, 
 TEST(KernelBlendMean, AStarBetweenTheOutermostAnchorsMatchesThePointSumsAsTheCheckForesaw) {
     const PinholeCamera camera{128, 128, 50 * M_PI / 180, 0.05};
     const double wavelength = 550e-9;
-    const auto check = detail::kernel_error_check(bench_settings(), camera, wavelength);
+    const auto check = detail::kernel_error_check(bench_settings(), ComputeDevice{}, camera, wavelength);
     ASSERT_TRUE(check.ok());
     EXPECT_TRUE(check.value.within()) << check.value.total();
-    EXPECT_EQ(chosen_summation(bench_settings(), camera, wavelength), Summation::Kernel);
+    EXPECT_EQ(chosen_summation(bench_settings(), ComputeDevice{}, camera, wavelength), Summation::Kernel);
     // the probes: the axis cell's, the outermost on the horizontal axis, the corner's (all sky: no
     // layers' probe)
     ASSERT_EQ(check.value.probes.size(), 3u);
@@ -92,13 +92,13 @@ TEST(KernelBlendMean, FewRunsOfAWidePsfAreLeftToThePointSums) {
     s.nearest_depth = 3;
     for (const int runs : {16, 64}) {
         s.runs = runs;
-        const auto check = detail::kernel_error_check(s, camera, 550e-9);
+        const auto check = detail::kernel_error_check(s, ComputeDevice{}, camera, 550e-9);
         ASSERT_TRUE(check.ok());
         std::printf("%d runs: blend %.2f%%, tail %.2f%%\n", runs, 100 * check.value.blend, 100 * check.value.tail);
         EXPECT_NEAR(check.value.tail, 0.8 * std::sqrt(0.015 / runs), 1e-9);
         EXPECT_EQ(check.value.within(), runs == 64);
         if (runs == 16) {
-            EXPECT_EQ(chosen_summation(s, camera, 550e-9), Summation::Auto);
+            EXPECT_EQ(chosen_summation(s, ComputeDevice{}, camera, 550e-9), Summation::Auto);
         }
     }
 }

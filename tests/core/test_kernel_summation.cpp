@@ -41,7 +41,7 @@ struct Frame {
     std::vector<float> diffract(const SceneSumSettings& s, double lambda = 550e-9) const {
         std::vector<float> out(power.size(), 0.0f);
         const MonochromeScene view{camera, power.data(), depth.data(), DepthMeaning::Planar};
-        auto r = diffract_monochrome(view, lambda, s, out.data());
+        auto r = diffract_monochrome(view, lambda, s, test_device(), out.data());
         EXPECT_TRUE(r.ok()) << r.error;
         return out;
     }
@@ -53,7 +53,6 @@ SceneSumSettings settings(Summation summation, CoherenceMethod method, int runs 
     s.method = method;
     s.runs = runs;
     s.summation = summation;
-    s.device = test_device();  // --device=gpu: the kernels' sums and the runs on the Vulkan device
     return s;
 }
 
@@ -152,7 +151,7 @@ TEST(KernelSummation, SharesAddUpToTheJob) {
         s.run_begin = first;
         s.run_end = first + 2;
         const MonochromeScene view{frame.camera, frame.power.data(), frame.depth.data(), DepthMeaning::Planar};
-        ASSERT_TRUE(diffract_monochrome(view, 550e-9, s, shares.data()).ok());
+        ASSERT_TRUE(diffract_monochrome(view, 550e-9, s, test_device(), shares.data()).ok());
     }
     for (size_t p = 0; p < job.size(); ++p) ASSERT_EQ(job[p], shares[p]) << p;
 }
@@ -166,13 +165,13 @@ TEST(KernelSummation, RefusesWhatItCannotServe) {
     std::vector<float> out(frame.power.size(), 0.0f);
     SceneSumSettings s = settings(Summation::Kernel, CoherenceMethod::RandomPhase);
     s.jitter = true;
-    auto r = diffract_monochrome(view, 550e-9, s, out.data());
+    auto r = diffract_monochrome(view, 550e-9, s, test_device(), out.data());
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error.find("jitter"), std::string::npos) << r.error;
     s.jitter = false;
     s.aperture.diameter = 0.5e-3;  // 0.5 mm at 1 cm: about 140 rad of defocus across the depths
     std::fill(frame.depth.begin(), frame.depth.end(), 0.01f);
-    r = diffract_monochrome(view, 550e-9, s, out.data());
+    r = diffract_monochrome(view, 550e-9, s, test_device(), out.data());
     ASSERT_FALSE(r.ok());
     EXPECT_EQ(r.field, "summation") << r.error;
 }
@@ -185,29 +184,30 @@ TEST(KernelSummation, RefusesWhatItCannotServe) {
 // kernels; a summation asked by name as it is.
 TEST(AutoSummation, TakesTheKernelSummationWhereItAppliesAndCostsLess) {
     const PinholeCamera camera{128, 128, 50 * M_PI / 180, 50e-3};
+    const ComputeDevice cpu;
     SceneSumSettings s;
     s.aperture = {ApertureShape::Circle, 0.3e-3};
     s.nearest_depth = 0.3;
     EXPECT_EQ(s.runs, 64);
-    EXPECT_EQ(chosen_summation(s, camera, 550e-9), Summation::Kernel);
+    EXPECT_EQ(chosen_summation(s, cpu, camera, 550e-9), Summation::Kernel);
     s.method = CoherenceMethod::Incoherent;
-    EXPECT_EQ(chosen_summation(s, camera, 550e-9), Summation::Kernel);
+    EXPECT_EQ(chosen_summation(s, cpu, camera, 550e-9), Summation::Kernel);
     s.method = CoherenceMethod::RandomPhase;
     for (Summation asked : {Summation::Direct, Summation::Nufft, Summation::Kernel}) {
         SceneSumSettings named = s;
         named.summation = asked;
-        EXPECT_EQ(chosen_summation(named, camera, 550e-9), asked);
+        EXPECT_EQ(chosen_summation(named, cpu, camera, 550e-9), asked);
     }
     SceneSumSettings jitter = s;
     jitter.jitter = true;
-    EXPECT_EQ(chosen_summation(jitter, camera, 550e-9), Summation::Auto);
+    EXPECT_EQ(chosen_summation(jitter, cpu, camera, 550e-9), Summation::Auto);
     for (ApertureShape shape : {ApertureShape::ZonePlate, ApertureShape::PhotonSieve}) {
         SceneSumSettings zones = s;
         zones.aperture.shape = shape;
         zones.aperture.zones = 8;
-        EXPECT_EQ(chosen_summation(zones, camera, 550e-9), Summation::Auto);
+        EXPECT_EQ(chosen_summation(zones, cpu, camera, 550e-9), Summation::Auto);
     }
     SceneSumSettings tiny = s;
     tiny.runs = 1;
-    EXPECT_EQ(chosen_summation(tiny, PinholeCamera{4, 4, 30 * M_PI / 180, 20e-3}, 550e-9), Summation::Auto);
+    EXPECT_EQ(chosen_summation(tiny, cpu, PinholeCamera{4, 4, 30 * M_PI / 180, 20e-3}, 550e-9), Summation::Auto);
 }

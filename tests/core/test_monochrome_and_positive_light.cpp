@@ -71,13 +71,12 @@ TEST(PositiveLight, SaturatedColoursThroughTheSceneSumMethodsStayNonNegative) {
     for (auto method : {CoherenceMethod::RandomPhase, CoherenceMethod::Incoherent}) {
         SceneSumSettings s;
         s.summation = test_summation();
-        s.device = test_device();
         s.aperture = {ApertureShape::Circle, 0.2e-3};
         s.runs = 1;
         s.method = method;
         std::vector<float> xyz(3 * w * w);
         ASSERT_TRUE(diffract_spectral({cam, rgb.data(), depth.data(), DepthMeaning::Planar}, basis.value, s.aperture,
-                                      wave_propagator(s), {true, xyz.data()})
+                                      wave_propagator(s, test_device()), {true, xyz.data()})
                         .ok());
         double lowest_xyz = 0, lowest_rgb = 0, brightest = 0;
         for (int p = 0; p < w * w; ++p) {

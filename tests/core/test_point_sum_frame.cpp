@@ -43,7 +43,7 @@ std::vector<float> wall_rows(const PinholeCamera& c, SceneSumSettings s, int row
     std::vector<float> irr(power.size(), 0.0f);
     s.row_begin = row_begin;
     s.row_end = row_end;
-    auto r = diffract_monochrome({c, power.data(), depth.data(), DepthMeaning::Planar}, kLambda, s, irr.data());
+    auto r = diffract_monochrome({c, power.data(), depth.data(), DepthMeaning::Planar}, kLambda, s, test_device(), irr.data());
     EXPECT_TRUE(r.ok()) << r.error;
     return irr;
 }
@@ -51,7 +51,6 @@ std::vector<float> wall_rows(const PinholeCamera& c, SceneSumSettings s, int row
 SceneSumSettings settings(CoherenceMethod method) {
     SceneSumSettings s;
     s.summation = test_summation();
-    s.device = test_device();
     s.aperture = {ApertureShape::Circle, kPinhole};
     s.method = method;
     s.film_subsamples = 1;
@@ -148,7 +147,7 @@ TEST(PointSumFrame, BorderPixelsAgreeWithTheConvolutionMethod) {
     for (auto [rows, out] : {std::pair{0, &exact_top}, std::pair{kSide - 1, &exact_bottom}}) {
         s.row_begin = rows;
         s.row_end = rows + 1;
-        ASSERT_TRUE(diffract_spectral(scene, basis, ap, wave_propagator(s), {false, out->data()}).ok());
+        ASSERT_TRUE(diffract_spectral(scene, basis, ap, wave_propagator(s, test_device()), {false, out->data()}).ok());
     }
     double worst = 0;
     for (int i = 0; i < kSide; ++i)

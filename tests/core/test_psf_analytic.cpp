@@ -20,7 +20,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 PsfImage psf(const PsfParams& p) {
-    auto r = compute_psf(p);
+    auto r = compute_psf(p, test_device());
     EXPECT_TRUE(r.ok()) << r.error;
     return r.value;
 }
@@ -37,8 +37,8 @@ double zones(double a, double f, double z, double lambda) {
 std::vector<float> line_profile(const Aperture& ap, double f, double lambda, const PointSource& src,
                                 const std::vector<double>& xs, double pitch) {
     const ApertureSamples s = sample_aperture(ap, pitch);
-    const SummationSettings sum{test_summation(), kSummationTolerance, 0, test_device()};  // every evaluator in turn (summation_flag.h)
-    SummationPlan to_pinhole = SummationPlan::create(SumKind::SourcesToPinhole, s, lambda, sum);
+    const SummationSettings sum{test_summation(), kSummationTolerance, 0};  // every evaluator in turn (summation_flag.h)
+    SummationPlan to_pinhole = SummationPlan::create(test_device(), SumKind::SourcesToPinhole, s, lambda, sum);
     to_pinhole.set_points({src});
     PinholeField field;
     to_pinhole.execute(source_weights({src}), field);
@@ -49,7 +49,7 @@ std::vector<float> line_profile(const Aperture& ap, double f, double lambda, con
         film.y.push_back(0.0f);
     }
     std::vector<float> out(xs.size(), 0.0f);
-    SummationPlan to_film = SummationPlan::create(SumKind::PinholeToFilm, s, lambda, sum);
+    SummationPlan to_film = SummationPlan::create(test_device(), SumKind::PinholeToFilm, s, lambda, sum);
     to_film.set_points(film);
     to_film.execute_irradiance(field, 1.0 / free_irradiance_at_film_centre(src, f), out.data());
     return out;
@@ -66,7 +66,6 @@ TEST(FresnelZones, OnAxisIrradianceFollowsTheZoneCount) {
             const double n = zones(a, f, z, lambda);
             PsfParams p;
             p.summation = test_summation();
-            p.device = test_device();
             p.aperture = {ApertureShape::Circle, 2 * a};
             p.film_distance = f;
             p.source_distance = z;
@@ -103,7 +102,6 @@ TEST(Airy, FirstDarkRingRadius) {
 TEST(Airy, EncircledEnergyInsideTheFirstRing) {
     PsfParams p;
     p.summation = test_summation();
-    p.device = test_device();
     p.aperture = {ApertureShape::Circle, 47e-6};
     p.film_distance = 50e-3;
     p.wavelength = 550e-9;
@@ -121,7 +119,6 @@ TEST(Energy, FilmIntegralEqualsTheGeometricShadowArea) {
     for (double z : {kInf, 0.05}) {
         PsfParams p;
         p.summation = test_summation();
-        p.device = test_device();
         p.aperture = {ApertureShape::Circle, 0.224e-3};  // N ~ 5 at f = 5 mm, 500 nm
         p.film_distance = 5e-3;
         p.source_distance = z;
@@ -141,7 +138,6 @@ TEST(GeometricLimit, LargePinholeCastsItsShadow) {
     for (double z : {kInf, 0.05}) {
         PsfParams p;
         p.summation = test_summation();
-        p.device = test_device();
         p.aperture = {ApertureShape::Circle, 0.447e-3};  // N ~ 20 at f = 5 mm, 500 nm
         p.film_distance = 5e-3;
         p.source_distance = z;
@@ -174,7 +170,6 @@ TEST(GeometricLimit, LargePinholeCastsItsShadow) {
 TEST(GeometricLimit, ObliquePlaneWaveKeepsItsIrradianceInTheShadow) {
     PsfParams p;
     p.summation = test_summation();
-    p.device = test_device();
     p.aperture = {ApertureShape::Circle, 0.4e-3};  // N ~ 40 at f = 2 mm, 500 nm
     p.film_distance = 2e-3;
     p.wavelength = 500e-9;
@@ -194,7 +189,6 @@ TEST(OffAxis, CentredOnTheGeometricImage) {
         for (double deg : {20.0, 40.0}) {
             PsfParams p;
             p.summation = test_summation();
-            p.device = test_device();
             p.aperture = {ApertureShape::Circle, 0.2e-3};
             p.film_distance = 20e-3;
             p.source_distance = z;
@@ -246,7 +240,6 @@ TEST(Sampling, NarrowFieldSamplingAgreesWithHalfAWavelength) {
 TEST(Validation, HoursOfWorkAreRefusedNamingTheFlag) {
     PsfParams p;
     p.summation = test_summation();
-    p.device = test_device();
     p.aperture.diameter = 5e-3;
     p.resolution = 2001;
     const auto v = validate(p);
@@ -255,7 +248,6 @@ TEST(Validation, HoursOfWorkAreRefusedNamingTheFlag) {
     EXPECT_NE(v.error.find("--max-terms"), std::string::npos);
     p = PsfParams{};
     p.summation = test_summation();
-    p.device = test_device();
     p.film_distance = -1;
     EXPECT_EQ(validate(p).error.rfind("film-distance:", 0), 0u);
 }

@@ -23,7 +23,7 @@ struct TestScene {
     MonochromeScene view() const { return {camera, power.data(), depth.data(), DepthMeaning::Planar}; }
     std::vector<float> diffract(double lambda, const SceneSumSettings& s) const {
         std::vector<float> out(power.size(), 0.0f);
-        auto r = diffract_monochrome(view(), lambda, s, out.data());
+        auto r = diffract_monochrome(view(), lambda, s, test_device(), out.data());
         EXPECT_TRUE(r.ok()) << r.error;
         return out;
     }
@@ -64,7 +64,6 @@ TEST(SceneDiffraction, OneBrightPixelIsThePointSourceImage) {
     TestScene scene(test::small_camera(15, f, 4e-6));  // 4 um film pixels
     SceneSumSettings s;
     s.summation = test_summation();
-    s.device = test_device();
     s.aperture = {ApertureShape::Circle, 0.2e-3};
     s.jitter = false;
     s.runs = 1;
@@ -80,7 +79,6 @@ TEST(SceneDiffraction, OneBrightPixelIsThePointSourceImage) {
         scene.camera.tangent(i0 + 0.5, j0 + 0.5, u, v);
         PsfParams p;
         p.summation = test_summation();
-        p.device = test_device();
         p.aperture = s.aperture;
         p.film_distance = f;
         p.source_distance = z * std::sqrt(1 + u * u);
@@ -89,7 +87,7 @@ TEST(SceneDiffraction, OneBrightPixelIsThePointSourceImage) {
         p.resolution = 15;
         p.film_size = 15 * scene.camera.pixel_pitch();
         p.sin_theta_max = lambda / (2 * scene_sample_pitch(s, scene.camera, lambda, z));
-        const PsfImage psf = compute_psf(p).value;
+        const PsfImage psf = compute_psf(p, test_device()).value;
         // relative irradiance -> |U|^2: times the free irradiance L Omega |P|^2 / |P - C|^2
         const double px = z * u, r2 = px * px + (z + f) * (z + f);
         const double unit = 3.0 * scene.camera.solid_angle(i0, j0) * (z * z * (1 + u * u)) / r2;
@@ -116,7 +114,6 @@ TEST(SceneDiffraction, DepthChangesTheZoneCountAsTheoryPredicts) {
         scene.depth[12] = std::isinf(z) ? 1e10f : float(z);
         SceneSumSettings s;
         s.summation = test_summation();
-        s.device = test_device();
         s.aperture = {ApertureShape::Circle, d};
         s.jitter = false;
         s.runs = 1;
@@ -145,7 +142,6 @@ TEST(SceneDiffraction, LargePinholeApproachesRayOptics) {
         }
     SceneSumSettings s;
     s.summation = test_summation();
-    s.device = test_device();
     s.aperture = {ApertureShape::Circle, d};
     s.method = CoherenceMethod::Incoherent;
     s.film_subsamples = 3;
@@ -214,7 +210,6 @@ TEST(SceneDiffraction, RandomPhaseAverageConvergesAsOneOverRootK) {
     }
     SceneSumSettings s;
     s.summation = test_summation();
-    s.device = test_device();
     s.aperture = {ApertureShape::Circle, 40e-6};
     s.jitter = false;  // jitter would change the expectation itself
     s.coded_phases = false;  // the seed paper's independent phases: noise as 1/sqrt(K)
@@ -240,16 +235,15 @@ TEST(SceneDiffraction, BadPixelsAreErrorsNamingTheField) {
     TestScene scene({4, 4, 0.1, 10e-3});
     SceneSumSettings s;
     s.summation = test_summation();
-    s.device = test_device();
     s.aperture = {ApertureShape::Circle, 50e-6};
     std::vector<float> out(16);
     scene.power[5] = std::numeric_limits<float>::quiet_NaN();
-    auto r = diffract_monochrome(scene.view(), 500e-9, s, out.data());
+    auto r = diffract_monochrome(scene.view(), 500e-9, s, test_device(), out.data());
     ASSERT_FALSE(r.ok());
     EXPECT_EQ(r.error.rfind("radiance: pixel (1, 1)", 0), 0u) << r.error;
     scene.power[5] = 1;
     scene.depth[6] = -2;
-    r = diffract_monochrome(scene.view(), 500e-9, s, out.data());
+    r = diffract_monochrome(scene.view(), 500e-9, s, test_device(), out.data());
     ASSERT_FALSE(r.ok());
     EXPECT_EQ(r.error.rfind("depth: pixel (2, 1)", 0), 0u) << r.error;
 }
@@ -291,7 +285,6 @@ TEST(SceneDiffraction, DefaultFilmSamplingAveragesFresnelStructure) {
         std::fill(scene.depth.begin(), scene.depth.end(), 1e10f);  // a star
         SceneSumSettings s;
         s.summation = test_summation();
-        s.device = test_device();
         s.aperture = {ApertureShape::Circle, c.d};
         s.method = CoherenceMethod::Incoherent;
         const int n = auto_film_subsamples(s.aperture, scene.camera, lambda);

@@ -347,8 +347,8 @@ TEST(KernelLattice, GivesTheKernelTheFramesLatticeGives) {
         const ApertureSamples samples = sample_aperture(spec.aperture, pitch);
         SummationSettings direct;
         direct.summation = Summation::Direct;
-        SummationPlan in = SummationPlan::create(SumKind::SourcesToPinhole, samples, lambda, direct);
-        SummationPlan out = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, direct);
+        SummationPlan in = SummationPlan::create(ComputeDevice{}, SumKind::SourcesToPinhole, samples, lambda, direct);
+        SummationPlan out = SummationPlan::create(ComputeDevice{}, SumKind::PinholeToFilm, samples, lambda, direct);
         EXPECT_TRUE(in.set_points(one).ok());
         EXPECT_TRUE(out.set_points(film).ok());
         PinholeField field;
@@ -374,7 +374,7 @@ TEST(KernelLattice, GivesTheKernelTheFramesLatticeGives) {
 }
 
 // A job's memo makes a convolution once for the calls that ask for the same one (a wavelength's
-// positive and negative parts) and again when the wavelength changes; a call through it gives
+// positive and negative power) and again when the wavelength changes; a call through it gives
 // the image a call without it gives, bit for bit.
 TEST(KernelSummationMemo, KeepsTheConvolutionForTheSameWavelength) {
     using namespace wavecam;
@@ -407,7 +407,7 @@ TEST(KernelSummationMemo, KeepsTheConvolutionForTheSameWavelength) {
     };
     auto make = [&] {
         ++made;
-        return detail::KernelSummation::create(spec, pitch, unit, {});
+        return detail::KernelSummation::create(ComputeDevice{}, spec, pitch, unit, {});
     };
     auto a = memo.get(spec, pitch, make), b = memo.get(spec, pitch, make);
     ASSERT_TRUE(a.ok() && b.ok());
@@ -421,8 +421,8 @@ TEST(KernelSummationMemo, KeepsTheConvolutionForTheSameWavelength) {
     for (const std::vector<float>* power : {&first, &second}) {
         const MonochromeScene scene{camera, power->data(), depth.data(), DepthMeaning::Planar};
         std::vector<float> with(144, 0.0f), without(144, 0.0f);
-        ASSERT_TRUE(detail::diffract_monochrome(scene, 550e-9, s, with.data(), {}, &job).ok());
-        ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, without.data()).ok());
+        ASSERT_TRUE(detail::diffract_monochrome(scene, 550e-9, s, ComputeDevice{}, with.data(), {}, nullptr, &job).ok());
+        ASSERT_TRUE(diffract_monochrome(scene, 550e-9, s, ComputeDevice{}, without.data()).ok());
         for (size_t p = 0; p < 144; ++p) ASSERT_EQ(with[p], without[p]) << p;
     }
 }

@@ -47,10 +47,12 @@ struct Scene {
             depth.push_back(std::isinf(d) ? 1e10f : float(d));
         }
     }
-    std::vector<float> diffract(SceneSumSettings s, Summation how, double lambda) const {
+    // On the CPU, noting what ran in `report` where one is given.
+    std::vector<float> diffract(SceneSumSettings s, Summation how, double lambda, SumReport* report = nullptr) const {
         s.summation = how;
         std::vector<float> out(power.size(), 0.0f);
-        auto r = diffract_monochrome({camera, power.data(), depth.data()}, lambda, s, out.data());
+        auto r = diffract_monochrome({camera, power.data(), depth.data()}, lambda, s, ComputeDevice{}, out.data(), {},
+                                     report);
         EXPECT_TRUE(r.ok()) << r.error;
         return out;
     }
@@ -106,9 +108,9 @@ TEST(NufftSummation, MatchesTheDirectSumsForAnOffAxisPsf) {
         p.film_size = 0.8e-3;
         p.resolution = 129;
         p.summation = Summation::Direct;
-        auto direct = compute_psf(p);
+        auto direct = compute_psf(p, ComputeDevice{});
         p.summation = Summation::Nufft;
-        auto fast = compute_psf(p);
+        auto fast = compute_psf(p, ComputeDevice{});
         ASSERT_TRUE(direct.ok() && fast.ok());
         expect_agreement(compare(fast.value.irradiance, direct.value.irradiance),
                          std::isinf(distance) ? "0.08 mm PSF, 40 deg, plane wave" : "0.08 mm PSF, 40 deg, 0.5 m");
@@ -125,9 +127,9 @@ TEST(NufftSummation, TheDefaultTakesTheNufftsWhereTheyAreCheaper) {
     s.film_subsamples = 2;
     s.jitter = true;
     s.summation = Summation::Auto;
-    const double fast_work = scene_terms(s, scene.camera, 550e-9);
+    const double fast_work = scene_terms(s, ComputeDevice{}, scene.camera, 550e-9);
     s.summation = Summation::Direct;
-    const double direct_work = scene_terms(s, scene.camera, 550e-9);
+    const double direct_work = scene_terms(s, ComputeDevice{}, scene.camera, 550e-9);
     std::printf("48x48, 0.2 mm, 2 runs: work %.3g direct terms (fast) vs %.3g (direct)\n", fast_work, direct_work);
     EXPECT_LT(fast_work, direct_work / 2);  // measured: 4x less
     expect_agreement(compare(scene.diffract(s, Summation::Auto, 600e-9), scene.diffract(s, Summation::Direct, 600e-9)),
@@ -173,7 +175,7 @@ TEST(NufftSummation, EveryDivisionIntoSubAperturesMatchesTheDirectSums) {
             scope.fixed_choice = true;
             scope.choice.evaluator = Evaluator::Nufft;
             scope.choice.blocks = blocks;
-            SummationPlan to_pinhole = SummationPlan::create(SumKind::SourcesToPinhole, samples, lambda, {}, scope);
+            SummationPlan to_pinhole = SummationPlan::create(ComputeDevice{}, SumKind::SourcesToPinhole, samples, lambda, {}, scope);
             to_pinhole.set_points(sources);
             PinholeField fast;
             ASSERT_TRUE(to_pinhole.execute(source_weights(sources), fast).ok());
@@ -184,7 +186,7 @@ TEST(NufftSummation, EveryDivisionIntoSubAperturesMatchesTheDirectSums) {
             }
             const double pinhole_error = std::sqrt(e / n);
             std::vector<std::complex<double>> film_fast(film.size());
-            SummationPlan to_film = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, {}, scope);
+            SummationPlan to_film = SummationPlan::create(ComputeDevice{}, SumKind::PinholeToFilm, samples, lambda, {}, scope);
             to_film.set_points(film);
             ASSERT_TRUE(to_film.execute(direct, film_fast.data()).ok());
             e = n = 0;
@@ -216,14 +218,14 @@ TEST(SummationPlan, ExecutesManyTimesAsFreshPlansDo) {
     for (int t = 0; t < 300; ++t) film.x.push_back(float(f * u(rng))), film.y.push_back(float(f * u(rng)));
     const ApertureSamples samples = sample_aperture({ApertureShape::Circle, 0.25e-3}, sample_pitch(lambda, 0.5));
     for (Summation asked : {Summation::Direct, Summation::Nufft}) {
-        SummationPlan kept = SummationPlan::create(SumKind::SourcesToPinhole, samples, lambda, asking(asked));
+        SummationPlan kept = SummationPlan::create(ComputeDevice{}, SumKind::SourcesToPinhole, samples, lambda, asking(asked));
         kept.set_points(sources);
-        SummationPlan to_film = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, asking(asked));
+        SummationPlan to_film = SummationPlan::create(ComputeDevice{}, SumKind::PinholeToFilm, samples, lambda, asking(asked));
         to_film.set_points(film);
         EXPECT_EQ(kept.choice().evaluator, asked == Summation::Nufft ? Evaluator::Nufft : Evaluator::Direct);
         for (int run = 0; run < 3; ++run) {
             for (PointSource& p : sources) p.phase = ph(rng);
-            SummationPlan fresh = SummationPlan::create(SumKind::SourcesToPinhole, samples, lambda, asking(asked));
+            SummationPlan fresh = SummationPlan::create(ComputeDevice{}, SumKind::SourcesToPinhole, samples, lambda, asking(asked));
             fresh.set_points(sources);
             PinholeField a, b;
             ASSERT_TRUE(kept.execute(source_weights(sources), a).ok());
@@ -231,7 +233,7 @@ TEST(SummationPlan, ExecutesManyTimesAsFreshPlansDo) {
             EXPECT_EQ(a.re, b.re) << summation_word(asked) << " run " << run;
             EXPECT_EQ(a.im, b.im) << summation_word(asked) << " run " << run;
             std::vector<std::complex<double>> ua(film.size()), ub(film.size());
-            SummationPlan fresh_film = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, asking(asked));
+            SummationPlan fresh_film = SummationPlan::create(ComputeDevice{}, SumKind::PinholeToFilm, samples, lambda, asking(asked));
             fresh_film.set_points(film);
             ASSERT_TRUE(to_film.execute(a, ua.data()).ok());
             ASSERT_TRUE(fresh_film.execute(a, ub.data()).ok());
@@ -239,7 +241,7 @@ TEST(SummationPlan, ExecutesManyTimesAsFreshPlansDo) {
         }
     }
     // auto: the cheaper by the cost model, recorded in the plan's choice
-    SummationPlan chosen = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, asking(Summation::Auto));
+    SummationPlan chosen = SummationPlan::create(ComputeDevice{}, SumKind::PinholeToFilm, samples, lambda, asking(Summation::Auto));
     chosen.set_points(film);
     const SumChoice& c = chosen.choice();
     EXPECT_EQ(c.evaluator, c.nufft_work < c.direct_work ? Evaluator::Nufft : Evaluator::Direct);
@@ -250,7 +252,15 @@ TEST(SummationPlan, ExecutesManyTimesAsFreshPlansDo) {
 // What the output's header names under `auto`: one word where every sum took one evaluator, each
 // sum's where they differ, never a choice left open.
 TEST(SummationPlan, EvaluatorsAreNamedOneByOne) {
-    auto words = [](bool dp, bool np, bool df, bool nf) { return EvaluatorSet{dp, np, df, nf}.words(); };
+    auto set = [](bool dp, bool np, bool df, bool nf) {
+        EvaluatorSet e;
+        if (dp) e.add(false, Evaluator::Direct);
+        if (np) e.add(false, Evaluator::Nufft);
+        if (df) e.add(true, Evaluator::Direct);
+        if (nf) e.add(true, Evaluator::Nufft);
+        return e;
+    };
+    auto words = [&](bool dp, bool np, bool df, bool nf) { return set(dp, np, df, nf).words(); };
     EXPECT_EQ(words(true, false, true, false), "direct");
     EXPECT_EQ(words(false, true, false, true), "nufft");
     EXPECT_EQ(words(true, false, false, true), "direct to the pinhole, nufft to the film");
@@ -258,31 +268,27 @@ TEST(SummationPlan, EvaluatorsAreNamedOneByOne) {
     EXPECT_EQ(words(true, true, true, false), "direct and nufft to the pinhole, direct to the film");
     EXPECT_EQ(words(false, false, false, true), "nufft");  // no sources: only the film's sum ran
     EXPECT_EQ(words(false, false, false, false), "");
-    EvaluatorSet a{true, false, true, false};
-    a.add({false, true, false, false});
+    EvaluatorSet a = set(true, false, true, false);
+    a.add(set(false, true, false, false));
     EXPECT_EQ(a.words(), "direct and nufft to the pinhole, direct to the film");
 }
 
-// The plans note on their device handle what they committed; the default handle notes nothing.
-TEST(SummationPlan, TheDeviceRecordsTheEvaluatorsThatRan) {
-    const ComputeDevice cpu = ComputeDevice::create(Device::Cpu);
-    EXPECT_EQ(evaluators_run(cpu).words(), "");
-    const double lambda = 550e-9;
-    const ApertureSamples samples = sample_aperture({ApertureShape::Circle, 0.1e-3}, sample_pitch(lambda, 0.2));
-    FilmPoints film;
-    film.film_distance = 10e-3;
-    film.x = {0.0f, 1e-5f};
-    film.y = {0.0f, 0.0f};
-    for (const Summation asked : {Summation::Direct, Summation::Nufft}) {
-        SummationPlan plan = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda,
-                                                   {asked, kSummationTolerance, 1, cpu});
-        ASSERT_TRUE(plan.set_points(film).ok());
-    }
-    EXPECT_EQ(evaluators_run(cpu).words(), "direct and nufft");
-    EXPECT_EQ(cpu.ran_on(), "cpu");
-    SummationPlan unrecorded = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, {});
-    ASSERT_TRUE(unrecorded.set_points(film).ok());
-    EXPECT_EQ(evaluators_run(ComputeDevice{}).words(), "");
+// A job's report notes what its sums committed (the header's evaluators and device), as they run;
+// nothing is kept on the device handle, which a host may share between jobs.
+TEST(SumReport, TheJobsReportRecordsTheEvaluatorsThatRan) {
+    const Scene scene(8, 20 * M_PI / 180, 50e-3, {2.0});
+    SceneSumSettings s;
+    s.aperture = {ApertureShape::Circle, 0.2e-3};
+    s.runs = 1;
+    s.film_subsamples = 1;
+    SumReport report;
+    EXPECT_EQ(report.evaluators().words(), "");
+    EXPECT_EQ(report.ran_on(ComputeDevice{}), "cpu");
+    scene.diffract(s, Summation::Direct, 550e-9, &report);
+    EXPECT_EQ(report.evaluators().words(), "direct");
+    scene.diffract(s, Summation::Nufft, 550e-9, &report);
+    EXPECT_EQ(report.evaluators().words(), "direct and nufft");
+    EXPECT_EQ(report.ran_on(ComputeDevice{}), "cpu");
 }
 
 // auto weighs the NUFFTs by planning their chirp's boxes, which runs on one thread: over a wide
@@ -302,13 +308,13 @@ TEST(SummationPlan, AutoStopsPlanningWhereThePlanOutweighsTheDirectTerms) {
             }
         return film;
     };
-    SummationPlan few = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, asking(Summation::Auto));
+    SummationPlan few = SummationPlan::create(ComputeDevice{}, SumKind::PinholeToFilm, samples, lambda, asking(Summation::Auto));
     ASSERT_TRUE(few.set_points(film_of(8)).ok());
     EXPECT_EQ(few.choice().evaluator, Evaluator::Direct);
     EXPECT_TRUE(std::isinf(few.choice().nufft_work)) << few.choice().nufft_work;
     EXPECT_EQ(few.choice().work, few.choice().direct_work);
     // a narrow field's many points: the plan costs little beside their direct terms, and is weighed
-    SummationPlan narrow = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda, asking(Summation::Auto));
+    SummationPlan narrow = SummationPlan::create(ComputeDevice{}, SumKind::PinholeToFilm, samples, lambda, asking(Summation::Auto));
     FilmPoints film = film_of(64);
     for (float& x : film.x) x *= 0.1f;
     for (float& y : film.y) y *= 0.1f;
@@ -330,32 +336,30 @@ TEST(SummationDecision, TheJobDecidesOnceAndItsSumsFollow) {
     s.film_subsamples = 1;
     s.nearest_depth = 2.0;
     s.jitter = true;  // (the kernel summation does not apply: the point sums' choices are the decision)
-    const SummationDecision d = decide_summation(s, scene.camera, {450e-9, lambda, 650e-9});
+    const SummationDecision d = decide_summation(s, ComputeDevice{}, scene.camera, {450e-9, lambda, 650e-9});
     ASSERT_EQ(d.summation, Summation::Auto);
     ASSERT_EQ(d.wavelengths.size(), 3u);
     for (const double w : {450e-9, lambda, 650e-9}) {
         ASSERT_NE(d.to_pinhole_at(w), nullptr);
         // the decision is the estimate's: the same counts through the same chooser
-        const EvaluatorSet e = scene_evaluators(s, scene.camera, w);
-        EXPECT_EQ(d.to_pinhole_at(w)->evaluator == Evaluator::Nufft, e.nufft_to_pinhole);
-        EXPECT_EQ(d.to_film_at(w)->evaluator == Evaluator::Nufft, e.nufft_to_film);
+        const EvaluatorSet e = scene_evaluators(s, ComputeDevice{}, scene.camera, w);
+        EXPECT_TRUE(e.has(false, d.to_pinhole_at(w)->evaluator));
+        EXPECT_TRUE(e.has(true, d.to_film_at(w)->evaluator));
     }
     EXPECT_EQ(d.to_pinhole_at(500e-9), nullptr);  // a wavelength it did not decide
     ASSERT_EQ(d.to_film_at(lambda)->evaluator, Evaluator::Direct);
 
     // alone, the frame takes what the decision says; told nufft for the film, its sums take that
-    const ComputeDevice alone = ComputeDevice::create(Device::Cpu);
-    s.device = alone;
-    const std::vector<float> direct = scene.diffract(s, Summation::Auto, lambda);
-    EXPECT_EQ(evaluators_run(alone).words(), "direct");
+    SumReport alone;
+    const std::vector<float> direct = scene.diffract(s, Summation::Auto, lambda, &alone);
+    EXPECT_EQ(alone.evaluators().words(), "direct");
     SummationDecision told = d;
     told.to_film[1].evaluator = Evaluator::Nufft;
     told.to_film[1].blocks = 1;
-    const ComputeDevice followed = ComputeDevice::create(Device::Cpu);
-    s.device = followed;
+    SumReport followed;
     s.decision = std::make_shared<SummationDecision>(told);
-    const std::vector<float> decided = scene.diffract(s, Summation::Auto, lambda);
-    EXPECT_EQ(evaluators_run(followed).words(), "direct to the pinhole, nufft to the film");
+    const std::vector<float> decided = scene.diffract(s, Summation::Auto, lambda, &followed);
+    EXPECT_EQ(followed.evaluators().words(), "direct to the pinhole, nufft to the film");
     const Difference diff = compare(decided, direct);
     EXPECT_LE(diff.worst_over_peak, 1e-3);
 }

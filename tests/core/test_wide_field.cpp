@@ -129,10 +129,9 @@ std::vector<float> exact_image(const std::vector<test::RsStar>& stars, Summation
     e.method = method;
     e.runs = runs;
     e.summation = summation;
-    e.device = test_device();
     e.film_subsamples = film_subsamples;
     const MonochromeScene view{s.camera, power.data(), depth.data(), DepthMeaning::Planar};
-    auto r = diffract_monochrome(view, s.wavelength, e, out.data());
+    auto r = diffract_monochrome(view, s.wavelength, e, test_device(), out.data());
     EXPECT_TRUE(r.ok()) << r.error;
     return out;
 }
@@ -308,12 +307,11 @@ TEST(WideField, KernelRunsMatchThePointSumsWithTheSamePhases) {
         e.aperture = {ApertureShape::Circle, d};
         e.method = CoherenceMethod::RandomPhase;
         e.runs = runs;
-        e.device = test_device();
         const MonochromeScene view{camera, power.data(), depth.data(), DepthMeaning::Planar};
         e.summation = Summation::Kernel;
-        ASSERT_TRUE(diffract_monochrome(view, 550e-9, e, psf.data()).ok());
+        ASSERT_TRUE(diffract_monochrome(view, 550e-9, e, test_device(), psf.data()).ok());
         e.summation = test_summation();
-        ASSERT_TRUE(diffract_monochrome(view, 550e-9, e, exact.data()).ok());
+        ASSERT_TRUE(diffract_monochrome(view, 550e-9, e, test_device(), exact.data()).ok());
         double diff = 0, mean = 0;
         for (size_t p = 0; p < psf.size(); ++p) {
             diff += std::pow(double(psf[p]) - exact[p], 2);

@@ -364,9 +364,10 @@ TEST(Shares, EstimateCountsMonochromeLightThreeTimes) {
         s.aperture = wavecam::resolved_aperture(opt);
         s.nearest_depth = wavecam::nearest_depth(camera, depth.data(), opt.depth_meaning);
         // `auto` decided as a job decides it: once, at the middle of its wavelengths
-        s.summation = wavecam::chosen_summation(s, camera, wavelengths[wavelengths.size() / 2]);
+        const wavecam::ComputeDevice cpu;  // (the job's estimate, as on the CPU)
+        s.summation = wavecam::chosen_summation(s, cpu, camera, wavelengths[wavelengths.size() / 2]);
         double sum = 0;
-        for (double l : wavelengths) sum += wavecam::scene_terms(s, camera, l);
+        for (double l : wavelengths) sum += wavecam::scene_terms(s, cpu, camera, l);
         return sum;
     };
     const std::vector<double> colour = {450e-9, 550e-9, 650e-9}, close = {549e-9, 550e-9, 551e-9};

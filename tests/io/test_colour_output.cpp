@@ -204,7 +204,7 @@ TEST(RandomPhaseNoise, PerChannelVarianceIsTheWavelengthSumAndFallsAsOneOverK) {
             // not at the d/128 floor the image's accuracy needs: noise is what is measured here
             s.sin_theta_max = 0.05;
             s.nthreads = 2;
-            auto wave = wave_propagator(s);
+            auto wave = wave_propagator(s, ComputeDevice{});
             auto& mine = out[seed];
             MonochromePropagator record = [&](const MonochromeScene& scene, double l, float* irr, const ProgressFn& p) {
                 auto r = wave(scene, l, irr, p);

@@ -27,7 +27,7 @@ inline std::vector<double> exact_kernel(const FieldPsfRequest& q, int n, double 
     p.film_size = w * q.pixel_pitch;
     p.sin_theta_max = sin_theta_max;
     p.max_terms = 1e14;
-    const PsfImage img = compute_psf(p).value;
+    const PsfImage img = compute_psf(p, ComputeDevice{}).value;
     // Relative irradiance is |U|^2 over the source's free irradiance at the film centre (0, 0, -f);
     // the pinhole receives |P - C|^2 / |P|^2 of that, on an area seen at cos theta, and the film
     // meets the beam at cos theta too: relative irradiance integrates to area |P - C|^2 / |P|^2.

@@ -30,7 +30,6 @@ struct OneStarScene {
     SceneSumSettings settings = [] {
         SceneSumSettings s;
         s.summation = test_summation();
-        s.device = test_device();
         s.aperture = {ApertureShape::Circle, 0.2e-3};
         s.jitter = false;
         s.runs = 1;
@@ -43,7 +42,7 @@ struct OneStarScene {
         std::vector<float> radiance(3 * w * w, 0.0f), depth(w * w, float(z)), xyz(3 * w * w);
         for (int k = 0; k < 3; ++k) radiance[3 * (j0 * w + i0) + k] = rgb[k];
         const auto r = diffract_spectral({camera, radiance.data(), depth.data(), DepthMeaning::Planar}, basis,
-                                         settings.aperture, wave_propagator(settings), {true, xyz.data()});
+                                         settings.aperture, wave_propagator(settings, test_device()), {true, xyz.data()});
         EXPECT_TRUE(r.ok()) << r.error;
         return xyz;
     }
@@ -59,7 +58,6 @@ struct OneStarScene {
         camera.tangent(i0 + 0.5, j0 + 0.5, u, v);
         PsfParams p;
         p.summation = test_summation();
-        p.device = test_device();
         p.aperture = settings.aperture;
         p.film_distance = f;
         p.source_distance = z * std::sqrt(1 + u * u + v * v);
@@ -68,7 +66,7 @@ struct OneStarScene {
         p.resolution = w;
         p.film_size = w * camera.pixel_pitch();
         p.sin_theta_max = wavelength / (2 * scene_sample_pitch(settings, camera, wavelength, z));
-        const PsfImage psf = compute_psf(p).value;
+        const PsfImage psf = compute_psf(p, test_device()).value;
         const double px = z * u, r2 = px * px + (z + f) * (z + f);
         const double unit =
             camera.solid_angle(i0, j0) * z * z * (1 + u * u) / r2 * exposure_scale(settings.aperture, f);

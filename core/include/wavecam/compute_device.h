@@ -8,7 +8,8 @@
 // (gpu_sums.h) and the kernel summation's runs. The context lives while a handle, or an evaluator
 // made from one, holds it; release() lets this handle's hold go. Nothing outlives the handles:
 // a failure belongs to the handle that met it, and the next create() tries afresh.
-// The handle also keeps what ran on it (summation_plan.h, evaluators_run), for the output's header.
+// The handle is passed explicitly to what runs on it (SummationPlan::create, diffract_monochrome);
+// what ran is the job's report (summation_plan.h, SumReport), not the handle's.
 #pragma once
 #include <memory>
 #include <string>
@@ -32,9 +33,6 @@ public:
     // "cpu", or the Vulkan device, its kind and driver: "NVIDIA ..., discrete GPU (driver ...)",
     // "llvmpipe (LLVM 15.0.6, 256 bits), software Vulkan on the CPU (llvmpipe, Mesa 22.3.6 ...)".
     std::string description() const;
-    // The device the sums have run on: description(), "cpu", or both where a part ran on the
-    // CPU ("<description> and the CPU"); description() before anything ran.
-    std::string ran_on() const;
 
     struct Impl;
     const Impl* impl() const { return impl_.get(); }

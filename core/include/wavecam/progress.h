@@ -7,7 +7,7 @@ namespace wavecam {
 using ProgressFn = std::function<bool(double fraction_done)>;
 
 // A step's own 0..1 reported as the stretch [from, to] of `progress` (empty when it is).
-inline ProgressFn progress_part(const ProgressFn& progress, double from, double to) {
+inline ProgressFn progress_slice(const ProgressFn& progress, double from, double to) {
     if (!progress) return {};
     return [progress, from, to](double f) { return progress(from + (to - from) * f); };
 }

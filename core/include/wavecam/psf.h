@@ -22,7 +22,6 @@ struct PsfParams {
     double max_terms = 5e12;         // refuse work beyond this many terms (samples x film points)
     int nthreads = 0;                // 0 = every core
     Summation summation = Summation::Auto;  // how the two sums are evaluated (summation_plan.h)
-    ComputeDevice device;                   // where their direct terms run (compute_device.h)
 };
 
 struct PsfImage {
@@ -55,7 +54,8 @@ inline void film_position(const PsfImage& img, int i, int j, double& x, double& 
     y = cy + (j - c) * pitch;
 }
 
-// Computes the PSF. Fails on invalid parameters or when cancelled through `progress`.
-Result<PsfImage> compute_psf(const PsfParams& p, const ProgressFn& progress = {});
+// Computes the PSF, its two sums on `device` (compute_device.h: the direct terms on a GPU where
+// it has one). Fails on invalid parameters, on the device, or when cancelled through `progress`.
+Result<PsfImage> compute_psf(const PsfParams& p, const ComputeDevice& device, const ProgressFn& progress = {});
 
 }  // namespace wavecam

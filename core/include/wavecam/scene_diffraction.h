@@ -20,7 +20,8 @@ namespace wavecam {
 // sums read it; nothing below decides again, so the job line, the header and what runs agree,
 // and every share of the job evaluates as the job.
 struct SummationDecision {
-    Summation summation = Summation::Auto;  // Psf, or the point sums
+    Summation summation = Summation::Auto;  // Kernel, or the point sums
+    bool gpu = false;                        // decided for a device's GPU (compute_device.h)
     std::vector<double> wavelengths;         // (m) the point sums' wavelengths, with their sums' choices
     std::vector<SumChoice> to_pinhole, to_film;
     // The choice at `wavelength` (null where the decision holds none: that frame decides alone).
@@ -55,10 +56,6 @@ struct SceneSumSettings {
     // direct and nufft; a job first weighs the kernel summation against them (chosen_summation).
     Summation summation = Summation::Auto;
     double summation_tolerance = kSummationTolerance;
-    // Where the sums run (compute_device.h): the CPU (the default handle), or the GPU of a handle
-    // the job created, which runs the direct terms and the kernel summation's runs (`auto` there
-    // takes them; nufft is refused).
-    ComputeDevice device;
     // One share of the work (work_share.h): runs [run_begin, run_end) of the `runs` averaged, each
     // still weighted 1/runs, on output rows [row_begin, row_end); an end < 0 means the last.
     // Every run is averaged into the output on its own, so a job equals the sum of its shares.
@@ -82,7 +79,7 @@ struct MonochromeScene {
     const float* depth = nullptr;  // metres; >= kInfiniteDepth or inf = sky
     DepthMeaning depth_meaning = DepthMeaning::Planar;
     int spectral_index = 0;  // which wavelength sample of a spectral job this is
-    int sign = +1;           // +1: the positive part of the spectral power, -1: the negative part
+    int sign = +1;           // +1: the spectral power where positive, -1: where negative
     bool checked = false;    // its pixels already checked, once for the job: not again here
 };
 
@@ -119,12 +116,13 @@ double scene_sample_pitch(const SceneSumSettings& s, const PinholeCamera& camera
 // the cheaper of direct and nufft (estimate_summation's chooser), as diffract_monochrome reads `auto`. Counted for
 // the whole job (every run and row, the frame as lit), so every share decides as its job; for
 // s.nearest_depth (NaN counts as all sky). A summation asked by name is returned as it is.
-Summation chosen_summation(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength);
+Summation chosen_summation(const SceneSumSettings& s, const ComputeDevice& device, const PinholeCamera& camera,
+                           double wavelength);
 
 // The job's decision for its wavelengths (m): chosen_summation's kernel summation or point sums at the middle
 // one, then each point sum's evaluator at each wavelength from the same counts (the whole job,
-// every pixel lit, s.nearest_depth), the lowest estimate among those the settings' device allows.
-SummationDecision decide_summation(const SceneSumSettings& s, const PinholeCamera& camera,
+// every pixel lit, s.nearest_depth), the lowest estimate among those `device` allows.
+SummationDecision decide_summation(const SceneSumSettings& s, const ComputeDevice& device, const PinholeCamera& camera,
                                    const std::vector<double>& wavelengths);
 
 // What the chooser (core/src/summation/choose.h, the one place evaluators and devices are chosen
@@ -135,25 +133,27 @@ SummationDecision decide_summation(const SceneSumSettings& s, const PinholeCamer
 struct SummationEstimate {
     Summation summation = Summation::Auto;  // kernel, direct, nufft, or auto: the two sums differ
     EvaluatorSet sums;                      // the point sums' evaluators (none for kernel)
-    bool gpu = false;                       // on the settings' device's GPU
+    bool gpu = false;                       // on the device's GPU
     double terms = 0, seconds = 0;          // work in direct terms, and at term_rate
     double bytes = 0;                       // what the kernel summation holds at once (0 for the point sums)
     std::string reason;                     // e.g. "kernel: 1.9 s estimated against nufft 6.3 s"
 };
-SummationEstimate estimate_summation(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength,
-                                     double term_rate = 0);
+SummationEstimate estimate_summation(const SceneSumSettings& s, const ComputeDevice& device,
+                                     const PinholeCamera& camera, double wavelength, double term_rate = 0);
 
 // The evaluators the two sums take at `wavelength` (s.summation auto, direct or nufft), as the
 // estimate counts the frame (every pixel lit, s.nearest_depth): what decide_summation records for
 // a job, and so what its sums take.
-EvaluatorSet scene_evaluators(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength);
+EvaluatorSet scene_evaluators(const SceneSumSettings& s, const ComputeDevice& device, const PinholeCamera& camera,
+                              double wavelength);
 
 // Work estimate in direct terms (the time of one term of the direct sums, so that --max-terms
 // and the time printed mean the same for either evaluator): direct, pinhole samples x (sources +
 // film points); nufft, the NUFFTs' and chirps' work (the chooser's cost model), each sum by
 // the evaluator s.summation picks for it (kernel: its kernels and runs); over the runs and rows set,
 // the margin beyond the frame counted as lit, for s.nearest_depth (NaN counts as all sky).
-double scene_terms(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength);
+double scene_terms(const SceneSumSettings& s, const ComputeDevice& device, const PinholeCamera& camera,
+                   double wavelength);
 
 // Bytes the kernel summation holds at once for one wavelength (its kernels' spectra: layers x
 // anchors x film points per pixel transforms of the frame; the runs' sums), for
@@ -176,8 +176,11 @@ double nearest_depth(const PinholeCamera& camera, const float* depth, DepthMeani
 // (output pixel (i, j) averages n x n points over the film area of pixel (i, j), the geometric
 // image of render pixel (i, j)), in units of power x steradian. The sources are every pixel and
 // the scene beyond the input (frame_margin.h); the film is the frame within s.overscan, whose
-// margin pixels are left untouched.
+// margin pixels are left untouched. The sums run on `device` (compute_device.h: the CPU, or a
+// GPU that runs the direct terms and the kernel summation's runs; nufft is refused there), and
+// what they ran is noted in `report` where one is given (the job's, summation_plan.h).
 Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const SceneSumSettings& s,
-                                 float* irradiance, const ProgressFn& progress = {});
+                                 const ComputeDevice& device, float* irradiance, const ProgressFn& progress = {},
+                                 SumReport* report = nullptr);
 
 }  // namespace wavecam

@@ -1,6 +1,6 @@
 // The scene-sum methods' two sums as plans (docs/summation.md), in the manner of FINUFFT's:
-//   create     for one sum (sources -> pinhole samples, or pinhole samples -> film points), a
-//              pinhole lattice and a wavelength;
+//   create     on a device handle, for one sum (sources -> pinhole samples, or pinhole samples
+//              -> film points), a pinhole lattice and a wavelength;
 //   set_points the points on the far side (source positions, or film points); this commits the
 //              plan to one evaluator, chosen in one place (core/src/summation/choose.h), and
 //              builds what that evaluator keeps (lattice layouts, stencils, chirp interpolation);
@@ -10,10 +10,12 @@
 //   direct  term by term (propagation.h): the reference;
 //   nufft   NUFFTs over the pinhole lattice with interpolated chirps (docs/summation.md),
 //           each sum within `tolerance` of the direct one, relative to the sum of its terms' sizes;
-// the direct terms run on the CPU, or on a GPU through Vulkan (gpu_sums.h), as the settings'
-// device handle says (compute_device.h); nufft has no GPU evaluator.
+// the direct terms run on the CPU, or on a GPU through Vulkan (gpu_sums.h), as the plan's device
+// handle says (compute_device.h), passed to create as Embree passes its RTCDevice; nufft has no
+// GPU evaluator.
 // Plain types only (no threading or SIMD types). A plan's executes are not for concurrent calls.
 #pragma once
+#include <atomic>
 #include <complex>
 #include <memory>
 #include <string>
@@ -47,7 +49,6 @@ struct SummationSettings {
     Summation summation = Summation::Auto;
     double tolerance = kSummationTolerance;
     int nthreads = 0;  // 0: every core
-    ComputeDevice device;  // where the sums run: the CPU, or a GPU (the direct terms only)
 };
 
 // The parameters a sum's chirps depend on: in-plane direction components (ux, uy) of the sources
@@ -96,18 +97,17 @@ struct DeviceChoice {
 };
 DeviceChoice choose_device(Summation asked, Device setting);
 
-// Which evaluators a job's sums take, by sum.
+// Which evaluators a job's sums take, by sum: bit 1 << e for each Evaluator e.
 struct EvaluatorSet {
-    bool direct_to_pinhole = false, nufft_to_pinhole = false, direct_to_film = false, nufft_to_film = false;
-    void add(const EvaluatorSet& o);
+    unsigned to_pinhole = 0, to_film = 0;
+    void add(bool to_the_film, Evaluator e) { (to_the_film ? to_film : to_pinhole) |= 1u << unsigned(e); }
+    void add(const EvaluatorSet& o) { to_pinhole |= o.to_pinhole, to_film |= o.to_film; }
+    bool has(bool to_the_film, Evaluator e) const { return (to_the_film ? to_film : to_pinhole) >> unsigned(e) & 1; }
     // "direct" or "nufft" where every sum took it; else each sum's: "nufft to the pinhole, direct
     // to the film" ("direct and nufft" for a sum that took both, at different wavelengths or for
     // different parts of the light); "" where none.
     std::string words() const;
 };
-
-// The evaluators whose plans committed on `device` (nothing for the default handle).
-EvaluatorSet evaluators_run(const ComputeDevice& device);
 
 // What a share of a job takes from the job, so that its part is evaluated, to the bit, as the
 // job's: the chirps planned over the frame's range, and the job's choice.
@@ -123,15 +123,33 @@ enum class SumKind {
     PinholeToFilm,     // U(t) = sum_xi w(xi) exp(i k (r - |T|)) f / r^2 (Rayleigh-Sommerfeld I)
 };
 
+// What a job's sums ran: its report, filled as they run (not kept on the device, which a host
+// may share between jobs): each sum's evaluators, as its plans commit, and where they ran (the
+// device, the CPU, or both where the kernel summation's runs left a device that could not hold
+// them). Notes from any thread.
+class SumReport {
+public:
+    void note(SumKind kind, const SumChoice& committed);  // a committed plan with points
+    void note_runs(bool on_gpu);                          // runs without plans (the kernel summation's)
+    EvaluatorSet evaluators() const;
+    // Where the sums ran: `device`'s description, "cpu", or "<description> and the CPU";
+    // `device`'s description before anything ran.
+    std::string ran_on(const ComputeDevice& device) const;
+
+private:
+    std::atomic<unsigned> ran_{0};
+};
+
 class SummationPlan {
 public:
     SummationPlan() = default;  // empty: create() makes one
-    static SummationPlan create(SumKind kind, const ApertureSamples& samples, double wavelength,
-                                const SummationSettings& settings, const PlanScope& scope = {});
+    // On `device` (compute_device.h), which the plan holds until it is released.
+    static SummationPlan create(const ComputeDevice& device, SumKind kind, const ApertureSamples& samples,
+                                double wavelength, const SummationSettings& settings, const PlanScope& scope = {});
 
     // SourcesToPinhole: the sources' positions (x, y, z or a plane wave's direction); their
     // amplitudes and phases are ignored here, they come with each execute. Fails only where the
-    // settings' device cannot run the evaluator (nufft on a GPU), or a `gpu` handle has no device.
+    // plan's device cannot run the evaluator (nufft on a GPU), or a `gpu` handle has no device.
     Result<bool> set_points(const std::vector<PointSource>& sources);
     // PinholeToFilm: the film points.
     Result<bool> set_points(const FilmPoints& film);

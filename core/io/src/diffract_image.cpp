@@ -68,7 +68,7 @@ Result<bool> check_limits(const DiffractOptions& opt, const ResolvedFrame& f, co
                           int nthreads) {
     // (an estimate that is not a number, from settings beyond any sense, is refused too)
     if (!(f.terms <= opt.max_terms)) {
-        const double rate = measured_term_rate(f.scene_sum.device, nthreads);
+        const double rate = measured_term_rate(f.device, nthreads);
         std::ostringstream m;
         const double seconds = f.terms / rate;
         m << name << ": " << f.job << " = " << f.terms << " terms, about "
@@ -98,7 +98,7 @@ JobEstimate detail::job_estimate(const DiffractOptions& opt, const ResolvedFrame
     e.terms = f.terms;
     e.threads = nthreads > 0 ? nthreads : default_threads();
     if (opt.method != DiffractMethod::Convolution) {
-        e.rate = measured_term_rate(f.scene_sum.device, e.threads);
+        e.rate = measured_term_rate(f.device, e.threads);
         e.seconds = f.terms / e.rate;
     }
     return e;
@@ -112,7 +112,8 @@ Result<bool> run_scene_sum(const DiffractOptions& opt, const ResolvedFrame& f, s
     const int width = f.in.width, o = f.overscan;
     xyz.assign(3 * size_t(width) * f.in.height, 0.0f);
     auto r = diffract_spectral(f.scene(opt.depth_meaning), f.colour.basis, f.aperture,
-                               opt.scene_sum_propagator ? opt.scene_sum_propagator : wave_propagator(f.scene_sum),
+                               opt.scene_sum_propagator ? opt.scene_sum_propagator
+                                                        : wave_propagator(f.scene_sum, f.device, f.report.get()),
                                {opt.vignetting, xyz.data()}, opt.progress);
     if (!r.ok()) return r;
     if (o > 0)  // each row moves to a place before its own: a forward copy in place
@@ -178,10 +179,11 @@ OIIO::ImageSpec output_spec(const OIIO::ImageSpec& input, const RenderChannels& 
         spec.attribute("wavecam.jitter", s.jitter ? "true" : "false");
         spec.attribute("wavecam.summation", summation_word(opt.scene_sum.summation));  // the setting, and what it ran
         if (opt.scene_sum.summation == Summation::Auto)
-            spec.attribute("wavecam.summation-chosen", detail::auto_choice(s, f.camera, f.colour.basis));
+            spec.attribute("wavecam.summation-chosen",
+                           detail::auto_choice(s, f.device, f.report.get(), f.camera, f.colour.basis));
         if (opt.method == DiffractMethod::RandomPhase)
             spec.attribute("wavecam.phases", s.coded_phases ? "coded" : "independent");
-        spec.attribute("wavecam.device", s.device.ran_on());
+        spec.attribute("wavecam.device", f.report->ran_on(f.device));  // the job's report
     }
     spec.attribute("wavecam.vignetting", opt.vignetting ? "true" : "false");
     spec.attribute("wavecam.layer", channels.layer);
@@ -231,14 +233,14 @@ Result<bool> DiffractPlan::run_convolution(const DiffractOptions& opt, const Res
     }
     const bool reused = plan != nullptr;
     if (!reused) {
-        auto made = ConvolutionPlan::create(f.convolution, progress_part(opt.progress, 0.0, 0.6));
+        auto made = ConvolutionPlan::create(f.convolution, progress_slice(opt.progress, 0.0, 0.6));
         if (!made.ok()) return Result<bool>::failure(made);
         plan = made.value;
         std::lock_guard<std::mutex> lock(mutex_);
         convolution_ = plan;
     }
     return plan->apply(f.scene(opt.depth_meaning), opt.vignetting, xyz.data(),
-                       progress_part(opt.progress, reused ? 0.0 : 0.6, 1.0));
+                       progress_slice(opt.progress, reused ? 0.0 : 0.6, 1.0));
 }
 
 // Alpha is coverage: the share of a pixel's light that the element holds, with its premultiplied
@@ -258,7 +260,7 @@ Result<bool> DiffractPlan::diffract_alpha(const DiffractOptions& opt, const Reso
     for (int pass = 0; pass < 2; ++pass) {
         for (size_t p = 0; p < f.in.alpha.size(); ++p)
             std::fill_n(&grey.in.rgb[3 * p], 3, pass == 0 ? f.in.alpha[p] : 1.0f);
-        coverage.progress = progress_part(opt.progress, from + pass * (1 - from) / 2, from + (pass + 1) * (1 - from) / 2);
+        coverage.progress = progress_slice(opt.progress, from + pass * (1 - from) / 2, from + (pass + 1) * (1 - from) / 2);
         if (auto r = run_convolution(coverage, grey, xyz[pass]); !r.ok()) return r;
         keep_data_window(xyz[pass], f.out_w, f.kept);
     }
@@ -352,7 +354,7 @@ Result<bool> DiffractPlan::diffract_frame(OIIO::ImageBuf& dst, const OIIO::Image
     std::vector<float> xyz, alpha;
     const bool alpha_pass = alpha_is_diffracted(f.in);
     DiffractOptions image_opt = opt;
-    if (alpha_pass) image_opt.progress = progress_part(opt.progress, 0.0, opt.method == DiffractMethod::Convolution ? 0.6 : 0.95);
+    if (alpha_pass) image_opt.progress = progress_slice(opt.progress, 0.0, opt.method == DiffractMethod::Convolution ? 0.6 : 0.95);
     Result<bool> r = opt.method == DiffractMethod::Convolution ? run_convolution(image_opt, f, xyz)
                                                               : run_scene_sum(image_opt, f, xyz);
     if (r.ok() && alpha_pass) r = diffract_alpha(opt, f, alpha);

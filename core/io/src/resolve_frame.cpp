@@ -75,10 +75,9 @@ RunCount frame_run_count(const SceneSumSettings& s, const PinholeCamera& camera,
 // wavelength, and every wavelength then runs the same way), and each point sum's evaluator at
 // each wavelength, which the sums then follow.
 SceneSumSettings scene_sum_settings(const DiffractOptions& opt, const PinholeCamera& camera,
-                                    const std::vector<float>& depth, const SpectralBasis& basis, int nthreads = 0,
-                                    const ComputeDevice& device = {}) {
+                                    const std::vector<float>& depth, const SpectralBasis& basis,
+                                    const ComputeDevice& device, int nthreads = 0) {
     SceneSumSettings s = opt.scene_sum;
-    s.device = device;  // what auto may choose depends on it
     s.aperture = resolved_aperture(opt);
     s.method = opt.method == DiffractMethod::Incoherent ? CoherenceMethod::Incoherent : CoherenceMethod::RandomPhase;
     s.overscan = opt.overscan;
@@ -89,17 +88,19 @@ SceneSumSettings scene_sum_settings(const DiffractOptions& opt, const PinholeCam
     // the job's one decision: the kernel summation or the point sums, and each sum's evaluator at each wavelength
     std::vector<double> wavelengths;
     for (int k = 0; k < basis.size(); ++k) wavelengths.push_back(basis.wavelength(k));
-    auto decision = std::make_shared<SummationDecision>(decide_summation(s, camera, wavelengths));
+    // (what auto may choose depends on the device)
+    auto decision = std::make_shared<SummationDecision>(decide_summation(s, device, camera, wavelengths));
     s.summation = decision->summation;
     s.decision = std::move(decision);
     return s;
 }
 
-double scene_sum_terms(const SceneSumSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
+double scene_sum_terms(const SceneSumSettings& s, const ComputeDevice& device, const PinholeCamera& camera,
+                       const SpectralBasis& basis) {
     // one propagation per basis sample: monochrome light has three per wavelength, one per
     // channel (spectrum.h), whether asked for or found (wavelengths too close to carry colour)
     double terms = 0;
-    for (int k = 0; k < basis.size(); ++k) terms += scene_terms(s, camera, basis.wavelength(k));
+    for (int k = 0; k < basis.size(); ++k) terms += scene_terms(s, device, camera, basis.wavelength(k));
     return terms;
 }
 
@@ -173,19 +174,20 @@ Result<bool> check_camera(const ResolvedFrame& f, const std::string& name, const
 
 }  // namespace
 
-// What `auto` chose for the job's sums: kernel, else the evaluators that ran on the job's device
-// (the header's), or, before they ran, those the estimate gives each sum (the job line's).
-std::string detail::auto_choice(const SceneSumSettings& s, const PinholeCamera& camera, const SpectralBasis& basis) {
+// What `auto` chose for the job's sums: kernel, else the evaluators that ran, from the job's report
+// (the header's), or, before they ran, those the decision gives each sum (the job line's).
+std::string detail::auto_choice(const SceneSumSettings& s, const ComputeDevice& device, const SumReport* report,
+                                const PinholeCamera& camera, const SpectralBasis& basis) {
     if (s.summation == Summation::Kernel) return "kernel";
-    EvaluatorSet e = evaluators_run(s.device);
+    EvaluatorSet e = report ? report->evaluators() : EvaluatorSet{};
     // (before they ran: the job's decision, which scene_evaluators reads where it holds one)
     if (e.words().empty())
-        for (int k = 0; k < basis.size(); ++k) e.add(scene_evaluators(s, camera, basis.wavelength(k)));
+        for (int k = 0; k < basis.size(); ++k) e.add(scene_evaluators(s, device, camera, basis.wavelength(k)));
     return e.words();
 }
 
 std::string detail::decision_text(const SceneSumSettings& s) {
-    const std::string device = s.device.gpu() ? " on gpu" : " on cpu";
+    const std::string device = s.decision && s.decision->gpu ? " on gpu" : " on cpu";
     if (s.summation == Summation::Kernel || !s.decision) return std::string(summation_word(s.summation)) + device;
     const SummationDecision& d = *s.decision;
     std::string text;
@@ -206,7 +208,9 @@ double estimate_terms(const DiffractOptions& opt, const PinholeCamera& camera, c
     if (opt.method == DiffractMethod::Convolution) return 0;  // PSF grid + FFTs: minutes at most
     auto colour = resolve_colour(opt, file_colour);
     if (!colour.ok()) return 0;
-    return scene_sum_terms(scene_sum_settings(opt, camera, depth, colour.value.basis), camera, colour.value.basis);
+    const ComputeDevice cpu;  // (estimated as on the CPU)
+    return scene_sum_terms(scene_sum_settings(opt, camera, depth, colour.value.basis, cpu), cpu, camera,
+                           colour.value.basis);
 }
 
 int job_runs(const DiffractOptions& opt, const PinholeCamera& camera, const std::vector<float>& depth,
@@ -214,7 +218,7 @@ int job_runs(const DiffractOptions& opt, const PinholeCamera& camera, const std:
     if (opt.method != DiffractMethod::RandomPhase) return opt.method == DiffractMethod::Incoherent ? 1 : 0;
     auto colour = resolve_colour(opt, file_colour);
     if (!colour.ok()) return 0;
-    return scene_sum_settings(opt, camera, depth, colour.value.basis).runs;
+    return scene_sum_settings(opt, camera, depth, colour.value.basis, ComputeDevice{}).runs;
 }
 
 double estimate_memory(const DiffractOptions& opt, const PinholeCamera& camera) {
@@ -271,8 +275,9 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
     const ComputeDevice device = ComputeDevice::create(setting);
     if (!device.ok()) return R::failure(name + ": device gpu: " + device.error(), ErrorKind::Failed, "device");
     if (setting == Device::Auto && !device.gpu()) on_cpu = "none usable: " + device.error();
-    f.scene_sum = scene_sum_settings(opt, f.camera, in.depth, f.colour.basis, nthreads, device);
-    f.terms = scene_sum_terms(f.scene_sum, f.camera, f.colour.basis);
+    f.device = device;
+    f.scene_sum = scene_sum_settings(opt, f.camera, in.depth, f.colour.basis, device, nthreads);
+    f.terms = scene_sum_terms(f.scene_sum, device, f.camera, f.colour.basis);
     std::ostringstream job;
     job << in.width << "x" << in.height << " pixels x " << f.colour.sampling.wavelength.size() << " wavelengths x "
         << (f.scene_sum.method == CoherenceMethod::Incoherent ? 1 : f.scene_sum.runs) << " runs";
@@ -290,8 +295,8 @@ Result<ResolvedFrame> detail::resolve_frame(const DiffractOptions& opt, RenderIn
         SceneSumSettings asked = f.scene_sum;
         asked.summation = Summation::Auto;
         const double middle = f.colour.basis.wavelength(f.colour.basis.size() / 2);
-        job << " (" << auto_choice(f.scene_sum, f.camera, f.colour.basis) << "; at " << std::lround(middle * 1e9)
-            << " nm, " << estimate_summation(asked, f.camera, middle).reason << ")";
+        job << " (" << auto_choice(f.scene_sum, device, nullptr, f.camera, f.colour.basis) << "; at "
+            << std::lround(middle * 1e9) << " nm, " << estimate_summation(asked, device, f.camera, middle).reason << ")";
     }
     if (device.gpu()) job << " on " << device.description();
     if (!on_cpu.empty()) job << " (GPU: " << on_cpu << "; on the CPU)";

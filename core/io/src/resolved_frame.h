@@ -26,7 +26,9 @@ struct ResolvedFrame {
     OIIO::ROI kept;  // the film's pixels the output holds: all, or the data window within a widened frame
     Aperture aperture;
     JobColour colour;
-    SceneSumSettings scene_sum;       // scene-sum methods: the estimate's and run's settings, the job's device handle
+    SceneSumSettings scene_sum;       // scene-sum methods: the estimate's and run's settings
+    ComputeDevice device;             // scene-sum methods: the job's device handle, passed to its sums
+    std::shared_ptr<SumReport> report = std::make_shared<SumReport>();  // what the job's sums ran
     ConvolutionPlanSpec convolution;  // convolution method: what its plan is built for
     double terms = 0;                 // scene-sum methods: the sums' cost
     std::string job;                  // "24x16 pixels x 3 wavelengths x 2 runs"
@@ -39,9 +41,11 @@ struct ResolvedFrame {
 // The wavelength the pinhole formulas are designed at: Rayleigh's optimum, the Fresnel number.
 constexpr double kDesignWavelength = 550e-9;
 
-// What `auto` chose for the job's sums (resolve_frame.cpp): kernel, else the evaluators that ran on
-// the job's device (the header's), or, before they ran, those the estimate gives each sum.
-std::string auto_choice(const SceneSumSettings& s, const PinholeCamera& camera, const SpectralBasis& basis);
+// What `auto` chose for the job's sums (resolve_frame.cpp): kernel, else the evaluators that ran,
+// from the job's report (the header's), or, before they ran (no report, or nothing in it), those
+// the job's decision gives each sum on `device`.
+std::string auto_choice(const SceneSumSettings& s, const ComputeDevice& device, const SumReport* report,
+                        const PinholeCamera& camera, const SpectralBasis& basis);
 
 // The job's decision (SceneSumSettings::decision) and device in words, as a share file records it
 // so that a merge refuses shares that decided otherwise (another device, another build):

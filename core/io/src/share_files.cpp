@@ -165,7 +165,7 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
         SceneSumSettings unit = j.s;
         unit.run_begin = u % j.R;
         unit.run_end = u % j.R + 1;
-        j.unit_terms.push_back(j.per_wavelength * scene_terms(unit, j.f.camera, wavelengths[u / j.R]));
+        j.unit_terms.push_back(j.per_wavelength * scene_terms(unit, j.f.device, j.f.camera, wavelengths[u / j.R]));
         j.terms += j.unit_terms.back();
     }
     std::ostringstream job;
@@ -185,13 +185,14 @@ Result<Share> resolve_share(const OIIO::ImageBuf& src, const std::string& input_
 // each unit's share of the estimated terms.
 MonochromePropagator unit_propagator(const Share& j, const ProgressFn& progress,
                                      std::map<std::string, std::vector<float>>& units, double& done) {
-    const RunPropagator run = run_propagator(j.s);  // the runs of a wavelength share its kernel summation's kernels
+    // the runs of a wavelength share its kernel summation's kernels
+    const RunPropagator run = run_propagator(j.s, j.f.device, j.f.report.get());
     return [&j, progress, &units, &done, run](const MonochromeScene& mono, double wavelength, float*,
                                               const ProgressFn&) {
         for (int r = 0; r < j.R; ++r) {
             const int u = mono.spectral_index / j.per_wavelength * j.R + r;
             if (u < j.sh.unit_begin || u >= j.sh.unit_end) continue;
-            // A wavelength's negative part (rare) is not in the estimate: count it at no weight;
+            // A wavelength's negative power (rare) is not in the estimate: count it at no weight;
             // monochrome light's three channels share their unit's weight.
             const double weight = mono.sign > 0 ? j.unit_terms[u - j.sh.unit_begin] / j.terms / j.per_wavelength : 0;
             const double before = done;

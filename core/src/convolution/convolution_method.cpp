@@ -221,11 +221,11 @@ Result<std::shared_ptr<const ConvolutionPlan>> ConvolutionPlan::create(const Con
     detail::KernelTableSpec& t = geometry.value;
     const int threads = t.nthreads;
     // progress: the kernel table is most of the work, the kernels' transforms the rest
-    auto table = detail::build_kernel_table(t, progress_part(progress, 0.0, 0.8));
+    auto table = detail::build_kernel_table(t, progress_slice(progress, 0.0, 0.8));
     if (!table.ok()) return R::failure(table.error);
     auto conv = detail::AnchoredConvolution::create(std::move(table.value), t.tile, t.tiles_on_cells, t.domain_width,
                                                     t.domain_height, threads, spec.settings.tile_memory,
-                                                    progress_part(progress, 0.8, 1.0));
+                                                    progress_slice(progress, 0.8, 1.0));
     if (!conv.ok()) return R::failure(conv.error);
     auto impl = std::make_unique<Impl>(Impl{spec, std::move(conv.value), t.origin});
     return R::success(std::shared_ptr<const ConvolutionPlan>(new ConvolutionPlan(std::move(impl))));
@@ -304,9 +304,9 @@ Result<bool> diffract_convolution(const SpectralScene& scene, const SpectralBasi
         if (auto v = check_pixels(scene.camera, scene.rgb, 3, false, scene.depth); !v.ok()) return v;
     const double nearest = nearest_depth(scene.camera, scene.depth, scene.depth_meaning);
     ConvolutionPlanSpec spec{scene.camera, 0, aperture, basis, 1.0 / nearest, settings};
-    auto plan = ConvolutionPlan::create(spec, progress_part(progress, 0.0, 0.5));
+    auto plan = ConvolutionPlan::create(spec, progress_slice(progress, 0.0, 0.5));
     if (!plan.ok()) return Result<bool>::failure(plan.error);
-    return plan.value->apply(scene, out.vignetting, out.xyz, progress_part(progress, 0.5, 1.0));
+    return plan.value->apply(scene, out.vignetting, out.xyz, progress_slice(progress, 0.5, 1.0));
 }
 
 }  // namespace wavecam

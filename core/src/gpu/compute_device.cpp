@@ -43,11 +43,4 @@ const std::string& ComputeDevice::error() const {
 
 std::string ComputeDevice::description() const { return impl_ ? impl_->description : "cpu"; }
 
-std::string ComputeDevice::ran_on() const {
-    const unsigned ran = impl_ ? impl_->ran.load() : 0;
-    if (!(ran & kRanOnCpu)) return description();
-    if (!(ran & kRanOnGpu)) return "cpu";
-    return description() + " and the CPU";
-}
-
 }  // namespace wavecam

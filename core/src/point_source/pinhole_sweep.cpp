@@ -48,7 +48,7 @@ Result<std::vector<SweepPoint>> sweep_pinholes(const SweepParams& p, const Progr
         q.nthreads = p.nthreads;
         ProgressFn sub;
         if (progress) sub = [&, k](double f) { return progress((k + f) / p.count); };
-        auto img = compute_psf(q, sub);
+        auto img = compute_psf(q, ComputeDevice{}, sub);  // on the CPU
         if (!img.ok()) return Result<std::vector<SweepPoint>>::failure(img.error);
         pt.psf = std::move(img.value);
         const double total = q.aperture.area();

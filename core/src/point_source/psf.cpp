@@ -39,7 +39,7 @@ double psf_terms(const PsfParams& p) {
            double(p.resolution) * p.resolution;
 }
 
-Result<PsfImage> compute_psf(const PsfParams& p, const ProgressFn& progress) {
+Result<PsfImage> compute_psf(const PsfParams& p, const ComputeDevice& device, const ProgressFn& progress) {
     const auto start = std::chrono::steady_clock::now();
     if (auto v = validate(p); !v.ok()) return Result<PsfImage>::failure(v.error);
 
@@ -55,8 +55,8 @@ Result<PsfImage> compute_psf(const PsfParams& p, const ProgressFn& progress) {
     img.fresnel_number =
         fresnel_number(p.aperture.diameter / 2, p.film_distance, p.source_distance, p.wavelength);
 
-    const SummationSettings sum{p.summation, kSummationTolerance, p.nthreads, p.device};
-    SummationPlan to_pinhole = SummationPlan::create(SumKind::SourcesToPinhole, samples, p.wavelength, sum);
+    const SummationSettings sum{p.summation, kSummationTolerance, p.nthreads};
+    SummationPlan to_pinhole = SummationPlan::create(device, SumKind::SourcesToPinhole, samples, p.wavelength, sum);
     PinholeField field;
     if (auto r = to_pinhole.set_points({source}); !r.ok()) return Result<PsfImage>::failure(r);
     if (auto r = to_pinhole.execute(source_weights({source}), field); !r.ok()) return Result<PsfImage>::failure(r);
@@ -75,7 +75,7 @@ Result<PsfImage> compute_psf(const PsfParams& p, const ProgressFn& progress) {
         }
     img.irradiance.assign(film.size(), 0.0f);
     const double scale = 1.0 / free_irradiance_at_film_centre(source, p.film_distance);
-    SummationPlan to_film = SummationPlan::create(SumKind::PinholeToFilm, samples, p.wavelength, sum);
+    SummationPlan to_film = SummationPlan::create(device, SumKind::PinholeToFilm, samples, p.wavelength, sum);
     if (auto r = to_film.set_points(film); !r.ok()) return Result<PsfImage>::failure(r);
     if (auto r = to_film.execute_irradiance(field, scale, img.irradiance.data(), progress); !r.ok())
         return Result<PsfImage>::failure(r);

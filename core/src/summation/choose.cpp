@@ -209,7 +209,7 @@ KernelSums kernel_sums(const KernelSummationSpec& spec, const KernelSummationGeo
     return k;
 }
 
-KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCounts in, SumCounts out) {
+KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCounts in, SumCounts out, bool on_gpu) {
     const KernelSummationGeometry g = kernel_summation_geometry(spec);
     const double side = 2.0 * g.radius + 1, S = double(spec.subsamples) * spec.subsamples;
     const int layers = std::min(g.layers.count, kMaxKernelLayers + 1);
@@ -223,7 +223,7 @@ KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCo
     const KernelSums sums = kernel_sums(spec, g);
     KernelSummationWork w;
     w.kernels = computed * (choose_sum(in, sums.to_pinhole.summation).work +
-                            choose_sum(out, sums.to_film.summation, spec.settings.device.gpu()).work + S * transform);
+                            choose_sum(out, sums.to_film.summation, on_gpu).work + S * transform);
     w.per_run = kernels * transform + (kernels + 1) * S * N * kMacCost + S * transform;
     return w;
 }
@@ -313,8 +313,10 @@ std::string amount(double work, double rate) {
 
 // The point sums' evaluators in words, as the header names them (summation_plan.h).
 std::string point_sum_words(const SumChoice& in, const SumChoice& out) {
-    const bool nin = in.evaluator == Evaluator::Nufft, nout = out.evaluator == Evaluator::Nufft;
-    return EvaluatorSet{!nin, nin, !nout, nout}.words();
+    EvaluatorSet e;
+    e.add(false, in.evaluator);
+    e.add(true, out.evaluator);
+    return e.words();
 }
 
 }  // namespace
@@ -323,9 +325,7 @@ Summation point_sum_asked(Summation asked, bool single) {
     return single && asked == Summation::Nufft ? Summation::Auto : asked;
 }
 
-SummationChoice choose_summation(const FrameSums& f, const ChoiceSettings& cs) {
-    static const ComputeDevice cpu;
-    const ComputeDevice& device = cs.device ? *cs.device : cpu;
+SummationChoice choose_summation(const FrameSums& f, const ComputeDevice& device, const ChoiceSettings& cs) {
     const bool gpu = device.gpu();
     SummationChoice c;
     c.gpu = gpu;
@@ -342,9 +342,9 @@ SummationChoice choose_summation(const FrameSums& f, const ChoiceSettings& cs) {
         all_nufft = (c.in.nufft_work + c.out.nufft_work * f.film_share) * f.repeats;
     }
     // the kernel summation: its kernels, then every run
-    if (f.kernel_counted) c.kernel = kernel_summation_work(f.kernel, f.kernel_in, f.kernel_out);
+    if (f.kernel_counted) c.kernel = kernel_summation_work(f.kernel, f.kernel_in, f.kernel_out, gpu);
     // (the kernel row on the device: its estimate, the table's)
-    const double kernel = f.kernel_counted ? evaluator_row(Summation::Kernel, gpu ? Device::Gpu : Device::Cpu).estimate(f, cs) : 0;
+    const double kernel = f.kernel_counted ? evaluator_row(Summation::Kernel, gpu ? Device::Gpu : Device::Cpu).estimate(f, device, cs) : 0;
     const bool weighed = cs.asked == Summation::Auto && cs.weigh_kernel && f.kernel_applies && f.kernel_counted;
     const bool take_kernel = cs.asked == Summation::Kernel || (weighed && kernel < points);
     const std::string words = point_sum_words(c.in, c.out);
@@ -376,9 +376,9 @@ SummationChoice choose_summation(const FrameSums& f, const ChoiceSettings& cs) {
     return c;
 }
 
-double kernel_cost(const FrameSums& f, const ChoiceSettings&) {
+double kernel_cost(const FrameSums& f, const ComputeDevice& device, const ChoiceSettings&) {
     if (!f.kernel_counted) return INFINITY;
-    const KernelSummationWork w = kernel_summation_work(f.kernel, f.kernel_in, f.kernel_out);
+    const KernelSummationWork w = kernel_summation_work(f.kernel, f.kernel_in, f.kernel_out, device.gpu());
     return w.kernels + w.per_run * f.kernel_runs;
 }
 

@@ -75,7 +75,7 @@ KernelSums kernel_sums(const KernelSummationSpec& spec, const KernelSummationGeo
 struct KernelSummationWork {
     double kernels = 0, per_run = 0;
 };
-KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCounts in, SumCounts out);
+KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCounts in, SumCounts out, bool on_gpu);
 // Bytes a convolution holds at once: the kernels' spectra and a run's sums (on the CPU; a GPU
 // holds the same in its memory, padded to powers of two).
 double kernel_summation_bytes(const KernelSummationSpec& spec);
@@ -118,12 +118,11 @@ struct FrameSums {
     double kernel_runs = 1;        // runs (1 for the incoherent method: one pass of powers)
 };
 
-// What a job asks: the summation (auto weighs the kernel summation where `weigh_kernel`, else the point sums alone),
-// the device handle, and the term rate measured here (0: no seconds, the reason in terms).
+// What a job asks: the summation (auto weighs the kernel summation where `weigh_kernel`, else the
+// point sums alone), and the term rate measured here (0: no seconds, the reason in terms).
 struct ChoiceSettings {
     Summation asked = Summation::Auto;
     bool weigh_kernel = false;
-    const ComputeDevice* device = nullptr;  // null: the CPU
     double term_rate = 0;
     // the job's decision of the point sums' evaluators at this wavelength (SummationDecision),
     // priced as decided instead of chosen again; null: chosen here
@@ -135,19 +134,20 @@ struct ChoiceSettings {
 // estimated work (direct terms), seconds (0 without a rate) and bytes the evaluator holds at once
 // beyond the frame's own arrays; and why, in a few words ("kernel: 1.9 s estimated against nufft 6.3 s").
 struct SummationChoice {
-    Summation summation = Summation::Auto;  // Psf, or the point sums: Direct, Nufft, or Auto where they differ
+    Summation summation = Summation::Auto;  // Kernel, or the point sums: Direct, Nufft, or Auto where they differ
     SumChoice in, out;
     KernelSummationWork kernel;
     bool gpu = false;
     double work = 0, seconds = 0, bytes = 0;
     std::string reason;
 };
-SummationChoice choose_summation(const FrameSums& frame, const ChoiceSettings& settings);
+// Among the rows `device` (the job's handle) serves.
+SummationChoice choose_summation(const FrameSums& frame, const ComputeDevice& device, const ChoiceSettings& settings);
 
 // The kernel summation's work for the whole frame in direct terms (the evaluators' table's frame
 // estimate for the rows that take whole runs, summation_evaluator.h): its kernels, then every
 // run; infinite where the frame's kernel-summation counts are not set. (The rows of one sum are priced by
 // their sums: choose_sum.)
-double kernel_cost(const FrameSums& frame, const ChoiceSettings& settings);
+double kernel_cost(const FrameSums& frame, const ComputeDevice& device, const ChoiceSettings& settings);
 
 }  // namespace wavecam::detail

@@ -30,7 +30,7 @@ private:
 }  // namespace
 
 std::unique_ptr<SumEvaluator> make_gpu_direct_evaluator(const SumGeometry& g) {
-    return std::make_unique<GpuDirectEvaluator>(g, g.settings.device.impl()->sums);
+    return std::make_unique<GpuDirectEvaluator>(g, g.device->impl()->sums);
 }
 
 }  // namespace wavecam::detail

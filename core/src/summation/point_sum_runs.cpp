@@ -19,9 +19,12 @@ public:
 
     Result<bool> set_points(const ProgressFn&) override {
         const SceneSum& sum = *setup_.sum;
-        to_film_ = SummationPlan::create(SumKind::PinholeToFilm, sum.samples, setup_.wavelength, sums_.settings, sums_.out);
+        to_film_ = SummationPlan::create(*setup_.device, SumKind::PinholeToFilm, sum.samples, setup_.wavelength,
+                                         sums_.settings, sums_.out);
         points_.assign(sum.film.size(), 0.0f);  // irradiance at every film point
-        return to_film_.set_points(sum.film);
+        auto r = to_film_.set_points(sum.film);
+        if (r.ok()) note(to_film_, SumKind::PinholeToFilm);
+        return r;
     }
 
     Result<bool> execute(const RunBatch& batch, float* irradiance, const ProgressFn& progress) override {
@@ -33,6 +36,12 @@ public:
     }
 
 private:
+    // A committed plan's evaluator, noted in the job's report (a plan with points and samples).
+    void note(const SummationPlan& plan, SumKind kind) const {
+        if (setup_.report && plan.point_count() > 0 && setup_.sum->samples.size() > 0)
+            setup_.report->note(kind, plan.choice());
+    }
+
     // Incoherent: every source through the pinhole alone, the film's irradiances summed.
     Result<bool> incoherent_sum(const ProgressFn& progress) {
         const SceneSum& sum = *setup_.sum;
@@ -41,12 +50,13 @@ private:
         const size_t n = sum.emitters.size();
         for (size_t k = 0; k < n; ++k) {
             const std::vector<PointSource> one{centred(c, sum.emitters[k], 0.0)};
-            SummationPlan to_pinhole = SummationPlan::create(SumKind::SourcesToPinhole, sum.samples,
+            SummationPlan to_pinhole = SummationPlan::create(*setup_.device, SumKind::SourcesToPinhole, sum.samples,
                                                              setup_.wavelength, sums_.settings, sums_.in);
             if (auto r = to_pinhole.set_points(one); !r.ok()) return r;
+            note(to_pinhole, SumKind::SourcesToPinhole);
             if (auto r = to_pinhole.execute(source_weights(one), field); !r.ok()) return r;
             if (auto r = to_film_.execute_irradiance(field, 1.0, points_.data(),
-                                                     progress_part(progress, double(k) / n, double(k + 1) / n));
+                                                     progress_slice(progress, double(k) / n, double(k + 1) / n));
                 !r.ok())
                 return r;
         }
@@ -71,17 +81,18 @@ private:
         for (int run = first; run < batch.run_end; ++run) {
             const std::vector<PointSource> sources = run_sources(c, sum.emitters, draw, run);
             if (!to_pinhole || moving) {
-                to_pinhole =
-                    SummationPlan::create(SumKind::SourcesToPinhole, sum.samples, wavelength, sums_.settings, sums_.in);
+                to_pinhole = SummationPlan::create(*setup_.device, SumKind::SourcesToPinhole, sum.samples, wavelength,
+                                                   sums_.settings, sums_.in);
                 if (auto r = to_pinhole.set_points(sources); !r.ok()) return r;
+                note(to_pinhole, SumKind::SourcesToPinhole);
             }
             // half of a run's terms go to the pinhole, half to the film
             const double at = double(run - first) / runs, half = 0.5 / runs;
-            if (auto r = to_pinhole.execute(source_weights(sources), field, progress_part(progress, at, at + half));
+            if (auto r = to_pinhole.execute(source_weights(sources), field, progress_slice(progress, at, at + half));
                 !r.ok())
                 return r;
             if (auto r = to_film_.execute_irradiance(field, 1.0 / s.runs, points_.data(),
-                                                     progress_part(progress, at + half, at + 2 * half));
+                                                     progress_slice(progress, at + half, at + 2 * half));
                 !r.ok())
                 return r;
             average_into_output(points_, sum, c, s.overscan, setup_.range, irradiance);

@@ -92,7 +92,7 @@ SceneSum scene_sum(const MonochromeScene& scene, double wavelength, const SceneS
                    const WorkRange& range, bool with_samples);
 
 // The two sums' evaluators and work for a run (or one source's, `single`).
-SumChoices decide_sums(const SceneSumSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
+SumChoices decide_sums(const SceneSumSettings& s, const ComputeDevice& device, const SceneSum& sum, const PinholeCamera& c, double wavelength,
                   double nearest, bool single);
 
 // The runs as convolutions with amplitude PSFs (kernel_summation.h) for this wavelength.
@@ -104,7 +104,7 @@ KernelSummationSpec kernel_summation_spec(const SceneSumSettings& s, const Pinho
 bool too_deep_for_kernel(double nearest, const Aperture& aperture, double wavelength);
 
 // The kernel summation's work: its kernels' sums counted on their own lattice of `pitch`.
-KernelSummationWork kernel_work(const SceneSumSettings& s, const SceneSum& sum, const KernelSummationSpec& spec, double nearest,
-                          double pitch);
+KernelSummationWork kernel_work(const SceneSumSettings& s, const SceneSum& sum, const KernelSummationSpec& spec,
+                                double nearest, double pitch, bool on_gpu);
 
 }  // namespace wavecam::detail

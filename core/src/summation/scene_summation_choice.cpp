@@ -58,11 +58,11 @@ FrameCounts frame_counts(const SceneSumSettings& s, const SceneSum& sum, const W
 
 }  // namespace
 
-SumChoices decide_sums(const SceneSumSettings& s, const SceneSum& sum, const PinholeCamera& c, double wavelength,
-                  double nearest, bool single) {
+SumChoices decide_sums(const SceneSumSettings& s, const ComputeDevice& device, const SceneSum& sum,
+                       const PinholeCamera& c, double wavelength, double nearest, bool single) {
     const FrameCounts n = frame_counts(s, sum, {c, wavelength, nearest}, sum.samples.pitch, single);
     SumChoices sums;
-    sums.settings = {point_sum_asked(s.summation, single), s.summation_tolerance, s.nthreads, s.device};
+    sums.settings = {point_sum_asked(s.summation, single), s.summation_tolerance, s.nthreads};
     sums.in.fixed_choice = sums.out.fixed_choice = true;
     const SumChoice* in = s.decision ? s.decision->to_pinhole_at(wavelength) : nullptr;
     const SumChoice* out = s.decision ? s.decision->to_film_at(wavelength) : nullptr;
@@ -74,7 +74,7 @@ SumChoices decide_sums(const SceneSumSettings& s, const SceneSum& sum, const Pin
         frame.in = n.in;
         frame.out = n.out;
         frame.single = single;
-        const SummationChoice chosen = choose_summation(frame, {s.summation, false, &s.device, 0});
+        const SummationChoice chosen = choose_summation(frame, device, {s.summation, false, 0});
         sums.in.choice = chosen.in;
         sums.out.choice = chosen.out;
     }
@@ -97,7 +97,7 @@ detail::KernelSummationSpec kernel_summation_spec(const SceneSumSettings& s, con
     spec.subsamples = subsamples;
     spec.incoherent = s.method == CoherenceMethod::Incoherent;
     spec.runs = s.runs;
-    spec.settings = {Summation::Auto, s.summation_tolerance, s.nthreads, s.device};
+    spec.settings = {Summation::Auto, s.summation_tolerance, s.nthreads};
     return spec;
 }
 
@@ -109,18 +109,20 @@ bool too_deep_for_kernel(double nearest, const Aperture& aperture, double wavele
 }
 
 // The kernel summation's work: its kernels' sums counted on their own lattice of `pitch`.
-detail::KernelSummationWork kernel_work(const SceneSumSettings& s, const SceneSum& sum, const detail::KernelSummationSpec& spec,
-                                  double nearest, double pitch) {
+detail::KernelSummationWork kernel_work(const SceneSumSettings& s, const SceneSum& sum,
+                                        const detail::KernelSummationSpec& spec, double nearest, double pitch,
+                                        bool on_gpu) {
     const FrameCounts n = frame_counts(s, sum, {spec.camera, spec.wavelength, nearest}, pitch, false);
-    return detail::kernel_summation_work(spec, n.in, n.out);
+    return detail::kernel_summation_work(spec, n.in, n.out, on_gpu);
 }
 
 // The kernel summation's plan-time check (kernel_error_check.h) for the settings' frame at `wavelength`.
-Result<KernelErrorCheck> kernel_error_check(const SceneSumSettings& s, const PinholeCamera& c, double wavelength) {
+Result<KernelErrorCheck> kernel_error_check(const SceneSumSettings& s, const ComputeDevice& device, const PinholeCamera& c,
+                                            double wavelength) {
     const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
     const SceneSum sum = scene_sum({c, nullptr, nullptr}, wavelength, s, nearest, work_range(s, c.height), false);
     const KernelSummationSpec spec = kernel_summation_spec(s, c, wavelength, nearest, sum.subsamples);
-    return check_kernel_error(spec, kernel_lattice_pitch(spec, sum.samples.pitch), unit_sources(c));
+    return check_kernel_error(device, spec, kernel_lattice_pitch(spec, sum.samples.pitch), unit_sources(c));
 }
 
 namespace {
@@ -138,8 +140,8 @@ bool kernel_applies(const SceneSumSettings& s, double nearest, double wavelength
 // The chooser's view of the settings' share of a frame at `wavelength`, every pixel lit, for
 // s.nearest_depth (NaN counts as all sky): the point sums (but where the kernel summation is asked), the kernel summation where
 // asked, or weighed by `auto` where it applies.
-SummationChoice scene_choice(const SceneSumSettings& s, const PinholeCamera& c, double wavelength,
-                             const ChoiceSettings& asked) {
+SummationChoice scene_choice(const SceneSumSettings& s, const ComputeDevice& device, const PinholeCamera& c,
+                             double wavelength, const ChoiceSettings& asked) {
     const WorkRange w = work_range(s, c.height);
     const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
     const SceneSum sum = scene_sum({c, nullptr, nullptr}, wavelength, s, nearest, w, false);
@@ -172,7 +174,7 @@ SummationChoice scene_choice(const SceneSumSettings& s, const PinholeCamera& c, 
         priced.decided_out = s.decision->to_film_at(wavelength);
         if (!priced.decided_in || !priced.decided_out) priced.decided_in = priced.decided_out = nullptr;
     }
-    return choose_summation(frame, priced);
+    return choose_summation(frame, device, priced);
 }
 
 }  // namespace
@@ -202,11 +204,12 @@ const SumChoice* SummationDecision::to_film_at(double wavelength) const {
     return choice_at(wavelengths, to_film, wavelength);
 }
 
-SummationDecision decide_summation(const SceneSumSettings& asked, const PinholeCamera& camera,
+SummationDecision decide_summation(const SceneSumSettings& asked, const ComputeDevice& device, const PinholeCamera& camera,
                                    const std::vector<double>& wavelengths) {
     SummationDecision d;
+    d.gpu = device.gpu();
     if (wavelengths.empty()) return d;
-    d.summation = chosen_summation(asked, camera, wavelengths[wavelengths.size() / 2]);
+    d.summation = chosen_summation(asked, device, camera, wavelengths[wavelengths.size() / 2]);
     if (d.summation == Summation::Kernel) return d;
     SceneSumSettings s = asked;  // the whole job, as chosen_summation weighs it: every share decides alike
     s.summation = d.summation;
@@ -215,7 +218,7 @@ SummationDecision decide_summation(const SceneSumSettings& asked, const PinholeC
     s.row_end = s.run_end = -1;
     for (const double wavelength : wavelengths) {
         if (d.to_pinhole_at(wavelength)) continue;  // (monochrome light: three samples of one wavelength)
-        const SummationChoice c = scene_choice(s, camera, wavelength, {s.summation, false, &s.device, 0});
+        const SummationChoice c = scene_choice(s, device, camera, wavelength, {s.summation, false, 0});
         d.wavelengths.push_back(wavelength);
         d.to_pinhole.push_back(c.in);
         d.to_film.push_back(c.out);
@@ -223,28 +226,29 @@ SummationDecision decide_summation(const SceneSumSettings& asked, const PinholeC
     return d;
 }
 
-Summation chosen_summation(const SceneSumSettings& asked, const PinholeCamera& c, double wavelength) {
+Summation chosen_summation(const SceneSumSettings& asked, const ComputeDevice& device, const PinholeCamera& c,
+                           double wavelength) {
     if (asked.summation != Summation::Auto) return asked.summation;
     const double nearest = std::isnan(asked.nearest_depth) ? INFINITY : asked.nearest_depth;
     if (!detail::kernel_applies(asked, nearest, wavelength)) return Summation::Auto;
     SceneSumSettings s = asked;  // the whole job: every row and run
     s.row_begin = s.run_begin = 0;
     s.row_end = s.run_end = -1;
-    const SummationChoice chosen = scene_choice(s, c, wavelength, {Summation::Auto, true, &s.device, 0});
+    const SummationChoice chosen = scene_choice(s, device, c, wavelength, {Summation::Auto, true, 0});
     if (chosen.summation != Summation::Kernel) return Summation::Auto;
     // cheaper: the kernel summation where its plan-time check finds it within its stated error (kernel_error_check.h)
-    const auto check = detail::kernel_error_check(s, c, wavelength);
+    const auto check = detail::kernel_error_check(s, device, c, wavelength);
     return check.ok() && check.value.within() ? Summation::Kernel : Summation::Auto;
 }
 
-SummationEstimate estimate_summation(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength,
-                                     double term_rate) {
-    const SummationChoice c = scene_choice(s, camera, wavelength, {s.summation, true, &s.device, term_rate});
+SummationEstimate estimate_summation(const SceneSumSettings& s, const ComputeDevice& device,
+                                     const PinholeCamera& camera, double wavelength, double term_rate) {
+    const SummationChoice c = scene_choice(s, device, camera, wavelength, {s.summation, true, term_rate});
     SummationEstimate e;
     e.summation = c.summation;
     if (c.summation != Summation::Kernel) {
-        const bool in = c.in.evaluator == Evaluator::Nufft, out = c.out.evaluator == Evaluator::Nufft;
-        e.sums = {!in, in, !out, out};
+        e.sums.add(false, c.in.evaluator);
+        e.sums.add(true, c.out.evaluator);
     }
     e.gpu = c.gpu;
     e.terms = c.work;
@@ -254,14 +258,18 @@ SummationEstimate estimate_summation(const SceneSumSettings& s, const PinholeCam
     return e;
 }
 
-EvaluatorSet scene_evaluators(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength) {
-    const SummationChoice c = scene_choice(s, camera, wavelength, {s.summation, false, &s.device, 0});
-    const bool in = c.in.evaluator == Evaluator::Nufft, out = c.out.evaluator == Evaluator::Nufft;
-    return {!in, in, !out, out};
+EvaluatorSet scene_evaluators(const SceneSumSettings& s, const ComputeDevice& device, const PinholeCamera& camera,
+                              double wavelength) {
+    const SummationChoice c = scene_choice(s, device, camera, wavelength, {s.summation, false, 0});
+    EvaluatorSet e;
+    e.add(false, c.in.evaluator);
+    e.add(true, c.out.evaluator);
+    return e;
 }
 
-double scene_terms(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength) {
-    return scene_choice(s, camera, wavelength, {s.summation, false, &s.device, 0}).work;
+double scene_terms(const SceneSumSettings& s, const ComputeDevice& device, const PinholeCamera& camera,
+                   double wavelength) {
+    return scene_choice(s, device, camera, wavelength, {s.summation, false, 0}).work;
 }
 
 double scene_summation_bytes(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength) {

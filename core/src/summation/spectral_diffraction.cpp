@@ -7,23 +7,25 @@
 
 namespace wavecam {
 
-MonochromePropagator wave_propagator(const SceneSumSettings& settings) {
-    // one memo per propagator: a wavelength's negative part reuses its positive part's kernels
+MonochromePropagator wave_propagator(const SceneSumSettings& settings, const ComputeDevice& device,
+                                     SumReport* report) {
+    // one memo per propagator: a wavelength's negative power reuses its positive power's kernels
     auto memo = std::make_shared<detail::KernelSummationMemo>();
-    return [settings, memo](const MonochromeScene& scene, double wavelength, float* irradiance,
-                            const ProgressFn& progress) {
-        return detail::diffract_monochrome(scene, wavelength, settings, irradiance, progress, memo.get());
+    return [settings, device, report, memo](const MonochromeScene& scene, double wavelength, float* irradiance,
+                                            const ProgressFn& progress) {
+        return detail::diffract_monochrome(scene, wavelength, settings, device, irradiance, progress, report,
+                                           memo.get());
     };
 }
 
-RunPropagator run_propagator(const SceneSumSettings& settings) {
+RunPropagator run_propagator(const SceneSumSettings& settings, const ComputeDevice& device, SumReport* report) {
     auto memo = std::make_shared<detail::KernelSummationMemo>();
-    return [settings, memo](const MonochromeScene& scene, double wavelength, int run, float* irradiance,
-                            const ProgressFn& progress) {
+    return [settings, device, report, memo](const MonochromeScene& scene, double wavelength, int run,
+                                            float* irradiance, const ProgressFn& progress) {
         SceneSumSettings one = settings;
         one.run_begin = run;
         one.run_end = run + 1;
-        return detail::diffract_monochrome(scene, wavelength, one, irradiance, progress, memo.get());
+        return detail::diffract_monochrome(scene, wavelength, one, device, irradiance, progress, report, memo.get());
     };
 }
 

@@ -26,6 +26,7 @@ struct SumGeometry {
     const ApertureSamples* samples = nullptr;
     double wavelength = 0;
     SummationSettings settings;
+    const ComputeDevice* device = nullptr;              // the plan's
     PlanScope scope;
     const std::vector<PointSource>* sources = nullptr;  // SourcesToPinhole
     const FilmPoints* film = nullptr;                   // PinholeToFilm
@@ -33,7 +34,7 @@ struct SumGeometry {
 
 std::unique_ptr<SumEvaluator> make_direct_evaluator(const SumGeometry& g);
 std::unique_ptr<SumEvaluator> make_nufft_evaluator(const SumGeometry& g, const SumChoice& choice);
-// The direct terms on the GPU of `settings.device` (a handle with one: gpu_sums.h).
+// The direct terms on the GPU of the plan's device (a handle with one: gpu_sums.h).
 std::unique_ptr<SumEvaluator> make_gpu_direct_evaluator(const SumGeometry& g);
 
 // What the CPU evaluators' `false` (cancelled through progress) becomes.

@@ -33,6 +33,8 @@ struct EvaluatorSetup {
     const SceneSum* sum = nullptr;  // its sources; with the frame's lattice and film points where the row samples them
     double wavelength = 0;
     const SceneSumSettings* settings = nullptr;
+    const ComputeDevice* device = nullptr;  // where its sums run (the job's handle)
+    SumReport* report = nullptr;            // what ran, noted for the job (or none)
     WorkRange range{};
     double nearest = INFINITY;       // the scene's nearest planar depth
     KernelSummationMemo* memo = nullptr;    // kernel: the job's kept kernels, or none
@@ -71,7 +73,7 @@ struct EvaluatorRow {
     // stop early) for a row of sums, whose frames are priced by their sums (choose_summation);
     // of a frame's runs for a row that takes whole runs (kernel); null where the other is set
     SumChoice (*estimate_sum)(const SumCounts& counts, bool bounded);
-    double (*estimate)(const FrameSums& frame, const ChoiceSettings& settings);
+    double (*estimate)(const FrameSums& frame, const ComputeDevice& device, const ChoiceSettings& settings);
 };
 
 // The table's rows, for range-for (evaluator_table.cpp lists them: a row added there is counted).

@@ -3,53 +3,14 @@
 
 #include <cmath>
 
-#include "gpu/compute_device_impl.h"
 #include "summation/nufft/lattice_layout.h"
 #include "summation/summation_evaluator.h"
 #include "summation/choose.h"
 
 namespace wavecam {
 
-// the words of the table's rows (evaluator_table.cpp)
-const char* evaluator_word(Evaluator e) {
-    return summation_word(e == Evaluator::Nufft ? Summation::Nufft : Summation::Direct);
-}
-
-void EvaluatorSet::add(const EvaluatorSet& o) {
-    direct_to_pinhole |= o.direct_to_pinhole;
-    nufft_to_pinhole |= o.nufft_to_pinhole;
-    direct_to_film |= o.direct_to_film;
-    nufft_to_film |= o.nufft_to_film;
-}
-
-std::string EvaluatorSet::words() const {
-    auto either = [](bool direct, bool nufft) -> std::string {
-        return direct && nufft ? "direct and nufft" : direct ? "direct" : nufft ? "nufft" : "";
-    };
-    const std::string in = either(direct_to_pinhole, nufft_to_pinhole), out = either(direct_to_film, nufft_to_film);
-    if (in == out || out.empty()) return in;
-    if (in.empty()) return out;
-    return in + " to the pinhole, " + out + " to the film";
-}
-
-EvaluatorSet evaluators_run(const ComputeDevice& device) {
-    const unsigned ran = device.impl() ? device.impl()->ran.load() : 0;
-    return {bool(ran & kDirectToPinhole), bool(ran & kNufftToPinhole), bool(ran & kDirectToFilm),
-            bool(ran & kNufftToFilm)};
-}
-
-namespace {
-
-// What a committed plan notes on its device (compute_device_impl.h).
-unsigned run_bits(SumKind kind, const SumChoice& c) {
-    const bool nufft = c.evaluator == Evaluator::Nufft, film = kind == SumKind::PinholeToFilm;
-    return (film ? (nufft ? kNufftToFilm : kDirectToFilm) : (nufft ? kNufftToPinhole : kDirectToPinhole)) |
-           (c.gpu ? kRanOnGpu : kRanOnCpu);
-}
-
-}  // namespace
-
 struct SummationPlan::Impl {
+    ComputeDevice device;
     SumKind kind;
     ApertureSamples samples;
     double wavelength;
@@ -105,10 +66,9 @@ struct SummationPlan::Impl {
     }
 
     // Commit: the evaluator chosen (choose.h; or the job's, for a share) and built for the
-    // points; the direct terms on the settings' device (a GPU runs the direct terms alone).
+    // points; the direct terms on the plan's device (a GPU runs the direct terms alone).
     Result<bool> commit() {
         const bool empty = points() == 0 || samples.size() == 0;
-        const ComputeDevice& device = settings.device;
         // (counted only where the chooser weighs them: not for the job's choice, nor no points)
         const bool weighed = !empty && !scope.fixed_choice;
         const SumCounts n = weighed ? counts(range()) : SumCounts{};
@@ -116,20 +76,20 @@ struct SummationPlan::Impl {
             {&n, empty, settings.summation, scope.fixed_choice ? &scope.choice : nullptr}, device);
         if (!chosen.ok()) return Result<bool>::failure(chosen);
         choice = chosen.value;
-        const detail::SumGeometry g{kind, &samples, wavelength, settings, scope, &sources, &film};
+        const detail::SumGeometry g{kind, &samples, wavelength, settings, &device, scope, &sources, &film};
         // its evaluator from the evaluators' table (no points: the direct terms, none of them)
         const Summation runs = empty ? Summation::Direct : detail::summation_of(choice.evaluator);
         evaluator = detail::evaluator_row(runs, choice.gpu ? Device::Gpu : Device::Cpu).create_sum(g, choice);
-        if (!empty) detail::note_run(device, run_bits(kind, choice));
         return Result<bool>::success(true);
     }
 };
 
-SummationPlan SummationPlan::create(SumKind kind, const ApertureSamples& samples, double wavelength,
-                                    const SummationSettings& settings, const PlanScope& scope) {
+SummationPlan SummationPlan::create(const ComputeDevice& device, SumKind kind, const ApertureSamples& samples,
+                                    double wavelength, const SummationSettings& settings, const PlanScope& scope) {
     SummationPlan plan;
     plan.impl_ = std::make_shared<Impl>();
     Impl& p = *plan.impl_;
+    p.device = device;
     p.kind = kind;
     p.samples = samples;
     p.wavelength = wavelength;

@@ -83,8 +83,8 @@ double measured_term_rate(const ComputeDevice& device, int nthreads, double seco
     const auto start = clock::now();
     for (int side = 32, pass = 0; pass < 3 || elapsed < seconds; ++pass) {
         const FilmPoints film = probe_film(side);
-        SummationPlan plan = SummationPlan::create(SumKind::PinholeToFilm, samples, lambda,
-                                                   {Summation::Direct, kSummationTolerance, nthreads, device});
+        SummationPlan plan = SummationPlan::create(device, SumKind::PinholeToFilm, samples, lambda,
+                                                   {Summation::Direct, kSummationTolerance, nthreads});
         std::vector<float> out(film.size(), 0.0f);
         if (!plan.set_points(film).ok()) return measured[name] = measured_term_rate(nthreads, seconds);
         const auto begin = clock::now();

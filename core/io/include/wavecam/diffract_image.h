@@ -44,7 +44,7 @@ struct DiffractOptions {
     Aperture aperture;                             // shape (--aperture); its diameter comes from `pinhole`
     SceneSumSettings scene_sum;                    // scene-sum methods: runs, seed, jitter, film subsamples, summation
     Device device = Device::Cpu;                   // scene-sum methods: where the sums run; each job opens it
-                                                   // as scene_sum.device (compute_device.h)
+                                                   // as its handle (compute_device.h), passed to the sums
     // random-phase: the run count from the frame's PSF size (run_count.h) instead of scene_sum.runs;
     // what the fronts do unless a count is given
     bool runs_from_psf = false;

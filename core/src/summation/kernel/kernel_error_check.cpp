@@ -104,7 +104,7 @@ Result<bool> probe_kernels(const KernelSummationSpec& spec, const KernelSetup& s
                                 kernel_settings, film_scope, fields[0]);
         !r.ok())
         return r;
-    const bool on_cpu = !spec.settings.device.gpu();
+    const bool on_cpu = !setup.device->gpu();
     SummationSettings one_thread = kernel_settings;
     one_thread.nthreads = on_cpu ? 1 : spec.settings.nthreads;
     const int threads = thread_count(spec.settings.nthreads);
@@ -151,7 +151,8 @@ void check_blends(const KernelSummationGeometry& g, const ProbeCells& cells, con
 
 }  // namespace
 
-Result<KernelErrorCheck> check_kernel_error(const KernelSummationSpec& spec, double lattice_pitch, const UnitSource& unit) {
+Result<KernelErrorCheck> check_kernel_error(const ComputeDevice& device, const KernelSummationSpec& spec,
+                                            double lattice_pitch, const UnitSource& unit) {
     using R = Result<KernelErrorCheck>;
     const KernelSummationGeometry g = kernel_summation_geometry(spec);
     KernelErrorCheck check;
@@ -160,7 +161,7 @@ Result<KernelErrorCheck> check_kernel_error(const KernelSummationSpec& spec, dou
         check.tail = 0.8 * std::sqrt((1 - kernel_energy(spec)) / std::max(1, spec.runs));
     const KernelSums sums = kernel_sums(spec, g);
     const ApertureSamples samples = sample_aperture(spec.aperture, lattice_pitch);
-    const KernelSetup setup{&spec, &g, &samples, sums.to_pinhole, unit};
+    const KernelSetup setup{&spec, &g, &samples, sums.to_pinhole, unit, &device};
     const int points = spec.subsamples * spec.subsamples;
     const int axis_x = g.ax.cell_of(g.origin + c.width / 2);
     const int axis_y = g.ay.cell_of(g.origin + c.height / 2);

@@ -52,9 +52,11 @@ struct KernelErrorCheck {
 };
 
 // Fails only when a probe's sums fail (cancelled, or the device).
-Result<KernelErrorCheck> check_kernel_error(const KernelSummationSpec& spec, double lattice_pitch, const UnitSource& unit);
+Result<KernelErrorCheck> check_kernel_error(const ComputeDevice& device, const KernelSummationSpec& spec,
+                                            double lattice_pitch, const UnitSource& unit);
 // The same for a job's settings at `wavelength` (scene_summation_choice.cpp): the spec and lattice
 // its kernel runs would take, for s.nearest_depth (NaN counts as all sky).
-Result<KernelErrorCheck> kernel_error_check(const SceneSumSettings& s, const PinholeCamera& c, double wavelength);
+Result<KernelErrorCheck> kernel_error_check(const SceneSumSettings& s, const ComputeDevice& device, const PinholeCamera& c,
+                                            double wavelength);
 
 }  // namespace wavecam::detail

@@ -28,7 +28,7 @@ public:
         // progress: the kernels and the runs by their work
         const int runs = spec_.incoherent ? 1 : setup.range.run_end - setup.range.run_begin;
         pitch_ = kernel_lattice_pitch(spec_, sum.samples.pitch);
-        const KernelSummationWork work = kernel_work(s, sum, spec_, setup.nearest, pitch_);
+        const KernelSummationWork work = kernel_work(s, sum, spec_, setup.nearest, pitch_, setup.device->gpu());
         kernels_ = work.kernels / (work.kernels + runs * work.per_run);
     }
 
@@ -37,11 +37,12 @@ public:
     Result<bool> set_points(const ProgressFn& progress) override {
         const PinholeCamera& c = setup_.scene->camera;
         if (too_deep_) return too_many_layers();
-        auto make = [&] { return KernelSummation::create(spec_, pitch_, unit_sources(c), progress); };
+        auto make = [&] { return KernelSummation::create(*setup_.device, spec_, pitch_, unit_sources(c), progress); };
         KernelSummationMemo none;
         auto made = (setup_.memo ? setup_.memo : &none)->get(spec_, pitch_, make);
         if (!made.ok()) return Result<bool>::failure(made);
         conv_ = made.value;
+        if (setup_.report) setup_.report->note_runs(conv_->on_gpu());
         place_sources();
         // the far tail, in every run's mean (added with each run: a job is the sum of its shares)
         const MonochromeScene& scene = *setup_.scene;
@@ -76,7 +77,7 @@ public:
             }
             const double at = k0 * per_run;
             if (auto r = conv.run(sources_, incoherent ? 1.0 : 1.0 / s.runs, rows(), tail_.data(), irradiance,
-                                  progress_part(progress, at, at + sources_.runs * per_run));
+                                  progress_slice(progress, at, at + sources_.runs * per_run));
                 !r.ok())
                 return r;
         }

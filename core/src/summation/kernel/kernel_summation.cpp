@@ -154,6 +154,7 @@ KernelSummation::~KernelSummation() = default;
 KernelSummation::KernelSummation(KernelSummation&&) noexcept = default;
 KernelSummation& KernelSummation::operator=(KernelSummation&&) noexcept = default;
 int KernelSummation::radius() const { return impl_->g.radius; }
+bool KernelSummation::on_gpu() const { return bool(impl_->gpu); }
 int KernelSummation::domain_width() const { return impl_->g.width; }
 int KernelSummation::domain_height() const { return impl_->g.height; }
 int KernelSummation::origin() const { return impl_->g.origin; }

@@ -143,10 +143,12 @@ public:
     KernelSummation& operator=(KernelSummation&&) noexcept;
 
     // Kernels from the point sums on the pinhole lattice of `lattice_pitch` (kernel_lattice_pitch)
-    // and their spectra; fails when cancelled, or where the depth range needs more than
-    // kMaxKernelLayers layers.
-    static Result<KernelSummation> create(const KernelSummationSpec& spec, double lattice_pitch,
-                                       const UnitSource& unit_source, const ProgressFn& progress);
+    // and their spectra, on `device` (its runs there where it can hold them: on_gpu); fails when
+    // cancelled, or where the depth range needs more than kMaxKernelLayers layers.
+    static Result<KernelSummation> create(const ComputeDevice& device, const KernelSummationSpec& spec,
+                                          double lattice_pitch, const UnitSource& unit_source,
+                                          const ProgressFn& progress);
+    bool on_gpu() const;  // the runs on the device's GPU (else on the CPU)
 
     int radius() const;
     int domain_width() const;
@@ -204,7 +206,7 @@ constexpr double kKernelLatticeMargin = 4;
 double kernel_lattice_pitch(const KernelSummationSpec& spec, double frame_pitch);
 
 // The last kernel summation made (its kernels and their spectra), kept for the next call of the
-// same job that asks for the same one: a wavelength's positive and negative parts are two calls
+// same job that asks for the same one: a wavelength's positive and negative power are two calls
 // (spectral_diffraction.cpp), and its kernels are the same for both. A job's settings are
 // fixed; what may change between calls is the camera, the wavelength, the depth range and the
 // lattice, and they are the key.
@@ -223,6 +225,7 @@ private:
 
 // diffract_monochrome (scene_diffraction.h) with the job's memo: one job's calls, one at a time.
 Result<bool> diffract_monochrome(const MonochromeScene& scene, double wavelength, const SceneSumSettings& s,
-                                 float* irradiance, const ProgressFn& progress, KernelSummationMemo* memo);
+                                 const ComputeDevice& device, float* irradiance, const ProgressFn& progress,
+                                 SumReport* report, KernelSummationMemo* memo);
 
 }  // namespace wavecam::detail

@@ -18,6 +18,7 @@
 namespace wavecam::detail {
 
 struct KernelSummation::Impl {
+    ComputeDevice device;
     KernelSummationSpec spec;
     KernelSummationGeometry g;
     int threads = 1;

@@ -8,7 +8,6 @@
 #include <utility>
 
 #include "base/parallel.h"
-#include "gpu/compute_device_impl.h"
 #include "summation/choose.h"
 #include "summation/kernel/source_kernels.h"
 #include "summation/kernel/kernel_summation_impl.h"
@@ -88,7 +87,7 @@ Result<bool> sum_kernels(Impl& m, const KernelSources& sources, double lattice_p
     // how the kernels' sums are evaluated (choose.h: one source's directly)
     const KernelSums sums = kernel_sums(spec, g);
     const ApertureSamples samples = sample_aperture(spec.aperture, lattice_pitch);
-    const KernelSetup setup{&spec, &g, &samples, sums.to_pinhole, unit_source};
+    const KernelSetup setup{&spec, &g, &samples, sums.to_pinhole, unit_source, &m.device};
     std::vector<double> depths(size_t(g.layers.count));
     for (int l = 0; l < g.layers.count; ++l) depths[size_t(l)] = g.layers.inverse_depth(l);
     // Where the aperture is even along an axis, an anchor and its mirror image across the optical
@@ -108,7 +107,7 @@ Result<bool> sum_kernels(Impl& m, const KernelSources& sources, double lattice_p
     const SummationSettings& kernel_settings = sums.to_film;
     if (auto r = anchor_kernels(m, setup, depths, first, kernel_settings, film_scope, kernel); !r.ok()) return r;
     if (progress && !progress(1.0 / C)) return cancelled();
-    const bool on_cpu = !spec.settings.device.gpu();
+    const bool on_cpu = !m.device.gpu();
     SummationSettings one_thread = kernel_settings;
     one_thread.nthreads = on_cpu ? 1 : spec.settings.nthreads;
     std::atomic<int> done{1};
@@ -229,7 +228,7 @@ void blend_mean_images(Impl& m, const std::vector<Field>& kernel, const std::vec
 // two), else here; the CPU's spectra made room for.
 Result<bool> open_transforms(Impl& m) {
     KernelSummationGeometry& g = m.g;
-    const ComputeDevice& device = m.spec.settings.device;
+    const ComputeDevice& device = m.device;
     if (device.gpu()) {
         const int nx = gpu_side(g.width), ny = gpu_side(g.height);
         auto made = GpuKernelSummation::create(device, nx, ny, m.basis.rank, m.modes.count);
@@ -239,9 +238,8 @@ Result<bool> open_transforms(Impl& m) {
             g.ny = ny;
         } else if (auto off = kernel_runs_off_device(device, made.error, made.kind); !off.ok()) {
             return off;
-        }  // else the runs on the CPU, noted on the device (the output's header names both)
+        }  // else the runs on the CPU (on_gpu false: the job's report names both)
     }
-    detail::note_run(device, m.gpu ? kRanOnGpu : kRanOnCpu);
     m.fft = std::make_unique<ComplexFft2D>(g.nx, g.ny, m.threads);
     if (!m.gpu) m.spectra = BasisSpectra(m.basis.rank, m.modes.count, m.fft->size());
     return Result<bool>::success(true);
@@ -312,11 +310,13 @@ Result<bool> set_spectra(Impl& m, const std::vector<std::complex<double>>& based
 
 }  // namespace
 
-Result<KernelSummation> KernelSummation::create(const KernelSummationSpec& spec, double lattice_pitch,
-                                          const UnitSource& unit_source, const ProgressFn& progress) {
+Result<KernelSummation> KernelSummation::create(const ComputeDevice& device, const KernelSummationSpec& spec,
+                                                double lattice_pitch, const UnitSource& unit_source,
+                                                const ProgressFn& progress) {
     using R = Result<KernelSummation>;
     auto impl = std::make_unique<Impl>();
     Impl& m = *impl;
+    m.device = device;
     m.spec = spec;
     const KernelSummationGeometry& g = m.g = kernel_summation_geometry(spec);
     if (g.layers.count > kMaxKernelLayers) return R::failure(too_many_layers());

@@ -31,7 +31,7 @@ Result<bool> source_kernels(const KernelSetup& k, int px, int py, const std::vec
                     film.y.push_back(float(-c.film_distance * v));
                 }
     SummationPlan to_film =
-        SummationPlan::create(SumKind::PinholeToFilm, *k.samples, spec.wavelength, settings, film_scope);
+        SummationPlan::create(*k.device, SumKind::PinholeToFilm, *k.samples, spec.wavelength, settings, film_scope);
     if (auto r = to_film.set_points(film); !r.ok()) return r;
     film_scope.fixed_choice = true;  // every source's film points count alike: one decision
     film_scope.choice = to_film.choice();
@@ -41,7 +41,8 @@ Result<bool> source_kernels(const KernelSetup& k, int px, int py, const std::vec
     fields.assign(inverse_depths.size(), {});
     for (size_t l = 0; l < inverse_depths.size(); ++l) {
         const std::vector<PointSource> one{k.unit(px + 0.5, py + 0.5, inverse_depths[l])};
-        SummationPlan to_pinhole = SummationPlan::create(SumKind::SourcesToPinhole, *k.samples, spec.wavelength, to_source);
+        SummationPlan to_pinhole =
+            SummationPlan::create(*k.device, SumKind::SourcesToPinhole, *k.samples, spec.wavelength, to_source);
         if (auto r = to_pinhole.set_points(one); !r.ok()) return r;
         if (auto r = to_pinhole.execute(source_weights(one), field); !r.ok()) return r;
         fields[l].assign(film.size(), 0.0);

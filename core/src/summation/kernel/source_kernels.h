@@ -17,6 +17,7 @@ struct KernelSetup {
     const ApertureSamples* samples = nullptr;  // the kernels' pinhole lattice
     SummationSettings to_pinhole;             // how the source's sum is evaluated (kernel_sums)
     UnitSource unit;
+    const ComputeDevice* device = nullptr;    // where the sums run
 };
 
 // Unit sources as the point sums place them in camera c: (x, y) in camera pixels, at planar

@@ -203,7 +203,7 @@ bool NufftEvaluator::pass_to_pinhole(const LatticePass& pass, const std::vector<
     for (size_t i = 0; i < w.size(); ++i) w[i] = weights[pass.points[i]];
     PinholeField off;
     const double share = double(L.off.size()) / std::max<double>(1, samples.size()) * 0.5;
-    if (!illuminate_pinhole(L.off, weighted(pass.sources, w), wavelength, off, nthreads, progress_part(progress, 0, share)))
+    if (!illuminate_pinhole(L.off, weighted(pass.sources, w), wavelength, off, nthreads, progress_slice(progress, 0, share)))
         return false;
     std::vector<cdouble> U(size_t(L.nx) * L.ny, 0.0);
     if (L.nx > 0) {
@@ -217,7 +217,7 @@ bool NufftEvaluator::pass_to_pinhole(const LatticePass& pass, const std::vector<
         for (int q = 0; q < kNodeBatch; ++q) out[q] = lattice[q].data();
         std::vector<cdouble> base;
         std::vector<cfloat> a;
-        const bool done = walk(pass, progress_part(progress, share, 1),
+        const bool done = walk(pass, progress_slice(progress, share, 1),
                                [&](const SubAperture& part, size_t bi, const SubApertureFrequencies& fr, int j0, int batch) {
             const std::vector<size_t>& in = pass.members[bi];
             const ChebyshevBox& bx = pass.boxes[bi];
@@ -279,7 +279,7 @@ bool NufftEvaluator::pass_to_film(const LatticePass& pass, const PinholeField& f
         off.im.push_back(field.im[L.off_index[i]]);
     }
     const double share = double(L.off.size()) / std::max<double>(1, samples.size()) * 0.5;
-    if (!add_film_field({L.off, off, pass.film, wavelength}, out, nthreads, progress_part(progress, 0, share)))
+    if (!add_film_field({L.off, off, pass.film, wavelength}, out, nthreads, progress_slice(progress, 0, share)))
         return false;
     if (L.nx == 0) return true;
     std::vector<cfloat> w(size_t(L.nx) * L.ny, cfloat(0));
@@ -300,7 +300,7 @@ bool NufftEvaluator::pass_to_film(const LatticePass& pass, const PinholeField& f
     std::vector<const cfloat*> lattices(kNodeBatch);
     for (int q = 0; q < kNodeBatch; ++q) lattices[q] = g[q].data();
     std::vector<cfloat> G, coeff;
-    return walk(pass, progress_part(progress, share, 1),
+    return walk(pass, progress_slice(progress, share, 1),
                 [&](const SubAperture& part, size_t bi, const SubApertureFrequencies& fr, int j0, int batch) {
         const std::vector<size_t>& in = pass.members[bi];
         const ChebyshevBox& bx = pass.boxes[bi];
@@ -332,7 +332,7 @@ Result<bool> NufftEvaluator::sources_to_pinhole(const std::vector<cdouble>& weig
     double at = 0;
     for (const LatticePass& pass : passes_) {
         const double next = at + pass.points.size() / total;
-        if (!pass_to_pinhole(pass, weights, field, progress_part(progress, at, next))) return finished(false);
+        if (!pass_to_pinhole(pass, weights, field, progress_slice(progress, at, next))) return finished(false);
         at = next;
     }
     return finished(true);
@@ -344,7 +344,7 @@ Result<bool> NufftEvaluator::pinhole_to_film(const PinholeField& field, cdouble*
     double at = 0;
     for (const LatticePass& pass : passes_) {
         const double next = at + pass.points.size() / total;
-        const ProgressFn part = progress_part(progress, at, next);
+        const ProgressFn part = progress_slice(progress, at, next);
         if (passes_.size() == 1) {
             if (!pass_to_film(pass, field, film_field, part)) return finished(false);
         } else {
