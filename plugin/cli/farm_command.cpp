@@ -83,18 +83,6 @@ bool frame_merged(const Frame& f) {
     return in && in->spec().get_string_attribute("wavecam.job") == f.job;
 }
 
-// "0-3,5,7-8" for Slurm's --array.
-std::string index_list(const std::vector<int>& ids) {
-    std::string s;
-    for (size_t a = 0; a < ids.size();) {
-        size_t b = a;
-        while (b + 1 < ids.size() && ids[b + 1] == ids[b] + 1) ++b;
-        s += (s.empty() ? "" : ",") + std::to_string(ids[a]) + (b > a ? "-" + std::to_string(ids[b]) : "");
-        a = b + 1;
-    }
-    return s;
-}
-
 std::string self_path() {
     std::error_code ec;
     const fs::path p = fs::read_symlink("/proc/self/exe", ec);
@@ -371,6 +359,31 @@ std::vector<std::vector<int>> share_tasks(std::ostringstream& cases, const fs::p
     return pending_of;
 }
 
+// Where a frame's output is an input, the mask or another frame's output: the clash in words, else "".
+std::string frame_path_clash(const FarmFlags& flags, const std::vector<Frame>& frames) {
+    std::vector<PathUse> reads, writes;
+    if (auto a = flags.given.find("aperture"); a != flags.given.end())
+        reads.push_back({aperture_mask_file(a->second), "the --aperture mask"});
+    for (const Frame& f : frames) {
+        const std::string tag = flags.frames.empty() ? "" : " (frame " + std::to_string(f.number) + ")";
+        reads.push_back({f.input, "the render" + tag});
+        writes.push_back({f.output, "-o" + tag});
+    }
+    return path_conflict(reads, writes);
+}
+
+// The whole farm's terms in core-hours at the rate of one core measured here, and its wall time
+// with every task running at once.
+void print_farm_estimate(const FarmFlags& flags, size_t frames, double total) {
+    const double core_rate = measured_term_rate(1);
+    const double core_hours = total / core_rate / 3600;
+    std::printf("farm: %zu frame%s x %d shares = %.3g terms, about %.3g core-hours at the %.3g terms/s per core "
+                "measured here; with every task running at once, about %s\n",
+                frames, frames == 1 ? "" : "s", flags.tasks, total, core_hours, core_rate,
+                front::format_duration(total / frames / flags.tasks / (core_rate * flags.cpus)).c_str());
+    std::fflush(stdout);
+}
+
 int submit(const FarmFlags& flags) {
     if (flags.tasks < 1) return fail("--tasks: expected at least 1 share per frame", 2);
     if (flags.cpus < 1 || flags.cpus > 1024)
@@ -380,17 +393,7 @@ int submit(const FarmFlags& flags) {
     auto listed = frame_list(flags);
     if (!listed.ok()) return fail(listed.error, 2);
     std::vector<Frame>& frames = listed.value;
-    {  // no frame's output may be an input, the mask or another frame's output
-        std::vector<PathUse> reads, writes;
-        if (auto a = flags.given.find("aperture"); a != flags.given.end())
-            reads.push_back({aperture_mask_file(a->second), "the --aperture mask"});
-        for (const Frame& f : frames) {
-            const std::string tag = flags.frames.empty() ? "" : " (frame " + std::to_string(f.number) + ")";
-            reads.push_back({f.input, "the render" + tag});
-            writes.push_back({f.output, "-o" + tag});
-        }
-        if (const std::string clash = path_conflict(reads, writes); !clash.empty()) return fail(clash, 2);
-    }
+    if (const std::string clash = frame_path_clash(flags, frames); !clash.empty()) return fail(clash, 2);
 
     // The estimate, before anything is submitted: each frame's settings resolved as its task will.
     double total = 0;
@@ -424,13 +427,7 @@ int submit(const FarmFlags& flags) {
                         camera.height, wavelengths, runs, terms);
         total += terms;
     }
-    const double core_rate = measured_term_rate(1);
-    const double core_hours = total / core_rate / 3600;
-    std::printf("farm: %zu frame%s x %d shares = %.3g terms, about %.3g core-hours at the %.3g terms/s per core "
-                "measured here; with every task running at once, about %s\n",
-                frames.size(), frames.size() == 1 ? "" : "s", flags.tasks, total, core_hours, core_rate,
-                front::format_duration(total / frames.size() / flags.tasks / (core_rate * flags.cpus)).c_str());
-    std::fflush(stdout);
+    print_farm_estimate(flags, frames.size(), total);
 
     if (auto q = check_nothing_queued(flags, frames.size()); !q.ok()) return fail(q.error);
     const fs::path farm = farm_dir(flags.output);

@@ -55,4 +55,15 @@ Result<std::map<std::string, std::string>> squeue_states() {
     return Result<std::map<std::string, std::string>>::success(states);
 }
 
+std::string index_list(const std::vector<int>& ids) {
+    std::string s;
+    for (size_t a = 0; a < ids.size();) {
+        size_t b = a;
+        while (b + 1 < ids.size() && ids[b + 1] == ids[b] + 1) ++b;
+        s += (s.empty() ? "" : ",") + std::to_string(ids[a]) + (b > a ? "-" + std::to_string(ids[b]) : "");
+        a = b + 1;
+    }
+    return s;
+}
+
 }  // namespace wavecam::cli

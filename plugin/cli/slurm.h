@@ -15,6 +15,9 @@ std::string shell_quote(const std::string& text);
 // Errors carry sbatch's own message.
 Result<std::string> sbatch(const std::string& script, const std::vector<std::string>& options);
 
+// Array task indices as sbatch's --array takes them: "0-3,5,7-8".
+std::string index_list(const std::vector<int>& ids);
+
 // Every job and array task Slurm still knows, "123" or "123_4" -> state (PENDING, RUNNING, ...).
 Result<std::map<std::string, std::string>> squeue_states();
 

@@ -8,6 +8,7 @@
 
 #include "convolution/kernel_table.h"
 #include "summation/nufft/chirp_interpolation.h"
+#include "summation/kernel/gpu_run_cost.h"
 #include "summation/kernel/kernel_summation_geometry.h"
 #include "summation/nufft/lattice_nufft.h"
 #include "summation/nufft/stencil_choice.h"
@@ -209,7 +210,8 @@ KernelSums kernel_sums(const KernelSummationSpec& spec, const KernelSummationGeo
     return k;
 }
 
-KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCounts in, SumCounts out, bool on_gpu) {
+KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCounts in, SumCounts out,
+                                          const ComputeDevice& device) {
     const KernelSummationGeometry g = kernel_summation_geometry(spec);
     const double side = 2.0 * g.radius + 1, S = double(spec.subsamples) * spec.subsamples;
     const int layers = std::min(g.layers.count, kMaxKernelLayers + 1);
@@ -223,8 +225,13 @@ KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCo
     const KernelSums sums = kernel_sums(spec, g);
     KernelSummationWork w;
     w.kernels = computed * (choose_sum(in, sums.to_pinhole.summation).work +
-                            choose_sum(out, sums.to_film.summation, on_gpu).work + S * transform);
-    w.per_run = kernels * transform + (kernels + 1) * S * N * kMacCost + S * transform;
+                            choose_sum(out, sums.to_film.summation, device.gpu()).work + S * transform);
+    // a run's transforms and products, at what they cost where they run: on a GPU its
+    // power-of-two transforms, each kernel a dispatch (gpu_run_cost.h)
+    const double n = device.gpu() ? double(gpu_transform_side(g.width)) * gpu_transform_side(g.height) : N;
+    const double run_transform = kFftCost * n * std::log2(n);
+    w.per_run = gpu_run_cost(device).of(kernels * run_transform + (kernels + 1) * S * n * kMacCost + S * run_transform,
+                                        kernels);
     return w;
 }
 
@@ -342,7 +349,7 @@ SummationChoice choose_summation(const FrameSums& f, const ComputeDevice& device
         all_nufft = (c.in.nufft_work + c.out.nufft_work * f.film_share) * f.repeats;
     }
     // the kernel summation: its kernels, then every run
-    if (f.kernel_counted) c.kernel = kernel_summation_work(f.kernel, f.kernel_in, f.kernel_out, gpu);
+    if (f.kernel_counted) c.kernel = kernel_summation_work(f.kernel, f.kernel_in, f.kernel_out, device);
     // (the kernel row on the device: its estimate, the table's)
     const double kernel = f.kernel_counted ? evaluator_row(Summation::Kernel, gpu ? Device::Gpu : Device::Cpu).estimate(f, device, cs) : 0;
     const bool weighed = cs.asked == Summation::Auto && cs.weigh_kernel && f.kernel_applies && f.kernel_counted;
@@ -378,7 +385,7 @@ SummationChoice choose_summation(const FrameSums& f, const ComputeDevice& device
 
 double kernel_cost(const FrameSums& f, const ComputeDevice& device, const ChoiceSettings&) {
     if (!f.kernel_counted) return INFINITY;
-    const KernelSummationWork w = kernel_summation_work(f.kernel, f.kernel_in, f.kernel_out, device.gpu());
+    const KernelSummationWork w = kernel_summation_work(f.kernel, f.kernel_in, f.kernel_out, device);
     return w.kernels + w.per_run * f.kernel_runs;
 }
 

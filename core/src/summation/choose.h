@@ -75,7 +75,9 @@ KernelSums kernel_sums(const KernelSummationSpec& spec, const KernelSummationGeo
 struct KernelSummationWork {
     double kernels = 0, per_run = 0;
 };
-KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCounts in, SumCounts out, bool on_gpu);
+// On `device`: a GPU's runs priced at what they take there (gpu_run_cost.h).
+KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCounts in, SumCounts out,
+                                          const ComputeDevice& device);
 // Bytes a convolution holds at once: the kernels' spectra and a run's sums (on the CPU; a GPU
 // holds the same in its memory, padded to powers of two).
 double kernel_summation_bytes(const KernelSummationSpec& spec);

@@ -105,6 +105,6 @@ bool too_deep_for_kernel(double nearest, const Aperture& aperture, double wavele
 
 // The kernel summation's work: its kernels' sums counted on their own lattice of `pitch`.
 KernelSummationWork kernel_work(const SceneSumSettings& s, const SceneSum& sum, const KernelSummationSpec& spec,
-                                double nearest, double pitch, bool on_gpu);
+                                double nearest, double pitch, const ComputeDevice& device);
 
 }  // namespace wavecam::detail

@@ -111,9 +111,9 @@ bool too_deep_for_kernel(double nearest, const Aperture& aperture, double wavele
 // The kernel summation's work: its kernels' sums counted on their own lattice of `pitch`.
 detail::KernelSummationWork kernel_work(const SceneSumSettings& s, const SceneSum& sum,
                                         const detail::KernelSummationSpec& spec, double nearest, double pitch,
-                                        bool on_gpu) {
+                                        const ComputeDevice& device) {
     const FrameCounts n = frame_counts(s, sum, {spec.camera, spec.wavelength, nearest}, pitch, false);
-    return detail::kernel_summation_work(spec, n.in, n.out, on_gpu);
+    return detail::kernel_summation_work(spec, n.in, n.out, device);
 }
 
 // The kernel summation's plan-time check (kernel_error_check.h) for the settings' frame at `wavelength`.

@@ -28,7 +28,7 @@ public:
         // progress: the kernels and the runs by their work
         const int runs = spec_.incoherent ? 1 : setup.range.run_end - setup.range.run_begin;
         pitch_ = kernel_lattice_pitch(spec_, sum.samples.pitch);
-        const KernelSummationWork work = kernel_work(s, sum, spec_, setup.nearest, pitch_, setup.device->gpu());
+        const KernelSummationWork work = kernel_work(s, sum, spec_, setup.nearest, pitch_, *setup.device);
         kernels_ = work.kernels / (work.kernels + runs * work.per_run);
     }
 

@@ -10,6 +10,7 @@
 #include "base/parallel.h"
 #include "summation/choose.h"
 #include "summation/kernel/source_kernels.h"
+#include "summation/kernel/gpu_run_cost.h"
 #include "summation/kernel/kernel_summation_impl.h"
 #include "wavecam/fresnel_psf.h"
 
@@ -19,13 +20,6 @@ namespace {
 using Impl = KernelSummation::Impl;
 // A kernel, sub-point by sub-point ((2R + 1)^2 film points each): amplitudes, or powers in .real().
 using Field = std::vector<std::complex<double>>;
-
-// A transform side the GPU's FFTs take (gpu_kernel_summation.h): the next power of two.
-int gpu_side(int n) {
-    int p = 2;
-    while (p < n) p *= 2;
-    return p;
-}
 
 Result<bool> cancelled() { return Result<bool>::failure("cancelled", ErrorKind::Cancelled); }
 
@@ -230,7 +224,7 @@ Result<bool> open_transforms(Impl& m) {
     KernelSummationGeometry& g = m.g;
     const ComputeDevice& device = m.device;
     if (device.gpu()) {
-        const int nx = gpu_side(g.width), ny = gpu_side(g.height);
+        const int nx = gpu_transform_side(g.width), ny = gpu_transform_side(g.height);
         auto made = GpuKernelSummation::create(device, nx, ny, m.basis.rank, m.modes.count);
         if (made.ok()) {
             m.gpu = std::move(made.value);
