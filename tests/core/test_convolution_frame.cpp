@@ -9,6 +9,7 @@
 #include <complex>
 
 #include "wavecam/convolution_method.h"
+#include "wavecam/spectral_diffraction.h"
 
 using namespace wavecam;
 

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "wavecam/convolution_method.h"
+#include "wavecam/spectral_diffraction.h"
 
 using namespace wavecam;
 

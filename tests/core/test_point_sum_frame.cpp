@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "wavecam/convolution_method.h"
+#include "wavecam/spectral_diffraction.h"
 #include "wavecam/scene_diffraction.h"
 #include "summation_flag.h"
 

@@ -27,7 +27,10 @@
 // centimetres wide. This matches the scene-sum methods, which also sum every visible pixel.
 #pragma once
 #include <memory>
-#include "wavecam/spectral_diffraction.h"
+#include "wavecam/aperture.h"
+#include "wavecam/progress.h"
+#include "wavecam/spectral_scene.h"
+#include "wavecam/spectrum.h"
 
 namespace wavecam {
 

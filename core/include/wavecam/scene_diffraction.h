@@ -10,6 +10,7 @@
 #include "wavecam/aperture.h"
 #include "wavecam/summation_plan.h"
 #include "wavecam/pinhole_camera.h"
+#include "wavecam/spectral_scene.h"
 #include "wavecam/progress.h"
 #include "wavecam/result.h"
 
@@ -83,20 +84,6 @@ struct MonochromeScene {
     bool checked = false;    // its pixels already checked, once for the job: not again here
 };
 
-// At least 1x1 pixels, and an overscan that leaves some.
-Result<bool> check_frame(const PinholeCamera& camera, int overscan);
-
-// Every radiance (`channels` interleaved per pixel) within +-kMaxRadiance, and >= 0 where
-// `non_negative`, and every depth > 0: the first bad pixel is named with its field and what was
-// expected. The bound keeps the single-precision sums finite: a frame's worth of such sources
-// (1e30 x 1e7 pixels x the spectral basis's weights) stays below float's 3.4e38.
-constexpr float kMaxRadiance = 1e30f;
-// One pixel's values as check_pixels (and the render reader, which names channels) accept them.
-inline bool radiance_in_range(float v) { return std::fabs(v) <= kMaxRadiance; }  // NaN: false
-inline bool depth_in_range(float d) { return d > 0; }                            // NaN: false; inf: sky
-Result<bool> check_pixels(const PinholeCamera& camera, const float* radiance, int channels, bool non_negative,
-                          const float* depth);
-
 // The aperture sampling pitch used for this camera at this wavelength, its sources and film
 // points both within the frame: lambda/2, or wider when every ray between a pinhole sample and a
 // source or film point stays within theta_max of the axis: tan theta_max = tan(corner field
@@ -168,9 +155,6 @@ double scene_summation_bytes(const SceneSumSettings& s, const PinholeCamera& cam
 constexpr int kMaxFilmSubsamples = 64;
 constexpr double kPixelAverageError = 0.015;
 int auto_film_subsamples(const Aperture& aperture, const PinholeCamera& camera, double wavelength);
-
-// Nearest planar depth in the scene (for the sampling pitch); inf if all sky.
-double nearest_depth(const PinholeCamera& camera, const float* depth, DepthMeaning meaning);
 
 // Adds the film irradiance |U|^2 of the scene at `wavelength` to irradiance[width * height]
 // (output pixel (i, j) averages n x n points over the film area of pixel (i, j), the geometric

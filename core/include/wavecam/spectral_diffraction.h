@@ -4,25 +4,10 @@
 #pragma once
 #include <functional>
 #include "wavecam/scene_diffraction.h"
+#include "wavecam/spectral_scene.h"
 #include "wavecam/spectrum.h"
 
 namespace wavecam {
-
-struct SpectralScene {
-    PinholeCamera camera;
-    const float* rgb = nullptr;    // interleaved linear RGB in the basis's working space
-    const float* depth = nullptr;  // metres
-    DepthMeaning depth_meaning = DepthMeaning::Planar;
-    bool checked = false;          // its pixels already checked, once for the job (load_render)
-};
-
-// Where a frame's film image goes: XYZ interleaved, width x height, into `xyz`. `vignetting`
-// keeps the natural cos^4 fall-off; false divides it out so the result compares with an ideal
-// render.
-struct XyzOutput {
-    bool vignetting;
-    float* xyz;
-};
 
 // One wavelength's propagation: adds film irradiance for `scene` to `irradiance`.
 // diffract_monochrome is the physical one; tests substitute an ideal (delta) propagator.

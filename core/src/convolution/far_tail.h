@@ -23,7 +23,7 @@
 #pragma once
 #include "convolution/output_window.h"
 #include "convolution/kernel_table.h"
-#include "wavecam/spectral_diffraction.h"
+#include "wavecam/spectral_scene.h"
 
 namespace wavecam::detail {
 

@@ -35,14 +35,4 @@ int auto_film_subsamples(const Aperture& aperture, const PinholeCamera& camera, 
     return n;
 }
 
-double nearest_depth(const PinholeCamera& camera, const float* depth, DepthMeaning meaning) {
-    double z = INFINITY;
-    for (int j = 0; j < camera.height; ++j)
-        for (int i = 0; i < camera.width; ++i) {
-            const double d = depth[size_t(j) * camera.width + i];
-            if (d < kInfiniteDepth) z = std::min(z, camera.planar_depth(i, j, d, meaning));
-        }
-    return z;
-}
-
 }  // namespace wavecam
