@@ -59,7 +59,7 @@ def check_settings(camera, fov_degrees):
                                "e.g. 4e12")
         if w.device == 'gpu' and w.summation == 'nufft':
             raise SettingError("Device GPU with Summation NUFFT: the NUFFTs have no GPU evaluator; expected "
-                               "Summation Auto, Direct or PSF on the GPU, or Device CPU")
+                               "Summation Auto, Direct or Kernel on the GPU, or Device CPU")
     longest_nm = max(wavelengths_nm(w))
     pinhole_mm = w.pinhole_mm(camera)
     film_width_mm = 2 * film_mm * math.tan(math.radians(fov_degrees) / 2)
