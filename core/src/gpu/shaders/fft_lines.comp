@@ -4,7 +4,7 @@
 // step the width, line step 1). Radix 2, decimation in time: the line is loaded in bit-reversed
 // order into shared memory, goes through log2 n stages of butterflies
 //   a' = a + w c,  c' = a - w c,  w = exp(-+ 2 pi i k / (2 h))  (h = 2^stage, k < h),
-// and is written back in place. Unnormalised both ways, as kissfft (complex_fft2d.h). The
+// and is written back in place. Unnormalised both ways, as core's own transforms (fft/complex_fft2d.h). The
 // twiddles exp(-2 pi i j / n), j < n/2, are computed on the host in double.
 
 layout(local_size_x = 64) in;
