@@ -3,9 +3,11 @@
 // stage frees goes back to the system at once (from the allocator's heap, a 4K frame's freed
 // kernels stayed in the process and raised its peak); zero until written, as the kernel hands
 // out fresh pages, with no pass that writes the zeros first (a vector's resize wrote every byte
-// once before the work wrote it again); and on huge pages where the kernel offers them (one
-// fault a 2 MiB page instead of 512 for 4 KiB pages; page faults were a fifth of a 1080p frame's
-// time). Internal to core.
+// once before the work wrote it again). Huge pages (2 MiB) only where asked and the array is
+// large: a transform striding across tens of MB misses the TLB on small pages, but a huge page
+// costs its whole 2 MiB of zeroing at the first touch, and on virtual machines that hand free
+// memory back to their host every fresh huge page is new to the host too (a 1080p frame at 50deg
+// spent a quarter of its CPU time zeroing huge pages; on small pages 0.85x its time). Internal to core.
 #pragma once
 #include <sys/mman.h>
 
@@ -16,6 +18,8 @@
 
 namespace wavecam::detail {
 
+enum class Pages { small, huge_if_large };
+
 template <class T>
 class LargeArray {
     static_assert(std::is_trivially_destructible_v<T> && std::is_trivially_copyable_v<T>, "a LargeArray holds plain values");
@@ -23,10 +27,19 @@ class LargeArray {
 public:
     LargeArray() = default;
     // n values, each zero until written; throws std::bad_alloc as a vector does
-    explicit LargeArray(size_t n) : n_(n) {
+    explicit LargeArray(size_t n, Pages pages = Pages::small) : n_(n) {
         if (n == 0) return;
-        constexpr size_t kHugePage = size_t(2) << 20;
-        const size_t bytes = (n * sizeof(T) + kHugePage - 1) / kHugePage * kHugePage;
+        constexpr size_t kHugePage = size_t(2) << 20, kSmallPage = size_t(4) << 10;
+        constexpr size_t kHugeFrom = size_t(16) << 20;  // beyond the TLB's reach on small pages
+        const bool huge = pages == Pages::huge_if_large && n * sizeof(T) >= kHugeFrom;
+        const size_t page = huge ? kHugePage : kSmallPage;
+        const size_t bytes = (n * sizeof(T) + page - 1) / page * page;
+        if (!huge) {
+            void* raw = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+            if (raw == MAP_FAILED) throw std::bad_alloc();
+            p_ = std::unique_ptr<T[], Unmap>(static_cast<T*>(raw), Unmap{bytes});
+            return;
+        }
         // a huge page more than asked, so that the array can start on a huge page's boundary
         void* raw = ::mmap(nullptr, bytes + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
         if (raw == MAP_FAILED) throw std::bad_alloc();

@@ -227,7 +227,7 @@ void add_to_output(const float* image, const TileFrame& frame, const OutputWindo
 // its transform, the weighted image (the kernels' too, where the plan keeps no spectra), the
 // input spectra (one; one per anchor of a group where the plan keeps no kernel spectra), the
 // accumulated spectra, and one kernel's spectrum where the plan keeps none.
-// (On huge pages, base/large_array.h: a whole-domain tile's arrays are tens of MB each.)
+// (On huge pages where large, base/large_array.h: a whole-domain tile's arrays are tens of MB each.)
 struct AnchoredConvolution::TileScratch {
     RealFft2D fft;
     LargeArray<float> image, weight;
@@ -235,11 +235,11 @@ struct AnchoredConvolution::TileScratch {
     int threads = 1;  // the threads each step is spread over (RealFft2D::set_threads): 1, or a whole-domain tile's
     TileScratch(int Nx, int Ny, size_t tile_pixels, size_t spec, int inputs, bool own_kernels)
         : fft(Nx, Ny),
-          image(size_t(Nx) * Ny),
-          weight(tile_pixels),
-          in(inputs * spec),
-          acc(3 * spec),
-          own(own_kernels ? spec : 0) {}  // (zero until written)
+          image(size_t(Nx) * Ny, Pages::huge_if_large),
+          weight(tile_pixels, Pages::huge_if_large),
+          in(inputs * spec, Pages::huge_if_large),
+          acc(3 * spec, Pages::huge_if_large),
+          own(own_kernels ? spec : 0, Pages::huge_if_large) {}  // (zero until written)
 };
 
 // The anchors of one depth layer that share one computed anchor's kernels (it and its mirror

@@ -33,9 +33,9 @@ RealFft2D::RealFft2D(int width, int height)
       column_inverse_(height, true),
       row_forward_(width, false),
       row_inverse_(width, true),
-      packed_(size_t(height) * (width / 2)),
-      rows_(size_t(height / 2 + 1) * width),
-      work_(std::max(size_t(height) * (width / 2), size_t(width) * (height / 2 + 1))) {
+      packed_(size_t(height) * (width / 2), Pages::huge_if_large),
+      rows_(size_t(height / 2 + 1) * width, Pages::huge_if_large),
+      work_(std::max(size_t(height) * (width / 2), size_t(width) * (height / 2 + 1)), Pages::huge_if_large) {
     ok_ = ok_ && column_forward_.ok() && column_inverse_.ok() && row_forward_.ok() && row_inverse_.ok();
 }
 
