@@ -8,18 +8,9 @@
 namespace wavecam::detail {
 namespace {
 
-// dst (columns x rows) = the transpose of src (rows x columns), in tiles that stay in cache.
-void transpose(const std::complex<float>* src, std::complex<float>* dst, int rows, int columns, int threads) {
-    constexpr int kTile = 32;
-    parallel_for(0, (rows + kTile - 1) / kTile, threads, [&](int64_t tile) {
-        const int r0 = int(tile) * kTile;
-        for (int c0 = 0; c0 < columns; c0 += kTile) {
-            const int r1 = std::min(r0 + kTile, rows), c1 = std::min(c0 + kTile, columns);
-            for (int r = r0; r < r1; ++r)
-                for (int c = c0; c < c1; ++c) dst[size_t(c) * rows + r] = src[size_t(r) * columns + c];
-        }
-    });
-}
+// Pairs of columns unpacked (forward) or packed (inverse) together: eight complex values, one
+// cache line of a row.
+constexpr int kPairBlock = 8;
 
 }  // namespace
 
@@ -34,7 +25,6 @@ RealFft2D::RealFft2D(int width, int height)
       row_forward_(width, false),
       row_inverse_(width, true),
       packed_(size_t(height) * (width / 2), Pages::huge_if_large),
-      rows_(size_t(height / 2 + 1) * width, Pages::huge_if_large),
       work_(std::max(size_t(height) * (width / 2), size_t(width) * (height / 2 + 1)), Pages::huge_if_large) {
     ok_ = ok_ && column_forward_.ok() && column_inverse_.ok() && row_forward_.ok() && row_inverse_.ok();
 }
@@ -54,43 +44,44 @@ void RealFft2D::forward(const float* image, std::complex<float>* spectrum, int f
         if (a + count > pairs_)
             column_forward_.transform(packed_.data(), work_.data(), pairs_, 0, a + count - pairs_, T);
     }
-    // 2. each column's transform, rows ky = 0 .. height/2
-    parallel_for(0, half_, T, [&](int64_t ky_) {
-        const int ky = int(ky_);
-        const std::complex<float>* z = &packed_[size_t(ky) * pairs_];
-        const std::complex<float>* zm = &packed_[size_t((h_ - ky) % h_) * pairs_];
-        float* out = reinterpret_cast<float*>(&rows_[size_t(ky) * w_]);
-#pragma omp simd
-        for (int c = 0; c < pairs_; ++c) {
-            const float ar = z[c].real(), ai = z[c].imag(), br = zm[c].real(), bi = -zm[c].imag();
-            out[4 * c] = 0.5f * (ar + br);  // E = (a + b) / 2, b = conj Z[-ky]
-            out[4 * c + 1] = 0.5f * (ai + bi);
-            out[4 * c + 2] = 0.5f * (ai - bi);  // O = (a - b) / 2i
-            out[4 * c + 3] = -0.5f * (ar - br);
+    // 2. each column's transform, rows ky = 0 .. height/2, written straight into the spectrum's
+    // transposed layout: a block of pairs at a time, so that its reads (a few cache lines of two
+    // rows) and its writes (its columns' spectrum rows, in order) stay in cache
+    parallel_for(0, (pairs_ + kPairBlock - 1) / kPairBlock, T, [&](int64_t block) {
+        const int c0 = int(block) * kPairBlock, c1 = std::min(pairs_, c0 + kPairBlock);
+        for (int ky = 0; ky < half_; ++ky) {
+            const std::complex<float>* z = &packed_[size_t(ky) * pairs_];
+            const std::complex<float>* zm = &packed_[size_t((h_ - ky) % h_) * pairs_];
+            for (int c = c0; c < c1; ++c) {
+                const float ar = z[c].real(), ai = z[c].imag(), br = zm[c].real(), bi = -zm[c].imag();
+                // E = (a + b) / 2 (column 2c), O = (a - b) / 2i (column 2c + 1), b = conj Z[-ky]
+                spectrum[size_t(2 * c) * half_ + ky] = {0.5f * (ar + br), 0.5f * (ai + bi)};
+                spectrum[size_t(2 * c + 1) * half_ + ky] = {0.5f * (ai - bi), -0.5f * (ar - br)};
+            }
         }
     });
     // 3. across: the transposed rows' columns
-    transpose(rows_.data(), spectrum, half_, w_, T);
     row_forward_.transform(spectrum, work_.data(), half_, 0, half_, T);
 }
 
 void RealFft2D::inverse(std::complex<float>* spectrum, float* image) {
     const int T = threads_;
     row_inverse_.transform(spectrum, work_.data(), half_, 0, half_, T);
-    transpose(spectrum, rows_.data(), w_, half_, T);
-    // the column pairs, the negative ky rows as conjugates: z = E + i O
+    // the column pairs, the negative ky rows as conjugates: z = E + i O, read from the spectrum's
+    // transposed layout a block of pairs at a time (as forward's step 2)
     std::complex<float>* packed = reinterpret_cast<std::complex<float>*>(image);
-    parallel_for(0, h_, T, [&](int64_t ky_) {
-        const int ky = int(ky_);
-        const bool mirrored = ky >= half_;
-        const float* in = reinterpret_cast<const float*>(&rows_[size_t(mirrored ? h_ - ky : ky) * w_]);
-        const float sign = mirrored ? -1.0f : 1.0f;  // conjugated
-        float* out = reinterpret_cast<float*>(&packed[size_t(ky) * pairs_]);
-#pragma omp simd
-        for (int c = 0; c < pairs_; ++c) {
-            const float er = in[4 * c], ei = sign * in[4 * c + 1], orr = in[4 * c + 2], oi = sign * in[4 * c + 3];
-            out[2 * c] = er - oi;
-            out[2 * c + 1] = ei + orr;
+    parallel_for(0, (pairs_ + kPairBlock - 1) / kPairBlock, T, [&](int64_t block) {
+        const int c0 = int(block) * kPairBlock, c1 = std::min(pairs_, c0 + kPairBlock);
+        for (int ky = 0; ky < h_; ++ky) {
+            const bool mirrored = ky >= half_;
+            const int row = mirrored ? h_ - ky : ky;
+            const float sign = mirrored ? -1.0f : 1.0f;  // conjugated
+            std::complex<float>* out = &packed[size_t(ky) * pairs_];
+            for (int c = c0; c < c1; ++c) {
+                const std::complex<float> e = spectrum[size_t(2 * c) * half_ + row], o = spectrum[size_t(2 * c + 1) * half_ + row];
+                const float er = e.real(), ei = sign * e.imag(), orr = o.real(), oi = sign * o.imag();
+                out[c] = {er - oi, ei + orr};
+            }
         }
     });
     column_inverse_.transform(packed, work_.data(), pairs_, 0, pairs_, T);

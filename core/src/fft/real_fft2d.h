@@ -48,7 +48,7 @@ private:
     int w_, h_, pairs_, half_, threads_ = 1;
     bool ok_;
     ColumnFft column_forward_, column_inverse_, row_forward_, row_inverse_;
-    LargeArray<std::complex<float>> packed_, rows_, work_;
+    LargeArray<std::complex<float>> packed_, work_;
 };
 
 }  // namespace wavecam::detail
