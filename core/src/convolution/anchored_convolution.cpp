@@ -197,6 +197,51 @@ void multiply_add(const std::complex<float>* in, const AnchoredConvolution::Kern
     });
 }
 
+// acc_q += sum_p in_p K_{3p+q} for the three primaries p and channels q at once (kv: the first of
+// an anchor's nine kernel spectra, the others after it, spec apart; in and acc: three spectra
+// each, spec apart): each value of the inputs and of acc read once, not three times (these sums
+// are bound by memory), and each acc value's three terms added in the same order as
+// multiply_add's one primary at a time.
+__attribute__((target_clones("avx2", "default"))) void multiply_add_primaries_row(const float* const* x,
+                                                                                   const float* const* k, float* const* a,
+                                                                                   int half, float sign) {
+    for (int q = 0; q < 3; ++q) {
+        float* aq = a[q];
+        const float *x0 = x[0], *x1 = x[1], *x2 = x[2], *k0 = k[q], *k1 = k[3 + q], *k2 = k[6 + q];
+#pragma omp simd
+        for (int e = 0; e < half; ++e) {
+            float re = aq[2 * e], im = aq[2 * e + 1];
+            const float kr0 = k0[2 * e], ki0 = sign * k0[2 * e + 1];
+            re += x0[2 * e] * kr0 - x0[2 * e + 1] * ki0;
+            im += x0[2 * e] * ki0 + x0[2 * e + 1] * kr0;
+            const float kr1 = k1[2 * e], ki1 = sign * k1[2 * e + 1];
+            re += x1[2 * e] * kr1 - x1[2 * e + 1] * ki1;
+            im += x1[2 * e] * ki1 + x1[2 * e + 1] * kr1;
+            const float kr2 = k2[2 * e], ki2 = sign * k2[2 * e + 1];
+            re += x2[2 * e] * kr2 - x2[2 * e + 1] * ki2;
+            im += x2[2 * e] * ki2 + x2[2 * e + 1] * kr2;
+            aq[2 * e] = re;
+            aq[2 * e + 1] = im;
+        }
+    }
+}
+
+void multiply_add_primaries(const std::complex<float>* in, size_t spec, const AnchoredConvolution::KernelView& kv,
+                            std::complex<float>* acc, int N, int half, int threads) {
+    const float sign = kv.conjugate ? -1.0f : 1.0f;
+    parallel_for(0, N, threads, [&](int64_t r) {
+        const size_t row = size_t(r) * half, kernel_row = size_t(kv.flip_rows ? (N - r) % N : r) * half;
+        const float *x[3], *k[9];
+        float* a[3];
+        for (int p = 0; p < 3; ++p) {
+            x[p] = reinterpret_cast<const float*>(&in[p * spec + row]);
+            a[p] = reinterpret_cast<float*>(&acc[p * spec + row]);
+        }
+        for (int m = 0; m < 9; ++m) k[m] = reinterpret_cast<const float*>(kv.data + m * spec + kernel_row);
+        multiply_add_primaries_row(x, k, a, half, sign);
+    });
+}
+
 // A tile's FFT frame: width x height, holding the tile's sources `bounds` and the R pixels its
 // kernels spread beyond them (wrapped).
 struct TileFrame {
@@ -296,11 +341,8 @@ void AnchoredConvolution::add_group(const DomainSources& src, const TileBounds& 
         for (const int anchor : g.anchors) {
             const LitColumns lit = weights(anchor);
             if (lit.first >= lit.last) continue;
-            for (int p = 0; p < 3; ++p) {
-                light_spectrum(src, b, lit.first, lit.last, p, s, s.in.data());
-                for (int q = 0; q < 3; ++q)
-                    multiply_add(s.in.data(), spectrum(g.layer, anchor, 3 * p + q), &s.acc[q * spec], Nx, half, s.threads);
-            }
+            for (int p = 0; p < 3; ++p) light_spectrum(src, b, lit.first, lit.last, p, s, &s.in[p * spec]);
+            multiply_add_primaries(s.in.data(), spec, spectrum(g.layer, anchor, 0), s.acc.data(), Nx, half, s.threads);
         }
         return;
     }
@@ -348,8 +390,9 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
     for (int k = 0; k < ntx; ++k) widest = std::max(widest, edges_x_[k + 1] - edges_x_[k]);
     for (int k = 0; k < nty; ++k) tallest = std::max(tallest, edges_y_[k + 1] - edges_y_[k]);
     const size_t tile_pixels = size_t(widest) * tallest;
-    // input spectra: one, or, where each group's kernels are transformed, one per anchor of the largest group
-    int inputs = 1;
+    // input spectra: the three primaries', or, where each group's kernels are transformed, one per
+    // anchor of the largest group
+    int inputs = own_kernels ? 1 : 3;
     for (int a = 0; a < table_.anchors() && own_kernels; ++a)
         inputs = std::max<int>(inputs, std::count(table_.source.begin(), table_.source.end(), table_.source[a]));
     ProgressTicker ticker(progress, double(ntx) * nty);
