@@ -34,20 +34,19 @@ public:
         const bool huge = pages == Pages::huge_if_large && n * sizeof(T) >= kHugeFrom;
         const size_t page = huge ? kHugePage : kSmallPage;
         const size_t bytes = (n * sizeof(T) + page - 1) / page * page;
-        if (!huge) {
-            void* raw = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-            if (raw == MAP_FAILED) throw std::bad_alloc();
-            p_ = std::unique_ptr<T[], Unmap>(static_cast<T*>(raw), Unmap{bytes});
-            return;
-        }
-        // a huge page more than asked, so that the array can start on a huge page's boundary
-        void* raw = ::mmap(nullptr, bytes + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        // on huge pages, a huge page more than asked, so that the array can start on a huge
+        // page's boundary
+        const size_t extra = huge ? kHugePage : 0;
+        void* raw = ::mmap(nullptr, bytes + extra, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
         if (raw == MAP_FAILED) throw std::bad_alloc();
-        const uintptr_t first = (reinterpret_cast<uintptr_t>(raw) + kHugePage - 1) / kHugePage * kHugePage;
-        const size_t head = first - reinterpret_cast<uintptr_t>(raw);
-        if (head > 0) ::munmap(raw, head);
-        if (kHugePage - head > 0) ::munmap(reinterpret_cast<void*>(first + bytes), kHugePage - head);
-        ::madvise(reinterpret_cast<void*>(first), bytes, MADV_HUGEPAGE);  // advice only: the array works without
+        uintptr_t first = reinterpret_cast<uintptr_t>(raw);
+        if (huge) {
+            first = (first + kHugePage - 1) / kHugePage * kHugePage;
+            const size_t head = first - reinterpret_cast<uintptr_t>(raw);
+            if (head > 0) ::munmap(raw, head);
+            if (kHugePage - head > 0) ::munmap(reinterpret_cast<void*>(first + bytes), kHugePage - head);
+            ::madvise(reinterpret_cast<void*>(first), bytes, MADV_HUGEPAGE);  // advice only: the array works without
+        }
         p_ = std::unique_ptr<T[], Unmap>(reinterpret_cast<T*>(first), Unmap{bytes});
     }
 

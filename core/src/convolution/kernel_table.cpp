@@ -168,8 +168,6 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
         c.tangent(t.ax.knots[kx] - spec.origin, t.ay.knots[ky] - spec.origin, q.u, q.v);
         q.pixel_pitch = c.pixel_pitch();
         const double cos_anchor = 1.0 / std::sqrt(1.0 + q.u * q.u + q.v * q.v);
-        // longest wavelength first: its transfer grid is the widest, and the shorter ones then
-        // reuse its pupil spectrum (fresnel_transfer.cpp, PupilSpectrum)
         // each PSF only as large as its own depth, field angle and wavelength need (the cost
         // grows as its area), centred in the table's common size
         std::vector<int> radius(S);
@@ -184,6 +182,8 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
         for (int k = 0; k < 9; ++k)
             std::fill_n(&t.weights[size_t(t.kernel_index(l, a, k)) * ksize + size_t(t.radius - widest) * tw],
                         size_t(2 * widest + 1) * tw, 0.0f);
+        // longest wavelength first: its transfer grid is the widest, and the shorter ones then
+        // reuse its pupil spectrum (fresnel_transfer.cpp, PupilSpectrum)
         std::vector<int> order(S);
         for (int s = 0; s < S; ++s) order[s] = s;
         std::sort(order.begin(), order.end(),

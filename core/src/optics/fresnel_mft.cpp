@@ -168,51 +168,41 @@ AxisMatrix axis_matrix(const std::vector<double>& xi, double rate, const FieldPs
     return matrix;
 }
 
+// Columns of the radial stage's blocks: tmp's rows are padded (with zeros) to a whole number.
+constexpr int kPowerColumns = 8;
+
 // The radial transform and its power: power[or][ot] = |sum_ir M_r[or][ir] tmp[ir][ot]|^2, four
-// output rows by eight columns at a time held in registers (each value's terms are added in the
-// same order as one row at a time, so the sums are the same).
+// output rows by eight columns at a time held in registers, in GCC's vector extension (one AVX
+// register, or two SSE ones in the baseline clone); each value's terms are added in the same
+// order as one row at a time, so the sums are the same. tmp's rows are `stride` long (m padded
+// to whole blocks); a block's rows past the last repeat it, and what they and the padding give
+// is not written.
 __attribute__((target_clones("avx2", "default"))) void radial_power(const AxisMatrix& mr, const float* tmp_re,
                                                                      const float* tmp_im, int nr, int m,
-                                                                     float* power) {
-    constexpr int kRows = 4, kCols = 8;
+                                                                     size_t stride, float* power) {
+    constexpr int kRows = 4, kCols = kPowerColumns;
+    typedef float Lanes __attribute__((vector_size(kCols * sizeof(float))));
     for (int o0 = 0; o0 < m; o0 += kRows)
         for (int c0 = 0; c0 < m; c0 += kCols) {
-            const int rows = std::min(kRows, m - o0), cols = std::min(kCols, m - c0);
-            float re[kRows][kCols] = {}, im[kRows][kCols] = {};
-            if (rows == kRows && cols == kCols) {
-                // GCC's vector extension: eight lanes (one AVX register, or two SSE ones in the
-                // baseline clone)
-                typedef float Lanes __attribute__((vector_size(kCols * sizeof(float))));
-                Lanes vr[kRows] = {}, vi[kRows] = {};
-                for (int ir = 0; ir < nr; ++ir) {
-                    Lanes br, bi;
-                    std::memcpy(&br, tmp_re + size_t(ir) * m + c0, sizeof br);
-                    std::memcpy(&bi, tmp_im + size_t(ir) * m + c0, sizeof bi);
-                    for (int k = 0; k < kRows; ++k) {
-                        const float ar = mr.re[size_t(o0 + k) * nr + ir], ai = mr.im[size_t(o0 + k) * nr + ir];
-                        vr[k] += ar * br - ai * bi;
-                        vi[k] += ar * bi + ai * br;
-                    }
-                }
-                for (int k = 0; k < kRows; ++k)
-                    for (int j = 0; j < kCols; ++j) {
-                        re[k][j] = vr[k][j];
-                        im[k][j] = vi[k][j];
-                    }
-            } else {
-                for (int ir = 0; ir < nr; ++ir)
-                    for (int k = 0; k < rows; ++k) {
-                        const float ar = mr.re[size_t(o0 + k) * nr + ir], ai = mr.im[size_t(o0 + k) * nr + ir];
-                        for (int j = 0; j < cols; ++j) {
-                            const float br = tmp_re[size_t(ir) * m + c0 + j], bi = tmp_im[size_t(ir) * m + c0 + j];
-                            re[k][j] += ar * br - ai * bi;
-                            im[k][j] += ar * bi + ai * br;
-                        }
-                    }
+            const float *row_re[kRows], *row_im[kRows];
+            for (int k = 0; k < kRows; ++k) {
+                row_re[k] = &mr.re[size_t(std::min(o0 + k, m - 1)) * nr];
+                row_im[k] = &mr.im[size_t(std::min(o0 + k, m - 1)) * nr];
             }
-            for (int k = 0; k < rows; ++k)
-                for (int j = 0; j < cols; ++j)
-                    power[size_t(o0 + k) * m + c0 + j] = re[k][j] * re[k][j] + im[k][j] * im[k][j];
+            Lanes vr[kRows] = {}, vi[kRows] = {};
+            for (int ir = 0; ir < nr; ++ir) {
+                Lanes br, bi;
+                std::memcpy(&br, tmp_re + size_t(ir) * stride + c0, sizeof br);
+                std::memcpy(&bi, tmp_im + size_t(ir) * stride + c0, sizeof bi);
+                for (int k = 0; k < kRows; ++k) {
+                    const float ar = row_re[k][ir], ai = row_im[k][ir];
+                    vr[k] += ar * br - ai * bi;
+                    vi[k] += ar * bi + ai * br;
+                }
+            }
+            for (int k = 0; k < std::min(kRows, m - o0); ++k)
+                for (int j = 0; j < std::min(kCols, m - c0); ++j)
+                    power[size_t(o0 + k) * m + c0 + j] = vr[k][j] * vr[k][j] + vi[k][j] * vi[k][j];
         }
 }
 
@@ -220,7 +210,8 @@ __attribute__((target_clones("avx2", "default"))) void radial_power(const AxisMa
 // M_t[ot][it], then Q[or][ot] = sum_ir M_r[or][ir] tmp[ir][ot].
 std::vector<float> transform_power(const PupilGrid& pupil, const AxisMatrix& mr, const AxisMatrix& mt, int m) {
     const int nr = int(pupil.xi_r.size()), nt = int(pupil.xi_t.size());
-    std::vector<float> tmp_re(size_t(nr) * m), tmp_im(size_t(nr) * m);
+    const size_t stride = size_t(m + kPowerColumns - 1) / kPowerColumns * kPowerColumns;
+    std::vector<float> tmp_re(nr * stride), tmp_im(nr * stride);
     for (int ir = 0; ir < nr; ++ir)
         for (int o = 0; o < m; ++o) {
             const float* a = &pupil.open[size_t(ir) * nt];
@@ -232,11 +223,11 @@ std::vector<float> transform_power(const PupilGrid& pupil, const AxisMatrix& mr,
                 sr += a[it] * br[it];
                 si += a[it] * bi[it];
             }
-            tmp_re[size_t(ir) * m + o] = sr;
-            tmp_im[size_t(ir) * m + o] = si;
+            tmp_re[ir * stride + o] = sr;
+            tmp_im[ir * stride + o] = si;
         }
     std::vector<float> power(size_t(m) * m);
-    radial_power(mr, tmp_re.data(), tmp_im.data(), nr, m, power.data());
+    radial_power(mr, tmp_re.data(), tmp_im.data(), nr, m, stride, power.data());
     return power;
 }
 
@@ -319,27 +310,26 @@ std::vector<float> average_over_pixels(const FieldPsfRequest& q, const FieldGeom
     // at any rotation: only the points within that reach are summed (pixels far wider than
     // the PSF - a long film distance, a tiny frame - would otherwise cost points^2 each).
     const double reach = std::sqrt(2.0) * (film.plan.half + 1) * film.plan.step;
-    auto points_within = [&](int k, int& first, int& last) {
-        first = 0;
-        last = sub;
-        while (first < sub && offset[size_t(k) * sub + first] < -reach) ++first;
-        while (last > first && offset[size_t(k) * sub + last - 1] > reach) --last;
+    // the points of [begin, end) within that reach: [first, last) (the offsets increase)
+    auto within = [&](int begin, int end, int& first, int& last) {
+        first = begin;
+        last = end;
+        while (first < end && offset[first] < -reach) ++first;
+        while (last > first && offset[last - 1] > reach) --last;
     };
-    // the points within reach along a row: [first, last) of the row's w * sub
     const int n = w * sub;
-    int first = 0, last = n;
-    while (first < n && offset[first] < -reach) ++first;
-    while (last > first && offset[last - 1] > reach) --last;
-    std::vector<int> a0(w), a1(w);
-    for (int a = 0; a < w; ++a) points_within(a, a0[a], a1[a]);
+    int first, last;  // along a row
+    within(0, n, first, last);
+    std::vector<int> p0(w), p1(w);  // pixel k's
+    for (int k = 0; k < w; ++k) within(k * sub, (k + 1) * sub, p0[k], p1[k]);
     // each pixel's sum over its rows of points, then its columns, in that order
     std::vector<double> value(n), sum(w);
     for (int b = 0; b < w; ++b) {
         std::fill(sum.begin(), sum.end(), 0.0);
-        for (int sb = a0[b]; sb < a1[b]; ++sb) {
-            film_row(film, g.er_x, g.er_y, offset.data(), offset[size_t(b) * sub + sb], first, last, value.data());
+        for (int pb = p0[b]; pb < p1[b]; ++pb) {
+            film_row(film, g.er_x, g.er_y, offset.data(), offset[pb], first, last, value.data());
             for (int a = 0; a < w; ++a)
-                for (int sa = a0[a]; sa < a1[a]; ++sa) sum[a] += value[size_t(a) * sub + sa];
+                for (int pa = p0[a]; pa < p1[a]; ++pa) sum[a] += value[pa];
         }
         for (int a = 0; a < w; ++a) weight[size_t(b) * w + a] = float(sum[a] / (sub * sub) * pixel_area);
     }
