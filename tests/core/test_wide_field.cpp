@@ -103,16 +103,20 @@ int half_window(const Case& c, const test::RsStar& s) {
 }
 int film_points(const Case& c) { return std::clamp(int(std::ceil(16 / c.airy_px())), 2, 8); }
 
-// One image of the stars (all on one camera and pinhole), white light of one wavelength each.
-std::vector<float> convolution_image(const std::vector<test::RsStar>& stars) {
+// One image of the stars (all on one camera and pinhole), white light of one wavelength each;
+// `in_directions`: whether the plan convolved in direction cosines.
+std::vector<float> convolution_image(const std::vector<test::RsStar>& stars, bool* in_directions = nullptr) {
     const test::RsStar& s = stars.front();
     const int w = s.camera.width, h = s.camera.height;
     const SpectralBasis basis = make_spectral_basis(explicit_sampling({s.wavelength}).value, kXyzTo709).value;
     std::vector<float> rgb(3 * size_t(w) * h, 0.0f), depth(size_t(w) * h, float(s.depth)), xyz(rgb.size());
     for (const test::RsStar& star : stars)
         for (int k = 0; k < 3; ++k) rgb[3 * (size_t(star.j) * w + star.i) + k] = 1.0f;
-    auto r = diffract_convolution({s.camera, rgb.data(), depth.data(), DepthMeaning::Planar}, basis,
-                                  {ApertureShape::Circle, s.diameter}, {false, xyz.data()});
+    auto plan = ConvolutionPlan::create({s.camera, 0, {ApertureShape::Circle, s.diameter}, basis, 1 / s.depth, {}});
+    EXPECT_TRUE(plan.ok()) << plan.error;
+    if (!plan.ok()) return xyz;
+    if (in_directions) *in_directions = plan.value->in_directions();
+    auto r = plan.value->apply({s.camera, rgb.data(), depth.data(), DepthMeaning::Planar}, true, xyz.data());
     EXPECT_TRUE(r.ok()) << r.error;
     return xyz;
 }
@@ -215,6 +219,30 @@ TEST(WideField, ConvolutionMethodMatchesTheRayleighSommerfeldIntegral) {
             const int half = half_window(cases[k], s), n = film_points(cases[k]);
             expect_within(compare(window(out, s.camera.width, 3, 1, s, half), test::rs_window(s, half, n), s, half),
                           "convolution, " + cases[k].name());
+        }
+    }
+}
+
+// Pinholes far below the optimum (Airy cores of 14 px on the axis, Fresnel numbers of 0.001-0.03)
+// convolve in direction cosines, one kernel for every field: stars on the axis and 48-51 deg off
+// it in frames of 60 to 120 deg, where the PSF on the film is 3.4-3.9 times wider radially.
+TEST(WideField, ConvolutionInDirectionCosinesMatchesTheRayleighSommerfeldIntegral) {
+    const Case cases[] = {
+        {256, 60, 50, 0.0106, INFINITY, 0.9}, {320, 90, 50, 0.0077, INFINITY, 0}, {320, 90, 50, 0.0077, INFINITY, 0.8},
+        {240, 120, 10, 0.0033, INFINITY, 0},  {240, 120, 10, 0.0033, INFINITY, -0.5},
+    };
+    // (a star apart from the others' windows shares their frame; these windows are wide)
+    for (const auto& [first, last] : frames(cases, sizeof cases / sizeof cases[0], true)) {
+        std::vector<test::RsStar> stars;
+        for (size_t k = first; k < last; ++k) stars.push_back(cases[k].star());
+        bool in_directions = false;
+        const auto out = convolution_image(stars, &in_directions);
+        EXPECT_TRUE(in_directions) << cases[first].name();
+        for (size_t k = first; k < last; ++k) {
+            const test::RsStar& s = stars[k - first];
+            const int half = half_window(cases[k], s), n = film_points(cases[k]);
+            expect_within(compare(window(out, s.camera.width, 3, 1, s, half), test::rs_window(s, half, n), s, half),
+                          "convolution in directions, " + cases[k].name());
         }
     }
 }

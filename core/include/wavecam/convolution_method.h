@@ -12,7 +12,10 @@
 // Each source is spread by the PSF interpolated at its own position: bilinearly over the
 // field anchors and linearly in 1/z between its two depth layers, so a source's light never
 // changes when it crosses a tile boundary (no seams). Kernels hold a stated fraction of the
-// PSF's energy (fresnel_psf.h, psf_kernel_radius); what lies beyond is lost, not folded back.
+// PSF's energy (fresnel_psf.h, psf_kernel_radius); what lies beyond is spread as the far tail.
+// For a pinhole in the Fraunhofer regime (a PSF no source depth changes) the PSF is one function
+// of the difference of direction cosines at every field, and the plan convolves there instead:
+// once for the whole frame, no anchors (in_directions).
 //
 // The frame's edge. Film pixels near the border receive light from scene points outside the
 // frame. The plan's source domain is the output frame widened by the kernel radius on every
@@ -69,6 +72,10 @@ public:
     Result<bool> apply(const SpectralScene& scene, bool vignetting, float* xyz, const ProgressFn& progress = {}) const;
 
     int kernel_radius() const;
+    // Whether the plan convolves in direction cosines: one shift-invariant convolution, for a
+    // pinhole in the Fraunhofer regime whose PSF core spans several pixels, where that costs less
+    // than the field anchors (the same PSFs; core/src/convolution/direction_convolution.h).
+    bool in_directions() const;
     // The kernel radius (pixels) a plan for `spec` takes, without building it; 0 when none can be made.
     static int kernel_radius(const ConvolutionPlanSpec& spec);
     // Bytes a plan for `spec` and one frame's work need at their peak, without building it.

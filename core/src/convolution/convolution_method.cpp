@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "base/parallel.h"
 #include "convolution/anchored_convolution.h"
+#include "convolution/direction_convolution.h"
 #include "convolution/far_tail.h"
 #include "fft/column_fft.h"  // fft_friendly_size
 #include "wavecam/edge_continuation.h"
@@ -14,10 +16,19 @@
 
 namespace wavecam {
 
+// One of two evaluations of the same convolution: over field anchors on the film
+// (anchored_convolution.h), or, for a pinhole in the Fraunhofer regime where it costs less, as
+// one shift-invariant convolution in direction cosines (direction_convolution.h).
 struct ConvolutionPlan::Impl {
     ConvolutionPlanSpec spec;
-    detail::AnchoredConvolution convolution;
+    std::optional<detail::AnchoredConvolution> anchored;
+    std::optional<detail::DirectionConvolution> directions;
     int origin = 0;  // camera pixel coordinate of the source domain's pixel (0, 0), negated
+    int radius = 0;  // the source domain's margin beyond the output frame (pixels)
+    int tile = 0;
+    bool tiles_on_cells = false;
+    // the anchored kernels' table, or the direction kernels' one-cell table: the far tail's deficits
+    const detail::KernelTable& tail_table() const { return anchored ? anchored->table() : directions->tail_table(); }
 };
 
 namespace {
@@ -75,13 +86,29 @@ double transform_work(const detail::KernelTableSpec& t) {
 
 ConvolutionPlan::ConvolutionPlan(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 ConvolutionPlan::~ConvolutionPlan() = default;
-int ConvolutionPlan::kernel_radius() const { return impl_->convolution.table().radius; }
+int ConvolutionPlan::kernel_radius() const { return impl_->radius; }
+bool ConvolutionPlan::in_directions() const { return impl_->directions.has_value(); }
 
 namespace {
 
-// The plan's geometry: kernel radius, source domain, tiles, anchors and depth layers.
-Result<detail::KernelTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
-    using R = Result<detail::KernelTableSpec>;
+// The plan's geometry: kernel radius, source domain, tiles, anchors and depth layers; and the
+// evaluation: `cell` > 0 where it is the convolution in direction cosines, on cells of that many
+// axis pixels.
+struct PlanGeometry {
+    detail::KernelTableSpec t;
+    double cell = 0;
+};
+
+// Transform work of the convolution in direction cosines: three forward transforms, nine of
+// kernels and three back, of the grid's size.
+double direction_work(const detail::KernelTableSpec& t, double cell) {
+    const detail::DirectionGrid g = detail::DirectionGrid::covering(t, cell);
+    const double points = double(g.fft_width) * g.fft_height;
+    return 15 * points * std::log2(points);
+}
+
+Result<PlanGeometry> plan_geometry(const ConvolutionPlanSpec& spec) {
+    using R = Result<PlanGeometry>;
     const PinholeCamera& c = spec.camera;
     const int o = spec.overscan;
     if (auto v = check_frame(c, o); !v.ok()) return R::failure(v);
@@ -152,20 +179,28 @@ Result<detail::KernelTableSpec> plan_geometry(const ConvolutionPlanSpec& spec) {
             }
     }
     t.nthreads = detail::thread_count(spec.settings.nthreads);
-    return R::success(t);
+    // In the Fraunhofer regime the same convolution in direction cosines, where it costs less
+    // (a small pinhole's wide kernels: a whole-domain tile meeting every anchor)
+    PlanGeometry g{t, 0.0};
+    if (spec.settings.tile <= 0)
+        if (const double cell = detail::fraunhofer_cell(t, spec.max_inverse_depth);
+            cell > 0 && direction_work(t, cell) < transform_work(t))
+            g.cell = cell;
+    return R::success(g);
 }
 
 }  // namespace
 
 int ConvolutionPlan::kernel_radius(const ConvolutionPlanSpec& spec) {
     auto g = plan_geometry(spec);
-    return g.ok() ? g.value.radius : 0;
+    return g.ok() ? g.value.t.radius : 0;
 }
 
 double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
     auto g = plan_geometry(spec);
     if (!g.ok()) return 0;
-    const detail::KernelTableSpec& t = g.value;
+    const detail::KernelTableSpec& t = g.value.t;
+    if (g.value.cell > 0) return detail::DirectionConvolution::estimate_bytes(t, g.value.cell);
     const detail::AnchorAxis ax = detail::anchor_axis(t, false), ay = detail::anchor_axis(t, true);
     const double side = 2.0 * t.radius + 1, nx = detail::convolution_fft_length(t.tile, t.radius, t.domain_width),
                  ny = detail::convolution_fft_length(t.tile, t.radius, t.domain_height);
@@ -218,16 +253,22 @@ Result<std::shared_ptr<const ConvolutionPlan>> ConvolutionPlan::create(const Con
     using R = Result<std::shared_ptr<const ConvolutionPlan>>;
     auto geometry = plan_geometry(spec);
     if (!geometry.ok()) return R::failure(geometry.error);
-    detail::KernelTableSpec& t = geometry.value;
-    const int threads = t.nthreads;
-    // progress: the kernel table is most of the work, the kernels' transforms the rest
-    auto table = detail::build_kernel_table(t, progress_slice(progress, 0.0, 0.8));
-    if (!table.ok()) return R::failure(table.error);
-    auto conv = detail::AnchoredConvolution::create(std::move(table.value), t.tile, t.tiles_on_cells, t.domain_width,
-                                                    t.domain_height, threads, spec.settings.tile_memory,
-                                                    progress_slice(progress, 0.8, 1.0));
-    if (!conv.ok()) return R::failure(conv.error);
-    auto impl = std::make_unique<Impl>(Impl{spec, std::move(conv.value), t.origin});
+    detail::KernelTableSpec& t = geometry.value.t;
+    auto impl = std::make_unique<Impl>(Impl{spec, std::nullopt, std::nullopt, t.origin, t.radius, t.tile, t.tiles_on_cells});
+    if (geometry.value.cell > 0) {
+        auto conv = detail::DirectionConvolution::create(t, geometry.value.cell, progress);
+        if (!conv.ok()) return R::failure(conv.error);
+        impl->directions = std::move(conv.value);
+    } else {
+        // progress: the kernel table is most of the work, the kernels' transforms the rest
+        auto table = detail::build_kernel_table(t, progress_slice(progress, 0.0, 0.8));
+        if (!table.ok()) return R::failure(table.error);
+        auto conv = detail::AnchoredConvolution::create(std::move(table.value), t.tile, t.tiles_on_cells, t.domain_width,
+                                                        t.domain_height, t.nthreads, spec.settings.tile_memory,
+                                                        progress_slice(progress, 0.8, 1.0));
+        if (!conv.ok()) return R::failure(conv.error);
+        impl->anchored = std::move(conv.value);
+    }
     return R::success(std::shared_ptr<const ConvolutionPlan>(new ConvolutionPlan(std::move(impl))));
 }
 
@@ -239,21 +280,23 @@ bool ConvolutionPlan::serves(const ConvolutionPlanSpec& s) const {
           s.settings.tile_memory == p.settings.tile_memory &&
           same_basis(s.basis, p.basis)))
         return false;
-    // the frame's depth range must lead to this very plan (kernel radius, layers, tiles), so that
-    // a frame's image never depends on the frames before it
+    // the frame's depth range must lead to this very plan (kernel radius, layers, tiles, the
+    // evaluation), so that a frame's image never depends on the frames before it
     auto g = plan_geometry(s);
-    const detail::KernelTable& t = impl_->convolution.table();
-    return g.ok() && g.value.radius == t.radius && g.value.layers.count == t.layers.count &&
-           g.value.layers.step == t.layers.step && g.value.tile == impl_->convolution.tile() &&
-           g.value.tiles_on_cells == impl_->convolution.tiles_on_cells();
+    const detail::KernelTable& t = impl_->tail_table();
+    const detail::KernelTableSpec& n = g.value.t;
+    return g.ok() && n.radius == impl_->radius && n.layers.count == t.layers.count && n.layers.step == t.layers.step &&
+           n.tile == impl_->tile && n.tiles_on_cells == impl_->tiles_on_cells &&
+           (g.value.cell > 0) == impl_->directions.has_value() &&
+           (!impl_->directions || g.value.cell == impl_->directions->grid().cell);
 }
 
 Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting, float* xyz, const ProgressFn& progress) const {
     const ConvolutionPlanSpec& spec = impl_->spec;
     const PinholeCamera& c = spec.camera;
     if (!same_camera(scene.camera, c)) return Result<bool>::failure("image: not the camera this plan was made for");
-    const detail::KernelTable& table = impl_->convolution.table();
-    const int R = table.radius, o = spec.overscan, origin = impl_->origin;
+    const detail::KernelTable& table = impl_->tail_table();
+    const int R = impl_->radius, o = spec.overscan, origin = impl_->origin;
     const int out_w = c.width - 2 * o, out_h = c.height - 2 * o;
 
     // The sources on the domain: the input where it reaches, its edge continued beyond.
@@ -269,25 +312,33 @@ Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting,
     for (int i = 0; i < src.width; ++i) c.tangent(i - origin + 0.5, 0.5, src.u[i], unused);
     for (int j = 0; j < src.height; ++j) c.tangent(0.5, j - origin + 0.5, unused, src.v[j]);
     const size_t n = size_t(src.width) * src.height;
-    src.lower.resize(n);
-    src.upper_share.resize(n);
     const int threads = detail::thread_count(spec.settings.nthreads);
-    detail::parallel_for(0, src.height, threads, [&](int64_t row) {
-        const int j = int(row);
-        const int cj = std::clamp(j - origin, 0, c.height - 1);
-        for (int i = 0; i < src.width; ++i) {
-            const int ci = std::clamp(i - origin, 0, c.width - 1);
-            const size_t p = size_t(j) * src.width + i, q = size_t(cj) * c.width + ci;
-            const double d = scene.depth[q];
-            const double w = d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(ci, cj, d, scene.depth_meaning);
-            int lower = 0;
-            table.layers.locate(w, lower, src.upper_share[p]);
-            src.lower[p] = uint8_t(lower);
-        }
-    });
     std::fill(xyz, xyz + 3 * size_t(out_w) * out_h, 0.0f);
-    if (auto r = impl_->convolution.apply(src, {R, R, out_w, out_h}, xyz, progress); !r.ok()) return r;
-    detail::add_far_tail(table, scene, origin, {R, R, out_w, out_h}, xyz, threads);
+    const detail::OutputWindow window{R, R, out_w, out_h};
+    double kernel_edge = 0;
+    if (impl_->directions) {  // (one layer: only the sources' light is read)
+        if (auto r = impl_->directions->apply(src, window, xyz, progress); !r.ok()) return r;
+        kernel_edge = impl_->directions->kernel_edge();
+    } else {
+        src.lower.resize(n);
+        src.upper_share.resize(n);
+        detail::parallel_for(0, src.height, threads, [&](int64_t row) {
+            const int j = int(row);
+            const int cj = std::clamp(j - origin, 0, c.height - 1);
+            for (int i = 0; i < src.width; ++i) {
+                const int ci = std::clamp(i - origin, 0, c.width - 1);
+                const size_t p = size_t(j) * src.width + i, q = size_t(cj) * c.width + ci;
+                const double d = scene.depth[q];
+                const double w = d >= kInfiniteDepth ? 0.0 : 1.0 / c.planar_depth(ci, cj, d, scene.depth_meaning);
+                int lower = 0;
+                table.layers.locate(w, lower, src.upper_share[p]);
+                src.lower[p] = uint8_t(lower);
+            }
+        });
+        if (auto r = impl_->anchored->apply(src, window, xyz, progress); !r.ok()) return r;
+        kernel_edge = detail::film_kernel_edge(R, c.tan_pitch());
+    }
+    detail::add_far_tail(table, kernel_edge, impl_->directions.has_value(), scene, origin, window, xyz, threads);
     if (!vignetting)
         for (int j = 0; j < out_h; ++j)
             for (int i = 0; i < out_w; ++i) {

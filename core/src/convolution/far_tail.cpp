@@ -1,5 +1,6 @@
 #include "wavecam/edge_continuation.h"
 #include "convolution/far_tail.h"
+#include "convolution/direction_cosines.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,27 +14,6 @@
 namespace wavecam::detail {
 
 namespace {
-
-// Direction cosines in units of the pitch on the axis ("axis pixels"): a = (u, v) / (pitch
-// sqrt(1 + u^2 + v^2)) for tangent-plane (u, v). In them a PSF is one function of a_film - a_source
-// for every source (Fraunhofer optics), and a film pixel covers cos^4 of an axis pixel, the share
-// of a source's light it gets of a uniform spread; the disc |a| < 1 / pitch holds every direction.
-struct DirectionCosines {
-    double pitch;
-    void of_tangent(double u, double v, double& ax, double& ay) const {
-        const double n = pitch * std::sqrt(1 + u * u + v * v);
-        ax = u / n;
-        ay = v / n;
-    }
-    // false beyond the disc
-    bool to_tangent(double ax, double ay, double& u, double& v) const {
-        const double x = ax * pitch, y = ay * pitch, r2 = 1 - x * x - y * y;
-        if (r2 <= 0) return false;
-        u = x / std::sqrt(r2);
-        v = y / std::sqrt(r2);
-        return true;
-    }
-};
 
 // The annulus R <= r <= reach with intensity ~ 1/r^3, integrated over cells of `cell` pixels and
 // holding 1 in all; its (2 half + 1)^2 cells round the centre (half may cut the annulus short
@@ -76,7 +56,7 @@ struct CoarseGrid {
 // frame sampled at 4 x 4 points (the light of an area in axis pixels is radiance x that area, as
 // a pixel's is radiance x its cos^4).
 std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scene, int origin, const CoarseGrid& g,
-                                 const DirectionCosines& dc, int nthreads) {
+                                 const DirectionCosines& dc, bool oblique, int nthreads) {
     const PinholeCamera& c = scene.camera;
     const int W = c.width, H = c.height, L = t.layers.count, nkx = int(t.ax.knots.size()), anchors = t.anchors();
     const size_t cells = size_t(g.cw) * g.ch;
@@ -126,8 +106,8 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
                 double u, v, ax, ay;
                 c.tangent(i + 0.5, j + 0.5, u, v);
                 dc.of_tangent(u, v, ax, ay);
-                const double c2 = 1.0 / (1 + u * u + v * v);
-                add_missing(i + 0.5, j + 0.5, inverse_depth(i, j), &scene.rgb[3 * (size_t(j) * W + i)], c2 * c2, ax, ay,
+                const double c2 = 1.0 / (1 + u * u + v * v), light = c2 * c2 * (oblique ? 1 / std::sqrt(c2) : 1.0);
+                add_missing(i + 0.5, j + 0.5, inverse_depth(i, j), &scene.rgb[3 * (size_t(j) * W + i)], light, ax, ay,
                             mine.data());
             }
         });
@@ -144,7 +124,8 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
                     if (x >= 0 && x < W && y >= 0 && y < H) continue;
                     const int ci = std::clamp(int(std::floor(x)), 0, W - 1);
                     const int cj = std::clamp(int(std::floor(y)), 0, H - 1);
-                    add_missing(x, y, inverse_depth(ci, cj), edge.at(ci, cj), sub * sub, ax, ay, mine.data());
+                    const double light = sub * sub * (oblique ? std::sqrt(1 + u * u + v * v) : 1.0);
+                    add_missing(x, y, inverse_depth(ci, cj), edge.at(ci, cj), light, ax, ay, mine.data());
                 }
         });
     });
@@ -219,17 +200,20 @@ std::vector<float> spread_over_annulus(const std::vector<float>& missing, const 
 
 }  // namespace
 
-void add_far_tail(const KernelTable& t, const SpectralScene& scene, int origin, const OutputWindow& out, float* xyz,
-                  int nthreads) {
+double film_kernel_edge(int radius, double tan_pitch) {
+    // R pixels from the axis are R / sqrt(1 + (R pitch)^2) axis pixels of direction (fewer off
+    // the axis, where pixels span less; always inside the disc)
+    return radius / std::sqrt(1 + std::pow(radius * tan_pitch, 2));
+}
+
+void add_far_tail(const KernelTable& t, double kernel_edge, bool oblique, const SpectralScene& scene, int origin,
+                  const OutputWindow& out, float* xyz, int nthreads) {
     const int out_w = out.width, out_h = out.height;
     if (t.deficit.empty()) return;
     const PinholeCamera& c = scene.camera;
     const DirectionCosines dc{c.tan_pitch()};
     const double rho = 1.0 / dc.pitch;  // the disc of directions, in axis pixels
-    // The annulus starts where the kernel ends: R pixels from the axis are R / sqrt(1 + (R
-    // pitch)^2) axis pixels of direction (fewer off the axis, where pixels span less; always
-    // inside the disc)
-    const double kernel_edge = t.radius / std::sqrt(1 + std::pow(t.radius * dc.pitch, 2));
+    // The annulus starts where the kernels end
     const int R = std::max(1, int(std::lround(kernel_edge))), reach = kTailReach * R;
     // the output's directions (the extremes lie on its border), widened by the reach
     double lo_a = INFINITY, hi_a = -INFINITY, lo_b = INFINITY, hi_b = -INFINITY;
@@ -248,7 +232,7 @@ void add_far_tail(const KernelTable& t, const SpectralScene& scene, int origin, 
     const CellWindow read{std::max(0, g.column(lo_a) - 1), std::min(g.cw, g.column(hi_a) + 2),
                           std::max(0, g.row(lo_b) - 1), std::min(g.ch, g.row(hi_b) + 2)};
     const std::vector<float> spread =
-        spread_over_annulus(missing_light(t, scene, origin, g, dc, nthreads), g, {R, reach}, read, nthreads);
+        spread_over_annulus(missing_light(t, scene, origin, g, dc, oblique, nthreads), g, {R, reach}, read, nthreads);
     // back to pixels: each pixel takes the cells' light at its direction (bilinearly) over its
     // share of a cell, cos^4 of an axis pixel over the cell's cell^2
     const double per_area = 1.0 / (double(cell) * cell);
@@ -261,7 +245,7 @@ void add_far_tail(const KernelTable& t, const SpectralScene& scene, int origin, 
             const int I = std::clamp(int(std::floor(fx)), 0, g.cw - 2);
             const int J = std::clamp(int(std::floor(fy)), 0, g.ch - 2);
             const double tx = std::clamp(fx - I, 0.0, 1.0), ty = std::clamp(fy - J, 0.0, 1.0);
-            const double c2 = 1.0 / (1 + u * u + v * v), share = c2 * c2 * per_area;
+            const double c2 = 1.0 / (1 + u * u + v * v), share = c2 * c2 * per_area * (oblique ? std::sqrt(c2) : 1.0);
             for (int q = 0; q < 3; ++q) {
                 auto at = [&](int ii, int jj) { return double(spread[3 * (size_t(jj) * g.cw + ii) + q]); };
                 const double value = (1 - ty) * ((1 - tx) * at(I, J) + tx * at(I + 1, J)) +

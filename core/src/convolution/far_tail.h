@@ -29,10 +29,17 @@ namespace wavecam::detail {
 
 constexpr int kTailReach = 16;
 
+// Where film kernels of `radius` pixels end, in axis pixels of direction: on the axis, where they
+// reach least far in directions.
+double film_kernel_edge(int radius, double tan_pitch);
+
 // deficit(layer, anchor, m): the share of the power the kernel m = 3p + q does not hold.
 // Adds the far tail of `scene` to `xyz` (out.width x out.height), whose pixel (0, 0) is the
-// table's domain pixel (out.x0, out.y0) and camera pixel (out.x0 - origin, out.y0 - origin).
-void add_far_tail(const KernelTable& table, const SpectralScene& scene, int origin, const OutputWindow& out, float* xyz,
-                  int nthreads);
+// table's domain pixel (out.x0, out.y0) and camera pixel (out.x0 - origin, out.y0 - origin). The
+// annulus starts at `kernel_edge` axis pixels, where the kernels end in directions. `oblique`:
+// each source's light weighted by cos(out) / cos(in), as the kernels in direction cosines weight
+// theirs (direction_convolution.h); film kernels hold the weight of their own field instead.
+void add_far_tail(const KernelTable& table, double kernel_edge, bool oblique, const SpectralScene& scene, int origin,
+                  const OutputWindow& out, float* xyz, int nthreads);
 
 }  // namespace wavecam::detail

@@ -135,6 +135,25 @@ int computed_anchors(const KernelTableSpec& spec, const AnchorAxis& ax, const An
     return n;
 }
 
+void add_wavelength(const PsfKernel& psf, const SpectralBasis& basis, int s, int radius, float* const kernels[9],
+                    float* deficit) {
+    const int inset = radius - psf.radius, pw = 2 * psf.radius + 1, tw = 2 * radius + 1;
+    const Vector3& xyz_s = basis.xyz_per_power(s);
+    double held = 0;  // the weights are shares of the PSF's power: what lies beyond is 1 - held
+    for (float x : psf.weight) held += x;
+    for (int p = 0; p < 3; ++p) {
+        const double bp = basis.power(s, p == 0, p == 1, p == 2);
+        for (int qq = 0; qq < 3; ++qq) {
+            const float w = float(bp * xyz_s[qq]);
+            deficit[3 * p + qq] += float(w * (1.0 - held));
+            float* dst = kernels[3 * p + qq];
+            for (int b = 0; b < pw; ++b)
+                for (int e = 0; e < pw; ++e)
+                    dst[size_t(b + inset) * tw + (e + inset)] += w * psf.weight[size_t(b) * pw + e];
+        }
+    }
+}
+
 Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const ProgressFn& progress) {
     KernelTable t;
     t.radius = spec.radius;
@@ -191,22 +210,10 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
         for (int s : order) {
             q.wavelength = spec.basis->wavelength(s);
             q.radius = radius[s];
-            const PsfKernel psf = field_psf_kernel(q);
-            const int inset = t.radius - q.radius, pw = 2 * q.radius + 1;
-            const Vector3& xyz_s = spec.basis->xyz_per_power(s);
-            double held = 0;  // the weights are shares of the PSF's power: what lies beyond is 1 - held
-            for (float x : psf.weight) held += x;
-            for (int p = 0; p < 3; ++p) {
-                const double bp = spec.basis->power(s, p == 0, p == 1, p == 2);
-                for (int qq = 0; qq < 3; ++qq) {
-                    const float w = float(bp * xyz_s[qq]);
-                    t.deficit[(size_t(l) * anchors + a) * 9 + 3 * p + qq] += float(w * (1.0 - held));
-                    float* dst = &t.weights[size_t(t.kernel_index(l, a, 3 * p + qq)) * ksize];
-                    for (int b = 0; b < pw; ++b)
-                        for (int e = 0; e < pw; ++e)
-                            dst[size_t(b + inset) * tw + (e + inset)] += w * psf.weight[size_t(b) * pw + e];
-                }
-            }
+            float* kernels[9];
+            for (int m = 0; m < 9; ++m) kernels[m] = &t.weights[size_t(t.kernel_index(l, a, m)) * ksize];
+            add_wavelength(field_psf_kernel(q), *spec.basis, s, t.radius, kernels,
+                           &t.deficit[(size_t(l) * anchors + a) * 9]);
             ticker.advance(1, on_calling_thread());
         }
     });

@@ -10,6 +10,7 @@
 #include "wavecam/result.h"
 #include "wavecam/spectrum.h"
 #include "wavecam/aperture.h"
+#include "wavecam/fresnel_psf.h"
 
 namespace wavecam::detail {
 
@@ -152,6 +153,13 @@ std::vector<int> mirror_sources(const AnchorAxis& ax, const AnchorAxis& ay, int 
 std::vector<int> anchor_sources(const KernelTableSpec& spec, const AnchorAxis& ax, const AnchorAxis& ay);
 // How many anchors of that grid are their own source: those whose kernels are computed.
 int computed_anchors(const KernelTableSpec& spec, const AnchorAxis& ax, const AnchorAxis& ay);
+
+// Adds wavelength s's PSF (field_psf_kernel's: shares of the power through the pinhole) to the
+// nine kernels m = 3 p + q of side 2 radius + 1 (the PSF centred in them), each weighted by the
+// basis's power of primary p times XYZ q per unit power at s, and what the PSF does not hold to
+// their deficits.
+void add_wavelength(const PsfKernel& psf, const SpectralBasis& basis, int s, int radius, float* const kernels[9],
+                    float* deficit);
 
 // Fails only when cancelled through `progress`.
 Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const ProgressFn& progress);

@@ -131,7 +131,7 @@ void KernelSummation::add_far_tail(const float* radiance, const float* depth, De
     std::vector<float> rgb(3 * size_t(c.width) * c.height, 0.0f), xyz(3 * size_t(out_w) * out_h, 0.0f);
     for (size_t q = 0; q < size_t(c.width) * c.height; ++q) rgb[3 * q] = radiance[q];
     const SpectralScene scene{c, rgb.data(), depth, meaning, true};
-    detail::add_far_tail(m.tail, scene, m.g.origin, {R, R, out_w, out_h}, xyz.data(), m.threads);
+    detail::add_far_tail(m.tail, detail::film_kernel_edge(m.tail.radius, c.tan_pitch()), false, scene, m.g.origin, {R, R, out_w, out_h}, xyz.data(), m.threads);
     for (int cj = std::max(rows.begin, o); cj < std::min(rows.end, c.height - o); ++cj)
         for (int ci = o; ci < c.width - o; ++ci)
             irradiance[size_t(cj) * c.width + ci] += float(scale * xyz[3 * (size_t(cj - o) * out_w + ci - o)]);
