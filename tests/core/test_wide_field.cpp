@@ -223,12 +223,13 @@ TEST(WideField, ConvolutionMethodMatchesTheRayleighSommerfeldIntegral) {
     }
 }
 
-// Pinholes far below the optimum (Airy cores of 14 px on the axis, Fresnel numbers of 0.001-0.03)
-// convolve in direction cosines, one kernel for every field: stars on the axis and 48-51 deg off
-// it in frames of 60 to 120 deg, where the PSF on the film is 3.4-3.9 times wider radially.
+// Pinholes far below the optimum (Airy cores of 14 px on the axis, Fresnel numbers of 0.0005-0.001)
+// convolve in direction cosines, one kernel for every field: stars on the axis of 90 and 120 deg
+// frames, 36 deg off it at 60 deg and 51 deg off it at 120 deg, where the PSF on the film is 1.9
+// and 3.9 times wider radially. (Each off-axis star's window costs the integral tens of seconds.)
 TEST(WideField, ConvolutionInDirectionCosinesMatchesTheRayleighSommerfeldIntegral) {
     const Case cases[] = {
-        {256, 60, 50, 0.0106, INFINITY, 0.9}, {320, 90, 50, 0.0077, INFINITY, 0}, {320, 90, 50, 0.0077, INFINITY, 0.8},
+        {256, 60, 50, 0.0106, INFINITY, 0.9}, {320, 90, 50, 0.0077, INFINITY, 0},
         {240, 120, 10, 0.0033, INFINITY, 0},  {240, 120, 10, 0.0033, INFINITY, -0.5},
     };
     // (a star apart from the others' windows shares their frame; these windows are wide)

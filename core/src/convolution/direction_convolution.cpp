@@ -159,7 +159,7 @@ Result<bool> DirectionConvolution::apply(const DomainSources& src, const OutputW
     const DirectionCosines dc{camera_.tan_pitch()};
     const int Nx = g.fft_width, Ny = g.fft_height, threads = thread_count(nthreads_);
     const size_t points = size_t(Nx) * Ny, n = spectrum_size_;
-    ProgressTicker ticker(progress, 6);
+    ProgressTicker ticker(progress, 5);  // the spread, the transforms, three channels
     // 1. the sources' light spread over the grid, each thread its own grids (summed in order:
     // the same image at any schedule of a given thread count)
     std::vector<std::vector<float>> part(size_t(threads), std::vector<float>(3 * points, 0.0f));
