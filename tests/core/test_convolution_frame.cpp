@@ -376,3 +376,51 @@ TEST(ConvolutionFrame, UniformWallInDirectionCosinesKeepsWhatFallsWithinTheDiscO
         EXPECT_LT(worst, 0.004) << k.fov << " deg";
     }
 }
+
+// A pupil without mirror symmetry keeps its orientation in direction cosines: a star through a
+// triangle (a vertex toward +x, its far field a six-armed star that is not its own transpose), on
+// the axis and a third of the way to a corner of a 30 deg frame, comes out as the field anchors'
+// kernels put it (their orientation is checked against the exact PSF in test_aperture_optics.cpp)
+// and far from its own transpose.
+TEST(ConvolutionFrame, InDirectionCosinesATrianglePupilKeepsItsOrientation) {
+    const double lambda = 550e-9;
+    const SpectralBasis b = make_spectral_basis(explicit_sampling({lambda}).value, kXyzTo709).value;
+    const int w = 160;
+    Frame f = wall(w, w, 30, 1e10, 0.0f);
+    const int stars[][2] = {{w / 2, w / 2}, {w / 2 - 27, w / 2 - 27}};
+    for (const auto& s : stars)
+        for (int k = 0; k < 3; ++k) f.rgb[3 * (size_t(s[1]) * w + s[0]) + k] = 1.0f;
+    Aperture triangle{ApertureShape::Polygon, 1.22 * lambda * f.cam.film_distance / (14 * f.cam.pixel_pitch())};
+    triangle.sides = 3;
+    std::vector<float> directions(3 * w * w), anchors(3 * w * w);
+    auto plan = ConvolutionPlan::create({f.cam, 0, triangle, b, 0, {}});
+    ASSERT_TRUE(plan.ok()) << plan.error;
+    ASSERT_TRUE(plan.value->in_directions());
+    ASSERT_TRUE(plan.value->apply(f.scene(), true, directions.data()).ok());
+    ConvolutionSettings tiles;
+    tiles.tile = 64;  // (a tile size asks for the anchors)
+    auto anchored = ConvolutionPlan::create({f.cam, 0, triangle, b, 0, tiles});
+    ASSERT_TRUE(anchored.ok()) << anchored.error;
+    ASSERT_FALSE(anchored.value->in_directions());
+    ASSERT_TRUE(anchored.value->apply(f.scene(), true, anchors.data()).ok());
+    for (const auto& s : stars) {
+        const int half = 24;
+        double peak = 0, same = 0, turned = 0;
+        for (int dy = -half; dy <= half; ++dy)
+            for (int dx = -half; dx <= half; ++dx)
+                peak = std::max(peak, double(anchors[3 * (size_t(s[1] + dy) * w + s[0] + dx) + 1]));
+        for (int dy = -half; dy <= half; ++dy)
+            for (int dx = -half; dx <= half; ++dx) {
+                const double a = anchors[3 * (size_t(s[1] + dy) * w + s[0] + dx) + 1];
+                same += std::pow(directions[3 * (size_t(s[1] + dy) * w + s[0] + dx) + 1] - a, 2);
+                turned += std::pow(directions[3 * (size_t(s[1] + dx) * w + s[0] + dy) + 1] - a, 2);
+            }
+        const double n = std::pow(2 * half + 1, 2);
+        same = std::sqrt(same / n) / peak;
+        turned = std::sqrt(turned / n) / peak;
+        std::printf("star at (%d, %d): directions against anchors %.3f%% RMS of the peak; transposed %.2f%%\n", s[0],
+                    s[1], 100 * same, 100 * turned);
+        EXPECT_LT(same, 0.01);
+        EXPECT_GT(turned, 5 * same);
+    }
+}
