@@ -6,6 +6,7 @@ foreach(cost_and_test
     100 OneSourceModel.AllThreeMethodsConvergeToOneImage
     180 WideField.KernelRunsMatchThePointSumsWithTheSamePhases
     113 WideField.ConvolutionMethodMatchesTheRayleighSommerfeldIntegral
+    50 WideField.ConvolutionInDirectionCosinesMatchesTheRayleighSommerfeldIntegral
     90 WideField.KernelSummationAndPointSumsAtTheWidestFieldsMatchTheRayleighSommerfeldIntegral
     30 GpuSums.KernelSummationRunsMatchTheCpu
     87 ApplyCommand.TheEnvironmentChangesNoImageAndNoWordMeansTwoThings
