@@ -42,19 +42,22 @@ constexpr double kCoreCells = 8.2;           // cells across a PSF core's standa
 constexpr double kCorePixels = 4;            // axis pixels across it, at least
 
 // The cell (axis pixels) of the direction grid for `spec`'s pinhole, or 0 where the pinhole is not
-// in the Fraunhofer regime for its nearest source and shortest wavelength.
+// in the Fraunhofer regime for its nearest source and shortest wavelength, or its core spans
+// fewer than kCorePixels.
 double fraunhofer_cell(const KernelTableSpec& spec, double max_inverse_depth);
 
 // The grid of cells in direction cosines (axis pixels; the row axis downward, as the film's) that
-// covers a source domain: cell (I, J) is centred on (a0 + I cell, b0 + J cell).
+// holds every source whose kernel reaches the output frame: cell (I, J) is centred on (a0 + I
+// cell, b0 + J cell).
 struct DirectionGrid {
     double cell = 1, a0 = 0, b0 = 0;
-    int width = 0, height = 0;     // the cells the sources reach
+    int width = 0, height = 0;     // the cells that hold sources
     int fft_width = 0, fft_height = 0;
     int radius = 0;                // the kernels' half-width, in cells
 
-    // `spec`'s domain's directions, cells of `cell`, kernels of at most the margin the domain
-    // gives beyond the output frame (its R film pixels, in directions at the domain's corners).
+    // The output frame's directions widened by the kernels' reach, within the disc of
+    // directions; kernels that hold kPsfKernelEnergy of the on-axis PSF, at most the plan's
+    // radius; a transform period that wraps nothing onto the output's cells.
     static DirectionGrid covering(const KernelTableSpec& spec, double cell);
     // the grid position of tangent (u, v), in cells
     void position(const DirectionCosines& dc, double u, double v, double& x, double& y) const;
