@@ -9,11 +9,15 @@
 // whole frame is then one shift-invariant convolution in direction cosines:
 //   1. each source's light (radiance x its cos^4, as the anchored convolution carries it) is
 //      spread bilinearly over the four cells of a grid in direction cosines round its direction
-//      (its power and centroid kept);
+//      (its power and centroid kept); beyond the domain's margin the frame's edge is continued
+//      on the grid itself, over every direction of the disc that the kernels reach;
 //   2. the grid is convolved with the nine on-axis kernels, computed on the grid's cells (one
 //      transform per primary and three back, instead of three per anchor a tile meets);
 //   3. each film pixel takes the convolved light at its own direction (bilinearly) over a cell's
 //      area, times its own area in axis pixels, cos^4.
+// Each source's light is weighted by cos(out) / cos(in): Rayleigh-Sommerfeld's obliquity and the
+// film's incidence (spectral_diffraction.cpp takes |U|^2 cos(out)) against the pattern's power
+// per unit of direction cosines; a film kernel holds its own field's value of it throughout.
 // Cells are a fraction of the PSF's core: spreading and reading back each widen the image by
 // about a cell's variance (h^2 / 6 per axis), so a core of standard deviation sigma loses a
 // share h^2 / (3 sigma^2) of its peak; cells of at most sigma / kCoreCells keep that within 0.5%.
