@@ -1,6 +1,7 @@
 // Colour as light: wavelength sampling, the CIE 1931 colour-matching functions, and the
 // linear RGB -> spectrum basis that makes an ideal (delta) propagator return its input RGB.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <string>
 #include <vector>
@@ -47,6 +48,8 @@ class SpectralBasis {
 public:
     int size() const { return int(wavelength_.size()); }
     double wavelength(int s) const { return wavelength_[s]; }
+    double shortest_wavelength() const { return *std::min_element(wavelength_.begin(), wavelength_.end()); }
+    double longest_wavelength() const { return *std::max_element(wavelength_.begin(), wavelength_.end()); }
     // Spectral power of linear RGB (r, g, b) at sample s: non-negative for non-negative RGB inside
     // the realised gamut (the working space's own whenever desaturation() is all zero).
     double power(int s, double r, double g, double b) const {

@@ -49,11 +49,9 @@ std::vector<int> tile_edges(const AnchorAxis& a, int length, int tile, int radiu
     return edges;
 }
 
-void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, float* image, std::complex<float>* spectrum,
-                                           int threads) const {
-    const KernelTable& t = table_;
-    const int R = t.radius, kw = 2 * R + 1, Nx = fft_width_, Ny = fft_height_;
-    const float* w = t.kernel(k);
+void transform_centred_kernel(const float* w, int R, RealFft2D& fft, int Nx, int Ny, float* image,
+                              std::complex<float>* spectrum, int threads) {
+    const int kw = 2 * R + 1;
     // the kernel centred on the origin, wrapped
     parallel_for(-R, R + 1, threads, [&](int64_t b) {
         for (int a = -R; a <= R; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = w[size_t(b + R) * kw + (a + R)];
@@ -62,6 +60,11 @@ void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, float* image,
     parallel_for(-R, R + 1, threads, [&](int64_t b) {
         for (int a = -R; a <= R; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = 0.0f;
     });
+}
+
+void AnchoredConvolution::transform_kernel(long k, RealFft2D& fft, float* image, std::complex<float>* spectrum,
+                                           int threads) const {
+    transform_centred_kernel(table_.kernel(k), table_.radius, fft, fft_width_, fft_height_, image, spectrum, threads);
 }
 
 Result<AnchoredConvolution> AnchoredConvolution::create(KernelTable table, int tile, bool tiles_on_cells, int width,

@@ -90,6 +90,12 @@ inline bool shares_tile_scratch(double tiles, int threads, double set_bytes, dou
 
 class RealFft2D;
 
+// A kernel of (2 R + 1)^2 weights centred on the origin of an Nx x Ny transform (wrapped), into
+// `spectrum`; `image` is the transform's Nx x Ny of zeros and is left so. Its loops spread over
+// `threads`.
+void transform_centred_kernel(const float* kernel, int R, RealFft2D& fft, int Nx, int Ny, float* image,
+                              std::complex<float>* spectrum, int threads);
+
 // A tile's source pixels [x0, x1) x [y0, y1) of the domain.
 struct TileBounds {
     int x0, y0, x1, y1;

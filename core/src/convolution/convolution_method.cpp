@@ -21,12 +21,11 @@ namespace wavecam {
 // one shift-invariant convolution in direction cosines (direction_convolution.h).
 struct ConvolutionPlan::Impl {
     ConvolutionPlanSpec spec;
+    // the geometry the plan was made for: the source domain (its pixel (0, 0) is camera pixel
+    // (-origin, -origin), its margin `radius` pixels beyond the output frame), tiles and layers
+    detail::KernelTableSpec geometry;
     std::optional<detail::AnchoredConvolution> anchored;
     std::optional<detail::DirectionConvolution> directions;
-    int origin = 0;  // camera pixel coordinate of the source domain's pixel (0, 0), negated
-    int radius = 0;  // the source domain's margin beyond the output frame (pixels)
-    int tile = 0;
-    bool tiles_on_cells = false;
     // the anchored kernels' table, or the direction kernels' one-cell table: the far tail's deficits
     const detail::KernelTable& tail_table() const { return anchored ? anchored->table() : directions->tail_table(); }
 };
@@ -86,7 +85,7 @@ double transform_work(const detail::KernelTableSpec& t) {
 
 ConvolutionPlan::ConvolutionPlan(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 ConvolutionPlan::~ConvolutionPlan() = default;
-int ConvolutionPlan::kernel_radius() const { return impl_->radius; }
+int ConvolutionPlan::kernel_radius() const { return impl_->geometry.radius; }
 bool ConvolutionPlan::in_directions() const { return impl_->directions.has_value(); }
 
 namespace {
@@ -120,12 +119,7 @@ Result<PlanGeometry> plan_geometry(const ConvolutionPlanSpec& spec) {
                       1.0 / spec.max_inverse_depth);
         return R::failure(m);
     }
-    const SpectralBasis& basis = spec.basis;
-    double lambda_min = basis.wavelength(0), lambda_max = basis.wavelength(0);
-    for (int s = 0; s < basis.size(); ++s) {
-        lambda_min = std::min(lambda_min, basis.wavelength(s));
-        lambda_max = std::max(lambda_max, basis.wavelength(s));
-    }
+    const double lambda_min = spec.basis.shortest_wavelength(), lambda_max = spec.basis.longest_wavelength();
     const int out_w = c.width - 2 * o, out_h = c.height - 2 * o;
     const double pitch = c.pixel_pitch();
     const double nearest = spec.max_inverse_depth > 0 ? 1.0 / spec.max_inverse_depth : INFINITY;
@@ -220,11 +214,7 @@ double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
         (detail::shares_tile_scratch(tile_count, t.nthreads, set, spec.settings.tile_memory) ? 1 : t.nthreads) * set;
     // each thread's working memory for one PSF of the table, at its largest: the nearest layer
     // or the sky, on the axis or at the corner anchor, the shortest or the longest wavelength
-    double lambda_min = spec.basis.wavelength(0), lambda_max = lambda_min;
-    for (int s = 0; s < spec.basis.size(); ++s) {
-        lambda_min = std::min(lambda_min, spec.basis.wavelength(s));
-        lambda_max = std::max(lambda_max, spec.basis.wavelength(s));
-    }
+    const double lambda_min = spec.basis.shortest_wavelength(), lambda_max = spec.basis.longest_wavelength();
     double psf = 0;
     const PinholeCamera& c = t.camera;
     for (const double depth : {t.layers.count > 1 ? 1.0 / t.layers.inverse_depth(t.layers.count - 1) : INFINITY,
@@ -254,7 +244,8 @@ Result<std::shared_ptr<const ConvolutionPlan>> ConvolutionPlan::create(const Con
     auto geometry = plan_geometry(spec);
     if (!geometry.ok()) return R::failure(geometry.error);
     detail::KernelTableSpec& t = geometry.value.t;
-    auto impl = std::make_unique<Impl>(Impl{spec, std::nullopt, std::nullopt, t.origin, t.radius, t.tile, t.tiles_on_cells});
+    auto impl = std::make_unique<Impl>(Impl{spec, t, std::nullopt, std::nullopt});
+    impl->geometry.basis = &impl->spec.basis;  // (the plan's own copy, not the caller's)
     if (geometry.value.cell > 0) {
         auto conv = detail::DirectionConvolution::create(t, geometry.value.cell, progress);
         if (!conv.ok()) return R::failure(conv.error);
@@ -283,11 +274,9 @@ bool ConvolutionPlan::serves(const ConvolutionPlanSpec& s) const {
     // the frame's depth range must lead to this very plan (kernel radius, layers, tiles, the
     // evaluation), so that a frame's image never depends on the frames before it
     auto g = plan_geometry(s);
-    const detail::KernelTable& t = impl_->tail_table();
-    const detail::KernelTableSpec& n = g.value.t;
-    return g.ok() && n.radius == impl_->radius && n.layers.count == t.layers.count && n.layers.step == t.layers.step &&
-           n.tile == impl_->tile && n.tiles_on_cells == impl_->tiles_on_cells &&
-           (g.value.cell > 0) == impl_->directions.has_value() &&
+    const detail::KernelTableSpec& n = g.value.t, &t = impl_->geometry;
+    return g.ok() && n.radius == t.radius && n.layers.count == t.layers.count && n.layers.step == t.layers.step &&
+           n.tile == t.tile && n.tiles_on_cells == t.tiles_on_cells && (g.value.cell > 0) == impl_->directions.has_value() &&
            (!impl_->directions || g.value.cell == impl_->directions->grid().cell);
 }
 
@@ -296,7 +285,7 @@ Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting,
     const PinholeCamera& c = spec.camera;
     if (!same_camera(scene.camera, c)) return Result<bool>::failure("image: not the camera this plan was made for");
     const detail::KernelTable& table = impl_->tail_table();
-    const int R = impl_->radius, o = spec.overscan, origin = impl_->origin;
+    const int R = impl_->geometry.radius, o = spec.overscan, origin = impl_->geometry.origin;
     const int out_w = c.width - 2 * o, out_h = c.height - 2 * o;
 
     // The sources on the domain: the input where it reaches, its edge continued beyond.

@@ -13,12 +13,6 @@ namespace wavecam::detail {
 
 namespace {
 
-double shortest_wavelength(const SpectralBasis& basis) {
-    double lambda = basis.wavelength(0);
-    for (int s = 0; s < basis.size(); ++s) lambda = std::min(lambda, basis.wavelength(s));
-    return lambda;
-}
-
 // The on-axis PSF request of wavelength s on cells of `cell` axis pixels. The sky's: within
 // kMaxFraunhoferPhase a nearer source's defocus moves little light, and its geometric shadow
 // a (1 + f / z) is then at most a sixth of the Airy radius (a^2 / z <= 0.3 lambda / pi).
@@ -35,9 +29,10 @@ FieldPsfRequest on_axis(const KernelTableSpec& spec, double cell, int s, int rad
 }  // namespace
 
 double fraunhofer_cell(const KernelTableSpec& spec, double max_inverse_depth) {
-    const double a = spec.aperture.bounding_radius(), lambda = shortest_wavelength(*spec.basis);
-    const double f = spec.camera.film_distance;
-    if (M_PI * a * a * (std::max(0.0, max_inverse_depth) + 1.0 / f) / lambda > kMaxFraunhoferPhase) return 0;
+    const double a = spec.aperture.bounding_radius(), lambda = spec.basis->shortest_wavelength();
+    if (DepthLayers::rim_phase(std::max(0.0, max_inverse_depth), a, lambda, spec.camera.film_distance) >
+        kMaxFraunhoferPhase)
+        return 0;
     // the core's standard deviation, 0.42 lambda f / D on the film (a Gaussian fitted to the
     // Airy disc's), in axis pixels; a pupil of span D = 2a has no narrower core
     const double sigma = 0.42 * lambda / (2 * a * spec.camera.tan_pitch());
@@ -49,21 +44,13 @@ DirectionGrid DirectionGrid::covering(const KernelTableSpec& spec, double cell) 
     const DirectionCosines dc{c.tan_pitch()};
     DirectionGrid g;
     g.cell = cell;
-    // the output frame's directions: the extremes lie on its border (a and b are monotone in u and v)
-    double lo_a = INFINITY, hi_a = -INFINITY, lo_b = INFINITY, hi_b = -INFINITY;
-    auto border = [&](int i, int j) {
-        double u, v, ax, ay;
-        c.tangent(i - spec.origin + 0.5, j - spec.origin + 0.5, u, v);
-        dc.of_tangent(u, v, ax, ay);
-        lo_a = std::min(lo_a, ax), hi_a = std::max(hi_a, ax), lo_b = std::min(lo_b, -ay), hi_b = std::max(hi_b, -ay);
-    };
-    const int R = spec.radius, x1 = spec.domain_width - R - 1, y1 = spec.domain_height - R - 1;
-    for (int i = R; i <= x1; ++i) border(i, R), border(i, y1);
-    for (int j = R; j <= y1; ++j) border(R, j), border(x1, j);
+    // the output frame's directions (b downward: the up axis's extremes negated)
+    const int R = spec.radius;
+    const DirectionBox box =
+        direction_box(c, dc, R - spec.origin, R - spec.origin, spec.domain_width - 2 * R, spec.domain_height - 2 * R);
+    const double lo_a = box.lo_a, hi_a = box.hi_a, lo_b = -box.hi_b, hi_b = -box.lo_b;
     // kernels as wide as the on-axis PSF's share kPsfKernelEnergy needs, within the plan's radius
-    double lambda_max = spec.basis->wavelength(0);
-    for (int s = 0; s < spec.basis->size(); ++s) lambda_max = std::max(lambda_max, spec.basis->wavelength(s));
-    g.radius = std::max(1, psf_kernel_radius({spec.aperture, c.film_distance, INFINITY, lambda_max, 1.0},
+    g.radius = std::max(1, psf_kernel_radius({spec.aperture, c.film_distance, INFINITY, spec.basis->longest_wavelength(), 1.0},
                                              cell * c.pixel_pitch(), std::max(1, int(std::floor(R / cell)))));
     // the grid: the output's directions widened by the kernels' reach and two cells for the
     // bilinear spread and read, within the disc of directions (no film point lies beyond it)
@@ -142,12 +129,8 @@ Result<DirectionConvolution> DirectionConvolution::create(const KernelTableSpec&
     LargeArray<float> image(size_t(Nx) * Ny);
     std::fill_n(&image[0], image.size(), 0.0f);
     for (int m = 0; m < 9; ++m) {
-        for (int b = -K; b <= K; ++b)
-            for (int a = -K; a <= K; ++a)
-                image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = each[m][size_t(b + K) * kw + (a + K)];
-        fft.forward(&image[0], &d.kernel_spectra_[size_t(m) * d.spectrum_size_], Nx - K, Nx + K + 1);
-        for (int b = -K; b <= K; ++b)
-            for (int a = -K; a <= K; ++a) image[size_t((b + Ny) % Ny) * Nx + (a + Nx) % Nx] = 0.0f;
+        transform_centred_kernel(each[m], K, fft, Nx, Ny, &image[0], &d.kernel_spectra_[size_t(m) * d.spectrum_size_],
+                                 thread_count(spec.nthreads));
         if (progress) progress(0.8 + 0.2 * (m + 1) / 9.0);
     }
     return R::success(std::move(d));
@@ -206,7 +189,7 @@ Result<bool> DirectionConvolution::apply(const DomainSources& src, const OutputW
                     if (r0 >= 1) continue;
                     double u, v;  // (the quarter's centre, or where it lies beyond the disc its inner edge's direction)
                     const double inside = r < 1 ? 1.0 : r0 / r;
-                    dc.to_tangent(ax * inside, ay * inside, u, v);
+                    if (!dc.to_tangent(ax * inside, ay * inside, u, v)) continue;
                     const double fx = u / dc.pitch + 0.5 * c.width, fy = 0.5 * c.height - v / dc.pitch;
                     const double dx = fx + src.origin, dy = fy + src.origin;  // in the domain's pixels
                     if (dx >= 0 && dx < src.width && dy >= 0 && dy < src.height) continue;

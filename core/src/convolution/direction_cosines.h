@@ -6,7 +6,10 @@
 // at (u, v) covers cos^4 = (1 + u^2 + v^2)^-2 of an axis pixel (its area's Jacobian). The disc
 // |a| < 1 / pitch holds every direction.
 #pragma once
+#include <algorithm>
 #include <cmath>
+
+#include "wavecam/pinhole_camera.h"
 
 namespace wavecam::detail {
 
@@ -26,5 +29,26 @@ struct DirectionCosines {
         return true;
     }
 };
+
+// The extremes of the direction cosines (axis pixels, a right and b up) over the centres of camera
+// pixels [x0, x0 + width) x [y0, y0 + height): they lie on its border, a and b being monotone in
+// u and v.
+struct DirectionBox {
+    double lo_a = INFINITY, hi_a = -INFINITY, lo_b = INFINITY, hi_b = -INFINITY;
+};
+inline DirectionBox direction_box(const PinholeCamera& c, const DirectionCosines& dc, int x0, int y0, int width,
+                                  int height) {
+    DirectionBox box;
+    auto border = [&](int i, int j) {
+        double u, v, ax, ay;
+        c.tangent(x0 + i + 0.5, y0 + j + 0.5, u, v);
+        dc.of_tangent(u, v, ax, ay);
+        box.lo_a = std::min(box.lo_a, ax), box.hi_a = std::max(box.hi_a, ax);
+        box.lo_b = std::min(box.lo_b, ay), box.hi_b = std::max(box.hi_b, ay);
+    };
+    for (int i = 0; i < width; ++i) border(i, 0), border(i, height - 1);
+    for (int j = 0; j < height; ++j) border(0, j), border(width - 1, j);
+    return box;
+}
 
 }  // namespace wavecam::detail

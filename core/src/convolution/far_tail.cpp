@@ -215,16 +215,9 @@ void add_far_tail(const KernelTable& t, double kernel_edge, bool oblique, const 
     const double rho = 1.0 / dc.pitch;  // the disc of directions, in axis pixels
     // The annulus starts where the kernels end
     const int R = std::max(1, int(std::lround(kernel_edge))), reach = kTailReach * R;
-    // the output's directions (the extremes lie on its border), widened by the reach
-    double lo_a = INFINITY, hi_a = -INFINITY, lo_b = INFINITY, hi_b = -INFINITY;
-    auto border = [&](int i, int j) {
-        double u, v, ax, ay;
-        c.tangent(out.x0 - origin + i + 0.5, out.y0 - origin + j + 0.5, u, v);
-        dc.of_tangent(u, v, ax, ay);
-        lo_a = std::min(lo_a, ax), hi_a = std::max(hi_a, ax), lo_b = std::min(lo_b, ay), hi_b = std::max(hi_b, ay);
-    };
-    for (int i = 0; i < out_w; ++i) border(i, 0), border(i, out_h - 1);
-    for (int j = 0; j < out_h; ++j) border(0, j), border(out_w - 1, j);
+    // the output's directions, widened by the reach
+    const DirectionBox box = direction_box(c, dc, out.x0 - origin, out.y0 - origin, out_w, out_h);
+    const double lo_a = box.lo_a, hi_a = box.hi_a, lo_b = box.lo_b, hi_b = box.hi_b;
     const int cell = std::max(1, R / 3);
     const double a0 = std::max(-rho, lo_a - reach), a1 = std::min(rho, hi_a + reach);
     const double b0 = std::max(-rho, lo_b - reach), b1 = std::min(rho, hi_b + reach);

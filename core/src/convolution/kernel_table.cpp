@@ -39,9 +39,8 @@ DepthLayers DepthLayers::spanning(double max_inverse_depth, double aperture_radi
     // rho^2 over a disc has phase variance phi^2 / 12, and by Marechal's rule the PSF then
     // moves at most that share of its light (0.75% at 0.3 rad) - small pinholes, whose Airy
     // disc no depth changes.
-    const double phase = M_PI * aperture_radius * aperture_radius * (max_inverse_depth + 1.0 / film_distance) /
-                         shortest_wavelength;
-    if (phase <= kMaxDefocusStep) d.count = 1;
+    if (rim_phase(max_inverse_depth, aperture_radius, shortest_wavelength, film_distance) <= kMaxDefocusStep)
+        d.count = 1;
     return d;
 }
 
@@ -87,10 +86,8 @@ AnchorAxis anchor_axis(const KernelTableSpec& spec, bool vertical) {
     const int ripple = vertical ? std::max(1, int(std::lround(double(spec.anchor_cells) * length /
                                                               std::max(spec.domain_width, spec.domain_height))))
                                 : spec.anchor_cells;
-    double longest = spec.basis->wavelength(0);
-    for (int s = 0; s < spec.basis->size(); ++s) longest = std::max(longest, spec.basis->wavelength(s));
     const PinholeCamera& c = spec.camera;
-    const double step = anchor_step(spec.aperture, longest, c.film_distance, c.pixel_pitch());
+    const double step = anchor_step(spec.aperture, spec.basis->longest_wavelength(), c.film_distance, c.pixel_pitch());
     const int cells = AnchorAxis::cell_count(span, ripple, kMinCellRadii * spec.radius, c.tan_pitch(), step);
     return AnchorAxis::even(spec.radius, span, cells);
 }

@@ -3,6 +3,7 @@
 // the wavelength sum need not be carried through the convolution). Internal to core.
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <vector>
 #include "base/large_array.h"
 #include "wavecam/pinhole_camera.h"
@@ -28,6 +29,10 @@ struct DepthLayers {
 
     static DepthLayers spanning(double max_inverse_depth, double aperture_radius, double shortest_wavelength,
                                 double film_distance, double pixel_pitch);
+    // The defocus phase at the pupil's rim for a source at inverse depth w: pi a^2 (w + 1/f) / lambda.
+    static double rim_phase(double w, double aperture_radius, double wavelength, double film_distance) {
+        return M_PI * aperture_radius * aperture_radius * (w + 1.0 / film_distance) / wavelength;
+    }
     double inverse_depth(int layer) const { return layer * step; }
     // The layer at or below inverse depth w and the share of w's light that goes to the layer
     // above (linear in w).
