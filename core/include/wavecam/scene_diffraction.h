@@ -145,7 +145,8 @@ double scene_terms(const SceneSumSettings& s, const ComputeDevice& device, const
 // Bytes the kernel summation holds at once for one wavelength (its kernels' spectra: layers x
 // anchors x film points per pixel transforms of the frame; the runs' sums), for
 // s.nearest_depth (NaN counts as all sky); 0 for the other summations.
-double scene_summation_bytes(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength);
+double scene_summation_bytes(const SceneSumSettings& s, const ComputeDevice& device, const PinholeCamera& camera,
+                             double wavelength);
 
 // Film points per pixel side so that the points are closer than the irradiance's finest
 // fringe, lambda f / span (span: the aperture's largest width): then a pixel's points average

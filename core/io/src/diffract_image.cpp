@@ -58,7 +58,7 @@ double job_bytes(const DiffractOptions& opt, const ResolvedFrame& f, double& sum
     summation = 0;
     if (opt.method != DiffractMethod::Convolution)
         for (int k = 0; k < f.colour.basis.size(); ++k)
-            summation = std::max(summation, scene_summation_bytes(f.scene_sum, f.camera, f.colour.basis.wavelength(k)));
+            summation = std::max(summation, scene_summation_bytes(f.scene_sum, f.device, f.camera, f.colour.basis.wavelength(k)));
     const bool table = opt.method == DiffractMethod::Convolution || alpha_is_diffracted(f.in);
     return estimate_memory(opt, f.camera) + summation + (table ? ConvolutionPlan::estimate_bytes(f.convolution) : 0.0);
 }

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "base/parallel.h"
 #include "convolution/kernel_table.h"
 #include "summation/nufft/chirp_interpolation.h"
+#include "summation/kernel/direction_runs.h"
 #include "summation/kernel/gpu_run_cost.h"
 #include "summation/kernel/kernel_summation_geometry.h"
 #include "summation/nufft/lattice_nufft.h"
@@ -210,8 +212,44 @@ KernelSums kernel_sums(const KernelSummationSpec& spec, const KernelSummationGeo
     return k;
 }
 
+namespace {
+
+// The runs in directions (direction_runs.h): per run a type 1 from every domain pixel per layer
+// and a type 2 to the film points, their transforms and the layers' products; nothing to sum
+// beforehand but the transfer (a pass over the pinhole's samples).
+KernelSummationWork direction_runs_work(const KernelSummationSpec& spec) {
+    const DirectionGeometry g = direction_geometry(spec);
+    const LatticeNufft nufft(g.modes, g.modes, spec.settings.tolerance, 1);
+    const PinholeCamera& c = spec.camera;
+    const int o = spec.overscan;
+    const double sources = double(g.width) * g.height, layers = g.layers.count;
+    const double film = double(c.width - 2 * o) * (c.height - 2 * o) * spec.subsamples * spec.subsamples;
+    KernelSummationWork w;
+    w.per_run = (sources * layers + film) * nufft.taps_per_point() * kTapCost +
+                (layers + 1) * nufft.fft_work() * kFftCost + layers * double(g.modes) * g.modes * kMacCost;
+    return w;
+}
+
+// What the runs in directions hold at once: the sources' places and a batch's weights, the film
+// points, and per thread its transforms' grids and lattices and a run's image.
+double direction_runs_bytes(const KernelSummationSpec& spec) {
+    const DirectionGeometry g = direction_geometry(spec);
+    const LatticeNufft nufft(g.modes, g.modes, spec.settings.tolerance, 1);
+    const PinholeCamera& c = spec.camera;
+    const int o = spec.overscan, threads = thread_count(spec.settings.nthreads);
+    const double sources = double(g.width) * g.height, layers = g.layers.count;
+    const double pixels = double(c.width - 2 * o) * (c.height - 2 * o), film = pixels * spec.subsamples * spec.subsamples;
+    const double grid = double(nufft.grid_x() + nufft.kernel_width()) * nufft.grid_y();
+    const double lattice = double(g.modes) * g.modes;
+    return sources * (16 + 5 + 8 * threads) + film * 24 + layers * lattice * 8 +
+           threads * (8 * (grid * layers + lattice * (layers + 1) + sources * layers + film) + 4 * pixels);
+}
+
+}  // namespace
+
 KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCounts in, SumCounts out,
                                           const ComputeDevice& device) {
+    if (runs_in_directions(spec, device)) return direction_runs_work(spec);
     const KernelSummationGeometry g = kernel_summation_geometry(spec);
     const double side = 2.0 * g.radius + 1, S = double(spec.subsamples) * spec.subsamples;
     const int layers = std::min(g.layers.count, kMaxKernelLayers + 1);
@@ -235,7 +273,8 @@ KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCo
     return w;
 }
 
-double kernel_summation_bytes(const KernelSummationSpec& spec) {
+double kernel_summation_bytes(const KernelSummationSpec& spec, const ComputeDevice& device) {
+    if (runs_in_directions(spec, device)) return direction_runs_bytes(spec);
     const KernelSummationGeometry g = kernel_summation_geometry(spec);
     const double N = double(g.nx) * g.ny, S = double(spec.subsamples) * spec.subsamples;
     const double kernels = double(g.anchors()) * std::min(g.layers.count, kMaxKernelLayers + 1);
@@ -358,7 +397,7 @@ SummationChoice choose_summation(const FrameSums& f, const ComputeDevice& device
     if (take_kernel) {
         c.summation = Summation::Kernel;
         c.work = kernel;
-        c.bytes = kernel_summation_bytes(f.kernel);
+        c.bytes = kernel_summation_bytes(f.kernel, device);
     } else {
         c.summation = c.in.evaluator != c.out.evaluator ? Summation::Auto
                       : c.in.evaluator == Evaluator::Nufft ? Summation::Nufft

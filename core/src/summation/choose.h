@@ -80,7 +80,7 @@ KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCo
                                           const ComputeDevice& device);
 // Bytes a convolution holds at once: the kernels' spectra and a run's sums (on the CPU; a GPU
 // holds the same in its memory, padded to powers of two).
-double kernel_summation_bytes(const KernelSummationSpec& spec);
+double kernel_summation_bytes(const KernelSummationSpec& spec, const ComputeDevice& device);
 
 // ---- the devices ----
 

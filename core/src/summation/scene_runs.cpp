@@ -23,12 +23,15 @@ PointSource centred(const PinholeCamera& c, const Emitter& e, double phase) {
     return source_at(c, {e.x + 0.5 * e.w, e.y + 0.5 * e.h, e.depth, e.meaning}, e.power, phase);
 }
 
+double cell_turns(const PhaseDraw& d, long i, long j) {
+    const PhaseCode::CellPhase place = d.code.cell_phase(i, j);
+    return counter_uniform(d.settings.seed ^ d.stream, 0, place.key, 4) + place.ramp_turns;
+}
+
 double source_turns(const PhaseDraw& d, long i, long j, uint64_t key, int run) {
     const SceneSumSettings& s = d.settings;
     if (!s.coded_phases) return counter_uniform(s.seed ^ d.stream, uint64_t(run), key, 3);
-    const PhaseCode::CellPhase place = d.code.cell_phase(i, j);
-    return counter_uniform(s.seed ^ d.stream, 0, place.key, 4) + place.ramp_turns +
-           d.code.offset_turns(run, d.code.code_class(i, j));
+    return cell_turns(d, i, j) + d.code.offset_turns(run, d.code.code_class(i, j));
 }
 
 // Coded (phase_codes.h): each emitter's phase 2 pi (theta + k m / K), theta uniform per emitter

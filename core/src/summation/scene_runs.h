@@ -29,6 +29,9 @@ struct PhaseDraw {
 // at pixel (i, j) plus its class's offset for the run; independent: a fresh draw per run for
 // `key`, the source's random numbers.
 double source_turns(const PhaseDraw& d, long i, long j, uint64_t key, int run);
+// Coded: the part of source_turns that is the same in every run (its cell's random phase and
+// ramp at pixel (i, j)); source_turns is this plus the class's offset for the run, to the bit.
+double cell_turns(const PhaseDraw& d, long i, long j);
 
 // One run's sources (scene_runs.cpp says how they move and what phases they take).
 std::vector<PointSource> run_sources(const PinholeCamera& c, const std::vector<Emitter>& emitters, const PhaseDraw& d,

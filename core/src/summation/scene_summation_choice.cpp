@@ -272,11 +272,12 @@ double scene_terms(const SceneSumSettings& s, const ComputeDevice& device, const
     return scene_choice(s, device, camera, wavelength, {s.summation, false, 0}).work;
 }
 
-double scene_summation_bytes(const SceneSumSettings& s, const PinholeCamera& camera, double wavelength) {
+double scene_summation_bytes(const SceneSumSettings& s, const ComputeDevice& device, const PinholeCamera& camera,
+                             double wavelength) {
     if (s.summation != Summation::Kernel) return 0;
     const double nearest = std::isnan(s.nearest_depth) ? INFINITY : s.nearest_depth;
     const int subsamples = film_subsamples(s, camera, wavelength);
-    return detail::kernel_summation_bytes(kernel_summation_spec(s, camera, wavelength, nearest, subsamples));
+    return detail::kernel_summation_bytes(kernel_summation_spec(s, camera, wavelength, nearest, subsamples), device);
 }
 
 }  // namespace wavecam

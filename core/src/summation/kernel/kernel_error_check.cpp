@@ -6,6 +6,7 @@
 #include <mutex>
 
 #include "base/parallel.h"
+#include "summation/kernel/direction_runs.h"
 #include "summation/kernel/source_kernels.h"
 
 namespace wavecam::detail {
@@ -149,6 +150,50 @@ void check_blends(const KernelSummationGeometry& g, const ProbeCells& cells, con
     }
 }
 
+// The runs in directions (direction_runs.h): probe stars at the nearest source's depth on the
+// axis, at the middle of the frame's left edge and at its corner (the widest field, where the
+// curvature the runs drop is largest), and on the axis midway between the two nearest layers
+// (their amplitudes' blend), each the runs' own field against the point sums' kernel there.
+Result<KernelErrorCheck> check_direction_runs(const KernelSummationSpec& spec, const KernelSetup& setup,
+                                              const SummationSettings& to_film) {
+    using R = Result<KernelErrorCheck>;
+    const PinholeCamera& c = spec.camera;
+    const DirectionRuns runs(spec, 1);
+    const DepthLayers& layers = runs.geometry().layers;
+    const int o = spec.overscan, n = spec.subsamples, radius = setup.g->radius;
+    std::vector<Probe> probes{{c.width / 2, c.height / 2, {spec.max_inverse_depth}},
+                              {o, c.height / 2, {spec.max_inverse_depth}},
+                              {o, o, {spec.max_inverse_depth}}};
+    if (layers.count > 1) {
+        const int L = layers.count;
+        probes.push_back({c.width / 2, c.height / 2,
+                          {0.5 * (layers.inverse_depth(L - 2) + layers.inverse_depth(L - 1))}});
+    }
+    std::vector<std::vector<Field>> fields(probes.size());
+    KernelSetup shifted = setup;  // (probe_kernels counts in domain pixels)
+    KernelSummationGeometry g = *setup.g;
+    g.origin = 0;
+    shifted.g = &g;
+    if (auto r = probe_kernels(spec, shifted, to_film, probes, fields); !r.ok()) return R::failure(r);
+    KernelErrorCheck check;
+    for (size_t i = 0; i < probes.size(); ++i) {
+        const Probe& p = probes[i];
+        std::vector<double> fx, fy;  // the probe kernel's film points, as source_kernels orders them
+        for (int sb = 0; sb < n; ++sb)
+            for (int sa = 0; sa < n; ++sa)
+                for (int dy = -radius; dy <= radius; ++dy)
+                    for (int dx = -radius; dx <= radius; ++dx) {
+                        fx.push_back(p.x + dx + (sa + 0.5) / n);
+                        fy.push_back(p.y + dy + (sb + 0.5) / n);
+                    }
+        const Field star = runs.star_field(p.x + 0.5, p.y + 0.5, p.depths[0], fx, fy);
+        const double e = blend_error({&star}, {1.0}, fields[i][0], n * n, false);
+        check.probes.push_back({p.x, p.y, i == 3, e});
+        check.blend = std::max(check.blend, e);
+    }
+    return R::success(check);
+}
+
 }  // namespace
 
 Result<KernelErrorCheck> check_kernel_error(const ComputeDevice& device, const KernelSummationSpec& spec,
@@ -157,11 +202,12 @@ Result<KernelErrorCheck> check_kernel_error(const ComputeDevice& device, const K
     const KernelSummationGeometry g = kernel_summation_geometry(spec);
     KernelErrorCheck check;
     const PinholeCamera& c = spec.camera;
-    if (!spec.incoherent && airy_spans_a_pixel(spec))
+    if (!spec.incoherent && airy_spans_a_pixel(spec) && !runs_in_directions(spec, device))
         check.tail = 0.8 * std::sqrt((1 - kernel_energy(spec)) / std::max(1, spec.runs));
     const KernelSums sums = kernel_sums(spec, g);
     const ApertureSamples samples = sample_aperture(spec.aperture, lattice_pitch);
     const KernelSetup setup{&spec, &g, &samples, sums.to_pinhole, unit, &device};
+    if (runs_in_directions(spec, device)) return check_direction_runs(spec, setup, sums.to_film);
     const int points = spec.subsamples * spec.subsamples;
     const int axis_x = g.ax.cell_of(g.origin + c.width / 2);
     const int axis_y = g.ay.cell_of(g.origin + c.height / 2);

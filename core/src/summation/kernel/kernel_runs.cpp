@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "base/parallel.h"
 #include "wavecam/edge_continuation.h"
 #include "summation/kernel/source_kernels.h"
 #include "summation/scene_runs.h"
@@ -67,14 +68,17 @@ public:
         for (int k0 = 0; k0 < runs; k0 += at_once) {
             sources_.runs = std::min(at_once, runs - k0);
             sources_.weight.resize(size_t(sources_.runs) * n);
-            for (int k = 0; k < sources_.runs; ++k) {
-                const int run = batch.run_begin + k0 + k;
+            // (the runs' phases, drawn per source, are a good part of a cheap run: over the threads)
+            parallel_for(0, sources_.runs, thread_count(s.nthreads), [&](int64_t k) {
+                const int run = batch.run_begin + k0 + int(k);
                 for (size_t p = 0; p < n; ++p) {
                     const long ci = long(p % W) - origin, cj = long(p / W) - origin;
-                    const double turns = incoherent ? 0.0 : source_turns(draw, ci, cj, key_[p], run);
+                    const double turns = incoherent        ? 0.0
+                                         : s.coded_phases ? cell_turns_[p] + code.offset_turns(run, code_class_[p])
+                                                          : source_turns(draw, ci, cj, key_[p], run);
                     sources_.weight[size_t(k) * n + p] = std::polar(amplitude_[p], float(2 * M_PI * turns));
                 }
-            }
+            });
             const double at = k0 * per_run;
             if (auto r = conv.run(sources_, incoherent ? 1.0 : 1.0 / s.runs, rows(), tail_.data(), irradiance,
                                   progress_slice(progress, at, at + sources_.runs * per_run));
@@ -118,6 +122,17 @@ private:
                 power_[p] = float(power);
                 key_[p] = ci == qi && cj == qj ? uint64_t(q) : pixels + p;
             }
+        const SceneSumSettings& s = *setup_.settings;
+        // coded phases: each pixel's cell phase and class, the same in every run (scene_runs.h)
+        const PhaseCode code(s.runs);
+        const PhaseDraw draw{s, code, wavelength_stream(setup_.wavelength)};
+        cell_turns_.resize(s.coded_phases ? n : 0);
+        code_class_.resize(cell_turns_.size());
+        parallel_for(0, long(cell_turns_.size()), thread_count(s.nthreads), [&](int64_t p) {
+            const long ci = long(p % W) - origin, cj = long(p / W) - origin;
+            cell_turns_[size_t(p)] = cell_turns(draw, ci, cj);
+            code_class_[size_t(p)] = code.code_class(ci, cj);
+        });
         balance_ = conv.power_balance(sources_);
         for (size_t p = 0; p < n; ++p) amplitude_[p] *= balance_[p];
     }
@@ -131,6 +146,8 @@ private:
     std::vector<float> amplitude_, tail_;
     std::vector<float> power_, balance_;  // each domain pixel's power, and its weight's balance
     std::vector<uint64_t> key_;
+    std::vector<double> cell_turns_;  // coded phases: each pixel's cell phase
+    std::vector<int> code_class_;     // and class
 };
 
 }  // namespace

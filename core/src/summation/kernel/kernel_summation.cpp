@@ -163,6 +163,7 @@ const DepthLayers& KernelSummation::layers() const { return impl_->g.layers; }
 Result<bool> KernelSummation::run(const KernelSummationSources& sources, double scale, const RowRange& rows,
                                const float* each, float* irradiance, const ProgressFn& progress) const {
     const Impl& m = *impl_;
+    if (m.directions) return m.directions->run(sources, scale, rows, irradiance, progress);  // (no tail: `each` is 0)
     const int runs = sources.runs;
     const size_t N = m.fft->size();
     if (progress && !progress(0.0)) return cancelled();
@@ -178,6 +179,7 @@ Result<bool> KernelSummation::run(const KernelSummationSources& sources, double 
 
 int KernelSummation::runs_at_once() const {
     const Impl& m = *impl_;
+    if (m.directions) return m.directions->runs_at_once();
     const double N = double(m.fft->size()), B = m.basis.rank, M = m.modes.count;
     // a run's images, sums and film against the kernels' spectra (none kept here on a GPU)
     const double run = N * (8 * (B + M) + 8), spectra = m.gpu ? 0 : 8 * N * B * M;

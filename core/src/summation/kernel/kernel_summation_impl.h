@@ -11,6 +11,7 @@
 #include "fft/complex_fft2d.h"
 #include "gpu/gpu_kernel_summation.h"
 #include "summation/kernel/basis_spectra.h"
+#include "summation/kernel/direction_runs.h"
 #include "summation/kernel/kernel_basis.h"
 #include "summation/kernel/kernel_summation.h"
 #include "summation/kernel/kernel_summation_geometry.h"
@@ -20,8 +21,11 @@ namespace wavecam::detail {
 struct KernelSummation::Impl {
     ComputeDevice device;
     KernelSummationSpec spec;
-    KernelSummationGeometry g;
+    KernelSummationGeometry g;  // (in directions: the domain and layers alone)
     int threads = 1;
+    // the runs in direction cosines where the pinhole is in the Fraunhofer regime (direction_runs.h),
+    // else none: the anchors' kernels below
+    std::unique_ptr<DirectionRuns> directions;
     std::unique_ptr<ComplexFft2D> fft;
     KernelBasis basis;  // the kernels (layer x anchors + anchor) as combinations of a few
     BasisSpectra spectra;  // the basis kernels' spectra per mode (none on a GPU)

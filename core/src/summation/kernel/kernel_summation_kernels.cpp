@@ -312,9 +312,20 @@ Result<KernelSummation> KernelSummation::create(const ComputeDevice& device, con
     Impl& m = *impl;
     m.device = device;
     m.spec = spec;
+    m.threads = thread_count(spec.settings.nthreads);
+    if (runs_in_directions(spec, device)) {
+        m.directions = std::make_unique<DirectionRuns>(spec, m.threads);
+        const DirectionGeometry& d = m.directions->geometry();
+        m.g.radius = m.g.origin = d.margin;
+        m.g.width = d.width;
+        m.g.height = d.height;
+        m.g.layers = d.layers;
+        KernelSummation conv;
+        conv.impl_ = std::move(impl);
+        return R::success(std::move(conv));
+    }
     const KernelSummationGeometry& g = m.g = kernel_summation_geometry(spec);
     if (g.layers.count > kMaxKernelLayers) return R::failure(too_many_layers());
-    m.threads = thread_count(spec.settings.nthreads);
     m.tail.radius = g.radius;
     m.tail.layers = g.layers;
     m.tail.ax = g.ax;

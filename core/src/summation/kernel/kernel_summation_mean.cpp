@@ -47,6 +47,7 @@ std::vector<float> layer_balances(const KernelSummation::Impl& m, const KernelSu
 
 std::vector<float> KernelSummation::power_balance(const KernelSummationSources& sources) const {
     const Impl& m = *impl_;
+    if (m.directions) return m.directions->power_balance(sources);
     const KernelSummationGeometry& g = m.g;
     const size_t n = size_t(g.width) * g.height, K = size_t(g.layers.count) * g.anchors();
     std::vector<float> factor(n, 1.0f);
@@ -71,7 +72,7 @@ std::vector<float> KernelSummation::power_balance(const KernelSummationSources& 
 void KernelSummation::add_blend_mean(const KernelSummationSources& sources, const std::vector<float>& power,
                                   const std::vector<float>& balance, const RowRange& rows, float* each) const {
     const Impl& m = *impl_;
-    if (m.spec.incoherent) return;  // (its powers are blended as they are)
+    if (m.spec.incoherent || m.directions) return;  // (its powers are blended as they are; directions blend no anchors)
     const KernelSummationGeometry& g = m.g;
     const PinholeCamera& c = m.spec.camera;
     const int R = g.radius, side = 2 * R + 1, o = m.spec.overscan;
@@ -126,6 +127,7 @@ void KernelSummation::add_blend_mean(const KernelSummationSources& sources, cons
 void KernelSummation::add_far_tail(const float* radiance, const float* depth, DepthMeaning meaning, double scale,
                                 const RowRange& rows, float* irradiance) const {
     const Impl& m = *impl_;
+    if (m.directions) return;  // (a source's light is whole, beyond its margin but a kDirectionMarginLight share)
     const PinholeCamera& c = m.spec.camera;
     const int o = m.spec.overscan, out_w = c.width - 2 * o, out_h = c.height - 2 * o, R = m.g.radius;
     std::vector<float> rgb(3 * size_t(c.width) * c.height, 0.0f), xyz(3 * size_t(out_w) * out_h, 0.0f);

@@ -9,6 +9,7 @@
 #include "summation/nufft/lattice_nufft.h"
 
 #include <algorithm>
+#include <type_traits>
 #include <cmath>
 
 #include "base/parallel.h"
@@ -79,6 +80,49 @@ inline long wrap(long i, long m) {
 
 constexpr int kMaxWidth = 16;
 
+// One point's kernel spread onto the grid (rows of `stride`), w x w taps: W fixed at compile time
+// for the common widths (the loops unrolled and vectorised), else the run-time w.
+template <int W>
+inline void spread(cfloat* grid, size_t stride, const float* wx, const float* wy, cfloat v, int w) {
+    const int n = W > 0 ? W : w;
+    for (int j = 0; j < n; ++j) {
+        cfloat* row = grid + size_t(j) * stride;
+        const cfloat vj = v * wy[j];
+        for (int i = 0; i < n; ++i) row[i] += vj * wx[i];
+    }
+}
+
+// One point's kernel read from the grid.
+template <int W>
+inline cfloat interpolate(const cfloat* grid, size_t stride, const float* wx, const float* wy, int w) {
+    const int n = W > 0 ? W : w;
+    float re = 0, im = 0;
+    for (int j = 0; j < n; ++j) {
+        const cfloat* row = grid + size_t(j) * stride;
+        float sr = 0, si = 0;
+        for (int i = 0; i < n; ++i) {
+            sr += wx[i] * row[i].real();
+            si += wx[i] * row[i].imag();
+        }
+        re += wy[j] * sr;
+        im += wy[j] * si;
+    }
+    return {re, im};
+}
+
+// f(std::integral_constant<int, W>) for w's compile-time width where there is one (W = 0: run time).
+template <class F>
+inline void with_width(int w, F&& f) {
+    switch (w) {
+        case 4: f(std::integral_constant<int, 4>()); break;
+        case 5: f(std::integral_constant<int, 5>()); break;
+        case 6: f(std::integral_constant<int, 6>()); break;
+        case 7: f(std::integral_constant<int, 7>()); break;
+        case 8: f(std::integral_constant<int, 8>()); break;
+        default: f(std::integral_constant<int, 0>());
+    }
+}
+
 }  // namespace
 
 LatticeNufft::LatticeNufft(int nx, int ny, double tolerance, int nthreads)
@@ -132,19 +176,6 @@ std::vector<int> LatticeNufft::mode_lines(int n, int m) {
     return lines;
 }
 
-std::vector<int> LatticeNufft::touched(const double* x, size_t count, int m) const {
-    std::vector<char> hit(m, 0);
-    const double to_g = m / (2 * M_PI);
-    for (size_t s = 0; s < count; ++s) {
-        const long first = long(std::ceil(x[s] * to_g - 0.5 * w_));
-        for (int i = 0; i < w_; ++i) hit[wrap(first + i, m)] = 1;
-    }
-    std::vector<int> lines;
-    for (int i = 0; i < m; ++i)
-        if (hit[i]) lines.push_back(i);
-    return lines;
-}
-
 // `batch` zeroed grids of `plane` values, kept between calls (no page faults per transform).
 std::vector<std::vector<cfloat>>& LatticeNufft::workspace(int batch, size_t plane) const {
     if (int(grids_.size()) < batch) grids_.resize(batch);
@@ -160,45 +191,69 @@ std::vector<std::vector<cfloat>>& LatticeNufft::workspace(int batch, size_t plan
 
 std::complex<double> LatticeNufft::centring(double x, double y) const { return std::polar(1.0, centring_phase(x, y)); }
 
-void LatticeNufft::to_lattice(const LatticePoints& points, const cfloat* a, int batch, cfloat* const* lattices) const {
-    const double *x = points.x, *y = points.y;
-    const size_t count = points.count;
-    const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_);
-    std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);
+PlacedPoints LatticeNufft::place(const LatticePoints& points) const {
+    PlacedPoints p;
+    const size_t count = p.count = points.count;
+    const size_t w = size_t(w_);
+    p.first_x.resize(count);
+    p.first_y.resize(count);
+    p.weight_x.resize(count * w);
+    p.weight_y.resize(count * w);
     const double to_gx = mx_ / (2 * M_PI), to_gy = my_ / (2 * M_PI);
-    // Rows of the grid in stripes at least w high, sources bucketed by stripe: the even stripes
-    // spread in parallel, then the odd ones, so no two threads write one grid row at once. The
-    // grid has w rows and columns of padding beyond the period, folded back afterwards.
+    parallel_for(0, long(count), thread_count(nthreads_), [&](int64_t s) {
+        p.first_x[size_t(s)] = int(wrap(kernel_weights(points.x[s] * to_gx, w_, table_.data(), &p.weight_x[size_t(s) * w]), mx_));
+        p.first_y[size_t(s)] = int(wrap(kernel_weights(points.y[s] * to_gy, w_, table_.data(), &p.weight_y[size_t(s) * w]), my_));
+    });
+    // Rows of the grid in stripes at least w high, each point in the stripe of its first row: the
+    // even stripes spread in parallel, then the odd ones, so no two threads write one grid row at
+    // once. The grid has w rows and columns of padding beyond the period, folded back afterwards.
     const int stripes = std::max(2, (my_ / (w_ + 1)) & ~1);
     const double stripe_height = double(my_) / stripes;
-    std::vector<std::vector<size_t>> bucket(stripes);
+    p.bucket.resize(size_t(stripes));
+    std::vector<char> row(size_t(my_), 0), column(size_t(mx_), 0);
     for (size_t s = 0; s < count; ++s) {
-        const double gy = y[s] * to_gy;
-        const double wrapped = gy - my_ * std::floor(gy / my_);
-        bucket[std::min(stripes - 1, int(wrapped / stripe_height))].push_back(s);
+        p.bucket[size_t(std::min(stripes - 1, int(p.first_y[s] / stripe_height)))].push_back(s);
+        for (int i = 0; i < w_; ++i) {
+            row[size_t(wrap(p.first_y[s] + i, my_))] = 1;
+            column[size_t(wrap(p.first_x[s] + i, mx_))] = 1;
+        }
     }
-    for (int parity = 0; parity < 2; ++parity) {
-        parallel_for_dynamic(0, (stripes - parity + 1) / 2, 1, thread_count(nthreads_), [&](int64_t k) {
-            const int b = parity + 2 * int(k);
-            float wx[kMaxWidth], wy[kMaxWidth];
-            for (size_t s : bucket[b]) {
-                // a point's kernel weights once for the whole batch
-                const long fx = wrap(kernel_weights(x[s] * to_gx, w_, table_.data(), wx), mx_);
-                const long fy = wrap(kernel_weights(y[s] * to_gy, w_, table_.data(), wy), my_);
-                for (int q = 0; q < batch; ++q) {
-                    const cfloat v = a[s * batch + q];
-                    for (int j = 0; j < w_; ++j) {
-                        cfloat* row = grid[q].data() + size_t(fy + j) * stride + fx;
-                        const cfloat vj = v * wy[j];
-                        for (int i = 0; i < w_; ++i) row[i] += vj * wx[i];
-                    }
+    for (int i = 0; i < my_; ++i)
+        if (row[size_t(i)]) p.rows.push_back(i);
+    for (int i = 0; i < mx_; ++i)
+        if (column[size_t(i)]) p.columns.push_back(i);
+    return p;
+}
+
+void LatticeNufft::to_lattice(const LatticePoints& points, const cfloat* a, int batch, cfloat* const* lattices) const {
+    to_lattice(place(points), a, batch, lattices);
+}
+
+void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const LatticePoints& points, const cfloat* c,
+                                cfloat* out) const {
+    from_lattice(lattices, batch, place(points), 0, points.count, c, out);
+}
+
+void LatticeNufft::to_lattice(const PlacedPoints& points, const cfloat* a, int batch, cfloat* const* lattices) const {
+    const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_), w = size_t(w_);
+    std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);
+    const int stripes = int(points.bucket.size());
+    with_width(w_, [&](auto width) {
+        constexpr int W = decltype(width)::value;
+        for (int parity = 0; parity < 2; ++parity) {
+            parallel_for_dynamic(0, (stripes - parity + 1) / 2, 1, thread_count(nthreads_), [&](int64_t k) {
+                const int b = parity + 2 * int(k);
+                for (size_t s : points.bucket[size_t(b)]) {
+                    const float *wx = &points.weight_x[s * w], *wy = &points.weight_y[s * w];
+                    const size_t at = size_t(points.first_y[s]) * stride + size_t(points.first_x[s]);
+                    for (int q = 0; q < batch; ++q) spread<W>(grid[q].data() + at, stride, wx, wy, a[s * batch + q], w_);
                 }
-            }
-        });
-    }
+            });
+        }
+    });
     const int cx = nx_ / 2, cy = ny_ / 2;
     // transformed: the rows the points' kernels touch, then the columns of the modes wanted
-    const std::vector<int> rows = touched(y, count, my_), columns = mode_lines(nx_, mx_);
+    const std::vector<int> columns = mode_lines(nx_, mx_);
     for (int q = 0; q < batch; ++q) {
         std::vector<cfloat>& one = grid[q];
         // fold the padding back onto the period: the w columns beyond each row, then the w rows
@@ -207,7 +262,7 @@ void LatticeNufft::to_lattice(const LatticePoints& points, const cfloat* a, int 
             for (int c = mx_; c < mx_ + w_; ++c) one[size_t(r) * stride + c - mx_] += one[size_t(r) * stride + c];
         for (int r = my_; r < my_ + w_; ++r)
             for (int c = 0; c < mx_; ++c) one[size_t(r - my_) * stride + c] += one[size_t(r) * stride + c];
-        fft2d(one, rows, columns);
+        fft2d(one, points.rows, columns);
         cfloat* lattice = lattices[q];
         parallel_for(0, ny_, thread_count(nthreads_), [&](int64_t n_) {
             const int n = int(n_);
@@ -219,15 +274,13 @@ void LatticeNufft::to_lattice(const LatticePoints& points, const cfloat* a, int 
     }
 }
 
-void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const LatticePoints& points, const cfloat* c,
-                                cfloat* out) const {
-    const double *x = points.x, *y = points.y;
-    const size_t count = points.count;
-    const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_);
+void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const PlacedPoints& points, size_t begin,
+                                size_t end, const cfloat* c, cfloat* out) const {
+    const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_), w = size_t(w_);
     const int cx = nx_ / 2, cy = ny_ / 2;
     std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);
     // transformed: the rows of the modes given, then the columns the points' kernels read
-    const std::vector<int> rows = mode_lines(ny_, my_), columns = touched(x, count, mx_);
+    const std::vector<int> rows = mode_lines(ny_, my_);
     for (int q = 0; q < batch; ++q) {
         std::vector<cfloat>& one = grid[q];
         const cfloat* lattice = lattices[q];
@@ -238,7 +291,7 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
                 one[bin] = lattice[size_t(n) * nx_ + m] * float(deconvolve_x_[m] * deconvolve_y_[n]);
             }
         });
-        fft2d(one, rows, columns);
+        fft2d(one, rows, points.columns);
         // periodic padding: w columns beyond each row, then w rows beyond the last, repeat the start
         for (int r = 0; r < my_; ++r)
             for (int col = mx_; col < mx_ + w_; ++col) one[size_t(r) * stride + col] = one[size_t(r) * stride + col - mx_];
@@ -246,27 +299,17 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
             std::copy(one.begin() + size_t(r - my_) * stride, one.begin() + size_t(r - my_ + 1) * stride,
                       one.begin() + size_t(r) * stride);
     }
-    const double to_gx = mx_ / (2 * M_PI), to_gy = my_ / (2 * M_PI);
-    parallel_for(0, long(count), thread_count(nthreads_), [&](int64_t s) {
-        float wx[kMaxWidth], wy[kMaxWidth];
-        const long fx = wrap(kernel_weights(x[s] * to_gx, w_, table_.data(), wx), mx_);
-        const long fy = wrap(kernel_weights(y[s] * to_gy, w_, table_.data(), wy), my_);
-        cfloat total = 0;
-        for (int q = 0; q < batch; ++q) {
-            float re = 0, im = 0;
-            for (int j = 0; j < w_; ++j) {
-                const cfloat* row = grid[q].data() + size_t(fy + j) * stride + fx;
-                float sr = 0, si = 0;
-                for (int i = 0; i < w_; ++i) {
-                    sr += wx[i] * row[i].real();
-                    si += wx[i] * row[i].imag();
-                }
-                re += wy[j] * sr;
-                im += wy[j] * si;
-            }
-            total += c[size_t(s) * batch + q] * cfloat(re, im);
-        }
-        out[s] = total;
+    with_width(w_, [&](auto width) {
+        constexpr int W = decltype(width)::value;
+        parallel_for(int64_t(begin), int64_t(end), thread_count(nthreads_), [&](int64_t s_) {
+            const size_t s = size_t(s_);
+            const float *wx = &points.weight_x[s * w], *wy = &points.weight_y[s * w];
+            const size_t at = size_t(points.first_y[s]) * stride + size_t(points.first_x[s]);
+            cfloat total = 0;
+            for (int q = 0; q < batch; ++q)
+                total += c[(s - begin) * batch + q] * interpolate<W>(grid[q].data() + at, stride, wx, wy, w_);
+            out[s - begin] = total;
+        });
     });
 }
 

@@ -28,6 +28,17 @@ struct LatticePoints {
     size_t count;
 };
 
+// Points placed on a transform's grid, for many transforms of the same points: each point's first
+// grid indices and kernel weights, the points bucketed by stripe of grid rows (type 1 spreads
+// stripe by stripe), and the grid lines their kernels touch.
+struct PlacedPoints {
+    size_t count = 0;
+    std::vector<int> first_x, first_y;      // wrapped onto the grid
+    std::vector<float> weight_x, weight_y;  // w per point
+    std::vector<std::vector<size_t>> bucket;
+    std::vector<int> rows, columns;
+};
+
 class LatticeNufft {
 public:
     // `tolerance`: the relative error asked for (1e-2 .. 1e-7); `nthreads` 0 = every core.
@@ -44,6 +55,8 @@ public:
     std::complex<double> centring(double x, double y) const;
     double centring_phase(double x, double y) const { return -((nx_ / 2) * x + (ny_ / 2) * y); }
 
+    PlacedPoints place(const LatticePoints& points) const;
+
     // Type 1 for `batch` strength sets at once (the kernel weights of a point computed once):
     // lattices[q][n * nx + m] = sum_s a[s * batch + q] exp(-i ((m - cx) x[s] + (n - cy) y[s])).
     void to_lattice(const LatticePoints& points, const cfloat* a, int batch, cfloat* const* lattices) const;
@@ -51,6 +64,10 @@ public:
     // out[s] = sum_q c[s * batch + q] sum_{m,n} lattices[q][n * nx + m] exp(-i ((m - cx) x[s] + (n - cy) y[s])).
     void from_lattice(const cfloat* const* lattices, int batch, const LatticePoints& points, const cfloat* c,
                       cfloat* out) const;
+    // The same for placed points (from_lattice: points [begin, end) of them, c and out indexed from begin).
+    void to_lattice(const PlacedPoints& points, const cfloat* a, int batch, cfloat* const* lattices) const;
+    void from_lattice(const cfloat* const* lattices, int batch, const PlacedPoints& points, size_t begin, size_t end,
+                      const cfloat* c, cfloat* out) const;
 
     // The work of one transform in units of its parts: FFT points x log2, kernel taps per point.
     double fft_work() const;
@@ -58,9 +75,7 @@ public:
 
 private:
     void fft2d(std::vector<cfloat>& grid, const std::vector<int>& rows, const std::vector<int>& columns) const;
-    // The grid lines (of m) that the kernels of points at x (radians per step) touch, and the
-    // lines of the n centred modes.
-    std::vector<int> touched(const double* x, size_t count, int m) const;
+    // The lines of the n centred modes.
     static std::vector<int> mode_lines(int n, int m);
     int nx_, ny_, mx_, my_, w_, nthreads_;
     double beta_;
