@@ -2,7 +2,7 @@
 # The random-phase method's summation measured, whole process, each
 # figure from this run:
 # Parts 1 to 5 measure the point sums (--summation nufft, the lattice evaluator; part 1 against
-# direct), parts 6 and 7 the kernel summation and the defaults (64 runs, auto: the kernel summation where it applies).
+# direct), parts 6 to 9 the kernel summation and the defaults (64 runs or more, auto: the kernel summation where it applies).
 #   1. 96x96, 1 wavelength, 1 run, 50deg: --summation direct against nufft (goal: direct / nufft >= 80);
 #   2. 256x256, 3 wavelengths, 16 runs, default pinhole, 50deg: nufft (goal <= 300 s);
 #   3. 1920x1080, 16 wavelengths, 16 runs, 50deg: nufft, the whole job (about 30 minutes here),
@@ -20,6 +20,12 @@
 #      work, and 64 runs / convolution and the default / convolution (goal <= 30).
 #   7. part 3's frame and job through --summation kernel (about 5 minutes here; goal 5 minutes), with
 #      the convolution method's time on the same frame and the estimate printed before work.
+#   8. the paper's method at a wide field: 256x256, 60deg, 0.08 mm, 8 wavelengths, random-phase at
+#      its defaults (96 runs, auto: the kernel summation in direction cosines) against the default
+#      method on the same frame (goal: <= 30 times), and the job line's choice.
+#   9. the same job at 3 wavelengths against the point sums' same runs (--summation nufft, about
+#      3 minutes here): relative RMS per channel over the frame (the kernel summation's bound: 1.5%)
+#      and the mean's ratio.
 # Frames: uniform noise x a checker (radiance), depth from 0.3 m to 20 m (top to bottom).
 # Usage: tests/bench/run_summation_bench.sh [build-dir] [part...]
 set -euo pipefail
@@ -107,5 +113,21 @@ case $part in
   t=$(seconds "$wavecam" apply f1080.exr -o p1080.exr $kernel)
   estimate=$("$wavecam" apply f1080.exr -o p1080.exr $kernel --max-terms 1 2>&1 | sed -n 's/.*, about \([^,]*\) at .*/\1/p' || true)
   echo "7. 1920x1080, 16 wavelengths, 16 runs, 50deg, kernel summation: the job ${t} s, $(python3 -c "print(f'{$t / 60:.1f}')") min (goal 5 min; estimated ${estimate:-?}); convolution ${t_conv} s; job / convolution $(ratio "$t" "$t_conv")" ;;
+8)
+  frame 256 256 60.0 f256.exr
+  t_conv=$(seconds "$wavecam" apply f256.exr -o conv.exr --pinhole 0.08mm --wavelengths 8)
+  t=$(seconds "$wavecam" apply f256.exr -o paper.exr --method random-phase --pinhole 0.08mm --wavelengths 8)
+  chosen=$("$wavecam" estimate f256.exr --method random-phase --pinhole 0.08mm --wavelengths 8 2>&1 | sed -n 's/.*auto summation (\([^;]*\);.*/\1/p' | head -1)
+  echo "8. 256x256, 60deg, 0.08 mm, 8 wavelengths: convolution ${t_conv} s; random-phase at its defaults (auto: ${chosen:-?}) ${t} s; / convolution $(ratio "$t" "$t_conv") (goal <= 30)" ;;
+9)
+  frame 256 256 60.0 f256.exr
+  job=(--method random-phase --pinhole 0.08mm --wavelengths 3 --runs 96)
+  "$wavecam" apply f256.exr -o auto.exr "${job[@]}" >/dev/null 2>&1
+  "$wavecam" apply f256.exr -o sums.exr "${job[@]}" --summation nufft >/dev/null 2>&1
+  rms=$(for ch in R G B; do
+    oiiotool auto.exr --ch $ch sums.exr --ch $ch --sub --printstats | awk '/Stats Avg/ {a = $3} /Stats StdDev/ {s = $3} END {printf "%.6f %.6f ", a, s}'
+    oiiotool sums.exr --ch $ch --printstats | awk '/Stats Avg/ {printf "%.6f\n", $3}'
+  done | awk '{printf "%s%.2f%% (mean %+.2f%%)", (NR > 1 ? ", " : ""), 100 * sqrt($1 * $1 + $2 * $2) / $3, 100 * $1 / $3}')
+  echo "9. 256x256, 60deg, 0.08 mm, 3 wavelengths, 96 coded runs: auto against the point sums' same runs, RMS per channel R, G, B: ${rms} (bound 1.5%)" ;;
 esac
 done

@@ -153,14 +153,22 @@ void check_blends(const KernelSummationGeometry& g, const ProbeCells& cells, con
 // The runs in directions (direction_runs.h): probe stars at the nearest source's depth on the
 // axis, at the middle of the frame's left edge and at its corner (the widest field, where the
 // curvature the runs drop is largest), and on the axis midway between the two nearest layers
-// (their amplitudes' blend), each the runs' own field against the point sums' kernel there.
+// (their amplitudes' blend), each the runs' own field against the point sums' kernel there,
+// over the window of the light the Airy pattern holds within 97% (an anchor kernel's share).
 Result<KernelErrorCheck> check_direction_runs(const KernelSummationSpec& spec, const KernelSetup& setup,
                                               const SummationSettings& to_film) {
     using R = Result<KernelErrorCheck>;
     const PinholeCamera& c = spec.camera;
     const DirectionRuns runs(spec, 1);
     const DepthLayers& layers = runs.geometry().layers;
-    const int o = spec.overscan, n = spec.subsamples, radius = setup.g->radius;
+    // a window that holds about 97% of a star's light (the Airy pattern's 2 λ / (π^2 D r) beyond r),
+    // in the pixels of the frame's corner, where the field makes them smallest in direction
+    double u, v;
+    c.tangent(0, 0, u, v);
+    const double corner = c.tan_pitch() * (1 + v * v) / std::pow(1 + u * u + v * v, 1.5);
+    const double reach = 2 * spec.wavelength / (M_PI * M_PI * 2 * spec.aperture.bounding_radius() * 0.03);
+    const int o = spec.overscan, n = spec.subsamples;
+    const int radius = std::min(setup.g->radius, int(std::ceil(reach / corner)));
     std::vector<Probe> probes{{c.width / 2, c.height / 2, {spec.max_inverse_depth}},
                               {o, c.height / 2, {spec.max_inverse_depth}},
                               {o, o, {spec.max_inverse_depth}}};
@@ -173,6 +181,7 @@ Result<KernelErrorCheck> check_direction_runs(const KernelSummationSpec& spec, c
     KernelSetup shifted = setup;  // (probe_kernels counts in domain pixels)
     KernelSummationGeometry g = *setup.g;
     g.origin = 0;
+    g.radius = radius;
     shifted.g = &g;
     if (auto r = probe_kernels(spec, shifted, to_film, probes, fields); !r.ok()) return R::failure(r);
     KernelErrorCheck check;

@@ -71,12 +71,16 @@ public:
             // (the runs' phases, drawn per source, are a good part of a cheap run: over the threads)
             parallel_for(0, sources_.runs, thread_count(s.nthreads), [&](int64_t k) {
                 const int run = batch.run_begin + k0 + int(k);
+                std::complex<float>* weight = sources_.weight.data() + size_t(k) * n;
+                if (s.coded_phases && !incoherent) {  // the cell's phasor times the class's K-th root of unity
+                    for (size_t p = 0; p < n; ++p)
+                        weight[p] = cell_weight_[p] * root_[size_t((long(run) * code_class_[p]) % s.runs)];
+                    return;
+                }
                 for (size_t p = 0; p < n; ++p) {
                     const long ci = long(p % W) - origin, cj = long(p / W) - origin;
-                    const double turns = incoherent        ? 0.0
-                                         : s.coded_phases ? cell_turns_[p] + code.offset_turns(run, code_class_[p])
-                                                          : source_turns(draw, ci, cj, key_[p], run);
-                    sources_.weight[size_t(k) * n + p] = std::polar(amplitude_[p], float(2 * M_PI * turns));
+                    const double turns = incoherent ? 0.0 : source_turns(draw, ci, cj, key_[p], run);
+                    weight[p] = std::polar(amplitude_[p], float(2 * M_PI * turns));
                 }
             });
             const double at = k0 * per_run;
@@ -135,6 +139,11 @@ private:
         });
         balance_ = conv.power_balance(sources_);
         for (size_t p = 0; p < n; ++p) amplitude_[p] *= balance_[p];
+        cell_weight_.resize(cell_turns_.size());
+        for (size_t p = 0; p < cell_weight_.size(); ++p)
+            cell_weight_[p] = std::polar(amplitude_[p], float(2 * M_PI * cell_turns_[p]));
+        root_.resize(size_t(s.runs));
+        for (int m = 0; m < s.runs; ++m) root_[size_t(m)] = std::polar(1.0f, float(2 * M_PI * m / s.runs));
     }
 
     EvaluatorSetup setup_;
@@ -146,8 +155,11 @@ private:
     std::vector<float> amplitude_, tail_;
     std::vector<float> power_, balance_;  // each domain pixel's power, and its weight's balance
     std::vector<uint64_t> key_;
-    std::vector<double> cell_turns_;  // coded phases: each pixel's cell phase
-    std::vector<int> code_class_;     // and class
+    // coded phases (scene_runs.h, phase_codes.h): each pixel's cell phase, its class, its weight
+    // at that phase, and the K-th roots of unity its class turns by from run to run
+    std::vector<double> cell_turns_;
+    std::vector<int> code_class_;
+    std::vector<std::complex<float>> cell_weight_, root_;
 };
 
 }  // namespace

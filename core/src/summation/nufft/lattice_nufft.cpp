@@ -9,7 +9,6 @@
 #include "summation/nufft/lattice_nufft.h"
 
 #include <algorithm>
-#include <type_traits>
 #include <cmath>
 
 #include "base/parallel.h"
@@ -81,45 +80,90 @@ inline long wrap(long i, long m) {
 constexpr int kMaxWidth = 16;
 
 // One point's kernel spread onto the grid (rows of `stride`), w x w taps: W fixed at compile time
-// for the common widths (the loops unrolled and vectorised), else the run-time w.
+// for the common widths, else the run-time w. A row's 2w floats (re, im interleaved) at once:
+// p[k] = v x wx (each weight twice), then row += wy[j] p, a loop the compiler vectorises.
 template <int W>
 inline void spread(cfloat* grid, size_t stride, const float* wx, const float* wy, cfloat v, int w) {
     const int n = W > 0 ? W : w;
+    float p[2 * kMaxWidth];
+    for (int i = 0; i < n; ++i) {
+        p[2 * i] = v.real() * wx[i];
+        p[2 * i + 1] = v.imag() * wx[i];
+    }
     for (int j = 0; j < n; ++j) {
-        cfloat* row = grid + size_t(j) * stride;
-        const cfloat vj = v * wy[j];
-        for (int i = 0; i < n; ++i) row[i] += vj * wx[i];
+        float* row = reinterpret_cast<float*>(grid + size_t(j) * stride);
+        const float y = wy[j];
+        for (int k = 0; k < 2 * n; ++k) row[k] += y * p[k];
     }
 }
 
-// One point's kernel read from the grid.
+// One point's kernel read from the grid: the rows summed with wy first (2w floats at once), then
+// across with wx.
 template <int W>
 inline cfloat interpolate(const cfloat* grid, size_t stride, const float* wx, const float* wy, int w) {
     const int n = W > 0 ? W : w;
-    float re = 0, im = 0;
+    float column[2 * kMaxWidth] = {};
     for (int j = 0; j < n; ++j) {
-        const cfloat* row = grid + size_t(j) * stride;
-        float sr = 0, si = 0;
-        for (int i = 0; i < n; ++i) {
-            sr += wx[i] * row[i].real();
-            si += wx[i] * row[i].imag();
-        }
-        re += wy[j] * sr;
-        im += wy[j] * si;
+        const float* row = reinterpret_cast<const float*>(grid + size_t(j) * stride);
+        const float y = wy[j];
+        for (int k = 0; k < 2 * n; ++k) column[k] += y * row[k];
+    }
+    float re = 0, im = 0;
+    for (int i = 0; i < n; ++i) {
+        re += wx[i] * column[2 * i];
+        im += wx[i] * column[2 * i + 1];
     }
     return {re, im};
 }
 
-// f(std::integral_constant<int, W>) for w's compile-time width where there is one (W = 0: run time).
-template <class F>
-inline void with_width(int w, F&& f) {
+// The points `index` (count of them) spread onto `batch` grids, strengths a[s * batch + q]. In the
+// AVX2 clone on CPUs that have it (the taps are most of a transform's work); the common widths
+// compiled for their own.
+template <int W>
+inline void spread_points(const PlacedPoints& points, const size_t* index, size_t count, const cfloat* a, int batch,
+                          cfloat* const* grids, size_t stride, int w) {
+    for (size_t k = 0; k < count; ++k) {
+        const size_t s = index[k];
+        const float *wx = &points.weight_x[s * size_t(w)], *wy = &points.weight_y[s * size_t(w)];
+        const size_t at = size_t(points.first_y[s]) * stride + size_t(points.first_x[s]);
+        for (int q = 0; q < batch; ++q) spread<W>(grids[q] + at, stride, wx, wy, a[s * batch + q], w);
+    }
+}
+__attribute__((target_clones("arch=x86-64-v3", "default")))
+void spread_points(const PlacedPoints& points, const size_t* index, size_t count, const cfloat* a, int batch,
+                   cfloat* const* grids, size_t stride, int w) {
     switch (w) {
-        case 4: f(std::integral_constant<int, 4>()); break;
-        case 5: f(std::integral_constant<int, 5>()); break;
-        case 6: f(std::integral_constant<int, 6>()); break;
-        case 7: f(std::integral_constant<int, 7>()); break;
-        case 8: f(std::integral_constant<int, 8>()); break;
-        default: f(std::integral_constant<int, 0>());
+        case 4: return spread_points<4>(points, index, count, a, batch, grids, stride, w);
+        case 5: return spread_points<5>(points, index, count, a, batch, grids, stride, w);
+        case 6: return spread_points<6>(points, index, count, a, batch, grids, stride, w);
+        case 7: return spread_points<7>(points, index, count, a, batch, grids, stride, w);
+        case 8: return spread_points<8>(points, index, count, a, batch, grids, stride, w);
+        default: return spread_points<0>(points, index, count, a, batch, grids, stride, w);
+    }
+}
+
+// Points [begin, end) read from `batch` grids, weighted c[(s - begin) * batch + q], into out[s - begin].
+template <int W>
+inline void interpolate_points(const PlacedPoints& points, size_t begin, size_t end, const cfloat* const* grids,
+                               int batch, size_t stride, const cfloat* c, cfloat* out, size_t first, int w) {
+    for (size_t s = begin; s < end; ++s) {
+        const float *wx = &points.weight_x[s * size_t(w)], *wy = &points.weight_y[s * size_t(w)];
+        const size_t at = size_t(points.first_y[s]) * stride + size_t(points.first_x[s]);
+        cfloat total = 0;
+        for (int q = 0; q < batch; ++q) total += c[(s - first) * batch + q] * interpolate<W>(grids[q] + at, stride, wx, wy, w);
+        out[s - first] = total;
+    }
+}
+__attribute__((target_clones("arch=x86-64-v3", "default")))
+void interpolate_points(const PlacedPoints& points, size_t begin, size_t end, const cfloat* const* grids, int batch,
+                        size_t stride, const cfloat* c, cfloat* out, size_t first, int w) {
+    switch (w) {
+        case 4: return interpolate_points<4>(points, begin, end, grids, batch, stride, c, out, first, w);
+        case 5: return interpolate_points<5>(points, begin, end, grids, batch, stride, c, out, first, w);
+        case 6: return interpolate_points<6>(points, begin, end, grids, batch, stride, c, out, first, w);
+        case 7: return interpolate_points<7>(points, begin, end, grids, batch, stride, c, out, first, w);
+        case 8: return interpolate_points<8>(points, begin, end, grids, batch, stride, c, out, first, w);
+        default: return interpolate_points<0>(points, begin, end, grids, batch, stride, c, out, first, w);
     }
 }
 
@@ -235,22 +279,17 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
 }
 
 void LatticeNufft::to_lattice(const PlacedPoints& points, const cfloat* a, int batch, cfloat* const* lattices) const {
-    const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_), w = size_t(w_);
+    const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_);
     std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);
     const int stripes = int(points.bucket.size());
-    with_width(w_, [&](auto width) {
-        constexpr int W = decltype(width)::value;
-        for (int parity = 0; parity < 2; ++parity) {
-            parallel_for_dynamic(0, (stripes - parity + 1) / 2, 1, thread_count(nthreads_), [&](int64_t k) {
-                const int b = parity + 2 * int(k);
-                for (size_t s : points.bucket[size_t(b)]) {
-                    const float *wx = &points.weight_x[s * w], *wy = &points.weight_y[s * w];
-                    const size_t at = size_t(points.first_y[s]) * stride + size_t(points.first_x[s]);
-                    for (int q = 0; q < batch; ++q) spread<W>(grid[q].data() + at, stride, wx, wy, a[s * batch + q], w_);
-                }
-            });
-        }
-    });
+    std::vector<cfloat*> grids(grid.size());
+    for (int q = 0; q < batch; ++q) grids[size_t(q)] = grid[size_t(q)].data();
+    for (int parity = 0; parity < 2; ++parity) {
+        parallel_for_dynamic(0, (stripes - parity + 1) / 2, 1, thread_count(nthreads_), [&](int64_t k) {
+            const std::vector<size_t>& bucket = points.bucket[size_t(parity + 2 * int(k))];
+            spread_points(points, bucket.data(), bucket.size(), a, batch, grids.data(), stride, w_);
+        });
+    }
     const int cx = nx_ / 2, cy = ny_ / 2;
     // transformed: the rows the points' kernels touch, then the columns of the modes wanted
     const std::vector<int> columns = mode_lines(nx_, mx_);
@@ -276,7 +315,7 @@ void LatticeNufft::to_lattice(const PlacedPoints& points, const cfloat* a, int b
 
 void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const PlacedPoints& points, size_t begin,
                                 size_t end, const cfloat* c, cfloat* out) const {
-    const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_), w = size_t(w_);
+    const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_);
     const int cx = nx_ / 2, cy = ny_ / 2;
     std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);
     // transformed: the rows of the modes given, then the columns the points' kernels read
@@ -299,17 +338,12 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
             std::copy(one.begin() + size_t(r - my_) * stride, one.begin() + size_t(r - my_ + 1) * stride,
                       one.begin() + size_t(r) * stride);
     }
-    with_width(w_, [&](auto width) {
-        constexpr int W = decltype(width)::value;
-        parallel_for(int64_t(begin), int64_t(end), thread_count(nthreads_), [&](int64_t s_) {
-            const size_t s = size_t(s_);
-            const float *wx = &points.weight_x[s * w], *wy = &points.weight_y[s * w];
-            const size_t at = size_t(points.first_y[s]) * stride + size_t(points.first_x[s]);
-            cfloat total = 0;
-            for (int q = 0; q < batch; ++q)
-                total += c[(s - begin) * batch + q] * interpolate<W>(grid[q].data() + at, stride, wx, wy, w_);
-            out[s - begin] = total;
-        });
+    std::vector<const cfloat*> grids(grid.size());
+    for (int q = 0; q < batch; ++q) grids[size_t(q)] = grid[size_t(q)].data();
+    constexpr size_t kBlock = 1024;
+    parallel_for(0, int64_t((end - begin + kBlock - 1) / kBlock), thread_count(nthreads_), [&](int64_t b) {
+        const size_t s0 = begin + size_t(b) * kBlock, s1 = std::min(end, s0 + kBlock);
+        interpolate_points(points, s0, s1, grids.data(), batch, stride, c, out, begin, w_);
     });
 }
 
