@@ -235,6 +235,20 @@ std::vector<std::vector<cfloat>>& LatticeNufft::workspace(int batch, size_t plan
 
 std::complex<double> LatticeNufft::centring(double x, double y) const { return std::polar(1.0, centring_phase(x, y)); }
 
+// The grid lines (of m) that the kernels of points at x (radians per step) touch.
+std::vector<int> LatticeNufft::touched(const double* x, size_t count, int m) const {
+    std::vector<char> hit(size_t(m), 0);
+    const double to_g = m / (2 * M_PI);
+    for (size_t s = 0; s < count; ++s) {
+        const long first = long(std::ceil(x[s] * to_g - 0.5 * w_));
+        for (int i = 0; i < w_; ++i) hit[size_t(wrap(first + i, m))] = 1;
+    }
+    std::vector<int> lines;
+    for (int i = 0; i < m; ++i)
+        if (hit[size_t(i)]) lines.push_back(i);
+    return lines;
+}
+
 PlacedPoints LatticeNufft::place(const LatticePoints& points) const {
     PlacedPoints p;
     const size_t count = p.count = points.count;
@@ -254,54 +268,79 @@ PlacedPoints LatticeNufft::place(const LatticePoints& points) const {
     const int stripes = std::max(2, (my_ / (w_ + 1)) & ~1);
     const double stripe_height = double(my_) / stripes;
     p.bucket.resize(size_t(stripes));
-    std::vector<char> row(size_t(my_), 0), column(size_t(mx_), 0);
-    for (size_t s = 0; s < count; ++s) {
+    for (size_t s = 0; s < count; ++s)
         p.bucket[size_t(std::min(stripes - 1, int(p.first_y[s] / stripe_height)))].push_back(s);
-        for (int i = 0; i < w_; ++i) {
-            row[size_t(wrap(p.first_y[s] + i, my_))] = 1;
-            column[size_t(wrap(p.first_x[s] + i, mx_))] = 1;
-        }
-    }
-    for (int i = 0; i < my_; ++i)
-        if (row[size_t(i)]) p.rows.push_back(i);
-    for (int i = 0; i < mx_; ++i)
-        if (column[size_t(i)]) p.columns.push_back(i);
+    p.rows = touched(points.y, count, my_);
+    p.columns = touched(points.x, count, mx_);
     return p;
 }
 
+// Points a block at a time where they come unplaced (a block's placing is a few MB, not a
+// frame's hundreds).
+constexpr size_t kPlacedBlock = size_t(1) << 16;
+
 void LatticeNufft::to_lattice(const LatticePoints& points, const cfloat* a, int batch, cfloat* const* lattices) const {
-    to_lattice(place(points), a, batch, lattices);
+    clear(batch);
+    for (size_t b = 0; b < points.count; b += kPlacedBlock) {
+        const size_t n = std::min(kPlacedBlock, points.count - b);
+        spread(place({points.x + b, points.y + b, n}), a + b * size_t(batch), batch);
+    }
+    to_modes(batch, touched(points.y, points.count, my_), lattices);
 }
 
 void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const LatticePoints& points, const cfloat* c,
                                 cfloat* out) const {
-    from_lattice(lattices, batch, place(points), 0, points.count, c, out);
+    from_modes(lattices, batch, touched(points.x, points.count, mx_));
+    for (size_t b = 0; b < points.count; b += kPlacedBlock) {
+        const size_t n = std::min(kPlacedBlock, points.count - b);
+        interpolate(place({points.x + b, points.y + b, n}), 0, n, batch, c + b * size_t(batch), out + b);
+    }
 }
 
 void LatticeNufft::to_lattice(const PlacedPoints& points, const cfloat* a, int batch, cfloat* const* lattices) const {
-    const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_);
-    std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);
+    clear(batch);
+    spread(points, a, batch);
+    to_modes(batch, points.rows, lattices);
+}
+
+void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const PlacedPoints& points, size_t begin,
+                                size_t end, const cfloat* c, cfloat* out) const {
+    from_modes(lattices, batch, points.columns);
+    interpolate(points, begin, end, batch, c, out);
+}
+
+void LatticeNufft::clear(int batch) const {
+    const size_t stride = size_t(mx_) + w_;
+    workspace(batch, stride * (size_t(my_) + w_));
+}
+
+void LatticeNufft::spread(const PlacedPoints& points, const cfloat* a, int batch) const {
+    const size_t stride = size_t(mx_) + w_;
     const int stripes = int(points.bucket.size());
-    std::vector<cfloat*> grids(grid.size());
-    for (int q = 0; q < batch; ++q) grids[size_t(q)] = grid[size_t(q)].data();
+    std::vector<cfloat*> grids(grids_.size());
+    for (int q = 0; q < batch; ++q) grids[size_t(q)] = grids_[size_t(q)].data();
     for (int parity = 0; parity < 2; ++parity) {
         parallel_for_dynamic(0, (stripes - parity + 1) / 2, 1, thread_count(nthreads_), [&](int64_t k) {
             const std::vector<size_t>& bucket = points.bucket[size_t(parity + 2 * int(k))];
             spread_points(points, bucket.data(), bucket.size(), a, batch, grids.data(), stride, w_);
         });
     }
+}
+
+void LatticeNufft::to_modes(int batch, const std::vector<int>& rows, cfloat* const* lattices) const {
+    const size_t stride = size_t(mx_) + w_;
     const int cx = nx_ / 2, cy = ny_ / 2;
     // transformed: the rows the points' kernels touch, then the columns of the modes wanted
     const std::vector<int> columns = mode_lines(nx_, mx_);
     for (int q = 0; q < batch; ++q) {
-        std::vector<cfloat>& one = grid[q];
+        std::vector<cfloat>& one = grids_[size_t(q)];
         // fold the padding back onto the period: the w columns beyond each row, then the w rows
         // beyond the last (their own padding folded first)
         for (int r = 0; r < my_ + w_; ++r)
             for (int c = mx_; c < mx_ + w_; ++c) one[size_t(r) * stride + c - mx_] += one[size_t(r) * stride + c];
         for (int r = my_; r < my_ + w_; ++r)
             for (int c = 0; c < mx_; ++c) one[size_t(r - my_) * stride + c] += one[size_t(r) * stride + c];
-        fft2d(one, points.rows, columns);
+        fft2d(one, rows, columns);
         cfloat* lattice = lattices[q];
         parallel_for(0, ny_, thread_count(nthreads_), [&](int64_t n_) {
             const int n = int(n_);
@@ -313,15 +352,14 @@ void LatticeNufft::to_lattice(const PlacedPoints& points, const cfloat* a, int b
     }
 }
 
-void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const PlacedPoints& points, size_t begin,
-                                size_t end, const cfloat* c, cfloat* out) const {
-    const size_t stride = size_t(mx_) + w_, plane = stride * (size_t(my_) + w_);
+void LatticeNufft::from_modes(const cfloat* const* lattices, int batch, const std::vector<int>& columns) const {
+    const size_t stride = size_t(mx_) + w_;
     const int cx = nx_ / 2, cy = ny_ / 2;
-    std::vector<std::vector<cfloat>>& grid = workspace(batch, plane);
+    clear(batch);
     // transformed: the rows of the modes given, then the columns the points' kernels read
     const std::vector<int> rows = mode_lines(ny_, my_);
     for (int q = 0; q < batch; ++q) {
-        std::vector<cfloat>& one = grid[q];
+        std::vector<cfloat>& one = grids_[size_t(q)];
         const cfloat* lattice = lattices[q];
         parallel_for(0, ny_, thread_count(nthreads_), [&](int64_t n_) {
             const int n = int(n_);
@@ -330,7 +368,7 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
                 one[bin] = lattice[size_t(n) * nx_ + m] * float(deconvolve_x_[m] * deconvolve_y_[n]);
             }
         });
-        fft2d(one, rows, points.columns);
+        fft2d(one, rows, columns);
         // periodic padding: w columns beyond each row, then w rows beyond the last, repeat the start
         for (int r = 0; r < my_; ++r)
             for (int col = mx_; col < mx_ + w_; ++col) one[size_t(r) * stride + col] = one[size_t(r) * stride + col - mx_];
@@ -338,8 +376,13 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
             std::copy(one.begin() + size_t(r - my_) * stride, one.begin() + size_t(r - my_ + 1) * stride,
                       one.begin() + size_t(r) * stride);
     }
-    std::vector<const cfloat*> grids(grid.size());
-    for (int q = 0; q < batch; ++q) grids[size_t(q)] = grid[size_t(q)].data();
+}
+
+void LatticeNufft::interpolate(const PlacedPoints& points, size_t begin, size_t end, int batch, const cfloat* c,
+                               cfloat* out) const {
+    const size_t stride = size_t(mx_) + w_;
+    std::vector<const cfloat*> grids(grids_.size());
+    for (int q = 0; q < batch; ++q) grids[size_t(q)] = grids_[size_t(q)].data();
     constexpr size_t kBlock = 1024;
     parallel_for(0, int64_t((end - begin + kBlock - 1) / kBlock), thread_count(nthreads_), [&](int64_t b) {
         const size_t s0 = begin + size_t(b) * kBlock, s1 = std::min(end, s0 + kBlock);

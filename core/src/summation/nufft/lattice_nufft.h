@@ -75,13 +75,23 @@ public:
 
 private:
     void fft2d(std::vector<cfloat>& grid, const std::vector<int>& rows, const std::vector<int>& columns) const;
-    // The lines of the n centred modes.
+    // The grid lines (of m) that the kernels of points at x (radians per step) touch, and the
+    // lines of the n centred modes.
+    std::vector<int> touched(const double* x, size_t count, int m) const;
     static std::vector<int> mode_lines(int n, int m);
     int nx_, ny_, mx_, my_, w_, nthreads_;
     double beta_;
     std::vector<double> deconvolve_x_, deconvolve_y_;
     std::vector<float> table_;  // the kernel, tabulated
     std::vector<std::vector<cfloat>>& workspace(int batch, size_t plane) const;
+    // A transform's steps on the workspace: cleared; points spread onto it (type 1) and its rows
+    // transformed to the modes; the modes onto it and transformed (type 2), points read from it.
+    void clear(int batch) const;
+    void spread(const PlacedPoints& points, const cfloat* a, int batch) const;
+    void to_modes(int batch, const std::vector<int>& rows, cfloat* const* lattices) const;
+    void from_modes(const cfloat* const* lattices, int batch, const std::vector<int>& columns) const;
+    void interpolate(const PlacedPoints& points, size_t begin, size_t end, int batch, const cfloat* c,
+                     cfloat* out) const;
     mutable std::vector<std::vector<cfloat>> grids_;  // one transform at a time per object
     mutable std::vector<cfloat> column_work_;         // the column transforms' work array
 };
