@@ -48,6 +48,9 @@ DirectionGeometry direction_geometry(const KernelSummationSpec& spec) {
     // the domain's widest direction cosines (on its middle row and column), and a pixel's guard
     const double su = cosine((0.5 * g.width) * t, 0), sv = cosine((0.5 * g.height) * t, 0);
     g.period = std::min(2.0, 2 * std::max(su, sv) + t);
+    // a pinhole of few samples across on a lattice of kMinDirectionModes (its rim's samples sit on
+    // lattice points: the finer the lattice, the nearer their own places)
+    g.period *= std::max(1.0, std::ceil(kMinDirectionModes * lambda / (2 * a * g.period)));
     const ApertureSamples samples = sample_aperture(spec.aperture, lambda / g.period);
     g.period = lambda / samples.pitch;  // (refined where the opening is finer than the pitch)
     int reach = 0;

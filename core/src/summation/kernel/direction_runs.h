@@ -40,6 +40,12 @@ namespace wavecam::detail {
 // pattern's encircled energy far out).
 constexpr double kDirectionMarginLight = 0.01;
 
+// Lattice points across the pinhole, at least: the transfer puts each rim sample on its lattice
+// point, not at its open part's centroid, which turns a star's light at direction offset Δ by up to
+// π Δ D / (λ modes) (a radian at an Airy radius for 4 points across); where the domain's period
+// gives fewer, the period is taken an integer times longer (the domain a part of it).
+constexpr int kMinDirectionModes = 128;
+
 // Whether `spec`'s runs go through directions: coherent runs on the CPU, the nearest source's
 // rim phase within kMaxFraunhoferPhase.
 bool runs_in_directions(const KernelSummationSpec& spec, const ComputeDevice& device);
