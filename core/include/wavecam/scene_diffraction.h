@@ -142,9 +142,10 @@ EvaluatorSet scene_evaluators(const SceneSumSettings& s, const ComputeDevice& de
 double scene_terms(const SceneSumSettings& s, const ComputeDevice& device, const PinholeCamera& camera,
                    double wavelength);
 
-// Bytes the kernel summation holds at once for one wavelength (its kernels' spectra: layers x
-// anchors x film points per pixel transforms of the frame; the runs' sums), for
-// s.nearest_depth (NaN counts as all sky); 0 for the other summations.
+// Bytes the kernel summation holds at once for one wavelength on `device` (its kernels' spectra:
+// layers x anchors x film points per pixel transforms of the frame; the runs' sums; in direction
+// cosines its transforms' grids, sources and film points), for s.nearest_depth (NaN counts as all
+// sky); 0 for the other summations.
 double scene_summation_bytes(const SceneSumSettings& s, const ComputeDevice& device, const PinholeCamera& camera,
                              double wavelength);
 

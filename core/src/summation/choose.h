@@ -75,11 +75,13 @@ KernelSums kernel_sums(const KernelSummationSpec& spec, const KernelSummationGeo
 struct KernelSummationWork {
     double kernels = 0, per_run = 0;
 };
-// On `device`: a GPU's runs priced at what they take there (gpu_run_cost.h).
+// On `device`: a GPU's runs priced at what they take there (gpu_run_cost.h); runs in direction
+// cosines (direction_runs.h) at their two NUFFTs' taps, transforms and products.
 KernelSummationWork kernel_summation_work(const KernelSummationSpec& spec, SumCounts in, SumCounts out,
                                           const ComputeDevice& device);
 // Bytes a convolution holds at once: the kernels' spectra and a run's sums (on the CPU; a GPU
-// holds the same in its memory, padded to powers of two).
+// holds the same in its memory, padded to powers of two); in direction cosines the sources, the
+// film points and each thread's transforms.
 double kernel_summation_bytes(const KernelSummationSpec& spec, const ComputeDevice& device);
 
 // ---- the devices ----

@@ -249,7 +249,7 @@ std::vector<int> LatticeNufft::touched(const double* x, size_t count, int m) con
     return lines;
 }
 
-PlacedPoints LatticeNufft::place(const LatticePoints& points) const {
+PlacedPoints LatticeNufft::place(const LatticePoints& points, bool lines) const {
     PlacedPoints p;
     const size_t count = p.count = points.count;
     const size_t w = size_t(w_);
@@ -270,8 +270,10 @@ PlacedPoints LatticeNufft::place(const LatticePoints& points) const {
     p.bucket.resize(size_t(stripes));
     for (size_t s = 0; s < count; ++s)
         p.bucket[size_t(std::min(stripes - 1, int(p.first_y[s] / stripe_height)))].push_back(s);
-    p.rows = touched(points.y, count, my_);
-    p.columns = touched(points.x, count, mx_);
+    if (lines) {
+        p.rows = touched(points.y, count, my_);
+        p.columns = touched(points.x, count, mx_);
+    }
     return p;
 }
 
@@ -283,7 +285,7 @@ void LatticeNufft::to_lattice(const LatticePoints& points, const cfloat* a, int 
     clear(batch);
     for (size_t b = 0; b < points.count; b += kPlacedBlock) {
         const size_t n = std::min(kPlacedBlock, points.count - b);
-        spread(place({points.x + b, points.y + b, n}), a + b * size_t(batch), batch);
+        spread(place({points.x + b, points.y + b, n}, false), a + b * size_t(batch), batch);
     }
     to_modes(batch, touched(points.y, points.count, my_), lattices);
 }
@@ -293,7 +295,7 @@ void LatticeNufft::from_lattice(const cfloat* const* lattices, int batch, const 
     from_modes(lattices, batch, touched(points.x, points.count, mx_));
     for (size_t b = 0; b < points.count; b += kPlacedBlock) {
         const size_t n = std::min(kPlacedBlock, points.count - b);
-        interpolate(place({points.x + b, points.y + b, n}), 0, n, batch, c + b * size_t(batch), out + b);
+        interpolate(place({points.x + b, points.y + b, n}, false), 0, n, batch, c + b * size_t(batch), out + b);
     }
 }
 
@@ -383,9 +385,11 @@ void LatticeNufft::interpolate(const PlacedPoints& points, size_t begin, size_t 
     const size_t stride = size_t(mx_) + w_;
     std::vector<const cfloat*> grids(grids_.size());
     for (int q = 0; q < batch; ++q) grids[size_t(q)] = grids_[size_t(q)].data();
-    constexpr size_t kBlock = 1024;
-    parallel_for(0, int64_t((end - begin + kBlock - 1) / kBlock), thread_count(nthreads_), [&](int64_t b) {
-        const size_t s0 = begin + size_t(b) * kBlock, s1 = std::min(end, s0 + kBlock);
+    // blocks of up to 1024 points, at least four a thread
+    const int threads = thread_count(nthreads_);
+    const size_t block = std::clamp((end - begin) / size_t(4 * threads), size_t(16), size_t(1024));
+    parallel_for(0, int64_t((end - begin + block - 1) / block), threads, [&](int64_t b) {
+        const size_t s0 = begin + size_t(b) * block, s1 = std::min(end, s0 + block);
         interpolate_points(points, s0, s1, grids.data(), batch, stride, c, out, begin, w_);
     });
 }

@@ -55,7 +55,8 @@ public:
     std::complex<double> centring(double x, double y) const;
     double centring_phase(double x, double y) const { return -((nx_ / 2) * x + (ny_ / 2) * y); }
 
-    PlacedPoints place(const LatticePoints& points) const;
+    // (`lines`: with the grid lines they touch, which a transform of these points alone needs)
+    PlacedPoints place(const LatticePoints& points, bool lines = true) const;
 
     // Type 1 for `batch` strength sets at once (the kernel weights of a point computed once):
     // lattices[q][n * nx + m] = sum_s a[s * batch + q] exp(-i ((m - cx) x[s] + (n - cy) y[s])).
