@@ -319,13 +319,13 @@ TEST(WideField, KernelSummationAndPointSumsAtTheWidestFieldsMatchTheRayleighSomm
 // the mean for a share t left out over K runs, so jobs of 64 runs or fewer take kernels holding
 // more (t = 1.5%): 64 runs at 10 deg, measured 1.34% (1.75% with t = 3%). At 60 and 120 deg the
 // pinhole that gives this PSF at f = 2 mm (9 and 3 um) is Fraunhofer, and the runs go through
-// direction cosines, whole PSFs but for the margin's 1%: 60 deg, 128 runs, 1.19% (through the
+// direction cosines, whole PSFs but for the margin's 1%: 60 deg, 128 runs, 0.97% (through the
 // anchors it was 1.15%, 2.7% when the margin took the edge anchors' kernels, 8% when the anchors
 // ignored the field). What is left there is the margin's: its sources are the edge continued pixel
 // by pixel, each with its own phase, where the point sums' margin is cells of their own random
 // numbers, so their cross terms differ run by run. With the frame's edge dark, and so its margin,
 // the runs in directions are the point sums' to 0.07% (60 deg) and 0.06% (120 deg, where the lit
-// margin's share made it 3.3%).
+// margin's share made it 2.0%).
 TEST(WideField, KernelRunsMatchThePointSumsWithTheSamePhases) {
     struct Frame {
         double fov;

@@ -18,10 +18,11 @@ double cosine(double u, double v) { return u / std::sqrt(1 + u * u + v * v); }
 
 // Domain pixels beyond the frame on every side: enough that, on the domain's outermost row and
 // column (where the field compresses the pixels most), the margin spans `reach` in direction
-// cosines along both axes.
+// cosines along both axes; at most the frame's longer side (a pinhole whose PSF is wider than the
+// frame, where the pixels beyond would run to grazing angles, each of a vanishing solid angle).
 int margin_for(const PinholeCamera& c, double reach) {
     const double t = c.tan_pitch(), hw = 0.5 * c.width, hh = 0.5 * c.height;
-    const int most = 8 * std::max(c.width, c.height);
+    const int most = std::max(c.width, c.height);
     for (int m = 0; m < most; ++m) {
         const double u = (hw + m) * t, v = (hh + m) * t;
         if (cosine(u, v) - cosine(hw * t, v) >= reach && cosine(v, u) - cosine(hh * t, u) >= reach) return m;

@@ -21,7 +21,7 @@
 //
 // The sources are the domain's pixels at their centres, the frame and a margin beyond it where
 // the edge is continued, wide enough that a source's PSF leaves kDirectionMarginLight of its
-// light beyond it. The lattice's sums repeat with period L in direction cosines: L spans the
+// light beyond it (at most the frame's longer side). The lattice's sums repeat with period L in direction cosines: L spans the
 // domain, so a film point's nearest repeat of any source lies beyond the margin.
 // Layers: the sources' amplitudes blend linearly between the two nearest, each source's power
 // balanced (kernel_summation.h).
