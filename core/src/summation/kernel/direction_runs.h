@@ -35,9 +35,7 @@
 
 namespace wavecam::detail {
 
-// The light a source's PSF may put beyond the domain's margin: the margin is the radius outside
-// which a disc of the aperture's bounding radius leaves this share, 2 λ / (π^2 D r) (the Airy
-// pattern's encircled energy far out).
+// The light a source's PSF may put beyond the domain's margin (airy_reach).
 constexpr double kDirectionMarginLight = 0.01;
 
 // Lattice points across the pinhole, at least: the transfer puts each rim sample on its lattice
@@ -45,6 +43,10 @@ constexpr double kDirectionMarginLight = 0.01;
 // π Δ D / (λ modes) (a radian at an Airy radius for 4 points across); where the domain's period
 // gives fewer, the period is taken an integer times longer (the domain a part of it).
 constexpr int kMinDirectionModes = 128;
+
+// The radius in direction cosines beyond which a disc of the aperture's bounding radius leaves
+// `light` of a star's light: 2 λ / (π^2 D r), the Airy pattern's encircled energy far out.
+double airy_reach(const Aperture& aperture, double wavelength, double light);
 
 // Whether `spec`'s runs go through directions: coherent runs on the CPU, the nearest source's
 // rim phase within kMaxFraunhoferPhase.
@@ -60,6 +62,32 @@ struct DirectionGeometry {
 };
 DirectionGeometry direction_geometry(const KernelSummationSpec& spec);
 
+// The pinhole's transfer H on the lattice per depth layer, and what a source's blend of two layers
+// takes from it: all a star's field needs (the runs' sources and film points aside).
+struct DirectionTransfer {
+    DirectionGeometry g;
+    std::vector<std::vector<std::complex<float>>> h;  // per layer, modes x modes, centred
+    std::vector<double> power, overlap;               // per layer: sum |H_l|^2, Re <H_l, H_l+1>
+    // radians per lattice step of direction cosine `cosine`
+    double to_step(double cosine) const { return 2 * M_PI * cosine / g.period; }
+    // the factor on a source's weight that gives its blend of layers `lower` and `lower` + 1
+    // (share `upper` of the latter) the blend of their powers
+    double balance(int lower, double upper) const;
+};
+DirectionTransfer direction_transfer(const KernelSummationSpec& spec);
+
+// A film point (camera pixel position) as the runs read it: radians per lattice step (a type 2
+// at minus its direction cosines: the lattice's sum to the film turns by +k m . ξ) and its
+// amplitude f / R_t^2 = 1 / (f (1 + u^2 + v^2)).
+void place_film_point(const DirectionTransfer& t, const PinholeCamera& c, double x, double y, double& px, double& py,
+                      std::complex<float>& weight);
+
+// One unit source's field (unit_sources' source at camera pixel position (x, y), planar inverse
+// depth w) at film points given as camera pixel positions: for the plan-time check.
+std::vector<std::complex<double>> star_field(const DirectionTransfer& t, const KernelSummationSpec& spec, double x,
+                                             double y, double w, const std::vector<double>& film_x,
+                                             const std::vector<double>& film_y);
+
 class DirectionRuns {
 public:
     DirectionRuns(const KernelSummationSpec& spec, int threads);
@@ -68,7 +96,7 @@ public:
     const DirectionGeometry& geometry() const;
 
     // Per domain pixel, the factor on its weight that gives its blend of two layers the blend of
-    // their powers.
+    // their powers (DirectionTransfer::balance).
     std::vector<float> power_balance(const KernelSummationSources& sources) const;
 
     // Adds, run by run, scale x the film pixels' irradiance (the mean of |U|^2 over each pixel's
@@ -77,11 +105,6 @@ public:
     Result<bool> run(const KernelSummationSources& sources, double scale, const RowRange& rows, float* irradiance,
                      const ProgressFn& progress) const;
     int runs_at_once() const;
-
-    // One unit source's field (unit_sources' source at camera pixel position (x, y), planar
-    // inverse depth w) at film points given as camera pixel positions: for the plan-time check.
-    std::vector<std::complex<double>> star_field(double x, double y, double w, const std::vector<double>& film_x,
-                                                 const std::vector<double>& film_y) const;
 
     struct Impl;
 

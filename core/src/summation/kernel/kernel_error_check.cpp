@@ -159,20 +159,21 @@ Result<KernelErrorCheck> check_direction_runs(const KernelSummationSpec& spec, c
                                               const SummationSettings& to_film) {
     using R = Result<KernelErrorCheck>;
     const PinholeCamera& c = spec.camera;
-    const DirectionRuns runs(spec, 1);
-    const DepthLayers& layers = runs.geometry().layers;
+    const DirectionTransfer transfer = direction_transfer(spec);
+    const DepthLayers& layers = transfer.g.layers;
     // a window that holds about 97% of a star's light (the Airy pattern's 2 λ / (π^2 D r) beyond r),
     // in the pixels of the frame's corner, where the field makes them smallest in direction
     double u, v;
     c.tangent(0, 0, u, v);
     const double corner = c.tan_pitch() * (1 + v * v) / std::pow(1 + u * u + v * v, 1.5);
-    const double reach = 2 * spec.wavelength / (M_PI * M_PI * 2 * spec.aperture.bounding_radius() * 0.03);
+    const double reach = airy_reach(spec.aperture, spec.wavelength, 1 - kPsfKernelEnergy);
     const int o = spec.overscan, n = spec.subsamples;
     const int radius = std::min(setup.g->radius, int(std::ceil(reach / corner)));
     std::vector<Probe> probes{{c.width / 2, c.height / 2, {spec.max_inverse_depth}},
                               {o, c.height / 2, {spec.max_inverse_depth}},
                               {o, o, {spec.max_inverse_depth}}};
-    if (layers.count > 1) {
+    const bool layer_probe = layers.count > 1;  // (the last)
+    if (layer_probe) {
         const int L = layers.count;
         probes.push_back({c.width / 2, c.height / 2,
                           {0.5 * (layers.inverse_depth(L - 2) + layers.inverse_depth(L - 1))}});
@@ -195,9 +196,9 @@ Result<KernelErrorCheck> check_direction_runs(const KernelSummationSpec& spec, c
                         fx.push_back(p.x + dx + (sa + 0.5) / n);
                         fy.push_back(p.y + dy + (sb + 0.5) / n);
                     }
-        const Field star = runs.star_field(p.x + 0.5, p.y + 0.5, p.depths[0], fx, fy);
+        const Field star = star_field(transfer, spec, p.x + 0.5, p.y + 0.5, p.depths[0], fx, fy);
         const double e = blend_error({&star}, {1.0}, fields[i][0], n * n, false);
-        check.probes.push_back({p.x, p.y, i == 3, e});
+        check.probes.push_back({p.x, p.y, layer_probe && i + 1 == probes.size(), e});
         check.blend = std::max(check.blend, e);
     }
     return R::success(check);

@@ -130,18 +130,18 @@ private:
         // coded phases: each pixel's cell phase and class, the same in every run (scene_runs.h)
         const PhaseCode code(s.runs);
         const PhaseDraw draw{s, code, wavelength_stream(setup_.wavelength)};
-        cell_turns_.resize(s.coded_phases ? n : 0);
-        code_class_.resize(cell_turns_.size());
-        parallel_for(0, long(cell_turns_.size()), thread_count(s.nthreads), [&](int64_t p) {
+        std::vector<double> turns(s.coded_phases ? n : 0);
+        code_class_.resize(turns.size());
+        parallel_for(0, long(turns.size()), thread_count(s.nthreads), [&](int64_t p) {
             const long ci = long(p % W) - origin, cj = long(p / W) - origin;
-            cell_turns_[size_t(p)] = cell_turns(draw, ci, cj);
+            turns[size_t(p)] = cell_turns(draw, ci, cj);
             code_class_[size_t(p)] = code.code_class(ci, cj);
         });
         balance_ = conv.power_balance(sources_);
         for (size_t p = 0; p < n; ++p) amplitude_[p] *= balance_[p];
-        cell_weight_.resize(cell_turns_.size());
+        cell_weight_.resize(turns.size());
         for (size_t p = 0; p < cell_weight_.size(); ++p)
-            cell_weight_[p] = std::polar(amplitude_[p], float(2 * M_PI * cell_turns_[p]));
+            cell_weight_[p] = std::polar(amplitude_[p], float(2 * M_PI * turns[p]));
         root_.resize(size_t(s.runs));
         for (int m = 0; m < s.runs; ++m) root_[size_t(m)] = std::polar(1.0f, float(2 * M_PI * m / s.runs));
     }
@@ -155,9 +155,8 @@ private:
     std::vector<float> amplitude_, tail_;
     std::vector<float> power_, balance_;  // each domain pixel's power, and its weight's balance
     std::vector<uint64_t> key_;
-    // coded phases (scene_runs.h, phase_codes.h): each pixel's cell phase, its class, its weight
-    // at that phase, and the K-th roots of unity its class turns by from run to run
-    std::vector<double> cell_turns_;
+    // coded phases (scene_runs.h, phase_codes.h): each pixel's class, its weight at its cell's
+    // phase, and the K-th roots of unity its class turns by from run to run
     std::vector<int> code_class_;
     std::vector<std::complex<float>> cell_weight_, root_;
 };
