@@ -274,21 +274,36 @@ void add_to_output(const float* image, const TileFrame& frame, const OutputWindo
 // A tile's working arrays, one set a thread or one that the threads share (shares_tile_scratch):
 // its transform, the weighted image (the kernels' too, where the plan keeps no spectra), the
 // input spectra (one; one per anchor of a group where the plan keeps no kernel spectra), the
-// accumulated spectra, and one kernel's spectrum where the plan keeps none.
+// accumulated spectra, and one kernel's spectrum where the plan keeps none. Where the plan keeps
+// spectra (tiles of a few hundred pixels), also the tile's light per primary, read once a tile
+// rather than once per anchor and layer.
 // (On huge pages where large, base/large_array.h: a whole-domain tile's arrays are tens of MB each.)
 struct AnchoredConvolution::TileScratch {
     RealFft2D fft;
-    LargeArray<float> image, weight;
+    LargeArray<float> image, weight, light;
     LargeArray<std::complex<float>> in, acc, own;
     int threads = 1;  // the threads each step is spread over (RealFft2D::set_threads): 1, or a whole-domain tile's
     TileScratch(int Nx, int Ny, size_t tile_pixels, size_t spec, int inputs, bool own_kernels)
         : fft(Nx, Ny),
           image(size_t(Nx) * Ny, Pages::huge_if_large),
           weight(tile_pixels, Pages::huge_if_large),
+          light(own_kernels ? 0 : 3 * tile_pixels, Pages::huge_if_large),
           in(inputs * spec, Pages::huge_if_large),
           acc(3 * spec, Pages::huge_if_large),
           own(own_kernels ? spec : 0, Pages::huge_if_large) {}  // (zero until written)
 };
+
+// The tile's light, primary p's at [p T H, (p + 1) T H) row by row (T x H the tile's sides),
+// where the scratch keeps it.
+void keep_tile_light(const DomainSources& src, const TileBounds& b, float* light, int threads) {
+    const int T = b.x1 - b.x0;
+    const size_t plane = size_t(T) * (b.y1 - b.y0);
+    parallel_for(b.y0, b.y1, threads, [&](int64_t j64) {
+        const int j = int(j64);
+        for (int i = b.x0; i < b.x1; ++i)
+            for (int p = 0; p < 3; ++p) light[p * plane + size_t(j - b.y0) * T + (i - b.x0)] = src.light(i, j, p);
+    });
+}
 
 // The anchors of one depth layer that share one computed anchor's kernels (it and its mirror
 // images) and that a tile meets.
@@ -322,11 +337,18 @@ std::vector<AnchoredConvolution::KernelGroup> AnchoredConvolution::groups_of(con
 void AnchoredConvolution::light_spectrum(const DomainSources& src, const TileBounds& b, int first, int last, int p,
                                          TileScratch& s, std::complex<float>* in) const {
     const int Nx = fft_width_, T = b.x1 - b.x0;
+    const float* kept = s.light.size() ? &s.light[p * size_t(T) * (b.y1 - b.y0)] : nullptr;
     parallel_for(b.y0, b.y1, s.threads, [&](int64_t j64) {
         const int j = int(j64);
+        const size_t row = size_t(j - b.y0) * T;
+        float* image = &s.image[size_t(j - b.y0) * Nx];
+        if (kept) {
+            for (int i = 0; i < T; ++i) image[i] = s.weight[row + i] == 0.0f ? 0.0f : s.weight[row + i] * kept[row + i];
+            return;
+        }
         for (int i = b.x0; i < b.x1; ++i) {
-            const float w = s.weight[size_t(j - b.y0) * T + (i - b.x0)];
-            s.image[size_t(j - b.y0) * Nx + (i - b.x0)] = w == 0.0f ? 0.0f : w * src.light(i, j, p);
+            const float w = s.weight[row + (i - b.x0)];
+            image[i - b.x0] = w == 0.0f ? 0.0f : w * src.light(i, j, p);
         }
     });
     s.fft.forward(s.image.data(), in, first, last);
@@ -421,6 +443,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
                     const std::vector<KernelGroup> groups = groups_of(src, tiles[k]);
                     std::fill_n(s.acc.data(), s.acc.size(), std::complex<float>(0));
                     std::fill_n(s.image.data(), s.image.size(), 0.0f);  // (the last tile's inverse)
+                    if (s.light.size()) keep_tile_light(src, tiles[k], s.light.data(), s.threads);
                     for (const KernelGroup& g : groups) add_group(src, tiles[k], g, s);
                     for (int q = 0; q < 3 && !groups.empty(); ++q) add_tile_light(tiles[k], s.acc.data(), q, out, xyz, s);
                     ticker.advance(1, team.rank() == 0);
@@ -439,6 +462,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
                 TileScratch s(Nx, Ny, tile_pixels, spec, inputs, own_kernels);
                 s.threads = nthreads_;
                 s.fft.set_threads(nthreads_);
+                if (s.light.size()) keep_tile_light(src, b, s.light.data(), s.threads);
                 for (const KernelGroup& g : groups)
                     if (!ticker.cancelled()) add_group(src, b, g, s);
                 for (int q = 0; q < 3 && !groups.empty() && !ticker.cancelled(); ++q)
@@ -454,6 +478,7 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
                 TileScratch s(Nx, Ny, tile_pixels, spec, inputs, own_kernels);
                 const int threads = team.size();
                 scratch[size_t(team.rank())] = &s;
+                if (s.light.size()) keep_tile_light(src, b, s.light.data(), 1);
                 team.for_strided(0, int64_t(groups.size()), 1, [&](int64_t k) {
                     if (!ticker.cancelled()) add_group(src, b, groups[k], s);
                 });

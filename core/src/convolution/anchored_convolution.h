@@ -74,10 +74,10 @@ inline bool keeps_kernel_spectra(double count, double size, double tiles) {
 
 // The bytes of one set of a tile's working arrays: its transform's image (`points`) and the
 // tile's weights, the transform's three arrays, the three accumulated spectra, and the input
-// spectra: one, or, where no kernel spectra are kept, one per anchor of a group (`inputs`) and
-// one kernel's.
+// spectra: one and the tile's light, or, where no kernel spectra are kept, one per anchor of a
+// group (`inputs`) and one kernel's.
 inline double tile_scratch_bytes(double points, double tile_pixels, double spectrum_size, int inputs, bool own_kernels) {
-    return (points + tile_pixels) * 4 + (6 + inputs + (own_kernels ? 1 : 0)) * spectrum_size * 8;
+    return (points + tile_pixels * (own_kernels ? 1 : 4)) * 4 + (6 + inputs + (own_kernels ? 1 : 0)) * spectrum_size * 8;
 }
 
 // Whether the threads share one set of arrays, each step spread over them, for a plan of fewer

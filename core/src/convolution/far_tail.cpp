@@ -73,7 +73,9 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
         const int ky = std::clamp(int(std::floor(y)) + origin, 0, t.ay.knots.back() - 1);
         const int cx = t.ax.cell_of(kx), cy = t.ay.cell_of(ky);
         const double bx = t.ax.upper_weight(cx, kx), by = t.ay.upper_weight(cy, ky);
-        double* m = into + 3 * (size_t(J) * g.cw + I);
+        // the source's light per primary; its deficits summed in registers, added to the cell once
+        const double lit[3] = {light * rgb[0], light * rgb[1], light * rgb[2]};
+        double sum[3] = {0, 0, 0};
         for (int corner = 0; corner < 4; ++corner) {
             const int dx = corner & 1, dy = corner >> 1;
             const double phi = (dx ? bx : 1 - bx) * (dy ? by : 1 - by);
@@ -83,10 +85,13 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
                 const double share = layer == lower ? 1.0 - upper : upper;
                 if (share == 0) continue;
                 const float* def = &t.deficit[(size_t(layer) * anchors + a) * 9];
-                for (int p = 0; p < 3; ++p)
-                    for (int k = 0; k < 3; ++k) m[k] += phi * share * light * rgb[p] * def[3 * p + k];
+                const double weight = phi * share;
+                for (int k = 0; k < 3; ++k)
+                    sum[k] += weight * (lit[0] * def[k] + lit[1] * def[3 + k] + lit[2] * def[6 + k]);
             }
         }
+        double* m = into + 3 * (size_t(J) * g.cw + I);
+        for (int k = 0; k < 3; ++k) m[k] += sum[k];
     };
     auto inverse_depth = [&](int i, int j) {
         const double d = scene.depth[size_t(j) * W + i];

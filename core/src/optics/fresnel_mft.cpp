@@ -23,24 +23,35 @@ namespace wavecam::detail {
 namespace {
 
 // The matrix transform's sampled pupil depends on the aperture and the grid only, not on the
-// wavelength nor (for a round pupil) on the field angle: a table's requests repeat it, so each
-// thread keeps the last one it sampled under its key.
+// wavelength nor (for a round pupil) on the field angle: a table's requests repeat a few dozen
+// grids (their sample counts differ with the wavelength and the field), so each thread keeps the
+// last kKept it sampled under their keys.
 template <class Grid>
-struct LastPupil {
-    std::vector<double> key;
-    std::string aperture;
-    const void* mask = nullptr;
-    Grid grid;
+class SampledPupils {
+public:
     template <class Sample>
-    const Grid& get(const Aperture& a, std::vector<double> k, Sample sample) {
-        if (k != key || a.mask.get() != mask || a.name() != aperture) {
-            grid = sample();
-            key = std::move(k);
-            aperture = a.name();
-            mask = a.mask.get();
+    const Grid& get(const Aperture& a, std::vector<double> key, Sample sample) {
+        if (a.mask.get() != mask_ || a.name() != aperture_) {
+            kept_.clear();
+            aperture_ = a.name();
+            mask_ = a.mask.get();
         }
-        return grid;
+        for (const Entry& e : kept_)
+            if (e.key == key) return e.grid;
+        if (kept_.size() == kKept) kept_.erase(kept_.begin());
+        kept_.push_back({std::move(key), sample()});
+        return kept_.back().grid;
     }
+
+private:
+    static constexpr size_t kKept = 32;
+    struct Entry {
+        std::vector<double> key;
+        Grid grid;
+    };
+    std::vector<Entry> kept_;
+    std::string aperture_;
+    const void* mask_ = nullptr;
 };
 
 }  // namespace
@@ -133,57 +144,153 @@ PupilGrid sample_pupil(const FieldPsfRequest& q, const FieldGeometry& g, const M
     return pupil;
 }
 
-// One axis's matrix M[o][p] (see above), real and imaginary parts, row o at [o * pupil cells].
+// Columns of the stages' register blocks: the tangential matrix's rows and the intermediate's are
+// padded (with zeros) to a whole number of them.
+constexpr int kBlockColumns = 8;
+
+// One axis's matrix M[o][p] (see above), real and imaginary parts: by output, row o at
+// [o * pupil cells], or by pupil cell, row p at [p * `stride`] (the outputs padded to whole blocks).
 struct AxisMatrix {
     std::vector<float> re, im;
 };
+enum class MatrixRows { by_output, by_pupil_cell };
 
 // The axis's matrix for film offsets d_o = (o - offset) step whose frequency is
 // mu_o = d_o stretch / (lambda f).
 AxisMatrix axis_matrix(const std::vector<double>& xi, double rate, const FieldPsfRequest& q, const MftPlan& plan,
-                       double stretch) {
+                       double stretch, MatrixRows rows) {
     const int m = plan.grid(), offset = plan.mirrored ? 0 : plan.half;
-    const size_t n = xi.size();
-    AxisMatrix matrix{std::vector<float>(size_t(m) * n), std::vector<float>(size_t(m) * n)};
+    const size_t n = xi.size(), stride = size_t(m + kBlockColumns - 1) / kBlockColumns * kBlockColumns;
+    const size_t size = rows == MatrixRows::by_output ? size_t(m) * n : n * stride;
+    AxisMatrix matrix{std::vector<float>(size), std::vector<float>(size)};
+    auto at = [&](int o, size_t p) { return rows == MatrixRows::by_output ? size_t(o) * n + p : p * stride + o; };
     // Along o the phase xi mu steps by a fixed amount, so exp(-2 pi i xi mu) is the previous
-    // column's times that step's: a complex multiply where a sine and a cosine were. In double,
-    // m < 2^12 steps drift below 1e-12 of a turn.
+    // column's times that step's: a complex multiply where a sine and a cosine were (written
+    // out: std::complex's keeps a NaN-recovery call). In double, m < 2^12 steps drift below
+    // 1e-12 of a turn.
     const double dmu = plan.step * stretch / (q.wavelength * q.film_distance);
-    std::vector<std::complex<double>> chirp(n), turn(n), step(n);
+    std::vector<double> chirp_re(n), chirp_im(n), turn_re(n), turn_im(n), step_re(n), step_im(n);
     for (size_t p = 0; p < n; ++p) {
-        chirp[p] = std::polar(1.0, M_PI * std::remainder(rate * xi[p] * xi[p] / q.wavelength, 2.0));
-        turn[p] = std::polar(1.0, -2 * M_PI * std::remainder(xi[p] * (-offset) * dmu, 1.0));
-        step[p] = std::polar(1.0, -2 * M_PI * std::remainder(xi[p] * dmu, 1.0));
+        const std::complex<double> chirp = std::polar(1.0, M_PI * std::remainder(rate * xi[p] * xi[p] / q.wavelength, 2.0));
+        const std::complex<double> turn = std::polar(1.0, -2 * M_PI * std::remainder(xi[p] * (-offset) * dmu, 1.0));
+        const std::complex<double> step = std::polar(1.0, -2 * M_PI * std::remainder(xi[p] * dmu, 1.0));
+        chirp_re[p] = chirp.real();
+        chirp_im[p] = chirp.imag();
+        turn_re[p] = turn.real();
+        turn_im[p] = turn.imag();
+        step_re[p] = step.real();
+        step_im[p] = step.imag();
     }
-    for (int o = 0; o < m; ++o) {
-        float* r = &matrix.re[size_t(o) * n];
-        float* i = &matrix.im[size_t(o) * n];
+    for (int o = 0; o < m; ++o)
         for (size_t p = 0; p < n; ++p) {
-            const std::complex<double> e = plan.mirrored ? 2 * turn[p].real() * chirp[p] : turn[p] * chirp[p];
-            r[p] = float(e.real());
-            i[p] = float(e.imag());
-            turn[p] *= step[p];
+            double er, ei;
+            if (plan.mirrored) {
+                er = 2 * turn_re[p] * chirp_re[p];
+                ei = 2 * turn_re[p] * chirp_im[p];
+            } else {
+                er = turn_re[p] * chirp_re[p] - turn_im[p] * chirp_im[p];
+                ei = turn_re[p] * chirp_im[p] + turn_im[p] * chirp_re[p];
+            }
+            matrix.re[at(o, p)] = float(er);
+            matrix.im[at(o, p)] = float(ei);
+            const double tr = turn_re[p] * step_re[p] - turn_im[p] * step_im[p];
+            turn_im[p] = turn_re[p] * step_im[p] + turn_im[p] * step_re[p];
+            turn_re[p] = tr;
         }
-    }
     return matrix;
 }
 
-// Columns of the radial stage's blocks: tmp's rows are padded (with zeros) to a whole number.
-constexpr int kPowerColumns = 8;
+// The output grid's columns [lo[o], hi[o]) of each row o that the pixel averages read; the others
+// are left zero.
+struct ReadColumns {
+    std::vector<int> lo, hi;
+};
+
+// The pixel averages read the grid's four nodes round each point, so at most sqrt(2) steps from
+// a point; the points fill the square |x|, |y| <= extent (grid steps, image axes), and a node is
+// read only if it lies within that square widened by 1.5 steps, at (x, y) = r er - t (er_y, -er_x)
+// rotated back. Mirrored, node (r, t) stands for (+-r, +-t) and the square's point symmetry
+// leaves (r, t) and (r, -t). A square at any rotation leaves about half the grid unread.
+ReadColumns read_columns(const MftPlan& plan, const FieldGeometry& g, double extent) {
+    const int m = plan.grid();
+    const double offset = plan.mirrored ? 0 : plan.half, wide = extent + 1.5;
+    ReadColumns read{std::vector<int>(m, 0), std::vector<int>(m, 0)};
+    for (int o = 0; o < m; ++o) {
+        const double r = o - offset;
+        // |r er_x - t er_y| <= wide and |r er_y + t er_x| <= wide: t within two intervals
+        double lo = -INFINITY, hi = INFINITY;
+        auto within = [&](double base, double slope) {  // |base + t slope| <= wide
+            if (std::fabs(slope) < 1e-12) {
+                if (std::fabs(base) > wide) lo = INFINITY;
+                return;
+            }
+            const double a = (-wide - base) / slope, b = (wide - base) / slope;
+            lo = std::max(lo, std::min(a, b));
+            hi = std::min(hi, std::max(a, b));
+        };
+        within(r * g.er_x, -g.er_y);
+        within(r * g.er_y, g.er_x);
+        if (lo > hi) continue;
+        if (plan.mirrored) {  // (r, t) or (r, -t) within: |t| <= max(hi, -lo)
+            hi = std::max(hi, -lo);
+            lo = 0;
+            if (hi < 0) continue;
+        }
+        read.lo[o] = std::clamp(int(std::floor(lo + offset)), 0, m);
+        read.hi[o] = std::clamp(int(std::ceil(hi + offset)) + 1, 0, m);
+    }
+    return read;
+}
+
+// The tangential transform: tmp[ir][ot] = sum_it open[ir][it] M_t[ot][it] (M_t by pupil cell,
+// `stride` outputs a row), four pupil rows by eight outputs at a time held in registers as in
+// radial_power, each value's terms added in the order of it.
+__attribute__((target_clones("avx2", "default"))) void tangential_stage(const float* open, int nr, int nt,
+                                                                         const AxisMatrix& mt, size_t stride,
+                                                                         float* tmp_re, float* tmp_im) {
+    constexpr int kRows = 4, kCols = kBlockColumns;
+    typedef float Lanes __attribute__((vector_size(kCols * sizeof(float))));
+    for (int r0 = 0; r0 < nr; r0 += kRows)
+        for (size_t c0 = 0; c0 < stride; c0 += kCols) {
+            const float* row[kRows];
+            for (int k = 0; k < kRows; ++k) row[k] = &open[size_t(std::min(r0 + k, nr - 1)) * nt];
+            Lanes vr[kRows] = {}, vi[kRows] = {};
+            for (int it = 0; it < nt; ++it) {
+                Lanes br, bi;
+                std::memcpy(&br, &mt.re[size_t(it) * stride + c0], sizeof br);
+                std::memcpy(&bi, &mt.im[size_t(it) * stride + c0], sizeof bi);
+                for (int k = 0; k < kRows; ++k) {
+                    vr[k] += row[k][it] * br;
+                    vi[k] += row[k][it] * bi;
+                }
+            }
+            for (int k = 0; k < std::min(kRows, nr - r0); ++k) {
+                std::memcpy(&tmp_re[size_t(r0 + k) * stride + c0], &vr[k], sizeof vr[k]);
+                std::memcpy(&tmp_im[size_t(r0 + k) * stride + c0], &vi[k], sizeof vi[k]);
+            }
+        }
+}
 
 // The radial transform and its power: power[or][ot] = |sum_ir M_r[or][ir] tmp[ir][ot]|^2, four
 // output rows by eight columns at a time held in registers, in GCC's vector extension (one AVX
 // register, or two SSE ones in the baseline clone); each value's terms are added in the same
-// order as one row at a time, so the sums are the same. tmp's rows are `stride` long (m padded
-// to whole blocks); a block's rows past the last repeat it, and what they and the padding give
-// is not written.
+// order as one row at a time, so the sums are the same. Only the blocks that hold columns the
+// pixel averages read. tmp's rows are `stride` long (m padded to whole blocks of kBlockColumns); a block's rows
+// past the last repeat it, and what they and the padding give is not written.
 __attribute__((target_clones("avx2", "default"))) void radial_power(const AxisMatrix& mr, const float* tmp_re,
                                                                      const float* tmp_im, int nr, int m,
-                                                                     size_t stride, float* power) {
-    constexpr int kRows = 4, kCols = kPowerColumns;
+                                                                     size_t stride, const ReadColumns& read,
+                                                                     float* power) {
+    constexpr int kRows = 4, kCols = kBlockColumns;
     typedef float Lanes __attribute__((vector_size(kCols * sizeof(float))));
-    for (int o0 = 0; o0 < m; o0 += kRows)
-        for (int c0 = 0; c0 < m; c0 += kCols) {
+    for (int o0 = 0; o0 < m; o0 += kRows) {
+        int lo = m, hi = 0;
+        for (int k = 0; k < std::min(kRows, m - o0); ++k)
+            if (read.lo[o0 + k] < read.hi[o0 + k]) {
+                lo = std::min(lo, read.lo[o0 + k]);
+                hi = std::max(hi, read.hi[o0 + k]);
+            }
+        for (int c0 = lo / kCols * kCols; c0 < hi; c0 += kCols) {
             const float *row_re[kRows], *row_im[kRows];
             for (int k = 0; k < kRows; ++k) {
                 row_re[k] = &mr.re[size_t(std::min(o0 + k, m - 1)) * nr];
@@ -204,95 +311,89 @@ __attribute__((target_clones("avx2", "default"))) void radial_power(const AxisMa
                 for (int j = 0; j < std::min(kCols, m - c0); ++j)
                     power[size_t(o0 + k) * m + c0 + j] = vr[k][j] * vr[k][j] + vi[k][j] * vi[k][j];
         }
+    }
 }
 
 // |Q|^2 on the output grid (grid x grid, rows radial): tmp[ir][ot] = sum_it open[ir][it]
 // M_t[ot][it], then Q[or][ot] = sum_ir M_r[or][ir] tmp[ir][ot].
-std::vector<float> transform_power(const PupilGrid& pupil, const AxisMatrix& mr, const AxisMatrix& mt, int m) {
+std::vector<float> transform_power(const PupilGrid& pupil, const AxisMatrix& mr, const AxisMatrix& mt, int m,
+                                   const ReadColumns& read) {
     const int nr = int(pupil.xi_r.size()), nt = int(pupil.xi_t.size());
-    const size_t stride = size_t(m + kPowerColumns - 1) / kPowerColumns * kPowerColumns;
+    const size_t stride = size_t(m + kBlockColumns - 1) / kBlockColumns * kBlockColumns;
     std::vector<float> tmp_re(nr * stride), tmp_im(nr * stride);
-    for (int ir = 0; ir < nr; ++ir)
-        for (int o = 0; o < m; ++o) {
-            const float* a = &pupil.open[size_t(ir) * nt];
-            const float* br = &mt.re[size_t(o) * nt];
-            const float* bi = &mt.im[size_t(o) * nt];
-            float sr = 0, si = 0;
-#pragma omp simd reduction(+ : sr, si)
-            for (int it = 0; it < nt; ++it) {
-                sr += a[it] * br[it];
-                si += a[it] * bi[it];
-            }
-            tmp_re[ir * stride + o] = sr;
-            tmp_im[ir * stride + o] = si;
-        }
+    tangential_stage(pupil.open.data(), nr, nt, mt, stride, tmp_re.data(), tmp_im.data());
     std::vector<float> power(size_t(m) * m);
-    radial_power(mr, tmp_re.data(), tmp_im.data(), nr, m, stride, power.data());
+    radial_power(mr, tmp_re.data(), tmp_im.data(), nr, m, stride, read, power.data());
     return power;
 }
 
-// Power per film area on the (r, t) grid, read by bilinear interpolation (zero beyond it).
+// |Q|^2 on the (r, t) grid, read by bilinear interpolation (zero beyond it); `density` times it
+// is the power per film area.
 struct FilmGrid {
     const MftPlan& plan;
-    std::vector<float> density;  // grid x grid, rows radial
-    double inverse_step = 1 / plan.step;
-    double at(double r, double t) const {
-        const int m = plan.grid();
-        if (plan.mirrored) {
+    std::vector<float> power;  // grid x grid, rows radial
+    double density;
+};
+
+// The film grid at the points (x[p], y), p in [first, last), added to sum[p]; x and y in grid
+// steps along the image's columns and rows, (er_x, er_y) the radial axis. Eight points at a time
+// in GCC's vector extension (one AVX register, two SSE ones in the baseline clone), in float: a
+// point's cell and its place within it to 2^-24 of the grid's extent (the kernel moves by about
+// 1e-7 of its sum); a point off the grid reads a clamped cell and is replaced by zero. The
+// last few points take the same arithmetic one at a time.
+__attribute__((target_clones("avx2", "default"))) void film_row(const FilmGrid& film, float er_x, float er_y,
+                                                                 const float* x, float y, int first, int last,
+                                                                 float* sum) {
+    constexpr int kLanes = 8;
+    typedef float Lanes __attribute__((vector_size(kLanes * sizeof(float))));
+    typedef int Indices __attribute__((vector_size(kLanes * sizeof(int))));
+    const int m = film.plan.grid();
+    const bool mirrored = film.plan.mirrored;
+    const float offset = mirrored ? 0.0f : float(film.plan.half), top = float(m - 1);
+    const float* d = film.power.data();
+    auto one = [&](float xp) {
+        float r = xp * er_x + y * er_y, t = y * er_x - xp * er_y;
+        if (mirrored) {
             r = std::fabs(r);
             t = std::fabs(t);
         }
-        const double offset = plan.mirrored ? 0 : plan.half;
-        const double fr = r * inverse_step + offset, ft = t * inverse_step + offset;
-        if (!(fr >= 0 && ft >= 0 && fr < m - 1 && ft < m - 1)) return 0.0;
+        const float fr = r + offset, ft = t + offset;
+        if (!(fr >= 0 && ft >= 0 && fr < top && ft < top)) return 0.0f;
         const int i0 = int(fr), j0 = int(ft);
-        const double a = fr - i0, b = ft - j0;
-        auto I = [&](int i, int j) { return double(density[size_t(i) * m + j]); };
-        return (1 - a) * ((1 - b) * I(i0, j0) + b * I(i0, j0 + 1)) + a * ((1 - b) * I(i0 + 1, j0) + b * I(i0 + 1, j0 + 1));
-    }
-};
-
-// The film grid at the points (x[p], y), p in [first, last), into value[p]: FilmGrid::at's
-// arithmetic, four points at a time in GCC's vector extension (one AVX register, two SSE ones
-// in the baseline clone), a point off the grid reading a clamped cell and replaced by zero;
-// the same values as FilmGrid::at.
-__attribute__((target_clones("avx2", "default"))) void film_row(const FilmGrid& film, double er_x, double er_y,
-                                                                 const double* x, double y, int first, int last,
-                                                                 double* value) {
-    typedef double Lanes __attribute__((vector_size(4 * sizeof(double))));
-    typedef long long Indices __attribute__((vector_size(4 * sizeof(long long))));
-    const int m = film.plan.grid();
-    const bool mirrored = film.plan.mirrored;
-    const double offset = mirrored ? 0 : film.plan.half, inverse_step = film.inverse_step, top = m - 1;
-    const float* d = film.density.data();
+        const float a = fr - float(i0), b = ft - float(j0);
+        const float* c = &d[size_t(i0) * m + j0];
+        return (1 - a) * ((1 - b) * c[0] + b * c[1]) + a * ((1 - b) * c[m] + b * c[m + 1]);
+    };
     int p = first;
-    for (; p + 4 <= last; p += 4) {
+    for (; p + kLanes <= last; p += kLanes) {
         Lanes xp;
         std::memcpy(&xp, x + p, sizeof xp);
-        Lanes r = xp * er_x + y * er_y, t = -xp * er_y + y * er_x;
+        Lanes r = xp * er_x + y * er_y, t = y * er_x - xp * er_y;
         if (mirrored) {
             r = r < 0 ? -r : r;
             t = t < 0 ? -t : t;
         }
-        const Lanes fr = r * inverse_step + offset, ft = t * inverse_step + offset;
+        const Lanes fr = r + offset, ft = t + offset;
         const Indices inside = (fr >= 0) & (ft >= 0) & (fr < top) & (ft < top);
         const Lanes zero = {}, last_cell = zero + (top - 1);
         const Indices i0 = __builtin_convertvector(fr > 0 ? (fr < last_cell ? fr : last_cell) : zero, Indices);
         const Indices j0 = __builtin_convertvector(ft > 0 ? (ft < last_cell ? ft : last_cell) : zero, Indices);
         const Lanes a = fr - __builtin_convertvector(i0, Lanes), b = ft - __builtin_convertvector(j0, Lanes);
         Lanes d00, d01, d10, d11;
-        for (int l = 0; l < 4; ++l) {
-            const size_t k = size_t(i0[l]) * m + size_t(j0[l]);
-            d00[l] = d[k];
-            d01[l] = d[k + 1];
-            d10[l] = d[k + m];
-            d11[l] = d[k + m + 1];
+        for (int l = 0; l < kLanes; ++l) {
+            const float* c = &d[size_t(i0[l]) * m + size_t(j0[l])];
+            d00[l] = c[0];
+            d01[l] = c[1];
+            d10[l] = c[m];
+            d11[l] = c[m + 1];
         }
         const Lanes v = (1 - a) * ((1 - b) * d00 + b * d01) + a * ((1 - b) * d10 + b * d11);
-        const Lanes out = inside ? v : zero;
-        std::memcpy(value + p, &out, sizeof out);
+        Lanes into;
+        std::memcpy(&into, sum + p, sizeof into);
+        into += inside ? v : zero;
+        std::memcpy(sum + p, &into, sizeof into);
     }
-    for (; p < last; ++p) value[p] = film.at(x[p] * er_x + y * er_y, -x[p] * er_y + y * er_x);
+    for (; p < last; ++p) sum[p] += one(x[p]);
 }
 
 // Each kernel pixel's power: the area average of the film grid over the pixel (points x
@@ -302,10 +403,12 @@ std::vector<float> average_over_pixels(const FieldPsfRequest& q, const FieldGeom
     std::vector<float> weight(size_t(w) * w, 0.0f);
     const double pixel_area = q.pixel_pitch * q.pixel_pitch;
     // the points' image offsets (column or row) in metres on the film, kernel pixel k's at
-    // [k sub, (k + 1) sub)
+    // [k sub, (k + 1) sub), and in grid steps
     std::vector<double> offset(size_t(w) * sub);
     for (int k = 0; k < w; ++k)
         for (int s = 0; s < sub; ++s) offset[size_t(k) * sub + s] = (k - q.radius + (s + 0.5) / sub - 0.5) * q.pixel_pitch;
+    std::vector<float> steps(offset.size());
+    for (size_t k = 0; k < offset.size(); ++k) steps[k] = float(offset[k] / film.plan.step);
     // The grid is zero beyond |r|, |t| < half steps, so beyond |x|, |y| < sqrt(2) half steps
     // at any rotation: only the points within that reach are summed (pixels far wider than
     // the PSF - a long film distance, a tiny frame - would otherwise cost points^2 each).
@@ -322,16 +425,19 @@ std::vector<float> average_over_pixels(const FieldPsfRequest& q, const FieldGeom
     within(0, n, first, last);
     std::vector<int> p0(w), p1(w);  // pixel k's
     for (int k = 0; k < w; ++k) within(k * sub, (k + 1) * sub, p0[k], p1[k]);
-    // each pixel's sum over its rows of points, then its columns, in that order
-    std::vector<double> value(n), sum(w);
+    // each pixel row's points summed down its rows of points (at most `points` in each
+    // column's float sum), then each pixel's columns of points in double
+    std::vector<float> column(n);
+    const double scale = film.density / (sub * sub) * pixel_area;
     for (int b = 0; b < w; ++b) {
-        std::fill(sum.begin(), sum.end(), 0.0);
-        for (int pb = p0[b]; pb < p1[b]; ++pb) {
-            film_row(film, g.er_x, g.er_y, offset.data(), offset[pb], first, last, value.data());
-            for (int a = 0; a < w; ++a)
-                for (int pa = p0[a]; pa < p1[a]; ++pa) sum[a] += value[pa];
+        std::fill(column.begin() + first, column.begin() + last, 0.0f);
+        for (int pb = p0[b]; pb < p1[b]; ++pb)
+            film_row(film, float(g.er_x), float(g.er_y), steps.data(), steps[pb], first, last, column.data());
+        for (int a = 0; a < w; ++a) {
+            double sum = 0;
+            for (int pa = p0[a]; pa < p1[a]; ++pa) sum += column[pa];
+            weight[size_t(b) * w + a] = float(sum * scale);
         }
-        for (int a = 0; a < w; ++a) weight[size_t(b) * w + a] = float(sum[a] / (sub * sub) * pixel_area);
     }
     return weight;
 }
@@ -339,22 +445,24 @@ std::vector<float> average_over_pixels(const FieldPsfRequest& q, const FieldGeom
 }  // namespace
 
 std::vector<float> kernel_by_mft(const FieldPsfRequest& q, const FieldGeometry& g, const MftPlan& plan) {
-    thread_local LastPupil<PupilGrid> last;
+    thread_local SampledPupils<PupilGrid> pupils;
     const PupilGrid& pupil =
-        last.get(q.aperture,
+        pupils.get(q.aperture,
                  {q.aperture.diameter, double(plan.nr), double(plan.nt), double(plan.mirrored),
                   plan.mirrored ? 0.0 : g.er_x, plan.mirrored ? 0.0 : g.er_y},
                  [&] { return sample_pupil(q, g, plan); });
     const double c = g.c;
-    const AxisMatrix mr = axis_matrix(pupil.xi_r, g.ar, q, plan, c * c * c);
-    const AxisMatrix mt = axis_matrix(pupil.xi_t, g.at, q, plan, c);
-    FilmGrid film{plan, transform_power(pupil, mr, mt, plan.grid())};
+    const AxisMatrix mr = axis_matrix(pupil.xi_r, g.ar, q, plan, c * c * c, MatrixRows::by_output);
+    const AxisMatrix mt = axis_matrix(pupil.xi_t, g.at, q, plan, c, MatrixRows::by_pupil_cell);
+    // the pixel averages' points reach (radius + 1/2) pixels from the centre, or the grid's
+    // sqrt(2) (half + 1) steps where that is less (average_over_pixels)
+    const double extent = std::min((q.radius + 0.5) * q.pixel_pitch / plan.step, std::sqrt(2.0) * (plan.half + 1));
     // Power per film area. The transform is Q(mu) = sum_p Q_p exp(-2 pi i xi_p mu) without
     // its cell area hr ht; Parseval gives int |Q|^2 d^2mu = aperture area, and d^2mu =
     // c^4 / (lambda f)^2 d^2(film), so the fraction of the transmitted power per film area is
     // |Q|^2 (hr ht)^2 c^4 / ((lambda f)^2 area).
     const double density = std::pow(pupil.hr * pupil.ht * c * c / (q.wavelength * q.film_distance), 2) / g.area;
-    for (float& x : film.density) x = float(x * density);
+    const FilmGrid film{plan, transform_power(pupil, mr, mt, plan.grid(), read_columns(plan, g, extent)), density};
     return average_over_pixels(q, g, film);
 }
 
