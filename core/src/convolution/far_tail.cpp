@@ -102,18 +102,60 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
     const int threads = int(std::clamp<size_t>(fit, 1, size_t(std::max(1, nthreads))));
     std::vector<std::vector<double>> part(threads, std::vector<double>(3 * cells, 0.0));
     const EdgeContinuation edge(scene.rgb, 3, W, H);  // a lone bright edge pixel is not copied beyond
+    // the frame's pixels' tangents and knot cells along each axis, once
+    std::vector<double> u(W), v(H), bx(W), by(H);
+    std::vector<int> cx(W), cy(H);
+    for (int i = 0; i < W; ++i) {
+        double unused;
+        c.tangent(i + 0.5, 0.5, u[i], unused);
+        const int kx = std::clamp(i + origin, 0, t.ax.knots.back() - 1);
+        cx[i] = t.ax.cell_of(kx);
+        bx[i] = t.ax.upper_weight(cx[i], kx);
+    }
+    for (int j = 0; j < H; ++j) {
+        double unused;
+        c.tangent(0.5, j + 0.5, unused, v[j]);
+        const int ky = std::clamp(j + origin, 0, t.ay.knots.back() - 1);
+        cy[j] = t.ay.cell_of(ky);
+        by[j] = t.ay.upper_weight(cy[j], ky);
+    }
     parallel_team(threads, [&](Team& team) {
         std::vector<double>& mine = part[size_t(team.rank())];
-        // the frame's pixels, each at its centre
+        // the frame's pixels, each at its centre: a row's deficits interpolated between its two
+        // knot rows first (per layer and knot column), then across per pixel
+        std::vector<double> row_deficit(size_t(L) * nkx * 9);
         team.for_blocks(0, H, [&](int64_t j64) {
             const int j = int(j64);
+            for (int layer = 0; layer < L; ++layer)
+                for (int kx = 0; kx < nkx; ++kx)
+                    for (int m = 0; m < 9; ++m) {
+                        const float* d = &t.deficit[(size_t(layer) * anchors + cy[j] * nkx + kx) * 9 + m];
+                        row_deficit[(size_t(layer) * nkx + kx) * 9 + m] = (1 - by[j]) * d[0] + by[j] * d[nkx * 9];
+                    }
             for (int i = 0; i < W; ++i) {
-                double u, v, ax, ay;
-                c.tangent(i + 0.5, j + 0.5, u, v);
-                dc.of_tangent(u, v, ax, ay);
-                const double c2 = 1.0 / (1 + u * u + v * v), light = c2 * c2 * (oblique ? 1 / std::sqrt(c2) : 1.0);
-                add_missing(i + 0.5, j + 0.5, inverse_depth(i, j), &scene.rgb[3 * (size_t(j) * W + i)], light, ax, ay,
-                            mine.data());
+                double ax, ay;
+                dc.of_tangent(u[i], v[j], ax, ay);
+                const int I = g.column(ax), J = g.row(ay);
+                if (I < 0 || J < 0 || I >= g.cw || J >= g.ch) continue;
+                const double c2 = 1.0 / (1 + u[i] * u[i] + v[j] * v[j]);
+                const double light = c2 * c2 * (oblique ? 1 / std::sqrt(c2) : 1.0);
+                const float* rgb = &scene.rgb[3 * (size_t(j) * W + i)];
+                const double lit[3] = {light * rgb[0], light * rgb[1], light * rgb[2]};
+                int lower = 0;
+                float upper = 0;
+                t.layers.locate(inverse_depth(i, j), lower, upper);
+                double sum[3] = {0, 0, 0};
+                for (int layer = lower; layer <= std::min(lower + 1, L - 1); ++layer) {
+                    const double share = layer == lower ? 1.0 - upper : upper;
+                    if (share == 0) continue;
+                    const double* d = &row_deficit[(size_t(layer) * nkx + cx[i]) * 9];
+                    const double w0 = share * (1 - bx[i]), w1 = share * bx[i];
+                    for (int k = 0; k < 3; ++k)
+                        sum[k] += w0 * (lit[0] * d[k] + lit[1] * d[3 + k] + lit[2] * d[6 + k]) +
+                                  w1 * (lit[0] * d[9 + k] + lit[1] * d[12 + k] + lit[2] * d[15 + k]);
+                }
+                double* into = &mine[3 * (size_t(J) * g.cw + I)];
+                for (int k = 0; k < 3; ++k) into[k] += sum[k];
             }
         });
         // beyond them, the edge continued
@@ -234,10 +276,19 @@ void add_far_tail(const KernelTable& t, double kernel_edge, bool oblique, const 
     // back to pixels: each pixel takes the cells' light at its direction (bilinearly) over its
     // share of a cell, cos^4 of an axis pixel over the cell's cell^2
     const double per_area = 1.0 / (double(cell) * cell);
+    std::vector<double> us(out_w), vs(out_h);  // the output pixels' tangents along each axis
+    for (int i = 0; i < out_w; ++i) {
+        double unused;
+        c.tangent(out.x0 - origin + i + 0.5, 0.5, us[i], unused);
+    }
+    for (int j = 0; j < out_h; ++j) {
+        double unused;
+        c.tangent(0.5, out.y0 - origin + j + 0.5, unused, vs[j]);
+    }
     parallel_for(0, out_h, thread_count(nthreads), [&](int64_t j) {
         for (int i = 0; i < out_w; ++i) {
-            double u, v, ax, ay;
-            c.tangent(out.x0 - origin + i + 0.5, out.y0 - origin + j + 0.5, u, v);
+            const double u = us[i], v = vs[j];
+            double ax, ay;
             dc.of_tangent(u, v, ax, ay);
             const double fx = (ax - g.a0) / cell - 0.5, fy = (ay - g.b0) / cell - 0.5;
             const int I = std::clamp(int(std::floor(fx)), 0, g.cw - 2);
