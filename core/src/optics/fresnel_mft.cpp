@@ -426,10 +426,14 @@ std::vector<float> average_over_pixels(const FieldPsfRequest& q, const FieldGeom
     std::vector<int> p0(w), p1(w);  // pixel k's
     for (int k = 0; k < w; ++k) within(k * sub, (k + 1) * sub, p0[k], p1[k]);
     // each pixel row's points summed down its rows of points (at most `points` in each
-    // column's float sum), then each pixel's columns of points in double
+    // column's float sum), then each pixel's columns of points in double. A mirrored plan's
+    // |Q|^2 is even in r and in t, so the PSF is point-symmetric about the kernel's centre (its
+    // points at (-x, -y) read the grid where those at (x, y) do): the rows to the centre, and
+    // the others as their point images.
     std::vector<float> column(n);
     const double scale = film.density / (sub * sub) * pixel_area;
-    for (int b = 0; b < w; ++b) {
+    const int rows = film.plan.mirrored ? q.radius + 1 : w;
+    for (int b = 0; b < rows; ++b) {
         std::fill(column.begin() + first, column.begin() + last, 0.0f);
         for (int pb = p0[b]; pb < p1[b]; ++pb)
             film_row(film, float(g.er_x), float(g.er_y), steps.data(), steps[pb], first, last, column.data());
@@ -439,6 +443,8 @@ std::vector<float> average_over_pixels(const FieldPsfRequest& q, const FieldGeom
             weight[size_t(b) * w + a] = float(sum * scale);
         }
     }
+    for (int b = rows; b < w; ++b)
+        for (int a = 0; a < w; ++a) weight[size_t(b) * w + a] = weight[size_t(w - 1 - b) * w + (w - 1 - a)];
     return weight;
 }
 
