@@ -90,7 +90,8 @@ TEST(ConvolutionMethod, AgreesWithTheExactIncoherentSum) {
 // groups spread over the threads, each with its own arrays or all sharing one set: the same
 // image every run, and, within float rounding, the image that tiles of twice the kernel radius
 // give (their kernel spectra kept and shared, each tile's anchors applied one at a time: the
-// other path through the same sum).
+// other path through the same sum), and tiles of one kernel radius (their passes every third
+// tile, the same image every run).
 TEST(ConvolutionMethod, AWholeDomainTileGivesTheSameImageEveryRunAndWhatTilesGive) {
     const double f = 2e-3;
     const int w = 40;
@@ -107,21 +108,28 @@ TEST(ConvolutionMethod, AWholeDomainTileGivesTheSameImageEveryRunAndWhatTilesGiv
     ASSERT_GT(2 * R, w / 2) << "kernels wide against the frame";
     ConvolutionSettings tiled = whole;
     tiled.tile = 2 * R;
+    ConvolutionSettings narrow = whole;  // tiles of R: every third in a pass (pass_period)
+    narrow.tile = R;
     ConvolutionSettings shared = whole;
     shared.tile_memory = 0;  // one set of the tile's arrays for all threads
-    std::vector<float> first(3 * w * w), again(3 * w * w), tiles(3 * w * w), one_set(3 * w * w), one_again(3 * w * w);
+    std::vector<float> first(3 * w * w), again(3 * w * w), tiles(3 * w * w), one_set(3 * w * w), one_again(3 * w * w),
+        narrow_tiles(3 * w * w), narrow_again(3 * w * w);
     ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, first.data()}, whole).ok());
     ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, again.data()}, whole).ok());
     ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, tiles.data()}, tiled).ok());
+    ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, narrow_tiles.data()}, narrow).ok());
+    ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, narrow_again.data()}, narrow).ok());
     ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, one_set.data()}, shared).ok());
     ASSERT_TRUE(diffract_convolution(scene, basis, ap, {true, one_again.data()}, shared).ok());
     EXPECT_EQ(first, again);
     EXPECT_EQ(one_set, one_again);
+    EXPECT_EQ(narrow_tiles, narrow_again);
     double largest = 0;
     for (float v : first) largest = std::max(largest, double(v));
     ASSERT_GT(largest, 0);
     for (size_t k = 0; k < first.size(); ++k) {
         ASSERT_NEAR(first[k], tiles[k], 1e-5 * largest) << "value " << k;
         ASSERT_NEAR(one_set[k], tiles[k], 1e-5 * largest) << "value " << k;
+        ASSERT_NEAR(narrow_tiles[k], tiles[k], 1e-5 * largest) << "value " << k;
     }
 }

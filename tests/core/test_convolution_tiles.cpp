@@ -13,6 +13,7 @@
 
 using wavecam::detail::AnchorAxis;
 using wavecam::detail::convolution_fft_length;
+using wavecam::detail::pass_period;
 using wavecam::detail::tile_edges;
 
 TEST(AnchorAxis, EvenKnotsAreMirrorSymmetricAndWithinAPixelOfEven) {
@@ -54,10 +55,10 @@ TEST(TileEdges, TilesOfCellsHoldWholeCellsOrFallBackToEvenTiles) {
                         continue;
                     }
                     for (size_t k = 0; k + 1 < even.size(); ++k) EXPECT_LE(even[k + 1] - even[k], tile);
-                    if (e == even) continue;  // cells too narrow for tiles of 2 R, or even tiles asked for
+                    if (e == even) continue;  // cells too narrow for tiles of R, or even tiles asked for
                     for (size_t k = 0; k + 1 < e.size(); ++k) {
                         EXPECT_LE(e[k + 1] - e[k], tile);
-                        EXPECT_GE(e[k + 1] - e[k], 2 * radius);  // the overlap-add's passes need it
+                        EXPECT_GE(e[k + 1] - e[k], radius);  // the overlap-add's passes need it
                     }
                     // a tile is part of one cell or whole cells: a tile spanning cells starts and
                     // ends on cells' edges, so it meets no knot of a cell it holds only in part
@@ -69,6 +70,34 @@ TEST(TileEdges, TilesOfCellsHoldWholeCellsOrFallBackToEvenTiles) {
                                 << e[k + 1] << ", tile " << tile;
                         }
                 }
+}
+
+// The overlap-add passes: a tile writes R beyond itself, so two tiles of one pass (pass_period
+// apart) must never write the same pixel; tiles of 2 R or more take every other tile, tiles of
+// R or more every third, on cells or even, whatever the last tile's width.
+TEST(TileEdges, TilesOfOnePassNeverWriteTheSamePixel) {
+    for (int radius : {1, 13, 53, 61})
+        for (int span : {64, 500, 1920})
+            for (int cells : {1, 3, 7, 16, 40})
+                for (int tile : {radius, radius + 7, 2 * radius - 1, 2 * radius, 128, 327})
+                    for (bool on_cells : {false, true}) {
+                        const int length = span + 2 * radius;
+                        const std::vector<int> e =
+                            tile_edges(AnchorAxis::even(radius, span, cells), length, tile, radius, on_cells);
+                        const int period = pass_period(e, radius), tiles = int(e.size()) - 1;
+                        int narrowest = length;
+                        for (int k = 0; k + 1 < tiles; ++k) narrowest = std::min(narrowest, e[k + 1] - e[k]);
+                        if (narrowest >= 2 * radius) {
+                            EXPECT_EQ(period, 2) << radius << " " << span << " " << tile;
+                        }
+                        if (narrowest >= radius) {
+                            EXPECT_LE(period, 3) << radius << " " << span << " " << tile;
+                        }
+                        for (int k = 0; k < tiles; ++k)
+                            for (int j = k + period; j < tiles; j += period)
+                                EXPECT_LE(e[k + 1] + radius, e[j] - radius)
+                                    << "tiles " << k << " and " << j << ", R " << radius << ", tile " << tile;
+                    }
 }
 
 // Each axis's transform as long as that axis needs: tile + 2 R where tiles cut it, the domain's

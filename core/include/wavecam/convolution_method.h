@@ -38,7 +38,7 @@
 namespace wavecam {
 
 struct ConvolutionSettings {
-    int tile = 0;            // tile side in pixels; 0 = from the kernel size (at least 2 x radius)
+    int tile = 0;            // tile side in pixels (at least the kernel radius); 0 = the cheapest tiling
     int max_radius = 512;    // safety bound on the kernel half-width (pixels)
     int anchor_cells = 4;    // field-anchor cells across the frame's long side
     int nthreads = 0;

@@ -45,8 +45,19 @@ std::vector<int> tile_edges(const AnchorAxis& a, int length, int tile, int radiu
     }
     if (end > edges.back()) edges.push_back(end);
     for (size_t k = 0; k + 1 < edges.size(); ++k)
-        if (edges[k + 1] - edges[k] < 2 * radius) return even;
+        if (edges[k + 1] - edges[k] < radius) return even;
     return edges;
+}
+
+int pass_period(const std::vector<int>& edges, int radius) {
+    // tiles k and k + P of one pass write [edges[k] - R, edges[k + 1] + R) and from
+    // edges[k + P] - R: apart where the P - 1 tiles between them span 2 R
+    const int tiles = int(edges.size()) - 1;
+    for (int period = 2;; ++period) {
+        bool apart = true;
+        for (int k = 0; k + period <= tiles - 1 && apart; ++k) apart = edges[k + period] - edges[k + 1] >= 2 * radius;
+        if (apart || period >= tiles) return period;
+    }
 }
 
 void transform_centred_kernel(const float* w, int R, RealFft2D& fft, int Nx, int Ny, float* image,
@@ -421,13 +432,14 @@ Result<bool> AnchoredConvolution::apply(const DomainSources& src, const OutputWi
     for (int a = 0; a < table_.anchors() && own_kernels; ++a)
         inputs = std::max<int>(inputs, std::count(table_.source.begin(), table_.source.end(), table_.source[a]));
     ProgressTicker ticker(progress, double(ntx) * nty);
-    // Four passes: tiles of one parity are at least one tile apart, a tile is at least 2 R wide
-    // (tile_edges), and a tile writes at most R pixels beyond itself, so concurrent tiles never
-    // write the same pixel.
-    for (int phase = 0; phase < 4 && !ticker.cancelled(); ++phase) {
+    // Passes of tiles px apart across and py down (pass_period): a tile writes at most R pixels
+    // beyond itself and the tiles between two of one pass span 2 R, so concurrent tiles never
+    // write the same pixel (tiles of 2 R or more: four passes).
+    const int px = pass_period(edges_x_, R), py = pass_period(edges_y_, R);
+    for (int phase = 0; phase < px * py && !ticker.cancelled(); ++phase) {
         std::vector<TileBounds> tiles;
-        for (int ty = phase / 2; ty < nty; ty += 2)
-            for (int tx = phase % 2; tx < ntx; tx += 2) {
+        for (int ty = phase / px; ty < nty; ty += py)
+            for (int tx = phase % px; tx < ntx; tx += px) {
                 const TileBounds b{edges_x_[tx], edges_y_[ty], edges_x_[tx + 1], edges_y_[ty + 1]};
                 if (b.x1 + R <= out.x0 || b.x0 - R >= out.x0 + out.width || b.y1 + R <= out.y0 ||
                     b.y0 - R >= out.y0 + out.height)

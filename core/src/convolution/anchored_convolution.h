@@ -58,8 +58,13 @@ std::vector<int> cell_edges(const AnchorAxis& knots, int length);
 // of radius R: even tiles from the domain's start, or (`on_cells`) tiles of whole anchor cells
 // (as many as fit in `tile`; a wider cell split into equal tiles), so that a tile meets only
 // the knots of the cells it holds instead of the extra one of a cell it straddles. Even tiles
-// where that would give a tile narrower than 2 R (the overlap-add's passes need that width).
+// where that would give a tile narrower than R.
 std::vector<int> tile_edges(const AnchorAxis& knots, int length, int tile, int radius, bool on_cells);
+
+// Every how many tiles along an axis with tile edges `edges` one overlap-add pass takes a tile:
+// the least P >= 2 for which the P - 1 tiles between two of a pass span 2 R, so that what they
+// write R beyond themselves never meets (2 for tiles of 2 R or more, 3 for tiles of R or more).
+int pass_period(const std::vector<int>& edges, int radius);
 
 // Kernel spectra a plan keeps at most; beyond, each tile transforms the kernels it meets (a
 // frame with hundreds of anchors at a wide field: 4x the transforms, memory bounded).
@@ -103,8 +108,8 @@ struct TileBounds {
 
 class AnchoredConvolution {
 public:
-    // Transforms every kernel of `table` once, for tiles of side `tile` (>= 2 x the radius) on
-    // a source domain of width x height.
+    // Transforms every kernel of `table` once, for tiles of side `tile` (>= the radius) on a
+    // source domain of width x height.
     // `tile_memory`: ConvolutionSettings::tile_memory.
     static Result<AnchoredConvolution> create(KernelTable table, int tile, bool tiles_on_cells, int width, int height,
                                               int nthreads, double tile_memory, const ProgressFn& progress);

@@ -48,11 +48,11 @@ bool same_basis(const SpectralBasis& a, const SpectralBasis& b) {
     return true;
 }
 
-// Tile side: at least twice the kernel radius (the overlap-add passes need it), and large
-// enough that the FFT's padding (2 R) costs less than the tile itself; never more than the
-// whole source domain (one tile is then a whole-frame FFT).
+// Tile side: the one asked for, at least the kernel radius (the overlap-add passes then take
+// every third tile, pass_period); or large enough that the FFT's padding (2 R) costs less than
+// the tile itself; never more than the whole source domain (one tile is then a whole-frame FFT).
 int tile_side(int requested, int radius, int domain) {
-    const int base = requested > 0 ? std::max(requested, 2 * radius) : std::max(128, 4 * radius);
+    const int base = requested > 0 ? std::max(requested, radius) : std::max(128, 4 * radius);
     const int tile = detail::fft_friendly_size(base + 2 * radius) - 2 * radius;
     return std::min(tile, domain);
 }
@@ -159,11 +159,17 @@ Result<PlanGeometry> plan_geometry(const ConvolutionPlanSpec& spec) {
                     w = std::max(w, (*e)[std::min(k + cells, e->size() - 1)] - (*e)[k]);
             return w;
         };
-        for (const int tile : {widest(1), widest(2), widest(3), (widest(1) + 1) / 2, (widest(1) + 2) / 3}) {
+        // (the inner cells, narrower than the edge cells that hold the margins: tiles of one
+        // inner cell, the edge cells split, meet 2 x 2 knots a layer)
+        int inner = whole.tile;
+        for (const std::vector<int>* e : {&ex, &ey})
+            for (size_t k = 1; k + 2 < e->size(); ++k) inner = std::min(inner, (*e)[k + 1] - (*e)[k]);
+        for (const int tile :
+             {widest(1), widest(2), widest(3), (widest(1) + 1) / 2, (widest(1) + 2) / 3, inner}) {
             detail::KernelTableSpec cells = t;
             cells.tiles_on_cells = true;
             cells.tile = tile;
-            if (tile >= 2 * radius && tile < whole.tile) options.push_back(cells);
+            if (tile >= radius && tile < whole.tile) options.push_back(cells);
         }
         double least = transform_work(t);
         for (const detail::KernelTableSpec& o : options)
