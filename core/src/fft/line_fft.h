@@ -26,21 +26,23 @@ public:
         if (count <= 0) return;
         columns_.resize(size_t(n) * count);
         work_.resize(size_t(n) * count);
-        constexpr int kBlock = 16;  // lines gathered together: their values stay in cache
+        // lines gathered a block at a time, each value of the block's lines in turn: the block's
+        // reads run along its lines and its writes fill a cache line of the columns at a time
+        constexpr int kBlock = 16;
+        const std::complex<float>* in[kBlock];
+        std::complex<float>* out[kBlock];
         for (int k0 = 0; k0 < count; k0 += kBlock) {
             const int k1 = std::min(count, k0 + kBlock);
-            for (int k = k0; k < k1; ++k) {
-                const std::complex<float>* line = line_at(k);
-                for (int i = 0; i < n; ++i) columns_[size_t(i) * count + k] = line[i];
-            }
+            for (int k = k0; k < k1; ++k) in[k - k0] = line_at(k);
+            for (int i = 0; i < n; ++i)
+                for (int k = k0; k < k1; ++k) columns_[size_t(i) * count + k] = in[k - k0][i];
         }
         fft_.transform(columns_.data(), work_.data(), count, 0, count);
         for (int k0 = 0; k0 < count; k0 += kBlock) {
             const int k1 = std::min(count, k0 + kBlock);
-            for (int k = k0; k < k1; ++k) {
-                std::complex<float>* line = line_at(k);
-                for (int i = 0; i < n; ++i) line[i] = columns_[size_t(i) * count + k];
-            }
+            for (int k = k0; k < k1; ++k) out[k - k0] = line_at(k);
+            for (int i = 0; i < n; ++i)
+                for (int k = k0; k < k1; ++k) out[k - k0][i] = columns_[size_t(i) * count + k];
         }
     }
 

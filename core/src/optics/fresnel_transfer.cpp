@@ -163,17 +163,31 @@ void transfer(const PupilSpectrum& spectrum, int lines, double wavelength, const
     };
     const std::vector<std::complex<double>> fx = axis(A), fy = axis(B);
     field.resize(size_t(lines) * n);
-    std::vector<std::complex<float>> line(n);
+    std::vector<float> line(2 * size_t(n));
+    // (complex products written out: std::complex's keeps a NaN-recovery call that stops the
+    // loops vectorising; the same values otherwise)
     for (int kx = 0; kx < lines; ++kx) {
         // fx exp(i beta ky') fy for ky' = -n/2 ... n/2 - 1, the exponential by repeated
         // multiplication (in double: n steps)
         const double beta = -2 * M_PI * wavelength * C * signed_index(kx) / (L * L);
         const std::complex<double> w = std::polar(1.0, beta);
-        std::complex<double> z = fx[kx] * std::polar(1.0, -beta * (n / 2));
-        for (int k = -n / 2; k < n - n / 2; ++k, z *= w) line[(k + n) % n] = std::complex<float>(z * fy[(k + n) % n]);
-        const std::complex<float>* in = &spectrum.value[size_t(kx) * n];
-        std::complex<float>* out = &field[size_t(kx) * n];
-        for (int ky = 0; ky < n; ++ky) out[ky] = in[ky] * line[ky];
+        const std::complex<double> z0 = fx[kx] * std::polar(1.0, -beta * (n / 2));
+        double re = z0.real(), im = z0.imag();
+        for (int k = -n / 2, ky = n - n / 2; k < n - n / 2; ++k, ky = ky + 1 == n ? 0 : ky + 1) {  // ky = k mod n
+            const double yr = fy[ky].real(), yi = fy[ky].imag();
+            line[2 * ky] = float(re * yr - im * yi);
+            line[2 * ky + 1] = float(re * yi + im * yr);
+            const double next = re * w.real() - im * w.imag();
+            im = re * w.imag() + im * w.real();
+            re = next;
+        }
+        const float* in = reinterpret_cast<const float*>(&spectrum.value[size_t(kx) * n]);
+        float* out = reinterpret_cast<float*>(&field[size_t(kx) * n]);
+        for (int ky = 0; ky < n; ++ky) {
+            const float ar = in[2 * ky], ai = in[2 * ky + 1], br = line[2 * ky], bi = line[2 * ky + 1];
+            out[2 * ky] = ar * br - ai * bi;
+            out[2 * ky + 1] = ar * bi + ai * br;
+        }
     }
 }
 
@@ -207,12 +221,13 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
         mirror_y[k] = wrap(-y[k]);
     }
     field.resize(size_t(rows) * n);
-    for (int kx = 0; kx < n; ++kx) {
-        const bool own = kx < lines;
-        const std::complex<float>* column = &columns[size_t(own ? kx : n - kx) * n];
-        const int* from = own ? y.data() : mirror_y.data();
-        for (int k = 0; k < rows; ++k) field[size_t(k) * n + kx] = column[from[k]];
-    }
+    constexpr int kBlock = 16;  // columns a block: each row's writes a cache line or two, not one value
+    for (int k0 = 0; k0 < n; k0 += kBlock)
+        for (int k = 0; k < rows; ++k)
+            for (int kx = k0; kx < std::min(n, k0 + kBlock); ++kx) {
+                const bool own = kx < lines;
+                field[size_t(k) * n + kx] = columns[size_t(own ? kx : n - kx) * n + (own ? y[k] : mirror_y[k])];
+            }
     // Each pixel: sum of |U|^2 h^2 over its points / transmitted power (the aperture's area);
     // the unnormalised forward-inverse pair scales by n^2.
     const int w = 2 * R + 1;
