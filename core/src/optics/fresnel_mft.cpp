@@ -208,9 +208,10 @@ struct ReadColumns {
 
 // The pixel averages read the grid's four nodes round each point, so at most sqrt(2) steps from
 // a point; the points fill the square |x|, |y| <= extent (grid steps, image axes), and a node is
-// read only if it lies within that square widened by 1.5 steps, at (x, y) = r er - t (er_y, -er_x)
-// rotated back. Mirrored, node (r, t) stands for (+-r, +-t) and the square's point symmetry
-// leaves (r, t) and (r, -t). A square at any rotation leaves about half the grid unread.
+// read only if it lies within that square widened by 1.5 steps, node (r, t) being at
+// (x, y) = r er + t (-er_y, er_x). Mirrored, node (r, t) stands for (+-r, +-t) and the square's
+// point symmetry leaves (r, t) and (r, -t). A square at any rotation leaves about half the grid
+// unread.
 ReadColumns read_columns(const MftPlan& plan, const FieldGeometry& g, double extent) {
     const int m = plan.grid();
     const double offset = plan.mirrored ? 0 : plan.half, wide = extent + 1.5;
@@ -275,7 +276,7 @@ __attribute__((target_clones("avx2", "default"))) void tangential_stage(const fl
 // output rows by eight columns at a time held in registers, in GCC's vector extension (one AVX
 // register, or two SSE ones in the baseline clone); each value's terms are added in the same
 // order as one row at a time, so the sums are the same. Only the blocks that hold columns the
-// pixel averages read. tmp's rows are `stride` long (m padded to whole blocks of kBlockColumns); a block's rows
+// pixel averages read. tmp's rows are `stride` long (m padded to whole blocks); a block's rows
 // past the last repeat it, and what they and the padding give is not written.
 __attribute__((target_clones("avx2", "default"))) void radial_power(const AxisMatrix& mr, const float* tmp_re,
                                                                      const float* tmp_im, int nr, int m,
