@@ -301,11 +301,8 @@ Result<bool> ConvolutionPlan::apply(const SpectralScene& scene, bool vignetting,
     src.height = out_h + 2 * R;
     src.frame = &edge;
     src.origin = origin;
-    src.u.resize(src.width);
-    src.v.resize(src.height);
-    double unused;
-    for (int i = 0; i < src.width; ++i) c.tangent(i - origin + 0.5, 0.5, src.u[i], unused);
-    for (int j = 0; j < src.height; ++j) c.tangent(0.5, j - origin + 0.5, unused, src.v[j]);
+    src.u = detail::column_tangents(c, -origin, src.width);
+    src.v = detail::row_tangents(c, -origin, src.height);
     const size_t n = size_t(src.width) * src.height;
     const int threads = detail::thread_count(spec.settings.nthreads);
     std::fill(xyz, xyz + 3 * size_t(out_w) * out_h, 0.0f);

@@ -8,6 +8,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "wavecam/pinhole_camera.h"
 
@@ -29,6 +30,21 @@ struct DirectionCosines {
         return true;
     }
 };
+
+// The tangents u of the camera pixel columns [x0, x0 + count) and v of the rows [y0, y0 + count),
+// at their centres (PinholeCamera::tangent's, one axis at a time).
+inline std::vector<double> column_tangents(const PinholeCamera& c, int x0, int count) {
+    std::vector<double> u(size_t(std::max(0, count)));
+    double unused;
+    for (int i = 0; i < count; ++i) c.tangent(x0 + i + 0.5, 0.5, u[i], unused);
+    return u;
+}
+inline std::vector<double> row_tangents(const PinholeCamera& c, int y0, int count) {
+    std::vector<double> v(size_t(std::max(0, count)));
+    double unused;
+    for (int j = 0; j < count; ++j) c.tangent(0.5, y0 + j + 0.5, unused, v[j]);
+    return v;
+}
 
 // The extremes of the direction cosines (axis pixels, a right and b up) over the centres of camera
 // pixels [x0, x0 + width) x [y0, y0 + height): they lie on its border, a and b being monotone in

@@ -48,6 +48,12 @@ struct CoarseGrid {
     int row(double ay) const { return int(std::floor((ay - b0) / cell)); }
 };
 
+// sum[k] += weight x the light lit[p] of each primary p times its deficit into XYZ k (def[3 p + k]).
+template <class Deficit>
+inline void add_deficit(const double lit[3], const Deficit* def, double weight, double sum[3]) {
+    for (int k = 0; k < 3; ++k) sum[k] += weight * (lit[0] * def[k] + lit[1] * def[3 + k] + lit[2] * def[6 + k]);
+}
+
 // Per coarse cell, the light its sources send beyond their kernels, each source's light (radiance
 // x its cos^4 fall-off, a pixel's light as the kernels carry it) times its kernels' missing share
 // at its own place, interpolated as the kernels are. The sources are the frame's pixels and,
@@ -84,10 +90,7 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
             for (int layer = lower; layer <= std::min(lower + 1, L - 1); ++layer) {
                 const double share = layer == lower ? 1.0 - upper : upper;
                 if (share == 0) continue;
-                const float* def = &t.deficit[(size_t(layer) * anchors + a) * 9];
-                const double weight = phi * share;
-                for (int k = 0; k < 3; ++k)
-                    sum[k] += weight * (lit[0] * def[k] + lit[1] * def[3 + k] + lit[2] * def[6 + k]);
+                add_deficit(lit, &t.deficit[(size_t(layer) * anchors + a) * 9], phi * share, sum);
             }
         }
         double* m = into + 3 * (size_t(J) * g.cw + I);
@@ -103,18 +106,15 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
     std::vector<std::vector<double>> part(threads, std::vector<double>(3 * cells, 0.0));
     const EdgeContinuation edge(scene.rgb, 3, W, H);  // a lone bright edge pixel is not copied beyond
     // the frame's pixels' tangents and knot cells along each axis, once
-    std::vector<double> u(W), v(H), bx(W), by(H);
+    const std::vector<double> u = column_tangents(c, 0, W), v = row_tangents(c, 0, H);
+    std::vector<double> bx(W), by(H);
     std::vector<int> cx(W), cy(H);
     for (int i = 0; i < W; ++i) {
-        double unused;
-        c.tangent(i + 0.5, 0.5, u[i], unused);
         const int kx = std::clamp(i + origin, 0, t.ax.knots.back() - 1);
         cx[i] = t.ax.cell_of(kx);
         bx[i] = t.ax.upper_weight(cx[i], kx);
     }
     for (int j = 0; j < H; ++j) {
-        double unused;
-        c.tangent(0.5, j + 0.5, unused, v[j]);
         const int ky = std::clamp(j + origin, 0, t.ay.knots.back() - 1);
         cy[j] = t.ay.cell_of(ky);
         by[j] = t.ay.upper_weight(cy[j], ky);
@@ -149,10 +149,8 @@ std::vector<float> missing_light(const KernelTable& t, const SpectralScene& scen
                     const double share = layer == lower ? 1.0 - upper : upper;
                     if (share == 0) continue;
                     const double* d = &row_deficit[(size_t(layer) * nkx + cx[i]) * 9];
-                    const double w0 = share * (1 - bx[i]), w1 = share * bx[i];
-                    for (int k = 0; k < 3; ++k)
-                        sum[k] += w0 * (lit[0] * d[k] + lit[1] * d[3 + k] + lit[2] * d[6 + k]) +
-                                  w1 * (lit[0] * d[9 + k] + lit[1] * d[12 + k] + lit[2] * d[15 + k]);
+                    add_deficit(lit, d, share * (1 - bx[i]), sum);
+                    add_deficit(lit, d + 9, share * bx[i], sum);
                 }
                 double* into = &mine[3 * (size_t(J) * g.cw + I)];
                 for (int k = 0; k < 3; ++k) into[k] += sum[k];
@@ -276,15 +274,7 @@ void add_far_tail(const KernelTable& t, double kernel_edge, bool oblique, const 
     // back to pixels: each pixel takes the cells' light at its direction (bilinearly) over its
     // share of a cell, cos^4 of an axis pixel over the cell's cell^2
     const double per_area = 1.0 / (double(cell) * cell);
-    std::vector<double> us(out_w), vs(out_h);  // the output pixels' tangents along each axis
-    for (int i = 0; i < out_w; ++i) {
-        double unused;
-        c.tangent(out.x0 - origin + i + 0.5, 0.5, us[i], unused);
-    }
-    for (int j = 0; j < out_h; ++j) {
-        double unused;
-        c.tangent(0.5, out.y0 - origin + j + 0.5, unused, vs[j]);
-    }
+    const std::vector<double> us = column_tangents(c, out.x0 - origin, out_w), vs = row_tangents(c, out.y0 - origin, out_h);
     parallel_for(0, out_h, thread_count(nthreads), [&](int64_t j) {
         for (int i = 0; i < out_w; ++i) {
             const double u = us[i], v = vs[j];

@@ -397,6 +397,10 @@ __attribute__((target_clones("avx2", "default"))) void film_row(const FilmGrid& 
     for (; p < last; ++p) sum[p] += one(x[p]);
 }
 
+// The grid is zero beyond |r|, |t| < half steps, so beyond |x|, |y| < sqrt(2) half steps at any
+// rotation: the film offset (m) beyond which the pixel averages' points read nothing.
+double grid_reach(const MftPlan& plan) { return std::sqrt(2.0) * (plan.half + 1) * plan.step; }
+
 // Each kernel pixel's power: the area average of the film grid over the pixel (points x
 // points bilinear samples) times the pixel's area.
 std::vector<float> average_over_pixels(const FieldPsfRequest& q, const FieldGeometry& g, const FilmGrid& film) {
@@ -410,10 +414,9 @@ std::vector<float> average_over_pixels(const FieldPsfRequest& q, const FieldGeom
         for (int s = 0; s < sub; ++s) offset[size_t(k) * sub + s] = (k - q.radius + (s + 0.5) / sub - 0.5) * q.pixel_pitch;
     std::vector<float> steps(offset.size());
     for (size_t k = 0; k < offset.size(); ++k) steps[k] = float(offset[k] / film.plan.step);
-    // The grid is zero beyond |r|, |t| < half steps, so beyond |x|, |y| < sqrt(2) half steps
-    // at any rotation: only the points within that reach are summed (pixels far wider than
-    // the PSF - a long film distance, a tiny frame - would otherwise cost points^2 each).
-    const double reach = std::sqrt(2.0) * (film.plan.half + 1) * film.plan.step;
+    // Only the points within the grid's reach are summed (pixels far wider than the PSF - a
+    // long film distance, a tiny frame - would otherwise cost points^2 each).
+    const double reach = grid_reach(film.plan);
     // the points of [begin, end) within that reach: [first, last) (the offsets increase)
     auto within = [&](int begin, int end, int& first, int& last) {
         first = begin;
@@ -462,8 +465,8 @@ std::vector<float> kernel_by_mft(const FieldPsfRequest& q, const FieldGeometry& 
     const AxisMatrix mr = axis_matrix(pupil.xi_r, g.ar, q, plan, c * c * c, MatrixRows::by_output);
     const AxisMatrix mt = axis_matrix(pupil.xi_t, g.at, q, plan, c, MatrixRows::by_pupil_cell);
     // the pixel averages' points reach (radius + 1/2) pixels from the centre, or the grid's
-    // sqrt(2) (half + 1) steps where that is less (average_over_pixels)
-    const double extent = std::min((q.radius + 0.5) * q.pixel_pitch / plan.step, std::sqrt(2.0) * (plan.half + 1));
+    // reach where that is less (average_over_pixels), in grid steps
+    const double extent = std::min((q.radius + 0.5) * q.pixel_pitch, grid_reach(plan)) / plan.step;
     // Power per film area. The transform is Q(mu) = sum_p Q_p exp(-2 pi i xi_p mu) without
     // its cell area hr ht; Parseval gives int |Q|^2 d^2mu = aperture area, and d^2mu =
     // c^4 / (lambda f)^2 d^2(film), so the fraction of the transmitted power per film area is
