@@ -34,14 +34,22 @@ namespace wavecam::detail {
 //    focus on the axis of a round pinhole whose shadow is wider than ~16 px: at 2.5 mm, f = 50
 //    mm (a 35 px shadow) the central 9 pixels get 1.8% less than the exact sum with 9 x 9 film
 //    points per pixel, the central 6 px radius 0.7% less; the total is within 0.3%.
-//  - H: its phase step between frequency samples, 2 pi shift / L, stays below pi while the
-//    largest shift (lambda z_r |nu|max = lambda z_r / (sqrt 2 h)) is below half the period L.
-//  - wrap-around: light from the pupil (half-width a) shifted up to that much must not come
-//    back round the period into the kernel (half-width E): L >= E + a + shift.
+//  - wrap-around: the grid is periodic, so the inverse transform convolves the pupil with the
+//    chirp band-limited to the grid and summed over the period's copies. Along an image axis the
+//    band-limited chirp reaches shift = lambda (A + |C|) / (2h) (A, C the axis's coefficients
+//    in the quadratic form below: the lateral shift of the grid's highest frequency, for
+//    every other axis's), and a pupil point (half-width a) reaches a kernel pixel (half-width E)
+//    across at most E + a; a copy one period L away stays off every such pair while L >= E + a
+//    + shift. (H's phase may then step by more than pi between frequency samples: that is the
+//    copies, which land outside the kernel.) The band edge rings beyond `shift`, decaying as
+//    the distance: kWrapMargin Fresnel lengths sqrt(lambda z_r) more keep the kernel within
+//    ~5e-4 of its peak of one on a grid twice as wide (measured at 0.6-5 mm, 400-700 nm, on
+//    axis and at 50deg).
 // This is the many-zone regime's tool: its grid is never coarser than the chirp needs there;
 // with few zones (small pinholes) the grid those conditions demand is large and the matrix
 // Fourier transform is cheaper; field_psf_kernel picks the cheaper of the two.
 constexpr int kMinCellsAcross = 64;
+constexpr double kWrapMargin = 6;
 
 namespace {
 
@@ -62,9 +70,11 @@ TransferPlan plan_transfer(const FieldPsfRequest& q, const FieldGeometry& g) {
     p.symmetric = point_symmetric(q.aperture);
     if (p.symmetric && p.sub % 2 == 0) ++p.sub;
     p.h = q.pixel_pitch / (p.sub * fa);
-    const double shift = q.wavelength / g.ar / (std::sqrt(2.0) * p.h);
+    const double zr = 1.0 / g.ar, zt = 1.0 / g.at, cross = std::fabs(g.er_x * g.er_y * (zr - zt));
+    const double reach = std::max(zr * g.er_x * g.er_x + zt * g.er_y * g.er_y, zr * g.er_y * g.er_y + zt * g.er_x * g.er_x) + cross;
+    const double shift = q.wavelength * reach / (2 * p.h), margin = kWrapMargin * std::sqrt(q.wavelength * zr);
     const double kernel_half = (q.radius + 0.5) * q.pixel_pitch / fa, pupil_half = 0.5 * g.span;
-    const double period = std::max(kernel_half + pupil_half + shift, 2 * shift);
+    const double period = kernel_half + pupil_half + shift + margin;
     // (a grid beyond 2^28 points across is never cheaper than the matrix transform: kept
     // finite, it only loses the cost comparison)
     p.n = detail::fft_friendly_size(int(std::min(std::ceil(period / p.h) + 2, double(1 << 29))));
@@ -87,17 +97,34 @@ struct PupilSpectrum {
     double diameter = 0, h = 0, o = 0;
     int n = 0;
     long used = 0;  // when last used, for replacing the least recently used
-    std::vector<std::complex<float>> value;
+    std::vector<std::complex<float>> value;  // row ky, column kx
     bool serves(const Aperture& a, double hh, double oo, int n_min) const {
         return a.name() == aperture && a.mask.get() == mask && a.diameter == diameter && hh == h && oo == o &&
                n >= n_min && double(n) * n <= kWiderGrid * n_min * n_min;
     }
 };
 
+// Scratch that only grows: a thread's arrays keep their pages from one request to the next (a
+// fresh array would zero-fill and fault in megabytes a request).
+std::complex<float>* scratch(std::vector<std::complex<float>>& v, size_t size) {
+    if (v.size() < size) v.resize(size);
+    return v.data();
+}
+
+// The transform down each of `columns` columns of a row-major array, a block of columns at a time:
+// a block's rows (n x kColumnBlock values) stay in the cache through all of its stages, where
+// the whole array would stream from memory once a stage.
+constexpr int kColumnBlock = 64;
+void transform_columns(const ColumnFft& fft, std::complex<float>* data, std::complex<float>* work, int columns) {
+    for (int c0 = 0; c0 < columns; c0 += kColumnBlock)
+        fft.transform(data, work, columns, c0, std::min(columns, c0 + kColumnBlock));
+}
+
 const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometry& g, const TransferPlan& plan,
                                     double o) {
     thread_local PupilSpectrum kept_spectra[kSpectraKept];
     thread_local long clock = 0;
+    thread_local std::vector<std::complex<float>> work;
     PupilSpectrum* best = nullptr;
     for (PupilSpectrum& s : kept_spectra)
         if (s.serves(q.aperture, plan.h, o, plan.n) && (!best || s.n < best->n)) best = &s;
@@ -113,21 +140,18 @@ const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometr
     const int n = plan.n;
     const double h = plan.h;
     const int reach = std::min(n / 2 - 1, int(std::ceil(0.5 * g.span / h)) + 1), row0 = n / 2 - reach;
-    std::vector<std::complex<float>> pupil(size_t(n) * n, 0.0f);
+    std::vector<std::complex<float>>& pupil = kept.value;
+    pupil.assign(size_t(n) * n, 0.0f);
     for (int iy = row0; iy <= n / 2 + reach; ++iy)
         for (int ix = n / 2 - reach; ix <= n / 2 + reach; ++ix) {
             const double x = (ix - n / 2 + o) * h, y = (iy - n / 2 + o) * h;
             double cx, cy;
             pupil[size_t(iy) * n + ix] = float(q.aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy));
         }
-    // the rows (the others are zero), then the columns as lines of the transpose: the spectrum
-    // is kept transposed, one line per kx
-    detail::LineFft forward(n, false);
-    forward.transform(2 * reach + 1, [&](int k) { return &pupil[size_t(row0 + k) * n]; });
-    kept.value.resize(size_t(n) * n);
-    for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) kept.value[size_t(x) * n + y] = pupil[size_t(y) * n + x];
-    forward.transform(n, [&](int k) { return &kept.value[size_t(k) * n]; });
+    // the rows (the others are zero), then down the columns: the spectrum in natural order, row
+    // ky, column kx
+    detail::LineFft(n, false).transform(2 * reach + 1, [&](int k) { return &pupil[size_t(row0 + k) * n]; });
+    transform_columns(ColumnFft(n, false), pupil.data(), scratch(work, size_t(n) * n), n);
     kept.aperture = q.aperture.name();
     kept.mask = q.aperture.mask.get();
     kept.diameter = q.aperture.diameter;
@@ -139,14 +163,16 @@ const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometr
 }
 
 // The spectrum times the transfer function with the pupil cells' box response divided out,
-// for the first `lines` lines kx of the transposed grid (frequency nu = k / L, k taken in
-// [-n/2, n/2)). In image axes the exponent is a quadratic form, -pi lambda (A nx^2 + B ny^2 +
-// 2 C nx ny) with A = zr ex^2 + zt ey^2, B = zr ey^2 + zt ex^2, C = ex ey (zr - zt) (e the
-// radial unit vector): a factor per axis times exp(-2 pi i lambda C nx ny), which along a line
-// is a geometric sequence in ky (one complex multiplication per point instead of a sine and
-// cosine).
-void transfer(const PupilSpectrum& spectrum, int lines, double wavelength, const FieldGeometry& g,
-              std::vector<std::complex<float>>& field) {
+// columns kx < `lines` of each row ky (frequency nu = k / L, k taken in [-n/2, n/2)), into
+// field[ky * lines + kx]. In image axes the exponent is a quadratic form, -pi lambda (A nx^2 +
+// B ny^2 + 2 C nx ny) with A = zr ex^2 + zt ey^2, B = zr ey^2 + zt ex^2, C = ex ey (zr - zt)
+// (e the radial unit vector): a factor per axis times exp(-2 pi i lambda C nx ny), which along a
+// row is a geometric sequence in kx (complex multiplications instead of a sine and cosine a
+// point; kCrossChains interleaved sequences, so that the loop vectorises).
+constexpr int kCrossChains = 8;
+__attribute__((target_clones("avx2", "default"))) void transfer(const PupilSpectrum& spectrum, int lines,
+                                                                double wavelength, const FieldGeometry& g,
+                                                                std::complex<float>* field) {
     const int n = spectrum.n;
     const double h = spectrum.h;
     const double L = n * h, zr = 1.0 / g.ar, zt = 1.0 / g.at;
@@ -162,32 +188,56 @@ void transfer(const PupilSpectrum& spectrum, int lines, double wavelength, const
         return f;
     };
     const std::vector<std::complex<double>> fx = axis(A), fy = axis(B);
-    field.resize(size_t(lines) * n);
-    std::vector<float> line(2 * size_t(n));
     // (complex products written out: std::complex's keeps a NaN-recovery call that stops the
     // loops vectorising; the same values otherwise)
-    for (int kx = 0; kx < lines; ++kx) {
-        // fx exp(i beta ky') fy for ky' = -n/2 ... n/2 - 1, the exponential by repeated
-        // multiplication (in double: n steps)
-        const double beta = -2 * M_PI * wavelength * C * signed_index(kx) / (L * L);
-        const std::complex<double> w = std::polar(1.0, beta);
-        const std::complex<double> z0 = fx[kx] * std::polar(1.0, -beta * (n / 2));
-        double re = z0.real(), im = z0.imag();
-        for (int k = -n / 2, ky = n - n / 2; k < n - n / 2; ++k, ky = ky + 1 == n ? 0 : ky + 1) {  // ky = k mod n
-            const double yr = fy[ky].real(), yi = fy[ky].imag();
-            line[2 * ky] = float(re * yr - im * yi);
-            line[2 * ky + 1] = float(re * yi + im * yr);
-            const double next = re * w.real() - im * w.imag();
-            im = re * w.imag() + im * w.real();
-            re = next;
+    std::vector<double> re(lines), im(lines);
+    for (int ky = 0; ky < n; ++ky) {
+        // fy exp(i beta kx') fx for kx' = 0 ... n/2 - 1, then -n/2 ...: each run of kx' from its
+        // first value, kCrossChains values apart
+        const double beta = -2 * M_PI * wavelength * C * signed_index(ky) / (L * L);
+        const double yr = fy[ky].real(), yi = fy[ky].imag();
+        for (int run0 : {0, n / 2}) {
+            const int run1 = run0 == 0 ? std::min(lines, n / 2) : lines;
+            if (run0 >= run1) continue;
+            for (int k = run0; k < std::min(run1, run0 + kCrossChains); ++k) {
+                const std::complex<double> z = std::polar(1.0, beta * signed_index(k));
+                re[k] = z.real();
+                im[k] = z.imag();
+            }
+            const double sr = std::cos(beta * kCrossChains), si = std::sin(beta * kCrossChains);
+#pragma GCC ivdep
+            for (int k = run0 + kCrossChains; k < run1; ++k) {
+                re[k] = re[k - kCrossChains] * sr - im[k - kCrossChains] * si;
+                im[k] = re[k - kCrossChains] * si + im[k - kCrossChains] * sr;
+            }
         }
-        const float* in = reinterpret_cast<const float*>(&spectrum.value[size_t(kx) * n]);
-        float* out = reinterpret_cast<float*>(&field[size_t(kx) * n]);
-        for (int ky = 0; ky < n; ++ky) {
-            const float ar = in[2 * ky], ai = in[2 * ky + 1], br = line[2 * ky], bi = line[2 * ky + 1];
-            out[2 * ky] = ar * br - ai * bi;
-            out[2 * ky + 1] = ar * bi + ai * br;
+        const float* in = reinterpret_cast<const float*>(&spectrum.value[size_t(ky) * n]);
+        float* out = reinterpret_cast<float*>(&field[size_t(ky) * lines]);
+        const double* x = reinterpret_cast<const double*>(fx.data());
+        for (int kx = 0; kx < lines; ++kx) {
+            // z fx fy
+            const double xr = x[2 * kx] * re[kx] - x[2 * kx + 1] * im[kx], xi = x[2 * kx] * im[kx] + x[2 * kx + 1] * re[kx];
+            const float br = float(xr * yr - xi * yi), bi = float(xr * yi + xi * yr);
+            const float ar = in[2 * kx], ai = in[2 * kx + 1];
+            out[2 * kx] = ar * br - ai * bi;
+            out[2 * kx + 1] = ar * bi + ai * br;
         }
+    }
+}
+
+// The kernel's image rows, one per column of `rows`: window[kx * rows + k] = the row y[k]'s value
+// at frequency kx, for kx >= lines the mirror's (row mirror_y[k] at n - kx). Blocks of kRowBlock
+// rows: the reads run along their rows, the writes fill a cache line at a time.
+void gather_rows(const std::complex<float>* field, int n, int lines, const std::vector<int>& y,
+                 const std::vector<int>& mirror_y, std::complex<float>* window) {
+    constexpr int kRowBlock = 16;
+    const int rows = int(y.size());
+    for (int k0 = 0; k0 < rows; k0 += kRowBlock) {
+        const int k1 = std::min(rows, k0 + kRowBlock);
+        for (int kx = 0; kx < lines; ++kx)
+            for (int k = k0; k < k1; ++k) window[size_t(kx) * rows + k] = field[size_t(y[k]) * lines + kx];
+        for (int kx = lines; kx < n; ++kx)
+            for (int k = k0; k < k1; ++k) window[size_t(kx) * rows + k] = field[size_t(mirror_y[k]) * lines + (n - kx)];
     }
 }
 
@@ -207,11 +257,7 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
     // the kernel's lower half (rows b >= 0) is computed, its upper half being it turned 180deg.
     const bool even = plan.symmetric && o == 0.0;
     const int lines = even ? n / 2 + 1 : n;
-    thread_local std::vector<std::complex<float>> field, columns;  // scratch, reused
-    transfer(spectrum, lines, q.wavelength, g, columns);
-    detail::LineFft inverse(n, true);
-    inverse.transform(lines, [&](int k) { return &columns[size_t(k) * n]; });  // columns[kx][y]: image row y at frequency kx
-    // the image rows the kernel reads, frequency kx along each (kx >= lines: the mirror's)
+    // the image rows the kernel reads (kx >= lines: the mirror's)
     const int b0 = even ? 0 : -R;
     const int row0 = n / 2 + b0 * sub - sub / 2, rows = (R - b0 + 1) * sub;
     auto wrap = [n](int i) { return ((i % n) + n) % n; };
@@ -220,27 +266,29 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
         y[k] = wrap(row0 + k);
         mirror_y[k] = wrap(-y[k]);
     }
-    field.resize(size_t(rows) * n);
-    constexpr int kBlock = 16;  // columns a block: each row's writes a cache line or two, not one value
-    for (int k0 = 0; k0 < n; k0 += kBlock)
-        for (int k = 0; k < rows; ++k)
-            for (int kx = k0; kx < std::min(n, k0 + kBlock); ++kx) {
-                const bool own = kx < lines;
-                field[size_t(k) * n + kx] = columns[size_t(own ? kx : n - kx) * n + (own ? y[k] : mirror_y[k])];
-            }
+    // scratch, reused: the spectrum's columns kx < lines (row ky), then image row y at frequency
+    // kx; the kernel's rows transposed (one column each); the transforms' work
+    thread_local std::vector<std::complex<float>> field_scratch, window_scratch, work_scratch;
+    std::complex<float>* field = scratch(field_scratch, size_t(n) * lines);
+    std::complex<float>* window = scratch(window_scratch, size_t(n) * rows);
+    std::complex<float>* work = scratch(work_scratch, size_t(n) * std::max(lines, rows));
+    transfer(spectrum, lines, q.wavelength, g, field);
+    const ColumnFft inverse(n, true);
+    transform_columns(inverse, field, work, lines);  // along ky: image row y, frequency kx
+    gather_rows(field, n, lines, y, mirror_y, window);
+    transform_columns(inverse, window, work, rows);  // along kx: window[x * rows + k], image column x
     // Each pixel: sum of |U|^2 h^2 over its points / transmitted power (the aperture's area);
-    // the unnormalised forward-inverse pair scales by n^2.
+    // the unnormalised forward-inverse pair scales by n^2. Column a's points summed per row
+    // first (contiguous), then each pixel's sub rows.
     const int w = 2 * R + 1;
-    std::vector<int> column_of(size_t(w) * sub);  // kernel column a's grid columns
-    for (int a = -R; a <= R; ++a)
-        for (int t = 0; t < sub; ++t) column_of[size_t(a + R) * sub + t] = wrap(n / 2 + a * sub - sub / 2 + t);
-    std::vector<double> sum(size_t(w) * w, 0.0);
-    inverse.transform(rows, [&](int k) { return &field[size_t(k) * n]; });
-    for (int k = 0; k < rows; ++k) {
-        const std::complex<float>* row = &field[size_t(k) * n];
-        double* dst = &sum[size_t(b0 + R + k / sub) * w];
-        for (int a = 0; a < w; ++a)
-            for (int t = 0; t < sub; ++t) dst[a] += std::norm(row[column_of[size_t(a) * sub + t]]);
+    std::vector<double> sum(size_t(w) * w, 0.0), column(rows);
+    for (int a = -R; a <= R; ++a) {
+        std::fill(column.begin(), column.end(), 0.0);
+        for (int t = 0; t < sub; ++t) {
+            const std::complex<float>* x = &window[size_t(wrap(n / 2 + a * sub - sub / 2 + t)) * rows];
+            for (int k = 0; k < rows; ++k) column[k] += std::norm(x[k]);
+        }
+        for (int k = 0; k < rows; ++k) sum[size_t(b0 + R + k / sub) * w + (a + R)] += column[k];
     }
     const double scale = h * h / (double(n) * n * double(n) * n) / g.area;
     std::vector<float> weight(size_t(w) * w);
