@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "base/parallel.h"
 
@@ -172,9 +173,11 @@ void ColumnFft::transform(std::complex<float>* data, std::complex<float>* work, 
         stride *= st.radix;
     }
     // an odd number of stages leaves the result in `work`
+    // (a row's run copied as bytes: the element loop compiled to one scalar float at a time)
     if (x != reinterpret_cast<Cf*>(data))
         for (int r = 0; r < n_; ++r)
-            for (int c = first; c < last; ++c) data[size_t(r) * columns + c] = work[size_t(r) * columns + c];
+            std::memcpy(data + size_t(r) * columns + first, work + size_t(r) * columns + first,
+                        sizeof(std::complex<float>) * size_t(last - first));
 }
 
 }  // namespace wavecam::detail

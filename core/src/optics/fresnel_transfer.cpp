@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -192,15 +193,15 @@ __attribute__((target_clones("avx2", "default"))) void transfer(const PupilSpect
     // loops vectorising; the same values otherwise)
     std::vector<double> re(lines), im(lines);
     for (int ky = 0; ky < n; ++ky) {
-        // fy exp(i beta kx') fx for kx' = 0 ... n/2 - 1, then -n/2 ...: each run of kx' from its
-        // first value, kCrossChains values apart
+        // fy exp(i beta kx') for kx' = 0 ... n/2 - 1, then -n/2 ...: each run of kx' from its
+        // first value, kCrossChains values apart (fy a constant factor of the sequence), then
+        // times fx
         const double beta = -2 * M_PI * wavelength * C * signed_index(ky) / (L * L);
-        const double yr = fy[ky].real(), yi = fy[ky].imag();
         for (int run0 : {0, n / 2}) {
             const int run1 = run0 == 0 ? std::min(lines, n / 2) : lines;
             if (run0 >= run1) continue;
             for (int k = run0; k < std::min(run1, run0 + kCrossChains); ++k) {
-                const std::complex<double> z = std::polar(1.0, beta * signed_index(k));
+                const std::complex<double> z = fy[ky] * std::polar(1.0, beta * signed_index(k));
                 re[k] = z.real();
                 im[k] = z.imag();
             }
@@ -215,9 +216,8 @@ __attribute__((target_clones("avx2", "default"))) void transfer(const PupilSpect
         float* out = reinterpret_cast<float*>(&field[size_t(ky) * lines]);
         const double* x = reinterpret_cast<const double*>(fx.data());
         for (int kx = 0; kx < lines; ++kx) {
-            // z fx fy
-            const double xr = x[2 * kx] * re[kx] - x[2 * kx + 1] * im[kx], xi = x[2 * kx] * im[kx] + x[2 * kx + 1] * re[kx];
-            const float br = float(xr * yr - xi * yi), bi = float(xr * yi + xi * yr);
+            const float br = float(x[2 * kx] * re[kx] - x[2 * kx + 1] * im[kx]);
+            const float bi = float(x[2 * kx] * im[kx] + x[2 * kx + 1] * re[kx]);
             const float ar = in[2 * kx], ai = in[2 * kx + 1];
             out[2 * kx] = ar * br - ai * bi;
             out[2 * kx + 1] = ar * bi + ai * br;
@@ -227,17 +227,28 @@ __attribute__((target_clones("avx2", "default"))) void transfer(const PupilSpect
 
 // The kernel's image rows, one per column of `rows`: window[kx * rows + k] = the row y[k]'s value
 // at frequency kx, for kx >= lines the mirror's (row mirror_y[k] at n - kx). Blocks of kRowBlock
-// rows: the reads run along their rows, the writes fill a cache line at a time.
+// rows: the reads run along their rows, the writes fill a cache line at a time; each value
+// moved as one 8-byte word (a complex<float> copy compiles to two scalar moves).
 void gather_rows(const std::complex<float>* field, int n, int lines, const std::vector<int>& y,
                  const std::vector<int>& mirror_y, std::complex<float>* window) {
     constexpr int kRowBlock = 16;
     const int rows = int(y.size());
+    const char* from[kRowBlock];
+    const char* mirror[kRowBlock];
+    char* to = reinterpret_cast<char*>(window);
+    constexpr size_t kValue = sizeof(std::complex<float>);
     for (int k0 = 0; k0 < rows; k0 += kRowBlock) {
-        const int k1 = std::min(rows, k0 + kRowBlock);
+        const int k1 = std::min(rows, k0 + kRowBlock), m = k1 - k0;
+        for (int k = 0; k < m; ++k) {
+            from[k] = reinterpret_cast<const char*>(field + size_t(y[k0 + k]) * lines);
+            mirror[k] = reinterpret_cast<const char*>(field + size_t(mirror_y[k0 + k]) * lines);
+        }
         for (int kx = 0; kx < lines; ++kx)
-            for (int k = k0; k < k1; ++k) window[size_t(kx) * rows + k] = field[size_t(y[k]) * lines + kx];
+            for (int k = 0; k < m; ++k)
+                std::memcpy(to + (size_t(kx) * rows + k0 + k) * kValue, from[k] + size_t(kx) * kValue, kValue);
         for (int kx = lines; kx < n; ++kx)
-            for (int k = k0; k < k1; ++k) window[size_t(kx) * rows + k] = field[size_t(mirror_y[k]) * lines + (n - kx)];
+            for (int k = 0; k < m; ++k)
+                std::memcpy(to + (size_t(kx) * rows + k0 + k) * kValue, mirror[k] + size_t(n - kx) * kValue, kValue);
     }
 }
 
