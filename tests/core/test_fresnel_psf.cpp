@@ -10,6 +10,9 @@
 #include <thread>
 
 #include "exact_kernel.h"
+#include "fft/column_fft.h"
+#include "optics/fresnel_field.h"
+#include "optics/fresnel_transfer.h"
 #include "wavecam/fresnel_psf.h"
 
 using namespace wavecam;
@@ -299,6 +302,40 @@ TEST(FresnelPsf, SharedPupilSpectrumGivesTheSameKernel) {
     EXPECT_GT(worst, 0) << "the same grid: nothing shared";
     EXPECT_LT(worst, 1e-3 * peak);
     EXPECT_NEAR(total(shared), total(alone), 1e-4);
+}
+
+// The transfer function's grid is periodic: its period must keep the copies of the
+// band-limited chirp off every pupil point-kernel pixel pair (fresnel_transfer.cpp). A grid
+// twice as wide then changes nothing but the band edge's faint ringing (up to 1e-3 of the peak
+// on this camera's coarse pixels, where the pupil spans fewest grid cells): on and off axis,
+// short and long wavelengths, pinholes of 4 and 16 times the optimum.
+TEST(FresnelPsf, TransferGridTwiceAsWideGivesTheSameKernel) {
+    for (double diameter : {1.26e-3, 5e-3})
+        for (double u : {0.0, 0.7})
+            for (double wavelength : {450e-9, 700e-9}) {
+                FieldPsfRequest q;
+                q.aperture = {ApertureShape::Circle, diameter};
+                q.film_distance = 50e-3;
+                q.depth = 0.5;
+                q.wavelength = wavelength;
+                q.u = u;
+                q.v = 0.5 * u;
+                q.pixel_pitch = pitch_512_40deg_50mm();
+                q.radius = psf_kernel_radius({q.aperture, q.film_distance, q.depth, q.wavelength, 0.8}, q.pixel_pitch, 200);
+                const detail::FieldGeometry g = detail::geometry_of(q);
+                const detail::TransferPlan plan = detail::plan_transfer(q, g);
+                detail::TransferPlan wide = plan;
+                wide.n = detail::fft_friendly_size(2 * plan.n);
+                const std::vector<float> kernel = detail::kernel_by_transfer(q, g, plan);
+                const std::vector<float> reference = detail::kernel_by_transfer(q, g, wide);
+                double peak = 0, worst = 0;
+                for (size_t i = 0; i < kernel.size(); ++i) {
+                    peak = std::max(peak, double(reference[i]));
+                    worst = std::max(worst, std::fabs(double(kernel[i]) - reference[i]));
+                }
+                EXPECT_LT(worst, 2e-3 * peak) << diameter * 1e3 << " mm, u = " << u << ", " << wavelength * 1e9
+                                              << " nm, n = " << plan.n << " and " << wide.n;
+            }
 }
 
 // Four times the optimum: 14 Fresnel zones across the pinhole, the geometric regime. The pupil
