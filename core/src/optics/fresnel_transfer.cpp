@@ -36,16 +36,17 @@ namespace wavecam::detail {
 //    mm (a 35 px shadow) the central 9 pixels get 1.8% less than the exact sum with 9 x 9 film
 //    points per pixel, the central 6 px radius 0.7% less; the total is within 0.3%.
 //  - wrap-around: the grid is periodic, so the inverse transform convolves the pupil with the
-//    chirp band-limited to the grid and summed over the period's copies. Along an image axis the
-//    band-limited chirp reaches shift = lambda (A + |C|) / (2h) (A, C the axis's coefficients
-//    in the quadratic form below: the lateral shift of the grid's highest frequency, for
-//    every other axis's), and a pupil point (half-width a) reaches a kernel pixel (half-width E)
-//    across at most E + a; a copy one period L away stays off every such pair while L >= E + a
-//    + shift. (H's phase may then step by more than pi between frequency samples: that is the
-//    copies, which land outside the kernel.) The band edge rings beyond `shift`, decaying as
-//    the distance: kWrapMargin Fresnel lengths sqrt(lambda z_r) more keep the kernel within
-//    ~5e-4 of its peak of one on a grid twice as wide (measured at 0.6-5 mm, 400-700 nm, on
-//    axis and at 50deg).
+//    chirp band-limited to the grid and summed over the period's copies. Along the column axis
+//    the band-limited chirp reaches shift = lambda (A + |C|) / (2h), along the row axis lambda
+//    (B + |C|) / (2h) (A, B, C the quadratic form's coefficients, see transfer() below): the
+//    lateral shift of the grid's highest frequency on that axis, whatever the other axis's.
+//    A pupil point (half-width a) and a kernel pixel (half-width E) are at most E + a apart
+//    on an axis, so a copy one period L away stays off every such pair while L >= E + a +
+//    shift. (H's phase may then step by more than pi between frequency samples: those steps
+//    are the copies, which land outside the kernel.) The band edge rings beyond `shift`,
+//    decaying as the distance: kWrapMargin Fresnel lengths sqrt(lambda z_r) more keep the
+//    kernel within ~5e-4 of its peak of one on a grid twice as wide at 1080p, 2e-3 on coarse
+//    pixels (0.6-5 mm, 400-700 nm, on axis and at 50deg).
 // This is the many-zone regime's tool: its grid is never coarser than the chirp needs there;
 // with few zones (small pinholes) the grid those conditions demand is large and the matrix
 // Fourier transform is cheaper; field_psf_kernel picks the cheaper of the two.
@@ -71,9 +72,10 @@ TransferPlan plan_transfer(const FieldPsfRequest& q, const FieldGeometry& g) {
     p.symmetric = point_symmetric(q.aperture);
     if (p.symmetric && p.sub % 2 == 0) ++p.sub;
     p.h = q.pixel_pitch / (p.sub * fa);
-    const double zr = 1.0 / g.ar, zt = 1.0 / g.at, cross = std::fabs(g.er_x * g.er_y * (zr - zt));
-    const double reach = std::max(zr * g.er_x * g.er_x + zt * g.er_y * g.er_y, zr * g.er_y * g.er_y + zt * g.er_x * g.er_x) + cross;
-    const double shift = q.wavelength * reach / (2 * p.h), margin = kWrapMargin * std::sqrt(q.wavelength * zr);
+    // the larger axis's A + |C| or B + |C| (see transfer())
+    const double zr = 1.0 / g.ar, zt = 1.0 / g.at, C = std::fabs(g.er_x * g.er_y * (zr - zt));
+    const double rate = std::max(zr * g.er_x * g.er_x + zt * g.er_y * g.er_y, zr * g.er_y * g.er_y + zt * g.er_x * g.er_x) + C;
+    const double shift = q.wavelength * rate / (2 * p.h), margin = kWrapMargin * std::sqrt(q.wavelength * zr);
     const double kernel_half = (q.radius + 0.5) * q.pixel_pitch / fa, pupil_half = 0.5 * g.span;
     const double period = kernel_half + pupil_half + shift + margin;
     // (a grid beyond 2^28 points across is never cheaper than the matrix transform: kept
