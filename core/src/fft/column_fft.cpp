@@ -141,6 +141,19 @@ ColumnFft::ColumnFft(int length, bool inverse) : n_(length), inverse_(inverse) {
 
 void ColumnFft::transform(std::complex<float>* data, std::complex<float>* work, int columns, int first, int last,
                           int threads) const {
+    // On one thread, a run of columns too wide for the cache goes a block at a time: a block's
+    // rows (data and work) stay in the cache through all of its stages, where the whole run
+    // would stream from memory once a stage. Columns are independent: the same values.
+    const int block = std::max(kMinBlockColumns, int(kCacheBytes / (2 * sizeof(std::complex<float>) * size_t(n_))));
+    if (threads <= 1 && last - first > block) {
+        for (int c0 = first; c0 < last; c0 += block) transform_run(data, work, columns, c0, std::min(last, c0 + block), 1);
+        return;
+    }
+    transform_run(data, work, columns, first, last, threads);
+}
+
+void ColumnFft::transform_run(std::complex<float>* data, std::complex<float>* work, int columns, int first, int last,
+                              int threads) const {
     Cf *x = reinterpret_cast<Cf*>(data), *y = reinterpret_cast<Cf*>(work);
     const bool whole = first == 0 && last == columns;
     size_t stride = 1;  // s: the sub-sequences split off so far

@@ -31,6 +31,12 @@ public:
                    int threads = 1) const;
 
 private:
+    // One thread's cache for a block of columns (transform), at least kMinBlockColumns wide.
+    static constexpr size_t kCacheBytes = size_t(1) << 20;
+    static constexpr int kMinBlockColumns = 16;
+    void transform_run(std::complex<float>* data, std::complex<float>* work, int columns, int first, int last,
+                       int threads) const;
+
     struct Stage {
         int radix, m;                             // this stage's radix and the length after it
         std::vector<std::complex<float>> twiddle;  // [p * (radix - 1) + k - 1] = w_n^(p k)

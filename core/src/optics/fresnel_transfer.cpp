@@ -114,15 +114,6 @@ std::complex<float>* scratch(std::vector<std::complex<float>>& v, size_t size) {
     return v.data();
 }
 
-// The transform down each of `columns` columns of a row-major array, a block of columns at a time:
-// a block's rows (n x kColumnBlock values) stay in the cache through all of its stages, where
-// the whole array would stream from memory once a stage.
-constexpr int kColumnBlock = 64;
-void transform_columns(const ColumnFft& fft, std::complex<float>* data, std::complex<float>* work, int columns) {
-    for (int c0 = 0; c0 < columns; c0 += kColumnBlock)
-        fft.transform(data, work, columns, c0, std::min(columns, c0 + kColumnBlock));
-}
-
 const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometry& g, const TransferPlan& plan,
                                     double o) {
     thread_local PupilSpectrum kept_spectra[kSpectraKept];
@@ -154,7 +145,7 @@ const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometr
     // the rows (the others are zero), then down the columns: the spectrum in natural order, row
     // ky, column kx
     detail::LineFft(n, false).transform(2 * reach + 1, [&](int k) { return &pupil[size_t(row0 + k) * n]; });
-    transform_columns(ColumnFft(n, false), pupil.data(), scratch(work, size_t(n) * n), n);
+    ColumnFft(n, false).transform(pupil.data(), scratch(work, size_t(n) * n), n, 0, n);
     kept.aperture = q.aperture.name();
     kept.mask = q.aperture.mask.get();
     kept.diameter = q.aperture.diameter;
@@ -287,9 +278,9 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
     std::complex<float>* work = scratch(work_scratch, size_t(n) * std::max(lines, rows));
     transfer(spectrum, lines, q.wavelength, g, field);
     const ColumnFft inverse(n, true);
-    transform_columns(inverse, field, work, lines);  // along ky: image row y, frequency kx
+    inverse.transform(field, work, lines, 0, lines);  // along ky: image row y, frequency kx
     gather_rows(field, n, lines, y, mirror_y, window);
-    transform_columns(inverse, window, work, rows);  // along kx: window[x * rows + k], image column x
+    inverse.transform(window, work, rows, 0, rows);  // along kx: window[x * rows + k], image column x
     // Each pixel: sum of |U|^2 h^2 over its points / transmitted power (the aperture's area);
     // the unnormalised forward-inverse pair scales by n^2. Column a's points summed per row
     // first (contiguous), then each pixel's sub rows.
