@@ -24,7 +24,9 @@ double field_psf_scratch_bytes(const FieldPsfRequest& q) {
     const detail::TransferPlan transfer = detail::plan_transfer(q, g);
     const double w = 2.0 * q.radius + 1;
     if (chooses_transfer(q, mft, transfer)) {
-        const double n = transfer.n;  // pupil, rows, field, columns, and the spectra kept per thread
+        // the field, the kernel's rows, the inverse and the forward transforms' work arrays, and
+        // the spectra kept per thread
+        const double n = transfer.n;
         return 8.0 * n * n * (4 + detail::kSpectraKept) + 8.0 * w * w;
     }
     const double pr = mft.kept(mft.nr), pt = mft.kept(mft.nt), m = mft.grid();
