@@ -144,7 +144,7 @@ void ColumnFft::transform(std::complex<float>* data, std::complex<float>* work, 
     // On one thread, a run of columns too wide for the cache goes a block at a time: a block's
     // rows (data and work) stay in the cache through all of its stages, where the whole run
     // would stream from memory once a stage. Columns are independent: the same values.
-    const int block = std::max(kMinBlockColumns, int(kCacheBytes / (2 * sizeof(std::complex<float>) * size_t(n_))));
+    const int block = block_columns(n_);
     if (threads <= 1 && last - first > block) {
         for (int c0 = first; c0 < last; c0 += block) transform_run(data, work, columns, c0, std::min(last, c0 + block), 1);
         return;
@@ -152,8 +152,27 @@ void ColumnFft::transform(std::complex<float>* data, std::complex<float>* work, 
     transform_run(data, work, columns, first, last, threads);
 }
 
+int ColumnFft::block_columns(int length) {
+    return std::max(kMinBlockColumns, int(kCacheBytes / (2 * sizeof(std::complex<float>) * size_t(length))) & ~7);
+}
+
+std::complex<float>* ColumnFft::transform_block(std::complex<float>* data, std::complex<float>* work,
+                                                int columns) const {
+    return stages(data, work, columns, 0, columns, 1);
+}
+
 void ColumnFft::transform_run(std::complex<float>* data, std::complex<float>* work, int columns, int first, int last,
                               int threads) const {
+    // an odd number of stages leaves the result in `work`
+    // (a row's run copied as bytes: the element loop compiled to one scalar float at a time)
+    if (stages(data, work, columns, first, last, threads) != data)
+        for (int r = 0; r < n_; ++r)
+            std::memcpy(data + size_t(r) * columns + first, work + size_t(r) * columns + first,
+                        sizeof(std::complex<float>) * size_t(last - first));
+}
+
+std::complex<float>* ColumnFft::stages(std::complex<float>* data, std::complex<float>* work, int columns, int first,
+                                       int last, int threads) const {
     Cf *x = reinterpret_cast<Cf*>(data), *y = reinterpret_cast<Cf*>(work);
     const bool whole = first == 0 && last == columns;
     size_t stride = 1;  // s: the sub-sequences split off so far
@@ -185,12 +204,7 @@ void ColumnFft::transform_run(std::complex<float>* data, std::complex<float>* wo
         std::swap(x, y);
         stride *= st.radix;
     }
-    // an odd number of stages leaves the result in `work`
-    // (a row's run copied as bytes: the element loop compiled to one scalar float at a time)
-    if (x != reinterpret_cast<Cf*>(data))
-        for (int r = 0; r < n_; ++r)
-            std::memcpy(data + size_t(r) * columns + first, work + size_t(r) * columns + first,
-                        sizeof(std::complex<float>) * size_t(last - first));
+    return reinterpret_cast<std::complex<float>*>(x);
 }
 
 }  // namespace wavecam::detail

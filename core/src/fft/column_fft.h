@@ -29,11 +29,22 @@ public:
     // outside any parallel region; the stages in turn): the same values at any count.
     void transform(std::complex<float>* data, std::complex<float>* work, int columns, int first, int last,
                    int threads = 1) const;
+    // The transform of every column of a block no wider than block_columns() (its rows and work
+    // stay in one thread's cache), on the calling thread, left where the last stage put it:
+    // returns data or work, whichever holds the result (no copy back).
+    std::complex<float>* transform_block(std::complex<float>* data, std::complex<float>* work, int columns) const;
+    // The widest run of columns of `length` rows whose rows and work fit one thread's cache (a
+    // multiple of 8, at least kMinBlockColumns): transform() takes wider single-thread runs a
+    // block at a time.
+    static int block_columns(int length);
 
 private:
     // One thread's cache for a block of columns (transform), at least kMinBlockColumns wide.
     static constexpr size_t kCacheBytes = size_t(1) << 20;
     static constexpr int kMinBlockColumns = 16;
+    // the stages over columns [first, last); returns the array holding the result
+    std::complex<float>* stages(std::complex<float>* data, std::complex<float>* work, int columns, int first,
+                                int last, int threads) const;
     void transform_run(std::complex<float>* data, std::complex<float>* work, int columns, int first, int last,
                        int threads) const;
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fft/column_fft.h"
 #include "optics/fresnel_field.h"
 #include "optics/fresnel_mft.h"
 #include "optics/fresnel_transfer.h"
@@ -24,10 +25,12 @@ double field_psf_scratch_bytes(const FieldPsfRequest& q) {
     const detail::TransferPlan transfer = detail::plan_transfer(q, g);
     const double w = 2.0 * q.radius + 1;
     if (chooses_transfer(q, mft, transfer)) {
-        // the field, the kernel's rows, the inverse and the forward transforms' work arrays, and
-        // the spectra kept per thread
-        const double n = transfer.n;
-        return 8.0 * n * n * (4 + detail::kSpectraKept) + 8.0 * w * w;
+        // a block of columns and its work, the kernel's rows and their transform's work, the
+        // forward transform's work and the spectra kept per thread
+        const double n = transfer.n, rows = w * transfer.sub;
+        return 8.0 * (2 * n * detail::ColumnFft::block_columns(transfer.n) + 2 * n * rows +
+                      n * n * (1 + detail::kSpectraKept)) +
+               8.0 * w * w;
     }
     const double pr = mft.kept(mft.nr), pt = mft.kept(mft.nt), m = mft.grid();
     // pupil cells, the two axis matrices and the intermediate (complex), the power grid, the

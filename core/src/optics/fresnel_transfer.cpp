@@ -156,92 +156,135 @@ const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometr
     return kept;
 }
 
-// The spectrum times the transfer function with the pupil cells' box response divided out,
-// columns kx < `lines` of each row ky (frequency nu = k / L, k taken in [-n/2, n/2)), into
-// field[ky * lines + kx]. In image axes the exponent is a quadratic form, -pi lambda (A nx^2 +
-// B ny^2 + 2 C nx ny) with A = zr ex^2 + zt ey^2, B = zr ey^2 + zt ex^2, C = ex ey (zr - zt)
-// (e the radial unit vector): a factor per axis times exp(-2 pi i lambda C nx ny), which along a
-// row is a geometric sequence in kx (complex multiplications instead of a sine and cosine a
-// point; kCrossChains interleaved sequences, so that the loop vectorises).
+// The spectrum times the transfer function with the pupil cells' box response divided out, a
+// block of columns at a time (frequency nu = k / L, k taken in [-n/2, n/2)). In image axes the
+// exponent is a quadratic form, -pi lambda (A nx^2 + B ny^2 + 2 C nx ny) with A = zr ex^2 + zt
+// ey^2, B = zr ey^2 + zt ex^2, C = ex ey (zr - zt) (e the radial unit vector): a factor per axis
+// times exp(-2 pi i lambda C nx ny), which along a row is a geometric sequence in kx (complex
+// multiplications instead of a sine and cosine a point; kCrossChains interleaved sequences, so
+// that the loop vectorises). A run of columns (kx from 0, or from n/2: the signed index jumps
+// there) goes in blocks, each row's sequences carried from one block to the next.
 constexpr int kCrossChains = 8;
-__attribute__((target_clones("avx2", "default"))) void transfer(const PupilSpectrum& spectrum, int lines,
-                                                                double wavelength, const FieldGeometry& g,
-                                                                std::complex<float>* field) {
-    const int n = spectrum.n;
-    const double h = spectrum.h;
-    const double L = n * h, zr = 1.0 / g.ar, zt = 1.0 / g.at;
-    const double A = zr * g.er_x * g.er_x + zt * g.er_y * g.er_y, B = zr * g.er_y * g.er_y + zt * g.er_x * g.er_x;
-    const double C = g.er_x * g.er_y * (zr - zt);
-    auto signed_index = [n](int k) { return k < n / 2 ? k : k - n; };
-    auto axis = [&](double rate) {
-        std::vector<std::complex<double>> f(n);
-        for (int k = 0; k < n; ++k) {
-            const double nu = signed_index(k) / L;
-            f[k] = std::polar(1.0 / box_response(nu * h), -M_PI * wavelength * rate * nu * nu);
-        }
-        return f;
-    };
-    const std::vector<std::complex<double>> fx = axis(A), fy = axis(B);
-    // (complex products written out: std::complex's keeps a NaN-recovery call that stops the
-    // loops vectorising; the same values otherwise)
-    std::vector<double> re(lines), im(lines);
-    for (int ky = 0; ky < n; ++ky) {
-        // fy exp(i beta kx') for kx' = 0 ... n/2 - 1, then -n/2 ...: each run of kx' from its
-        // first value, kCrossChains values apart (fy a constant factor of the sequence), then
-        // times fx
-        const double beta = -2 * M_PI * wavelength * C * signed_index(ky) / (L * L);
-        for (int run0 : {0, n / 2}) {
-            const int run1 = run0 == 0 ? std::min(lines, n / 2) : lines;
-            if (run0 >= run1) continue;
-            for (int k = run0; k < std::min(run1, run0 + kCrossChains); ++k) {
-                const std::complex<double> z = fy[ky] * std::polar(1.0, beta * signed_index(k));
-                re[k] = z.real();
-                im[k] = z.imag();
-            }
-            const double sr = std::cos(beta * kCrossChains), si = std::sin(beta * kCrossChains);
-#pragma GCC ivdep
-            for (int k = run0 + kCrossChains; k < run1; ++k) {
-                re[k] = re[k - kCrossChains] * sr - im[k - kCrossChains] * si;
-                im[k] = re[k - kCrossChains] * si + im[k - kCrossChains] * sr;
-            }
-        }
-        const float* in = reinterpret_cast<const float*>(&spectrum.value[size_t(ky) * n]);
-        float* out = reinterpret_cast<float*>(&field[size_t(ky) * lines]);
-        const double* x = reinterpret_cast<const double*>(fx.data());
-        for (int kx = 0; kx < lines; ++kx) {
-            const float br = float(x[2 * kx] * re[kx] - x[2 * kx + 1] * im[kx]);
-            const float bi = float(x[2 * kx] * im[kx] + x[2 * kx + 1] * re[kx]);
-            const float ar = in[2 * kx], ai = in[2 * kx + 1];
-            out[2 * kx] = ar * br - ai * bi;
-            out[2 * kx + 1] = ar * bi + ai * br;
+constexpr int kPrefetchRows = 4;
+class TransferFunction {
+public:
+    // `block`: the width of the blocks apply() is given (a multiple of kCrossChains)
+    TransferFunction(const PupilSpectrum& spectrum, double wavelength, const FieldGeometry& g, int block)
+        : spectrum_(spectrum), n_(spectrum.n), fx_re_(n_), fx_im_(n_), fy_(n_), beta_(n_), re_(size_t(n_) * kCrossChains),
+          im_(size_t(n_) * kCrossChains), step_(n_), block_step_(n_) {
+        const double h = spectrum.h, L = n_ * h, zr = 1.0 / g.ar, zt = 1.0 / g.at;
+        const double A = zr * g.er_x * g.er_x + zt * g.er_y * g.er_y, B = zr * g.er_y * g.er_y + zt * g.er_x * g.er_x;
+        const double C = g.er_x * g.er_y * (zr - zt);
+        for (int k = 0; k < n_; ++k) {
+            const double nu = signed_index(k) / L, cells = 1.0 / box_response(nu * h);
+            const std::complex<double> fx = std::polar(cells, -M_PI * wavelength * A * nu * nu);
+            fx_re_[k] = float(fx.real());
+            fx_im_[k] = float(fx.imag());
+            fy_[k] = std::polar(cells, -M_PI * wavelength * B * nu * nu);
+            beta_[k] = -2 * M_PI * wavelength * C * signed_index(k) / (L * L);
+            step_[k] = std::polar(1.0f, float(beta_[k] * kCrossChains));
+            block_step_[k] = std::polar(1.0, beta_[k] * block);
         }
     }
-}
 
-// The kernel's image rows, one per column of `rows`: window[kx * rows + k] = the row y[k]'s value
-// at frequency kx, for kx >= lines the mirror's (row mirror_y[k] at n - kx). Blocks of kRowBlock
-// rows: the reads run along their rows, the writes fill a cache line at a time; each value
-// moved as one 8-byte word (a complex<float> copy compiles to two scalar moves).
-void gather_rows(const std::complex<float>* field, int n, int lines, const std::vector<int>& y,
+    // Each row's sequences at columns c0 ... c0 + kCrossChains - 1: fy exp(i beta kx'), kx' the
+    // signed index.
+    void start(int c0) {
+        for (int ky = 0; ky < n_; ++ky) {
+            const std::complex<double> c = std::polar(1.0, beta_[ky]);
+            std::complex<double> z = fy_[ky] * std::polar(1.0, beta_[ky] * signed_index(c0));
+            for (int j = 0; j < kCrossChains; ++j, z *= c) {
+                re_[size_t(ky) * kCrossChains + j] = z.real();
+                im_[size_t(ky) * kCrossChains + j] = z.imag();
+            }
+        }
+    }
+
+    // Columns [c0, c1) of every row ky into block[ky * (c1 - c0) + kx - c0]; c0 is where start()
+    // or the previous block left off, c1 - c0 the block width except at a run's end. Within a
+    // block the sequences run in float (a few steps: their rounding stays near 1e-7); each row's
+    // start moves on to the next block in double.
+    __attribute__((target_clones("avx2", "default"))) void apply(int c0, int c1, std::complex<float>* block) {
+        const int cols = c1 - c0, whole = c0 + cols / kCrossChains * kCrossChains;
+        for (int ky = 0; ky < n_; ++ky) {
+            double* row_re = &re_[size_t(ky) * kCrossChains];
+            double* row_im = &im_[size_t(ky) * kCrossChains];
+            float zr[kCrossChains], zi[kCrossChains];
+            for (int j = 0; j < kCrossChains; ++j) {
+                zr[j] = float(row_re[j]);
+                zi[j] = float(row_im[j]);
+            }
+            const float sr = step_[ky].real(), si = step_[ky].imag();
+            const float* in = reinterpret_cast<const float*>(&spectrum_.value[size_t(ky) * n_]);
+            // the block's run of a row a few rows ahead, one cache line at a time (runs a
+            // row apart are too far apart for the hardware's prefetch to follow)
+            if (ky + kPrefetchRows < n_)
+                for (int k = c0; k < c1; k += 8) __builtin_prefetch(in + 2 * (size_t(kPrefetchRows) * n_ + k));
+            float* out = reinterpret_cast<float*>(block + size_t(ky) * cols) - 2 * c0;
+            // (complex products written out: std::complex's keeps a NaN-recovery call that stops
+            // the loops vectorising; the same values otherwise)
+            auto value = [&](int kx, float cr, float ci) {
+                const float br = fx_re_[kx] * cr - fx_im_[kx] * ci, bi = fx_re_[kx] * ci + fx_im_[kx] * cr;
+                const float ar = in[2 * kx], ai = in[2 * kx + 1];
+                out[2 * kx] = ar * br - ai * bi;
+                out[2 * kx + 1] = ar * bi + ai * br;
+            };
+            for (int k = c0; k < whole; k += kCrossChains)
+                for (int j = 0; j < kCrossChains; ++j) {
+                    value(k + j, zr[j], zi[j]);
+                    const float r = zr[j] * sr - zi[j] * si;
+                    zi[j] = zr[j] * si + zi[j] * sr;
+                    zr[j] = r;
+                }
+            for (int j = 0; whole + j < c1; ++j) value(whole + j, zr[j], zi[j]);
+            const double br = block_step_[ky].real(), bi = block_step_[ky].imag();
+            for (int j = 0; j < kCrossChains; ++j) {
+                const double r = row_re[j] * br - row_im[j] * bi;
+                row_im[j] = row_re[j] * bi + row_im[j] * br;
+                row_re[j] = r;
+            }
+        }
+    }
+
+private:
+    int signed_index(int k) const { return k < n_ / 2 ? k : k - n_; }
+    const PupilSpectrum& spectrum_;
+    int n_;
+    std::vector<float> fx_re_, fx_im_;
+    std::vector<std::complex<double>> fy_;
+    std::vector<double> beta_, re_, im_;  // per row: beta; its sequences at the next block's start
+    std::vector<std::complex<float>> step_;         // per row: exp(i beta kCrossChains)
+    std::vector<std::complex<double>> block_step_;  // per row: exp(i beta block)
+};
+
+// Columns [c0, c1) of the first inverse transform's result (u[y * (c1 - c0) + kx - c0]: image
+// row y at frequency kx) into the kernel's rows, one per column of `window`: window[kx * rows +
+// k] = row y[k]'s value; columns past `lines` are the mirror's, window[(n - kx) * rows + k] = row
+// mirror_y[k]'s value at kx. Blocks of kRowBlock rows: the reads run along their rows, the writes
+// fill a cache line at a time; each value moved as one 8-byte word (a complex<float> copy
+// compiles to two scalar moves).
+void gather_rows(const std::complex<float>* u, int c0, int c1, int n, int lines, const std::vector<int>& y,
                  const std::vector<int>& mirror_y, std::complex<float>* window) {
     constexpr int kRowBlock = 16;
-    const int rows = int(y.size());
+    constexpr size_t kValue = sizeof(std::complex<float>);
+    const int rows = int(y.size()), cols = c1 - c0;
+    // the columns whose mirror image lies past `lines`: kx in [m0, m1)
+    const int m0 = std::max(c0, 1), m1 = std::min(c1, n - lines + 1);
     const char* from[kRowBlock];
     const char* mirror[kRowBlock];
     char* to = reinterpret_cast<char*>(window);
-    constexpr size_t kValue = sizeof(std::complex<float>);
     for (int k0 = 0; k0 < rows; k0 += kRowBlock) {
-        const int k1 = std::min(rows, k0 + kRowBlock), m = k1 - k0;
+        const int m = std::min(rows, k0 + kRowBlock) - k0;
         for (int k = 0; k < m; ++k) {
-            from[k] = reinterpret_cast<const char*>(field + size_t(y[k0 + k]) * lines);
-            mirror[k] = reinterpret_cast<const char*>(field + size_t(mirror_y[k0 + k]) * lines);
+            from[k] = reinterpret_cast<const char*>(u + size_t(y[k0 + k]) * cols - c0);
+            mirror[k] = reinterpret_cast<const char*>(u + size_t(mirror_y[k0 + k]) * cols - c0);
         }
-        for (int kx = 0; kx < lines; ++kx)
+        for (int kx = c0; kx < c1; ++kx)
             for (int k = 0; k < m; ++k)
                 std::memcpy(to + (size_t(kx) * rows + k0 + k) * kValue, from[k] + size_t(kx) * kValue, kValue);
-        for (int kx = lines; kx < n; ++kx)
+        for (int kx = m0; kx < m1; ++kx)
             for (int k = 0; k < m; ++k)
-                std::memcpy(to + (size_t(kx) * rows + k0 + k) * kValue, mirror[k] + size_t(n - kx) * kValue, kValue);
+                std::memcpy(to + (size_t(n - kx) * rows + k0 + k) * kValue, mirror[k] + size_t(kx) * kValue, kValue);
     }
 }
 
@@ -270,16 +313,27 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
         y[k] = wrap(row0 + k);
         mirror_y[k] = wrap(-y[k]);
     }
-    // scratch, reused: the spectrum's columns kx < lines (row ky), then image row y at frequency
-    // kx; the kernel's rows transposed (one column each); the transforms' work
-    thread_local std::vector<std::complex<float>> field_scratch, window_scratch, work_scratch;
-    std::complex<float>* field = scratch(field_scratch, size_t(n) * lines);
-    std::complex<float>* window = scratch(window_scratch, size_t(n) * rows);
-    std::complex<float>* work = scratch(work_scratch, size_t(n) * std::max(lines, rows));
-    transfer(spectrum, lines, q.wavelength, g, field);
+    // scratch, reused: a block of the spectrum's columns (row ky) and its transform's work; the
+    // kernel's rows transposed (one column each); the second transform's work
     const ColumnFft inverse(n, true);
-    inverse.transform(field, work, lines, 0, lines);  // along ky: image row y, frequency kx
-    gather_rows(field, n, lines, y, mirror_y, window);
+    const int block = ColumnFft::block_columns(n);
+    thread_local std::vector<std::complex<float>> block_scratch, window_scratch, work_scratch;
+    std::complex<float>* columns = scratch(block_scratch, 2 * size_t(n) * block);
+    std::complex<float>* window = scratch(window_scratch, size_t(n) * rows);
+    std::complex<float>* work = scratch(work_scratch, size_t(n) * rows);
+    // Along ky a block of columns at a time (the transfer function written into it, transformed
+    // and its kernel rows gathered while it is in the cache): image row y, frequency kx.
+    TransferFunction transfer(spectrum, q.wavelength, g, block);
+    for (int run0 : {0, n / 2}) {
+        const int run1 = run0 == 0 ? std::min(lines, n / 2) : lines;
+        if (run0 < run1) transfer.start(run0);
+        for (int c0 = run0; c0 < run1; c0 += block) {
+            const int c1 = std::min(run1, c0 + block);
+            transfer.apply(c0, c1, columns);
+            gather_rows(inverse.transform_block(columns, columns + size_t(n) * block, c1 - c0), c0, c1, n, lines, y,
+                        mirror_y, window);
+        }
+    }
     inverse.transform(window, work, rows, 0, rows);  // along kx: window[x * rows + k], image column x
     // Each pixel: sum of |U|^2 h^2 over its points / transmitted power (the aperture's area);
     // the unnormalised forward-inverse pair scales by n^2. Column a's points summed per row
