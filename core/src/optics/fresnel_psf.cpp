@@ -26,11 +26,12 @@ double field_psf_scratch_bytes(const FieldPsfRequest& q) {
     const double w = 2.0 * q.radius + 1;
     if (chooses_transfer(q, mft, transfer)) {
         // a block of columns and its work, the kernel's rows and their transform's work, the
-        // forward transform's work and the spectra kept per thread
+        // forward transform's grid and work, and the spectra kept per thread (a point-symmetric
+        // pupil's: real, half the columns)
         const double n = transfer.n, rows = w * transfer.sub;
-        return 8.0 * (2 * n * detail::ColumnFft::block_columns(transfer.n) + 2 * n * rows +
-                      n * n * (1 + detail::kSpectraKept)) +
-               8.0 * w * w;
+        const double kept = transfer.symmetric ? 4.0 * n * (n / 2 + 1) : 8.0 * n * n;
+        return 8.0 * (2 * n * detail::ColumnFft::block_columns(transfer.n) + 2 * n * rows + 2 * n * n) +
+               detail::kSpectraKept * kept + 8.0 * w * w;
     }
     const double pr = mft.kept(mft.nr), pt = mft.kept(mft.nt), m = mft.grid();
     // pupil cells, the two axis matrices and the intermediate (complex), the power grid, the

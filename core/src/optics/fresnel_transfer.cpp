@@ -100,7 +100,13 @@ struct PupilSpectrum {
     double diameter = 0, h = 0, o = 0;
     int n = 0;
     long used = 0;  // when last used, for replacing the least recently used
-    std::vector<std::complex<float>> value;  // row ky, column kx
+    // A point-symmetric pupil centred on index (0, 0) modulo n has a real, even spectrum (the
+    // transform of a real even function): its real part at columns kx <= n/2 is kept, row ky at
+    // even_value[ky * (n/2 + 1)], a quarter of the complex grid's bytes. Otherwise the whole
+    // spectrum, row ky, column kx.
+    bool even = false;
+    std::vector<float> even_value;
+    std::vector<std::complex<float>> value;
     bool serves(const Aperture& a, double hh, double oo, int n_min) const {
         return a.name() == aperture && a.mask.get() == mask && a.diameter == diameter && hh == h && oo == o &&
                n >= n_min && double(n) * n <= kWiderGrid * n_min * n_min;
@@ -134,18 +140,29 @@ const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometr
     const int n = plan.n;
     const double h = plan.h;
     const int reach = std::min(n / 2 - 1, int(std::ceil(0.5 * g.span / h)) + 1), row0 = n / 2 - reach;
-    std::vector<std::complex<float>>& pupil = kept.value;
-    pupil.assign(size_t(n) * n, 0.0f);
+    thread_local std::vector<std::complex<float>> grid;
+    grid.assign(size_t(n) * n, 0.0f);
     for (int iy = row0; iy <= n / 2 + reach; ++iy)
         for (int ix = n / 2 - reach; ix <= n / 2 + reach; ++ix) {
             const double x = (ix - n / 2 + o) * h, y = (iy - n / 2 + o) * h;
             double cx, cy;
-            pupil[size_t(iy) * n + ix] = float(q.aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy));
+            grid[size_t(iy) * n + ix] = float(q.aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy));
         }
     // the rows (the others are zero), then down the columns: the spectrum in natural order, row
-    // ky, column kx
-    detail::LineFft(n, false).transform(2 * reach + 1, [&](int k) { return &pupil[size_t(row0 + k) * n]; });
-    ColumnFft(n, false).transform(pupil.data(), scratch(work, size_t(n) * n), n, 0, n);
+    // ky, column kx (an even spectrum's columns kx <= n/2 only)
+    kept.even = plan.symmetric && o == 0.0;
+    const int columns = kept.even ? n / 2 + 1 : n;
+    detail::LineFft(n, false).transform(2 * reach + 1, [&](int k) { return &grid[size_t(row0 + k) * n]; });
+    ColumnFft(n, false).transform(grid.data(), scratch(work, size_t(n) * n), n, 0, columns);
+    if (kept.even) {
+        kept.even_value.resize(size_t(n) * columns);
+        for (int ky = 0; ky < n; ++ky)
+            for (int kx = 0; kx < columns; ++kx) kept.even_value[size_t(ky) * columns + kx] = grid[size_t(ky) * n + kx].real();
+        std::vector<std::complex<float>>().swap(kept.value);
+    } else {
+        std::vector<float>().swap(kept.even_value);
+        kept.value.swap(grid);  // (the grid takes the kept spectrum's old array)
+    }
     kept.aperture = q.aperture.name();
     kept.mask = q.aperture.mask.get();
     kept.diameter = q.aperture.diameter;
@@ -205,38 +222,78 @@ public:
     // block the sequences run in float (a few steps: their rounding stays near 1e-7); each row's
     // start moves on to the next block in double.
     __attribute__((target_clones("avx2", "default"))) void apply(int c0, int c1, std::complex<float>* block) {
+        if (spectrum_.even)
+            apply_rows<true>(c0, c1, block);
+        else
+            apply_rows<false>(c0, c1, block);
+    }
+
+private:
+    // (even: the spectrum is real, row ky at even_value[ky * (n/2 + 1)]). The kCrossChains
+    // sequences are one vector of GCC's vector extension (8 floats), so the loop is vectorised
+    // whatever the compiler's own analysis finds; complex values are deinterleaved on loading
+    // and interleaved on storing.
+    template <bool even>
+    __attribute__((always_inline)) inline void apply_rows(int c0, int c1, std::complex<float>* block) {
+        typedef float Lanes __attribute__((vector_size(4 * kCrossChains)));
+        typedef int LaneIndex __attribute__((vector_size(4 * kCrossChains)));
+        static_assert(kCrossChains == 8, "the shuffles below take 8 lanes");
+        auto load = [](Lanes& v, const float* p) { std::memcpy(&v, p, sizeof v); };
         const int cols = c1 - c0, whole = c0 + cols / kCrossChains * kCrossChains;
+        const size_t row_values = even ? size_t(n_ / 2 + 1) : 2 * size_t(n_);  // floats a spectrum row
+        const float* spectrum = even ? spectrum_.even_value.data() : reinterpret_cast<const float*>(spectrum_.value.data());
         for (int ky = 0; ky < n_; ++ky) {
             double* row_re = &re_[size_t(ky) * kCrossChains];
             double* row_im = &im_[size_t(ky) * kCrossChains];
-            float zr[kCrossChains], zi[kCrossChains];
+            Lanes zr, zi;
             for (int j = 0; j < kCrossChains; ++j) {
                 zr[j] = float(row_re[j]);
                 zi[j] = float(row_im[j]);
             }
             const float sr = step_[ky].real(), si = step_[ky].imag();
-            const float* in = reinterpret_cast<const float*>(&spectrum_.value[size_t(ky) * n_]);
+            const float* in = spectrum + size_t(ky) * row_values;
             // the block's run of a row a few rows ahead, one cache line at a time (runs a
             // row apart are too far apart for the hardware's prefetch to follow)
             if (ky + kPrefetchRows < n_)
-                for (int k = c0; k < c1; k += 8) __builtin_prefetch(in + 2 * (size_t(kPrefetchRows) * n_ + k));
+                for (int k = (even ? 1 : 2) * c0; k < (even ? 1 : 2) * c1; k += 16)
+                    __builtin_prefetch(in + kPrefetchRows * row_values + k);
             float* out = reinterpret_cast<float*>(block + size_t(ky) * cols) - 2 * c0;
-            // (complex products written out: std::complex's keeps a NaN-recovery call that stops
-            // the loops vectorising; the same values otherwise)
-            auto value = [&](int kx, float cr, float ci) {
-                const float br = fx_re_[kx] * cr - fx_im_[kx] * ci, bi = fx_re_[kx] * ci + fx_im_[kx] * cr;
-                const float ar = in[2 * kx], ai = in[2 * kx + 1];
+            for (int k = c0; k < whole; k += kCrossChains) {
+                Lanes xr, xi;
+                load(xr, &fx_re_[k]);
+                load(xi, &fx_im_[k]);
+                const Lanes br = xr * zr - xi * zi, bi = xr * zi + xi * zr;
+                Lanes vr, vi;
+                if (even) {
+                    Lanes a;
+                    load(a, in + k);
+                    vr = a * br;
+                    vi = a * bi;
+                } else {
+                    Lanes lo, hi;
+                    load(lo, in + 2 * k);
+                    load(hi, in + 2 * k + kCrossChains);
+                    const Lanes ar = __builtin_shuffle(lo, hi, LaneIndex{0, 2, 4, 6, 8, 10, 12, 14});
+                    const Lanes ai = __builtin_shuffle(lo, hi, LaneIndex{1, 3, 5, 7, 9, 11, 13, 15});
+                    vr = ar * br - ai * bi;
+                    vi = ar * bi + ai * br;
+                }
+                const Lanes lo = __builtin_shuffle(vr, vi, LaneIndex{0, 8, 1, 9, 2, 10, 3, 11});
+                const Lanes hi = __builtin_shuffle(vr, vi, LaneIndex{4, 12, 5, 13, 6, 14, 7, 15});
+                std::memcpy(out + 2 * k, &lo, sizeof lo);
+                std::memcpy(out + 2 * k + kCrossChains, &hi, sizeof hi);
+                const Lanes r = zr * sr - zi * si;
+                zi = zr * si + zi * sr;
+                zr = r;
+            }
+            // a run's last few columns
+            for (int j = 0; whole + j < c1; ++j) {
+                const int kx = whole + j;
+                const float br = fx_re_[kx] * zr[j] - fx_im_[kx] * zi[j], bi = fx_re_[kx] * zi[j] + fx_im_[kx] * zr[j];
+                const float ar = even ? in[kx] : in[2 * kx], ai = even ? 0.0f : in[2 * kx + 1];
                 out[2 * kx] = ar * br - ai * bi;
                 out[2 * kx + 1] = ar * bi + ai * br;
-            };
-            for (int k = c0; k < whole; k += kCrossChains)
-                for (int j = 0; j < kCrossChains; ++j) {
-                    value(k + j, zr[j], zi[j]);
-                    const float r = zr[j] * sr - zi[j] * si;
-                    zi[j] = zr[j] * si + zi[j] * sr;
-                    zr[j] = r;
-                }
-            for (int j = 0; whole + j < c1; ++j) value(whole + j, zr[j], zi[j]);
+            }
             const double br = block_step_[ky].real(), bi = block_step_[ky].imag();
             for (int j = 0; j < kCrossChains; ++j) {
                 const double r = row_re[j] * br - row_im[j] * bi;
@@ -246,7 +303,6 @@ public:
         }
     }
 
-private:
     int signed_index(int k) const { return k < n_ / 2 ? k : k - n_; }
     const PupilSpectrum& spectrum_;
     int n_;
@@ -302,7 +358,7 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
     // (kx, ky); so has the transfer function, so the field is even too: u(-x, -y) = u(x, y).
     // Then column -kx is column kx upside down, only columns [0, n/2] are transformed, and only
     // the kernel's lower half (rows b >= 0) is computed, its upper half being it turned 180deg.
-    const bool even = plan.symmetric && o == 0.0;
+    const bool even = spectrum.even;
     const int lines = even ? n / 2 + 1 : n;
     // the image rows the kernel reads (kx >= lines: the mirror's)
     const int b0 = even ? 0 : -R;
