@@ -142,12 +142,25 @@ const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometr
     const int reach = std::min(n / 2 - 1, int(std::ceil(0.5 * g.span / h)) + 1), row0 = n / 2 - reach;
     thread_local std::vector<std::complex<float>> grid;
     grid.assign(size_t(n) * n, 0.0f);
-    for (int iy = row0; iy <= n / 2 + reach; ++iy)
+    // (cells centred on the axes, o = 0, of an aperture even in x or y: the mirror image's
+    // cells, n - ix or n - iy, hold the same fractions)
+    const bool mirror_x = o == 0.0 && q.aperture.even_in_x(), mirror_y = o == 0.0 && q.aperture.even_in_y();
+    for (int iy = row0; iy <= n / 2 + reach; ++iy) {
+        std::complex<float>* row = &grid[size_t(iy) * n];
+        if (mirror_y && iy > n / 2) {
+            std::copy_n(&grid[size_t(n - iy) * n], n, row);
+            continue;
+        }
         for (int ix = n / 2 - reach; ix <= n / 2 + reach; ++ix) {
+            if (mirror_x && ix > n / 2) {
+                row[ix] = row[n - ix];
+                continue;
+            }
             const double x = (ix - n / 2 + o) * h, y = (iy - n / 2 + o) * h;
             double cx, cy;
-            grid[size_t(iy) * n + ix] = float(q.aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy));
+            row[ix] = float(q.aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy));
         }
+    }
     // the rows (the others are zero), then down the columns: the spectrum in natural order, row
     // ky, column kx (an even spectrum's columns kx <= n/2 only)
     kept.even = plan.symmetric && o == 0.0;
