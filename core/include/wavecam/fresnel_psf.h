@@ -39,6 +39,7 @@ struct FieldPsfRequest {
     int subsamples = 3;            // each kernel pixel averages n x n points over its area
     int pupil_samples = 0;         // matrix transform's pupil grid; 0 = enough for its Fresnel zones
     FieldPsfMethod method = FieldPsfMethod::Auto;
+    int transfer_grid = 0;         // the transfer function's grid at least this wide (share_transfer_grids)
 };
 
 // (2 radius + 1)^2 weights, row-major, upright image orientation (column a grows toward the
@@ -57,6 +58,16 @@ struct PsfKernel {
 };
 
 PsfKernel field_psf_kernel(const FieldPsfRequest& request);
+
+// Requests at one depth through one aperture (a table's wavelengths and field anchors): sets
+// each one's transfer_grid so that the transfer function's grids come in a few common sizes,
+// widest first, each at most kSharedGridArea times a member's own grid in area (a wider period
+// only moves the wrap-around farther away). Requests on one size share their pupil's spectrum
+// (a forward transform costs about twice an inverse one), and each request's kernel depends on
+// the set alone, not on which requests its thread served before: the same image however the
+// work is spread over threads.
+constexpr double kSharedGridArea = 1.25;
+void share_transfer_grids(std::vector<FieldPsfRequest>& requests);
 
 // The working memory (bytes) field_psf_kernel needs for `request` on one thread, by the method
 // it would choose (the matrix transform's grids, or the transfer function's n x n arrays and

@@ -87,8 +87,11 @@ Result<DirectionConvolution> DirectionConvolution::create(const KernelTableSpec&
     const DirectionGrid& g = d.grid_;
     const SpectralBasis& basis = *spec.basis;
     const int S = basis.size(), K = g.radius, kw = 2 * K + 1;
-    // the PSFs, longest wavelength first (the shorter ones reuse its pupil spectrum,
-    // fresnel_transfer.cpp)
+    // the PSFs, longest wavelength first, on shared transfer grids (the shorter ones on its grid
+    // find its pupil spectrum kept, share_transfer_grids)
+    std::vector<FieldPsfRequest> requests(S);
+    for (int s = 0; s < S; ++s) requests[s] = on_axis(spec, cell, s, K);
+    share_transfer_grids(requests);
     std::vector<int> order(S);
     for (int s = 0; s < S; ++s) order[s] = s;
     std::sort(order.begin(), order.end(), [&](int x, int y) { return basis.wavelength(x) > basis.wavelength(y); });
@@ -98,7 +101,7 @@ Result<DirectionConvolution> DirectionConvolution::create(const KernelTableSpec&
     parallel_for_dynamic(0, S, 1, thread_count(spec.nthreads), [&](int64_t k) {
         if (ticker.cancelled()) return;
         const int s = order[size_t(k)];
-        psf[s] = field_psf_kernel(on_axis(spec, cell, s, K));
+        psf[s] = field_psf_kernel(requests[s]);
         ticker.advance(1, on_calling_thread());
     });
     if (ticker.cancelled()) return R::failure("cancelled", ErrorKind::Cancelled);

@@ -170,46 +170,62 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
     for (long g = 0; g < long(t.layers.count) * anchors; ++g)
         if (t.source[g % anchors] == g % anchors) computed.push_back(g);
     const long grid = long(computed.size());
-    ProgressTicker ticker(progress, double(grid) * S);
-    parallel_for_dynamic(0, grid, 1, thread_count(spec.nthreads), [&](int64_t i) {
-        if (ticker.cancelled()) return;
-        const long g = computed[size_t(i)];
-        const int l = int(g / anchors), a = int(g % anchors);
-        const int kx = a % nkx, ky = a / nkx;
+    // Every PSF's request, (grid entry, wavelength); a layer's requests share their transfer
+    // grids (share_transfer_grids: one layer, one pupil spectrum a grid size)
+    std::vector<FieldPsfRequest> requests(size_t(grid) * S);
+    for (long i = 0; i < grid; ++i) {
+        const int l = int(computed[size_t(i)] / anchors), a = int(computed[size_t(i)] % anchors);
         FieldPsfRequest q;
         q.aperture = spec.aperture;
         q.film_distance = c.film_distance;
         q.depth = t.layers.inverse_depth(l) > 0 ? 1.0 / t.layers.inverse_depth(l) : INFINITY;
         // the anchor's field position: its knot, in the camera's pixel coordinates
-        c.tangent(t.ax.knots[kx] - spec.origin, t.ay.knots[ky] - spec.origin, q.u, q.v);
+        c.tangent(t.ax.knots[a % nkx] - spec.origin, t.ay.knots[a / nkx] - spec.origin, q.u, q.v);
         q.pixel_pitch = c.pixel_pitch();
         const double cos_anchor = 1.0 / std::sqrt(1.0 + q.u * q.u + q.v * q.v);
         // each PSF only as large as its own depth, field angle and wavelength need (the cost
         // grows as its area), centred in the table's common size
-        std::vector<int> radius(S);
-        for (int s = 0; s < S; ++s)
-            radius[s] = psf_kernel_radius({q.aperture, q.film_distance, q.depth, spec.basis->wavelength(s), cos_anchor},
-                                          q.pixel_pitch, t.radius);
+        for (int s = 0; s < S; ++s) {
+            q.wavelength = spec.basis->wavelength(s);
+            q.radius = psf_kernel_radius({q.aperture, q.film_distance, q.depth, q.wavelength, cos_anchor},
+                                         q.pixel_pitch, t.radius);
+            requests[size_t(i) * S + s] = q;
+        }
+    }
+    for (long i0 = 0; i0 < grid;) {  // (computed entries are in layer order)
+        long i1 = i0;
+        while (i1 < grid && computed[size_t(i1)] / anchors == computed[size_t(i0)] / anchors) ++i1;
+        std::vector<FieldPsfRequest> layer(requests.begin() + i0 * S, requests.begin() + i1 * S);
+        share_transfer_grids(layer);
+        std::copy(layer.begin(), layer.end(), requests.begin() + i0 * S);
+        i0 = i1;
+    }
+    ProgressTicker ticker(progress, double(grid) * S);
+    parallel_for_dynamic(0, grid, 1, thread_count(spec.nthreads), [&](int64_t i) {
+        if (ticker.cancelled()) return;
+        const long g = computed[size_t(i)];
+        const int l = int(g / anchors), a = int(g % anchors);
+        const FieldPsfRequest* q = &requests[size_t(i) * S];
         // The rows the anchor's nine kernels will hold written (zeros) before the wavelengths add
         // to them: a fresh page first touched by a read maps the shared zero page, and the write
         // after it then copies that page and interrupts every other thread's processor to flush
         // its TLB (a 0.02 mm frame spent a sixth of its time in those interrupts).
-        const int widest = *std::max_element(radius.begin(), radius.end()), tw = 2 * t.radius + 1;
+        int widest = 0;
+        for (int s = 0; s < S; ++s) widest = std::max(widest, q[s].radius);
+        const int tw = 2 * t.radius + 1;
         for (int k = 0; k < 9; ++k)
             std::fill_n(&t.weights[size_t(t.kernel_index(l, a, k)) * ksize + size_t(t.radius - widest) * tw],
                         size_t(2 * widest + 1) * tw, 0.0f);
-        // longest wavelength first: its transfer grid is the widest, and the shorter ones then
-        // reuse its pupil spectrum (fresnel_transfer.cpp, PupilSpectrum)
+        // longest wavelength first: its transfer grid is the widest, and the shorter ones on the
+        // same grid then find its pupil spectrum kept
         std::vector<int> order(S);
         for (int s = 0; s < S; ++s) order[s] = s;
         std::sort(order.begin(), order.end(),
                   [&](int x, int y) { return spec.basis->wavelength(x) > spec.basis->wavelength(y); });
         for (int s : order) {
-            q.wavelength = spec.basis->wavelength(s);
-            q.radius = radius[s];
             float* kernels[9];
             for (int m = 0; m < 9; ++m) kernels[m] = &t.weights[size_t(t.kernel_index(l, a, m)) * ksize];
-            add_wavelength(field_psf_kernel(q), *spec.basis, s, t.radius, kernels,
+            add_wavelength(field_psf_kernel(q[s]), *spec.basis, s, t.radius, kernels,
                            &t.deficit[(size_t(l) * anchors + a) * 9]);
             ticker.advance(1, on_calling_thread());
         }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "fft/column_fft.h"
 #include "optics/fresnel_field.h"
@@ -37,6 +38,25 @@ double field_psf_scratch_bytes(const FieldPsfRequest& q) {
     // pupil cells, the two axis matrices and the intermediate (complex), the power grid, the
     // pixel averages' offsets and weights
     return 4.0 * (pr * pt + 2 * m * (pr + pt) + 2 * pr * m + m * m + 2 * m) + 8.0 * w * mft.points + 4.0 * w * w;
+}
+
+void share_transfer_grids(std::vector<FieldPsfRequest>& requests) {
+    // (own grid, index) of the requests the transfer function serves on their own grids, widest first
+    std::vector<std::pair<int, size_t>> own;
+    for (size_t i = 0; i < requests.size(); ++i) {
+        FieldPsfRequest& q = requests[i];
+        q.transfer_grid = 0;
+        const detail::FieldGeometry g = detail::geometry_of(q);
+        const detail::TransferPlan transfer = detail::plan_transfer(q, g);
+        if (chooses_transfer(q, detail::plan_mft(q, g), transfer)) own.push_back({transfer.n, i});
+    }
+    std::sort(own.rbegin(), own.rend());
+    for (size_t k = 0; k < own.size();) {
+        const double top = own[k].first;
+        size_t end = k;
+        while (end < own.size() && top * top <= kSharedGridArea * own[end].first * double(own[end].first)) ++end;
+        for (; k < end; ++k) requests[own[k].second].transfer_grid = int(top);
+    }
 }
 
 PsfKernel field_psf_kernel(const FieldPsfRequest& q) {

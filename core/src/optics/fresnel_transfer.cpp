@@ -80,20 +80,16 @@ TransferPlan plan_transfer(const FieldPsfRequest& q, const FieldGeometry& g) {
     const double period = kernel_half + pupil_half + shift + margin;
     // (a grid beyond 2^28 points across is never cheaper than the matrix transform: kept
     // finite, it only loses the cost comparison)
-    p.n = detail::fft_friendly_size(int(std::min(std::ceil(period / p.h) + 2, double(1 << 29))));
+    p.n = std::max(q.transfer_grid, detail::fft_friendly_size(int(std::min(std::ceil(period / p.h) + 2, double(1 << 29)))));
     return p;
 }
 
 namespace {
 
 // The pupil's spectrum on an n x n grid of pitch h: it depends on neither the wavelength nor
-// the field angle (the chirp is all in the transfer function), so a table's requests at one
-// depth share it. Each thread keeps the last kSpectraKept; a request whose grid must be at
-// least n reuses the narrowest kept spectrum up to kWiderGrid n^2 in area (a wider period only
-// moves the wrap-around farther away): its inverse transform then costs at most that much
-// more, where a new forward transform would cost about twice the inverse one.
-constexpr double kWiderGrid = 1.25;
-
+// the field angle (the chirp is all in the transfer function), so requests at one depth on one
+// grid share it (share_transfer_grids gives a table's requests a few common grids). Each thread
+// keeps the last kSpectraKept.
 struct PupilSpectrum {
     std::string aperture;
     const void* mask = nullptr;
@@ -107,9 +103,8 @@ struct PupilSpectrum {
     bool even = false;
     std::vector<float> even_value;
     std::vector<std::complex<float>> value;
-    bool serves(const Aperture& a, double hh, double oo, int n_min) const {
-        return a.name() == aperture && a.mask.get() == mask && a.diameter == diameter && hh == h && oo == o &&
-               n >= n_min && double(n) * n <= kWiderGrid * n_min * n_min;
+    bool serves(const Aperture& a, double hh, double oo, int nn) const {
+        return a.name() == aperture && a.mask.get() == mask && a.diameter == diameter && hh == h && oo == o && nn == n;
     }
 };
 
@@ -125,13 +120,11 @@ const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometr
     thread_local PupilSpectrum kept_spectra[kSpectraKept];
     thread_local long clock = 0;
     thread_local std::vector<std::complex<float>> work;
-    PupilSpectrum* best = nullptr;
     for (PupilSpectrum& s : kept_spectra)
-        if (s.serves(q.aperture, plan.h, o, plan.n) && (!best || s.n < best->n)) best = &s;
-    if (best) {
-        best->used = ++clock;
-        return *best;
-    }
+        if (s.serves(q.aperture, plan.h, o, plan.n)) {
+            s.used = ++clock;
+            return s;
+        }
     PupilSpectrum& kept = *std::min_element(std::begin(kept_spectra), std::end(kept_spectra),
                                             [](const PupilSpectrum& x, const PupilSpectrum& y) { return x.used < y.used; });
     // the pupil's open fractions, cell (ix, iy) centred at ((ix - n/2 + o) h, (iy - n/2 + o) h)
