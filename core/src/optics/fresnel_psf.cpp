@@ -14,18 +14,31 @@
 
 namespace wavecam {
 namespace {
-bool chooses_transfer(const FieldPsfRequest& q, const detail::MftPlan& mft, const detail::TransferPlan& transfer) {
-    return q.method == FieldPsfMethod::TransferFunction ||
-           (q.method == FieldPsfMethod::Auto && q.pupil_samples <= 0 && transfer.cost() < mft.cost());
+// A request's geometry, both evaluations' plans, and which of them serves it.
+struct Evaluation {
+    detail::FieldGeometry g;
+    detail::MftPlan mft;
+    detail::TransferPlan transfer;
+    bool by_transfer = false;
+};
+
+Evaluation evaluation_of(const FieldPsfRequest& q) {
+    Evaluation e;
+    e.g = detail::geometry_of(q);
+    e.mft = detail::plan_mft(q, e.g);
+    e.transfer = detail::plan_transfer(q, e.g);
+    e.by_transfer = q.method == FieldPsfMethod::TransferFunction ||
+                    (q.method == FieldPsfMethod::Auto && q.pupil_samples <= 0 && e.transfer.cost() < e.mft.cost());
+    return e;
 }
 }  // namespace
 
 double field_psf_scratch_bytes(const FieldPsfRequest& q) {
-    const detail::FieldGeometry g = detail::geometry_of(q);
-    const detail::MftPlan mft = detail::plan_mft(q, g);
-    const detail::TransferPlan transfer = detail::plan_transfer(q, g);
+    const Evaluation e = evaluation_of(q);
+    const detail::MftPlan& mft = e.mft;
+    const detail::TransferPlan& transfer = e.transfer;
     const double w = 2.0 * q.radius + 1;
-    if (chooses_transfer(q, mft, transfer)) {
+    if (e.by_transfer) {
         // a block of columns and its work, the kernel's rows and their transform's work, the
         // forward transform's grid and work, and the spectra kept per thread (a point-symmetric
         // pupil's: real, half the columns)
@@ -46,9 +59,8 @@ void share_transfer_grids(std::vector<FieldPsfRequest>& requests) {
     for (size_t i = 0; i < requests.size(); ++i) {
         FieldPsfRequest& q = requests[i];
         q.transfer_grid = 0;
-        const detail::FieldGeometry g = detail::geometry_of(q);
-        const detail::TransferPlan transfer = detail::plan_transfer(q, g);
-        if (chooses_transfer(q, detail::plan_mft(q, g), transfer)) own.push_back({transfer.n, i});
+        const Evaluation e = evaluation_of(q);
+        if (e.by_transfer) own.push_back({e.transfer.n, i});
     }
     std::sort(own.rbegin(), own.rend());
     for (size_t k = 0; k < own.size();) {
@@ -60,14 +72,11 @@ void share_transfer_grids(std::vector<FieldPsfRequest>& requests) {
 }
 
 PsfKernel field_psf_kernel(const FieldPsfRequest& q) {
-    const detail::FieldGeometry g = detail::geometry_of(q);
-    const detail::MftPlan mft = detail::plan_mft(q, g);
-    const detail::TransferPlan transfer = detail::plan_transfer(q, g);
-    const bool use_transfer = chooses_transfer(q, mft, transfer);
+    const Evaluation e = evaluation_of(q);
     PsfKernel k;
     k.radius = q.radius;
-    k.weight = use_transfer ? detail::kernel_by_transfer(q, g, transfer) : detail::kernel_by_mft(q, g, mft);
-    if (!use_transfer && mft.half * mft.step < (q.radius + 0.5) * q.pixel_pitch) k.reach = mft.half * mft.step;
+    k.weight = e.by_transfer ? detail::kernel_by_transfer(q, e.g, e.transfer) : detail::kernel_by_mft(q, e.g, e.mft);
+    if (!e.by_transfer && e.mft.half * e.mft.step < (q.radius + 0.5) * q.pixel_pitch) k.reach = e.mft.half * e.mft.step;
     return k;
 }
 
