@@ -2,7 +2,9 @@
 
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <memory>
 
 #include "base/parallel.h"
 #include "base/progress_ticker.h"
@@ -201,7 +203,7 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
         i0 = i1;
     }
     ProgressTicker ticker(progress, double(grid) * S);
-    parallel_for_dynamic(0, grid, 1, thread_count(spec.nthreads), [&](int64_t i) {
+    auto compute_entry = [&](int64_t i) {
         if (ticker.cancelled()) return;
         const long g = computed[size_t(i)];
         const int l = int(g / anchors), a = int(g % anchors);
@@ -228,6 +230,29 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
             add_wavelength(field_psf_kernel(q[s]), *spec.basis, s, t.radius, kernels,
                            &t.deficit[(size_t(l) * anchors + a) * 9]);
             ticker.advance(1, on_calling_thread());
+        }
+    };
+    // Each thread computes its own contiguous run of the entries (layer after layer), then what
+    // is left of the others' runs, from their far ends: each layer's pupil spectra (one a grid
+    // size, kept per thread) are then computed by one thread, where threads taking the entries
+    // in turn each computed all of them. Entries write only their own kernels: the same table
+    // whichever thread computes an entry.
+    const int threads = int(std::min<long>(thread_count(spec.nthreads), std::max(grid, 1L)));
+    std::unique_ptr<std::atomic<bool>[]> taken(new std::atomic<bool>[size_t(grid)]);
+    for (long i = 0; i < grid; ++i) taken[size_t(i)] = false;
+    parallel_team(threads, [&](Team& team) {
+        auto run = [&](int k, long& begin, long& end) {
+            begin = grid * k / team.size();
+            end = grid * (k + 1) / team.size();
+        };
+        long begin, end;
+        run(team.rank(), begin, end);
+        for (long i = begin; i < end; ++i)
+            if (!taken[size_t(i)].exchange(true)) compute_entry(i);
+        for (int k = 1; k < team.size(); ++k) {
+            run((team.rank() + k) % team.size(), begin, end);
+            for (long i = end - 1; i >= begin; --i)
+                if (!taken[size_t(i)].exchange(true)) compute_entry(i);
         }
     });
     if (ticker.cancelled()) return Result<KernelTable>::failure("cancelled", ErrorKind::Cancelled);

@@ -115,6 +115,49 @@ std::complex<float>* scratch(std::vector<std::complex<float>>& v, size_t size) {
     return v.data();
 }
 
+// The spectrum of a pupil even in x and in y about the grid's centre (index n/2, which is index
+// 0 modulo n for even n): its rows are real and even, so their spectra are real (and even), and
+// so are the columns of those spectra and theirs. Two real lines then share one complex
+// transform, one as its real part and one as its imaginary part, and each comes back as that
+// part of the result: the rows n/2 - reach ... n/2 in pairs (the others are zero or their
+// mirror images), then the columns kx <= n/2 of their spectra in pairs. A third of the
+// transforms of the whole grid's rows and half columns. open_fraction(ix, iy): the cell's value.
+template <class OpenFraction>
+void even_pupil_spectrum(int n, int reach, OpenFraction open_fraction, std::vector<float>& even_value) {
+    const int rows = reach + 1, pairs = (rows + 1) / 2, half = n / 2 + 1, packed = (half + 1) / 2;
+    thread_local std::vector<std::complex<float>> lines, columns, work;
+    // row n/2 - reach + k as part k % 2 of line k / 2; the lines as the columns of an n x pairs
+    // array (line p at lines[ix * pairs + p])
+    lines.assign(size_t(n) * pairs, 0.0f);
+    float* line_parts = reinterpret_cast<float*>(lines.data());
+    for (int k = 0; k < rows; ++k)
+        for (int ix = n / 2 - reach; ix <= n / 2; ++ix) {
+            const float v = open_fraction(ix, n / 2 - reach + k);
+            line_parts[2 * (size_t(ix) * pairs + k / 2) + k % 2] = v;
+            line_parts[2 * (size_t(n - ix) * pairs + k / 2) + k % 2] = v;  // (ix = n/2: itself)
+        }
+    ColumnFft(n, false).transform(lines.data(), scratch(work, size_t(n) * pairs), pairs, 0, pairs);
+    // row iy's spectrum at columns 2j and 2j + 1 as the parts of columns[iy * packed + j] (rows
+    // beyond the pupil zero; rows past n/2 their mirror images), moved in blocks of a few
+    // lines and columns so that both sides stay in the cache
+    constexpr int kBlock = 16;
+    columns.assign(size_t(n) * packed, 0.0f);
+    float* column_parts = reinterpret_cast<float*>(columns.data());
+    for (int k0 = 0; k0 < rows; k0 += kBlock)
+        for (int j0 = 0; j0 < packed; j0 += kBlock)
+            for (int k = k0; k < std::min(rows, k0 + kBlock); ++k) {
+                float* to = column_parts + 2 * size_t(n / 2 - reach + k) * packed;
+                for (int kx = 2 * j0; kx < std::min(half, 2 * (j0 + kBlock)); ++kx)
+                    to[kx] = line_parts[2 * (size_t(kx) * pairs + k / 2) + k % 2];
+            }
+    for (int iy = n / 2 + 1; iy <= n / 2 + reach; ++iy)
+        std::copy_n(&columns[size_t(n - iy) * packed], packed, &columns[size_t(iy) * packed]);
+    ColumnFft(n, false).transform(columns.data(), scratch(work, size_t(n) * packed), packed, 0, packed);
+    even_value.resize(size_t(n) * half);
+    for (int ky = 0; ky < n; ++ky)
+        std::copy_n(column_parts + 2 * size_t(ky) * packed, half, &even_value[size_t(ky) * half]);
+}
+
 const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometry& g, const TransferPlan& plan,
                                     double o) {
     thread_local PupilSpectrum kept_spectra[kSpectraKept];
@@ -133,41 +176,45 @@ const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometr
     const int n = plan.n;
     const double h = plan.h;
     const int reach = std::min(n / 2 - 1, int(std::ceil(0.5 * g.span / h)) + 1), row0 = n / 2 - reach;
-    thread_local std::vector<std::complex<float>> grid;
-    grid.assign(size_t(n) * n, 0.0f);
+    auto open_fraction = [&](int ix, int iy) {
+        const double x = (ix - n / 2 + o) * h, y = (iy - n / 2 + o) * h;
+        double cx, cy;
+        return float(q.aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy));
+    };
     // (cells centred on the axes, o = 0, of an aperture even in x or y: the mirror image's
     // cells, n - ix or n - iy, hold the same fractions)
     const bool mirror_x = o == 0.0 && q.aperture.even_in_x(), mirror_y = o == 0.0 && q.aperture.even_in_y();
-    for (int iy = row0; iy <= n / 2 + reach; ++iy) {
-        std::complex<float>* row = &grid[size_t(iy) * n];
-        if (mirror_y && iy > n / 2) {
-            std::copy_n(&grid[size_t(n - iy) * n], n, row);
-            continue;
-        }
-        for (int ix = n / 2 - reach; ix <= n / 2 + reach; ++ix) {
-            if (mirror_x && ix > n / 2) {
-                row[ix] = row[n - ix];
-                continue;
-            }
-            const double x = (ix - n / 2 + o) * h, y = (iy - n / 2 + o) * h;
-            double cx, cy;
-            row[ix] = float(q.aperture.coverage(-x - 0.5 * h, -x + 0.5 * h, y - 0.5 * h, y + 0.5 * h, cx, cy));
-        }
-    }
-    // the rows (the others are zero), then down the columns: the spectrum in natural order, row
-    // ky, column kx (an even spectrum's columns kx <= n/2 only)
     kept.even = plan.symmetric && o == 0.0;
-    const int columns = kept.even ? n / 2 + 1 : n;
-    detail::LineFft(n, false).transform(2 * reach + 1, [&](int k) { return &grid[size_t(row0 + k) * n]; });
-    ColumnFft(n, false).transform(grid.data(), scratch(work, size_t(n) * n), n, 0, columns);
-    if (kept.even) {
-        kept.even_value.resize(size_t(n) * columns);
-        for (int ky = 0; ky < n; ++ky)
-            for (int kx = 0; kx < columns; ++kx) kept.even_value[size_t(ky) * columns + kx] = grid[size_t(ky) * n + kx].real();
+    if (kept.even && mirror_x && mirror_y) {
+        even_pupil_spectrum(n, reach, open_fraction, kept.even_value);
         std::vector<std::complex<float>>().swap(kept.value);
     } else {
-        std::vector<float>().swap(kept.even_value);
-        kept.value.swap(grid);  // (the grid takes the kept spectrum's old array)
+        thread_local std::vector<std::complex<float>> grid;
+        grid.assign(size_t(n) * n, 0.0f);
+        for (int iy = row0; iy <= n / 2 + reach; ++iy) {
+            std::complex<float>* row = &grid[size_t(iy) * n];
+            if (mirror_y && iy > n / 2) {
+                std::copy_n(&grid[size_t(n - iy) * n], n, row);
+                continue;
+            }
+            for (int ix = n / 2 - reach; ix <= n / 2 + reach; ++ix)
+                row[ix] = mirror_x && ix > n / 2 ? row[n - ix] : open_fraction(ix, iy);
+        }
+        // the rows (the others are zero), then down the columns: the spectrum in natural order,
+        // row ky, column kx (an even spectrum's columns kx <= n/2 only)
+        const int columns = kept.even ? n / 2 + 1 : n;
+        detail::LineFft(n, false).transform(2 * reach + 1, [&](int k) { return &grid[size_t(row0 + k) * n]; });
+        ColumnFft(n, false).transform(grid.data(), scratch(work, size_t(n) * n), n, 0, columns);
+        if (kept.even) {
+            kept.even_value.resize(size_t(n) * columns);
+            for (int ky = 0; ky < n; ++ky)
+                for (int kx = 0; kx < columns; ++kx)
+                    kept.even_value[size_t(ky) * columns + kx] = grid[size_t(ky) * n + kx].real();
+            std::vector<std::complex<float>>().swap(kept.value);
+        } else {
+            std::vector<float>().swap(kept.even_value);
+            kept.value.swap(grid);  // (the grid takes the kept spectrum's old array)
+        }
     }
     kept.aperture = q.aperture.name();
     kept.mask = q.aperture.mask.get();
