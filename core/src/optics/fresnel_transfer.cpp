@@ -446,16 +446,23 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
     inverse.transform(window, work, rows, 0, rows);  // along kx: window[x * rows + k], image column x
     // Each pixel: sum of |U|^2 h^2 over its points / transmitted power (the aperture's area);
     // the unnormalised forward-inverse pair scales by n^2. Column a's points summed per row
-    // first (contiguous), then each pixel's sub rows.
+    // first (contiguous; floats: a few terms of one size), then each pixel's sub rows (double).
     const int w = 2 * R + 1;
-    std::vector<double> sum(size_t(w) * w, 0.0), column(rows);
+    std::vector<double> sum(size_t(w) * w, 0.0);
+    std::vector<float> column(rows);
     for (int a = -R; a <= R; ++a) {
-        std::fill(column.begin(), column.end(), 0.0);
+        std::fill(column.begin(), column.end(), 0.0f);
         for (int t = 0; t < sub; ++t) {
-            const std::complex<float>* x = &window[size_t(wrap(n / 2 + a * sub - sub / 2 + t)) * rows];
-            for (int k = 0; k < rows; ++k) column[k] += std::norm(x[k]);
+            const float* x = reinterpret_cast<const float*>(&window[size_t(wrap(n / 2 + a * sub - sub / 2 + t)) * rows]);
+            float* c = column.data();
+#pragma omp simd
+            for (int k = 0; k < rows; ++k) c[k] += x[2 * k] * x[2 * k] + x[2 * k + 1] * x[2 * k + 1];
         }
-        for (int k = 0; k < rows; ++k) sum[size_t(b0 + R + k / sub) * w + (a + R)] += column[k];
+        for (int b = 0; b < rows / sub; ++b) {
+            double pixel = 0;
+            for (int t = 0; t < sub; ++t) pixel += column[size_t(b) * sub + t];
+            sum[size_t(b0 + R + b) * w + (a + R)] = pixel;
+        }
     }
     const double scale = h * h / (double(n) * n * double(n) * n) / g.area;
     std::vector<float> weight(size_t(w) * w);
