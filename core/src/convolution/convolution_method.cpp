@@ -241,8 +241,6 @@ double ConvolutionPlan::estimate_bytes(const ConvolutionPlanSpec& spec) {
                                              q.pixel_pitch, t.radius);
                 psf = std::max(psf, field_psf_scratch_bytes(q));
             }
-    // and the PSFs held until they are folded into the kernels together
-    psf += double(std::min(spec.basis.size(), detail::kFoldedTogether)) * side * side * sizeof(float);
     // the larger of two stages: the table built and transformed, and the tiles convolved
     return std::max(kernels + (kept ? spectra : 0) + t.nthreads * psf, (kept ? spectra : kernels) + domain + tiles);
 }

@@ -111,10 +111,10 @@ Result<DirectionConvolution> DirectionConvolution::create(const KernelTableSpec&
     float* each[9];
     for (int m = 0; m < 9; ++m) each[m] = &kernels[size_t(m) * kw * kw];
     float deficit[9] = {};
-    std::vector<int> in_turn(S);
-    for (int s = 0; s < S; ++s) in_turn[s] = s;
-    add_wavelengths(psf, in_turn, basis, K, each, deficit);
-    psf = {};
+    for (int s = 0; s < S; ++s) {
+        add_wavelength(psf[s], basis, s, K, each, deficit);
+        psf[s] = {};
+    }
     KernelTable& tail = d.tail_;
     tail.radius = spec.radius;
     tail.layers = spec.layers;

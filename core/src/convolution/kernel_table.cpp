@@ -134,41 +134,23 @@ int computed_anchors(const KernelTableSpec& spec, const AnchorAxis& ax, const An
     return n;
 }
 
-void add_wavelengths(const std::vector<PsfKernel>& psf, const std::vector<int>& order, const SpectralBasis& basis,
-                     int radius, float* const kernels[9], float* deficit) {
-    const int tw = 2 * radius + 1;
-    // each wavelength's weight of kernel m = 3 p + q: the basis's power of primary p times XYZ q
-    // per unit power; what its PSF does not hold (its weights are shares of the PSF's power) to
-    // the deficits
-    std::vector<float> weight(order.size() * 9);
-    for (size_t k = 0; k < order.size(); ++k) {
-        const int s = order[k];
-        const Vector3& xyz_s = basis.xyz_per_power(s);
-        double held = 0;
-        for (float x : psf[s].weight) held += x;
-        for (int p = 0; p < 3; ++p) {
-            const double bp = basis.power(s, p == 0, p == 1, p == 2);
-            for (int qq = 0; qq < 3; ++qq) {
-                const float w = float(bp * xyz_s[qq]);
-                weight[k * 9 + 3 * p + qq] = w;
-                deficit[3 * p + qq] += float(w * (1.0 - held));
-            }
+void add_wavelength(const PsfKernel& psf, const SpectralBasis& basis, int s, int radius, float* const kernels[9],
+                    float* deficit) {
+    const int inset = radius - psf.radius, pw = 2 * psf.radius + 1, tw = 2 * radius + 1;
+    const Vector3& xyz_s = basis.xyz_per_power(s);
+    double held = 0;  // the weights are shares of the PSF's power: what lies beyond is 1 - held
+    for (float x : psf.weight) held += x;
+    for (int p = 0; p < 3; ++p) {
+        const double bp = basis.power(s, p == 0, p == 1, p == 2);
+        for (int qq = 0; qq < 3; ++qq) {
+            const float w = float(bp * xyz_s[qq]);
+            deficit[3 * p + qq] += float(w * (1.0 - held));
+            float* dst = kernels[3 * p + qq];
+            for (int b = 0; b < pw; ++b)
+                for (int e = 0; e < pw; ++e)
+                    dst[size_t(b + inset) * tw + (e + inset)] += w * psf.weight[size_t(b) * pw + e];
         }
     }
-    // row by row of the nine kernels, each wavelength's row added in `order` (its PSF centred):
-    // a kernel row stays in the cache through every wavelength, where the kernels whole would
-    // stream from memory once a wavelength
-    for (int b = -radius; b <= radius; ++b)
-        for (int m = 0; m < 9; ++m) {
-            float* dst = kernels[m] + size_t(b + radius) * tw + radius;  // (column 0 of the row)
-            for (size_t k = 0; k < order.size(); ++k) {
-                const PsfKernel& f = psf[order[k]];
-                if (b < -f.radius || b > f.radius) continue;
-                const int pw = 2 * f.radius + 1;
-                const float w = weight[k * 9 + m], *row = &f.weight[size_t(b + f.radius) * pw + f.radius];
-                for (int e = -f.radius; e <= f.radius; ++e) dst[e] += w * row[e];
-            }
-        }
 }
 
 Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const ProgressFn& progress) {
@@ -242,19 +224,12 @@ Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const Progre
         for (int s = 0; s < S; ++s) order[s] = s;
         std::sort(order.begin(), order.end(),
                   [&](int x, int y) { return spec.basis->wavelength(x) > spec.basis->wavelength(y); });
-        // folded in kFoldedTogether at a time (in `order` all the same)
-        float* kernels[9];
-        for (int m = 0; m < 9; ++m) kernels[m] = &t.weights[size_t(t.kernel_index(l, a, m)) * ksize];
-        std::vector<PsfKernel> psf(S);
-        for (int k0 = 0; k0 < S; k0 += kFoldedTogether) {
-            const std::vector<int> some(order.begin() + k0, order.begin() + std::min(S, k0 + kFoldedTogether));
-            for (int s : some) {
-                if (ticker.cancelled()) return;
-                psf[s] = field_psf_kernel(q[s]);
-                ticker.advance(1, on_calling_thread());
-            }
-            add_wavelengths(psf, some, *spec.basis, t.radius, kernels, &t.deficit[(size_t(l) * anchors + a) * 9]);
-            for (int s : some) psf[s] = {};
+        for (int s : order) {
+            float* kernels[9];
+            for (int m = 0; m < 9; ++m) kernels[m] = &t.weights[size_t(t.kernel_index(l, a, m)) * ksize];
+            add_wavelength(field_psf_kernel(q[s]), *spec.basis, s, t.radius, kernels,
+                           &t.deficit[(size_t(l) * anchors + a) * 9]);
+            ticker.advance(1, on_calling_thread());
         }
     };
     // Each thread computes its own contiguous run of the entries (layer after layer), then what

@@ -159,14 +159,12 @@ std::vector<int> anchor_sources(const KernelTableSpec& spec, const AnchorAxis& a
 // How many anchors of that grid are their own source: those whose kernels are computed.
 int computed_anchors(const KernelTableSpec& spec, const AnchorAxis& ax, const AnchorAxis& ay);
 
-// Adds the wavelengths' PSFs (psf[s], field_psf_kernel's: shares of the power through the
-// pinhole) in the order `order` lists them to the nine kernels m = 3 p + q of side 2 radius + 1
-// (each PSF centred in them), each weighted by the basis's power of primary p times XYZ q per unit
-// power at s, and what each PSF does not hold to their deficits.
-void add_wavelengths(const std::vector<PsfKernel>& psf, const std::vector<int>& order, const SpectralBasis& basis,
-                     int radius, float* const kernels[9], float* deficit);
-// The PSFs a thread of build_kernel_table holds and folds in at once.
-constexpr int kFoldedTogether = 4;
+// Adds wavelength s's PSF (field_psf_kernel's: shares of the power through the pinhole) to the
+// nine kernels m = 3 p + q of side 2 radius + 1 (the PSF centred in them), each weighted by the
+// basis's power of primary p times XYZ q per unit power at s, and what the PSF does not hold to
+// their deficits.
+void add_wavelength(const PsfKernel& psf, const SpectralBasis& basis, int s, int radius, float* const kernels[9],
+                    float* deficit);
 
 // Fails only when cancelled through `progress`.
 Result<KernelTable> build_kernel_table(const KernelTableSpec& spec, const ProgressFn& progress);
