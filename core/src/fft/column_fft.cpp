@@ -141,15 +141,26 @@ ColumnFft::ColumnFft(int length, bool inverse) : n_(length), inverse_(inverse) {
 
 void ColumnFft::transform(std::complex<float>* data, std::complex<float>* work, int columns, int first, int last,
                           int threads) const {
+    // (a row's run copied as bytes: the element loop compiled to one scalar float at a time)
+    if (transform_where(data, work, columns, first, last, threads) != data)
+        for (int r = 0; r < n_; ++r)
+            std::memcpy(data + size_t(r) * columns + first, work + size_t(r) * columns + first,
+                        sizeof(std::complex<float>) * size_t(last - first));
+}
+
+std::complex<float>* ColumnFft::transform_where(std::complex<float>* data, std::complex<float>* work, int columns,
+                                                int first, int last, int threads,
+                                                const std::complex<float>* source) const {
     // On one thread, a run of columns too wide for the cache goes a block at a time: a block's
     // rows (data and work) stay in the cache through all of its stages, where the whole run
     // would stream from memory once a stage. Columns are independent: the same values.
     const int block = block_columns(n_);
     if (threads <= 1 && last - first > block) {
-        for (int c0 = first; c0 < last; c0 += block) transform_run(data, work, columns, c0, std::min(last, c0 + block), 1);
-        return;
+        for (int c0 = first; c0 < last; c0 += block)
+            stages(data, work, columns, c0, std::min(last, c0 + block), 1, source);
+        return ends_in_work() ? work : data;
     }
-    transform_run(data, work, columns, first, last, threads);
+    return stages(data, work, columns, first, last, threads, source);
 }
 
 int ColumnFft::block_columns(int length) {
@@ -161,24 +172,19 @@ std::complex<float>* ColumnFft::transform_block(std::complex<float>* data, std::
     return stages(data, work, columns, 0, columns, 1);
 }
 
-void ColumnFft::transform_run(std::complex<float>* data, std::complex<float>* work, int columns, int first, int last,
-                              int threads) const {
-    // an odd number of stages leaves the result in `work`
-    // (a row's run copied as bytes: the element loop compiled to one scalar float at a time)
-    if (stages(data, work, columns, first, last, threads) != data)
-        for (int r = 0; r < n_; ++r)
-            std::memcpy(data + size_t(r) * columns + first, work + size_t(r) * columns + first,
-                        sizeof(std::complex<float>) * size_t(last - first));
-}
-
 std::complex<float>* ColumnFft::stages(std::complex<float>* data, std::complex<float>* work, int columns, int first,
-                                       int last, int threads) const {
+                                       int last, int threads, const std::complex<float>* source) const {
     Cf *x = reinterpret_cast<Cf*>(data), *y = reinterpret_cast<Cf*>(work);
+    // the first stage's input: `source` where given (x is then only written, from the second stage)
+    const Cf* input = source ? reinterpret_cast<const Cf*>(source) : x;
+    if (stages_.empty() && source)  // (a length of 1: the transform is the identity)
+        for (int r = 0; r < n_; ++r)
+            std::copy(input + size_t(r) * columns + first, input + size_t(r) * columns + last, x + size_t(r) * columns + first);
     const bool whole = first == 0 && last == columns;
     size_t stride = 1;  // s: the sub-sequences split off so far
     for (const Stage& st : stages_) {
-        const StageArgs stage{x, y, reinterpret_cast<const Cf*>(st.twiddle.data()), st.m, stride * columns, 0, 0,
-                              inverse_ ? 1.0f : -1.0f};
+        const StageArgs stage{stride == 1 ? input : x, y, reinterpret_cast<const Cf*>(st.twiddle.data()), st.m,
+                              stride * columns, 0, 0, inverse_ ? 1.0f : -1.0f};
         // sub-sequence q's lanes are [q columns + first, q columns + last): one run where every
         // column is asked for; each run's lanes split into `threads` parts (a stage's lanes are
         // independent: each reads and writes its own)

@@ -29,6 +29,14 @@ public:
     // outside any parallel region; the stages in turn): the same values at any count.
     void transform(std::complex<float>* data, std::complex<float>* work, int columns, int first, int last,
                    int threads = 1) const;
+    // As transform(), without the copy back: returns data or work, whichever holds the result
+    // (work where ends_in_work(): an odd number of stages; its columns outside [first, last) are
+    // not written). `source`, where given, is read instead of data by the first stage (data is
+    // then only written: a transform of an array the caller keeps, with no copy first).
+    std::complex<float>* transform_where(std::complex<float>* data, std::complex<float>* work, int columns, int first,
+                                         int last, int threads = 1,
+                                         const std::complex<float>* source = nullptr) const;
+    bool ends_in_work() const { return stages_.size() % 2 == 1; }
     // The transform of every column of a block no wider than block_columns() (its rows and work
     // stay in one thread's cache), on the calling thread, left where the last stage put it:
     // returns data or work, whichever holds the result (no copy back).
@@ -44,9 +52,7 @@ private:
     static constexpr int kMinBlockColumns = 16;
     // the stages over columns [first, last); returns the array holding the result
     std::complex<float>* stages(std::complex<float>* data, std::complex<float>* work, int columns, int first,
-                                int last, int threads) const;
-    void transform_run(std::complex<float>* data, std::complex<float>* work, int columns, int first, int last,
-                       int threads) const;
+                                int last, int threads, const std::complex<float>* source = nullptr) const;
 
     struct Stage {
         int radix, m;                             // this stage's radix and the length after it

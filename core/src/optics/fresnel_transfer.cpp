@@ -129,14 +129,15 @@ void even_pupil_spectrum(int n, int reach, OpenFraction open_fraction, std::vect
     // row n/2 - reach + k as part k % 2 of line k / 2; the lines as the columns of an n x pairs
     // array (line p at lines[ix * pairs + p])
     lines.assign(size_t(n) * pairs, 0.0f);
-    float* line_parts = reinterpret_cast<float*>(lines.data());
+    float* open_parts = reinterpret_cast<float*>(lines.data());
     for (int k = 0; k < rows; ++k)
         for (int ix = n / 2 - reach; ix <= n / 2; ++ix) {
             const float v = open_fraction(ix, n / 2 - reach + k);
-            line_parts[2 * (size_t(ix) * pairs + k / 2) + k % 2] = v;
-            line_parts[2 * (size_t(n - ix) * pairs + k / 2) + k % 2] = v;  // (ix = n/2: itself)
+            open_parts[2 * (size_t(ix) * pairs + k / 2) + k % 2] = v;
+            open_parts[2 * (size_t(n - ix) * pairs + k / 2) + k % 2] = v;  // (ix = n/2: itself)
         }
-    ColumnFft(n, false).transform(lines.data(), scratch(work, size_t(n) * pairs), pairs, 0, pairs);
+    const float* line_parts = reinterpret_cast<const float*>(
+        ColumnFft(n, false).transform_where(lines.data(), scratch(work, size_t(n) * pairs), pairs, 0, pairs));
     // row iy's spectrum at columns 2j and 2j + 1 as the parts of columns[iy * packed + j] (rows
     // beyond the pupil zero; rows past n/2 their mirror images), moved in blocks of a few
     // lines and columns so that both sides stay in the cache
@@ -152,10 +153,11 @@ void even_pupil_spectrum(int n, int reach, OpenFraction open_fraction, std::vect
             }
     for (int iy = n / 2 + 1; iy <= n / 2 + reach; ++iy)
         std::copy_n(&columns[size_t(n - iy) * packed], packed, &columns[size_t(iy) * packed]);
-    ColumnFft(n, false).transform(columns.data(), scratch(work, size_t(n) * packed), packed, 0, packed);
+    const float* spectrum_parts = reinterpret_cast<const float*>(
+        ColumnFft(n, false).transform_where(columns.data(), scratch(work, size_t(n) * packed), packed, 0, packed));
     even_value.resize(size_t(n) * half);
     for (int ky = 0; ky < n; ++ky)
-        std::copy_n(column_parts + 2 * size_t(ky) * packed, half, &even_value[size_t(ky) * half]);
+        std::copy_n(spectrum_parts + 2 * size_t(ky) * packed, half, &even_value[size_t(ky) * half]);
 }
 
 const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometry& g, const TransferPlan& plan,
@@ -443,7 +445,8 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
                         mirror_y, window);
         }
     }
-    inverse.transform(window, work, rows, 0, rows);  // along kx: window[x * rows + k], image column x
+    // along kx: field[x * rows + k], image column x (in the window or the work array)
+    const std::complex<float>* field = inverse.transform_where(window, work, rows, 0, rows);
     // Each pixel: sum of |U|^2 h^2 over its points / transmitted power (the aperture's area);
     // the unnormalised forward-inverse pair scales by n^2. Column a's points summed per row
     // first (contiguous; floats: a few terms of one size), then each pixel's sub rows (double).
@@ -453,7 +456,7 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
     for (int a = -R; a <= R; ++a) {
         std::fill(column.begin(), column.end(), 0.0f);
         for (int t = 0; t < sub; ++t) {
-            const float* x = reinterpret_cast<const float*>(&window[size_t(wrap(n / 2 + a * sub - sub / 2 + t)) * rows]);
+            const float* x = reinterpret_cast<const float*>(&field[size_t(wrap(n / 2 + a * sub - sub / 2 + t)) * rows]);
             float* c = column.data();
 #pragma omp simd
             for (int k = 0; k < rows; ++k) c[k] += x[2 * k] * x[2 * k] + x[2 * k + 1] * x[2 * k + 1];
