@@ -338,7 +338,7 @@ TEST(SummationDecision, TheJobDecidesOnceAndItsSumsFollow) {
     s.jitter = true;  // (the kernel summation does not apply: the point sums' choices are the decision)
     const SummationDecision d = decide_summation(s, ComputeDevice{}, scene.camera, {450e-9, lambda, 650e-9});
     ASSERT_EQ(d.summation, Summation::Auto);
-    ASSERT_EQ(d.wavelengths.size(), 3u);
+    ASSERT_EQ(d.choices.size(), 3u);
     for (const double w : {450e-9, lambda, 650e-9}) {
         ASSERT_NE(d.to_pinhole_at(w), nullptr);
         // the decision is the estimate's: the same counts through the same chooser
@@ -354,8 +354,8 @@ TEST(SummationDecision, TheJobDecidesOnceAndItsSumsFollow) {
     const std::vector<float> direct = scene.diffract(s, Summation::Auto, lambda, &alone);
     EXPECT_EQ(alone.evaluators().words(), "direct");
     SummationDecision told = d;
-    told.to_film[1].evaluator = Evaluator::Nufft;
-    told.to_film[1].blocks = 1;
+    told.choices[1].to_film.evaluator = Evaluator::Nufft;
+    told.choices[1].to_film.blocks = 1;
     SumReport followed;
     s.decision = std::make_shared<SummationDecision>(told);
     const std::vector<float> decided = scene.diffract(s, Summation::Auto, lambda, &followed);

@@ -23,8 +23,12 @@ namespace wavecam {
 struct SummationDecision {
     Summation summation = Summation::Auto;  // Kernel, or the point sums
     bool gpu = false;                        // decided for a device's GPU (compute_device.h)
-    std::vector<double> wavelengths;         // (m) the point sums' wavelengths, with their sums' choices
-    std::vector<SumChoice> to_pinhole, to_film;
+    // One wavelength's two sums: to the pinhole and to the film.
+    struct AtWavelength {
+        double wavelength;  // (m)
+        SumChoice to_pinhole, to_film;
+    };
+    std::vector<AtWavelength> choices;  // the point sums' wavelengths, each once
     // The choice at `wavelength` (null where the decision holds none: that frame decides alone).
     const SumChoice* to_pinhole_at(double wavelength) const;
     const SumChoice* to_film_at(double wavelength) const;

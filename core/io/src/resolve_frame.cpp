@@ -191,9 +191,9 @@ std::string detail::decision_text(const SceneSumSettings& s) {
     if (s.summation == Summation::Kernel || !s.decision) return std::string(summation_word(s.summation)) + device;
     const SummationDecision& d = *s.decision;
     std::string text;
-    for (size_t k = 0; k < d.wavelengths.size(); ++k)
-        text += (k ? ", " : "") + std::to_string(std::lround(d.wavelengths[k] * 1e9)) + "nm " +
-                evaluator_word(d.to_pinhole[k].evaluator) + "/" + evaluator_word(d.to_film[k].evaluator);
+    for (const SummationDecision::AtWavelength& c : d.choices)
+        text += (text.empty() ? "" : ", ") + std::to_string(std::lround(c.wavelength * 1e9)) + "nm " +
+                evaluator_word(c.to_pinhole.evaluator) + "/" + evaluator_word(c.to_film.evaluator);
     return text + device;
 }
 

@@ -188,20 +188,21 @@ using detail::SummationChoice;
 
 namespace {
 
-const SumChoice* choice_at(const std::vector<double>& wavelengths, const std::vector<SumChoice>& choices,
-                           double wavelength) {
-    for (size_t k = 0; k < wavelengths.size(); ++k)
-        if (wavelengths[k] == wavelength) return &choices[k];
+const SummationDecision::AtWavelength* choices_at(const SummationDecision& d, double wavelength) {
+    for (const SummationDecision::AtWavelength& c : d.choices)
+        if (c.wavelength == wavelength) return &c;
     return nullptr;
 }
 
 }  // namespace
 
 const SumChoice* SummationDecision::to_pinhole_at(double wavelength) const {
-    return choice_at(wavelengths, to_pinhole, wavelength);
+    const AtWavelength* c = choices_at(*this, wavelength);
+    return c ? &c->to_pinhole : nullptr;
 }
 const SumChoice* SummationDecision::to_film_at(double wavelength) const {
-    return choice_at(wavelengths, to_film, wavelength);
+    const AtWavelength* c = choices_at(*this, wavelength);
+    return c ? &c->to_film : nullptr;
 }
 
 SummationDecision decide_summation(const SceneSumSettings& asked, const ComputeDevice& device, const PinholeCamera& camera,
@@ -219,9 +220,7 @@ SummationDecision decide_summation(const SceneSumSettings& asked, const ComputeD
     for (const double wavelength : wavelengths) {
         if (d.to_pinhole_at(wavelength)) continue;  // (monochrome light: three samples of one wavelength)
         const SummationChoice c = scene_choice(s, device, camera, wavelength, {s.summation, false, 0});
-        d.wavelengths.push_back(wavelength);
-        d.to_pinhole.push_back(c.in);
-        d.to_film.push_back(c.out);
+        d.choices.push_back({wavelength, c.in, c.out});
     }
     return d;
 }
