@@ -167,11 +167,6 @@ int ColumnFft::block_columns(int length) {
     return std::max(kMinBlockColumns, int(kCacheBytes / (2 * sizeof(std::complex<float>) * size_t(length))) & ~7);
 }
 
-std::complex<float>* ColumnFft::transform_block(std::complex<float>* data, std::complex<float>* work,
-                                                int columns) const {
-    return stages(data, work, columns, 0, columns, 1);
-}
-
 std::complex<float>* ColumnFft::stages(std::complex<float>* data, std::complex<float>* work, int columns, int first,
                                        int last, int threads, const std::complex<float>* source) const {
     Cf *x = reinterpret_cast<Cf*>(data), *y = reinterpret_cast<Cf*>(work);

@@ -37,10 +37,6 @@ public:
                                          int last, int threads = 1,
                                          const std::complex<float>* source = nullptr) const;
     bool ends_in_work() const { return stages_.size() % 2 == 1; }
-    // The transform of every column of a block no wider than block_columns() (its rows and work
-    // stay in one thread's cache), on the calling thread, left where the last stage put it:
-    // returns data or work, whichever holds the result (no copy back).
-    std::complex<float>* transform_block(std::complex<float>* data, std::complex<float>* work, int columns) const;
     // The widest run of columns of `length` rows whose rows and work fit one thread's cache (a
     // multiple of 8, at least kMinBlockColumns): transform() takes wider single-thread runs a
     // block at a time.

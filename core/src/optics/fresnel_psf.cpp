@@ -44,9 +44,8 @@ double field_psf_scratch_bytes(const FieldPsfRequest& q) {
         // columns and their work, a quarter of the grid each), and the spectra kept per thread (a
         // point-symmetric pupil's: real, half the columns)
         const double n = transfer.n, rows = w * transfer.sub;
-        const bool even = transfer.symmetric && q.aperture.even_in_x() && q.aperture.even_in_y();
         const double kept = transfer.symmetric ? 4.0 * n * (n / 2 + 1) : 8.0 * n * n;
-        return 8.0 * (2 * n * detail::ColumnFft::block_columns(transfer.n) + 2 * n * rows + (even ? 0.75 : 2) * n * n) +
+        return 8.0 * (2 * n * detail::ColumnFft::block_columns(transfer.n) + 2 * n * rows + (transfer.mirror_even ? 0.75 : 2) * n * n) +
                detail::kSpectraKept * kept + 8.0 * w * w;
     }
     const double pr = mft.kept(mft.nr), pt = mft.kept(mft.nt), m = mft.grid();

@@ -71,6 +71,7 @@ TransferPlan plan_transfer(const FieldPsfRequest& q, const FieldGeometry& g) {
     // point-symmetric field: half of the inverse transform is the other half mirrored
     p.symmetric = point_symmetric(q.aperture);
     if (p.symmetric && p.sub % 2 == 0) ++p.sub;
+    p.mirror_even = p.symmetric && q.aperture.even_in_x() && q.aperture.even_in_y();
     p.h = q.pixel_pitch / (p.sub * fa);
     // the larger axis's A + |C| or B + |C| (see transfer())
     const double zr = 1.0 / g.ar, zt = 1.0 / g.at, C = std::fabs(g.er_x * g.er_y * (zr - zt));
@@ -187,7 +188,7 @@ const PupilSpectrum& pupil_spectrum(const FieldPsfRequest& q, const FieldGeometr
     // cells, n - ix or n - iy, hold the same fractions)
     const bool mirror_x = o == 0.0 && q.aperture.even_in_x(), mirror_y = o == 0.0 && q.aperture.even_in_y();
     kept.even = plan.symmetric && o == 0.0;
-    if (kept.even && mirror_x && mirror_y) {
+    if (kept.even && plan.mirror_even) {
         even_pupil_spectrum(n, reach, open_fraction, kept.even_value);
         std::vector<std::complex<float>>().swap(kept.value);
     } else {
@@ -441,7 +442,7 @@ std::vector<float> kernel_by_transfer(const FieldPsfRequest& q, const FieldGeome
         for (int c0 = run0; c0 < run1; c0 += block) {
             const int c1 = std::min(run1, c0 + block);
             transfer.apply(c0, c1, columns);
-            gather_rows(inverse.transform_block(columns, columns + size_t(n) * block, c1 - c0), c0, c1, n, lines, y,
+            gather_rows(inverse.transform_where(columns, columns + size_t(n) * block, c1 - c0, 0, c1 - c0), c0, c1, n, lines, y,
                         mirror_y, window);
         }
     }

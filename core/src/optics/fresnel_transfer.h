@@ -13,6 +13,7 @@ struct TransferPlan {
     int n = 0;               // grid size (FFT length), at least
     double h = 0;            // pitch on the pupil plane (m)
     bool symmetric = false;  // the field is point-symmetric: half the inverse transform
+    bool mirror_even = false;  // and the pupil even in x and in y: its spectrum by packed real lines
     // the inverse transform and the transfer function (the pupil's forward transform is
     // shared by a table's requests at one depth, see PupilSpectrum)
     double cost() const {
